@@ -1,0 +1,60 @@
+// Globally adaptive tensor-product Gauss–Kronrod cubature on a box in 1 or 2 dimensions.
+//
+// The algorithm in three steps (after QUADPACK's qag and Genz & Malik's adaptive scheme, as in
+// S. G. Johnson's hcubature.c):
+//  1. Start from a grid of panels whose lines are given by the caller (the known lobe peaks,
+//     widths and boundary layers of the integrand: design.md, "hints"), so that the first nodes
+//     cannot all miss a sharp lobe.
+//  2. On each panel apply the 15-point Kronrod rule in every axis (15^D nodes) and its embedded
+//     7-point Gauss rule; the panel's error is |K⊗K − G⊗G|, deliberately the raw, pessimistic
+//     difference (no QUADPACK power-law rescaling) so that the estimate bounds the true error.
+//     The per-axis differences |K⊗K − G⊗K| and |K⊗K − K⊗G| say which axis to split.
+//  3. Repeatedly bisect the panel with the largest error along its worst axis until the summed
+//     error is below the absolute tolerance or the evaluation budget is spent. Not converging is
+//     a result (converged = false), never an exception and never a silent wrong value.
+// Deterministic: panels are processed sequentially in a fixed order and summed with Neumaier's
+// compensated sum, so the same input gives the same bits whatever runs around it.
+#pragma once
+
+#include <array>
+#include <functional>
+#include <span>
+#include <vector>
+
+namespace ganzfeld {
+
+/// A value with its error estimate: every number ganzfeld computes carries one.
+struct Estimate {
+  double value = 0.0;
+  double error = 0.0;
+  long long evaluations = 0;
+  bool converged = true;
+};
+
+struct CubatureOptions {
+  double abs_tol = 1e-9;                     ///< stop when the summed error estimate <= this
+  long long max_evaluations = 50'000'000;    ///< budget per integral; beyond it: not converged
+};
+
+/// Number of nodes per axis of the Kronrod rule.
+inline constexpr int kRuleNodes = 15;
+
+/// The integrand sees a whole panel at once: nodes[d] holds the kRuleNodes abscissas of axis d
+/// and it fills values[a * kRuleNodes + b] = F(nodes[0][a], nodes[1][b]) (D = 2) or
+/// values[a] = F(nodes[0][a]) (D = 1). Panel-wise calls let it hoist trigonometry and batch f.
+template <int D>
+using PanelIntegrand =
+    std::function<void(const std::array<std::span<const double>, D>& nodes, std::span<double> values)>;
+
+/// Integrates over the box whose axis d is cut by the sorted lines cuts[d] (first = lower
+/// bound, last = upper bound, at least two per axis).
+template <int D>
+Estimate adaptive_cubature(const PanelIntegrand<D>& integrand,
+                           const std::array<std::vector<double>, D>& cuts,
+                           const CubatureOptions& options);
+
+/// Sorts, removes duplicates and drops lines closer than `min_gap` to a neighbour, keeping both
+/// ends: a helper for building `cuts` from hints.
+std::vector<double> tidy_cuts(std::vector<double> lines, double lo, double hi, double min_gap);
+
+}  // namespace ganzfeld

@@ -1,0 +1,37 @@
+// The laws of K&P computed by cubature for any model, each with its error estimate:
+//   g(i, j) = ∫_{k·n>0, k·i>0} (k·n) f(k, j) dk    law of vignetting (sky with pole i, i·n in [-1,1])
+//   h(j)    = ∫_{k·n>0} (k·n) f(k, j) dk            law of darkening (Ganzfeld)
+//   a(i)    = ∫_{k·n>0} (k·n) f(i, k) dk            albedo
+//   r       = (1/pi) ∫ (i·n) a(i) di                double-diffuse reflectance
+// Domains are parametrized exactly (design.md): the lune {k·n > 0} ∩ {k·i > 0} is rotated about
+// its edge axis e = n×i/|n×i| into the rectangle t ∈ [-pi/2, pi/2] (latitude from the plane ⊥ e)
+// × phi ∈ [theta_i - pi/2, pi/2] (longitude from n towards i), with weight cos t; the hemisphere
+// is the lune with i = n. No indicator functions anywhere.
+#pragma once
+
+#include <string>
+
+#include "integrate/cubature.h"
+#include "laws/model.h"
+
+namespace ganzfeld {
+
+enum class Law { f, g, h, a, r };
+const char* to_string(Law law);
+/// Throws InputError for anything but f, g, h, a, r.
+Law parse_law(const std::string& text);
+
+Estimate vignetting(const Model& model, const Vec3& i, const Vec3& j, const CubatureOptions& options);
+Estimate darkening(const Model& model, const Vec3& j, const CubatureOptions& options);
+Estimate albedo(const Model& model, const Vec3& i, const CubatureOptions& options);
+Estimate double_diffuse(const Model& model, const CubatureOptions& options);
+
+/// Any law for directions i, j in the local frame (unused ones are ignored); f is exact
+/// (error 0, one evaluation).
+Estimate evaluate_law(const Model& model, Law law, const Vec3& i, const Vec3& j,
+                      const CubatureOptions& options);
+
+/// Unit direction from polar angle theta (from n) and azimuth phi, radians.
+Vec3 direction(double theta, double phi);
+
+}  // namespace ganzfeld

@@ -1,0 +1,54 @@
+#include "laws/mixture.h"
+
+#include <algorithm>
+
+#include "laws/registry.h"
+
+namespace ganzfeld {
+
+Mixture::Mixture(std::vector<Lobe> lobes) : lobes_(std::move(lobes)) {
+  double total = 0.0;
+  for (const auto& lobe : lobes_) total += lobe.weight;
+  for (auto& lobe : lobes_) lobe.weight /= total;
+}
+
+std::string Mixture::spec() const {
+  std::string out;
+  for (const auto& lobe : lobes_) {
+    if (!out.empty()) out += " + ";
+    out += format_number(lobe.weight) + "*" + lobe.model->spec();
+  }
+  return out;
+}
+
+Traits Mixture::traits() const {
+  Traits t{true, true, EnergyClass::conserving};
+  for (const auto& lobe : lobes_) {
+    const Traits lt = lobe.model->traits();
+    t.isotropic = t.isotropic && lt.isotropic;
+    t.reciprocal = t.reciprocal && lt.reciprocal;
+    // K&P: a mixture is plausible if its components are; it is conserving only if all are.
+    t.energy = std::max(t.energy, lt.energy);
+  }
+  return t;
+}
+
+double Mixture::f(const Vec3& i, const Vec3& j) const noexcept {
+  double sum = 0.0;
+  for (const auto& lobe : lobes_) sum += lobe.weight * lobe.model->f(i, j);
+  return sum;
+}
+
+MassHints Mixture::mass_hints(const Vec3& fixed, Varying varying) const {
+  MassHints all;
+  for (const auto& lobe : lobes_) {
+    MassHints h = lobe.model->mass_hints(fixed, varying);
+    all.peaks.insert(all.peaks.end(), h.peaks.begin(), h.peaks.end());
+    if (h.horizon_layer > 0.0)
+      all.horizon_layer = all.horizon_layer > 0.0 ? std::min(all.horizon_layer, h.horizon_layer)
+                                                  : h.horizon_layer;
+  }
+  return all;
+}
+
+}  // namespace ganzfeld

@@ -1,0 +1,49 @@
+// The catalogue of models: names, parameter tables (Mitsuba-style: name, type, range, default,
+// meaning), traits, and the factory that turns validated parameters into a Model.
+#pragma once
+
+#include <functional>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "laws/model.h"
+
+namespace ganzfeld {
+
+enum class ParamType { real, integer };
+
+struct ParamInfo {
+  std::string name;
+  ParamType type = ParamType::real;
+  double min = 0.0;  ///< inclusive
+  double max = 0.0;  ///< inclusive
+  double default_value = 0.0;
+  std::string meaning;
+};
+
+using ParamValues = std::map<std::string, double>;
+
+struct ModelInfo {
+  std::string name;
+  std::string summary;
+  std::string source;  ///< paper and section the model comes from
+  std::vector<ParamInfo> parameters;
+  Traits traits;
+  std::vector<std::string> closed_forms;  ///< ids of printed closed forms checked by `verify`
+  std::function<ModelPtr(const ParamValues&)> make;  ///< params complete and validated
+};
+
+/// Every registered model, in presentation order.
+const std::vector<ModelInfo>& model_catalogue();
+/// Throws InputError naming the unknown model and listing the known ones.
+const ModelInfo& find_model(const std::string& name);
+
+/// Validates one value against its ParamInfo; throws InputError naming model, key, value and
+/// the allowed range.
+void validate_param(const ModelInfo& model, const ParamInfo& param, double value);
+
+/// Shortest text that round-trips the double (used in canonical spec strings).
+std::string format_number(double value);
+
+}  // namespace ganzfeld

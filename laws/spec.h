@@ -1,0 +1,23 @@
+// Spec strings: NAME[:KEY=VALUE[,KEY=VALUE...]] and partitive mixtures
+// "0.7*minnaert:xi=1 + 0.3*specular:alpha=8" (K&P, "partitive mixture of BRDFs").
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "laws/model.h"
+
+namespace ganzfeld {
+
+/// Parses and validates a spec; throws InputError with a one-line message on bad input.
+ModelPtr parse_model(const std::string& spec);
+
+/// One weighted lobe of a (possibly single-lobe) spec; weights are normalized to sum to 1.
+struct Lobe {
+  double weight;
+  ModelPtr model;
+};
+/// The lobes of a spec (a plain model is one lobe of weight 1). Tables are baked per lobe.
+std::vector<Lobe> parse_lobes(const std::string& spec);
+
+}  // namespace ganzfeld
