@@ -1,1 +1,70 @@
+#include <chrono>
+#include <cstdio>
+#include <iostream>
 
+#include <nlohmann/json.hpp>
+
+#include "cli/args.h"
+#include "cli/commands.h"
+#include "laws/error.h"
+#include "laws/spec.h"
+
+namespace ganzfeld::cli {
+
+namespace {
+struct EvalArgs {
+  std::string model, law;
+  DirectionArgs directions;
+  double tol = 1e-9;
+  long long max_evaluations = CubatureOptions{}.max_evaluations;
+  bool json = false;
+};
+}  // namespace
+
+void add_eval_command(CLI::App& app, Action& action) {
+  auto* cmd = app.add_subcommand("eval", "one value of a law (f, g, h, a, r) with its error estimate");
+  auto args = std::make_shared<EvalArgs>();
+  cmd->add_option("--model", args->model, "model spec, e.g. specular:alpha=8 (see `ganzfeld models`)")->required();
+  cmd->add_option("--law", args->law, "f (BRDF), g (vignetting), h (darkening), a (albedo), r (double-diffuse)")->required();
+  args->directions.add_to(*cmd);
+  cmd->add_option("--tol", args->tol, "absolute tolerance of the cubature (default 1e-9)");
+  cmd->add_option("--max-evals", args->max_evaluations, "evaluation budget; beyond it the result is reported as not converged");
+  cmd->add_flag("--json", args->json, "print one JSON document");
+  cmd->callback([&action, args] {
+    action = [args] {
+      const Law law = parse_law(args->law);
+      const ModelPtr model = parse_model(args->model);
+      validate_tolerance(args->tol);
+      if (args->max_evaluations < 1000)
+        throw InputError("--max-evals=" + std::to_string(args->max_evaluations) + " is too small; allowed: >= 1000");
+      const bool needs_i = law == Law::f || law == Law::g || law == Law::a;
+      const bool needs_j = law == Law::f || law == Law::g || law == Law::h;
+      const Vec3 i = needs_i ? args->directions.incident(law) : Vec3{0, 0, 1};
+      const Vec3 j = needs_j ? args->directions.outgoing(law) : Vec3{0, 0, 1};
+      CubatureOptions options;
+      options.abs_tol = args->tol;
+      options.max_evaluations = args->max_evaluations;
+      const auto start = std::chrono::steady_clock::now();
+      const Estimate e = evaluate_law(*model, law, i, j, options);
+      const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      if (args->json) {
+        nlohmann::ordered_json doc{{"model", model->spec()}, {"law", to_string(law)}, {"value", e.value},
+                                   {"error", e.error},       {"evaluations", e.evaluations},
+                                   {"converged", e.converged}, {"tolerance", args->tol}};
+        if (needs_i) doc["i"] = {i.x, i.y, i.z};
+        if (needs_j) doc["j"] = {j.x, j.y, j.z};
+        doc["seconds"] = seconds;
+        std::cout << doc.dump(2) << "\n";
+      } else {
+        std::printf("%s %s = %.17g ± %.2g (%lld evaluations, %s, %.3f s)\n", model->spec().c_str(), to_string(law),
+                    e.value, e.error, e.evaluations, e.converged ? "converged" : "NOT converged", seconds);
+      }
+      if (!e.converged)
+        std::cerr << "ganzfeld: warning: tolerance " << args->tol << " not reached within " << args->max_evaluations
+                  << " evaluations; the error estimate above is what was achieved\n";
+      return 0;
+    };
+  });
+}
+
+}  // namespace ganzfeld::cli

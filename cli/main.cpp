@@ -1,1 +1,36 @@
+// ganzfeld: extended-source shading tables from BRDFs. main catches once and maps to the exit
+// codes of cli-contract.md: 0 ok, 2 bad input (one line on stderr), 1 internal failure.
+#include <exception>
+#include <iostream>
 
+#include "cli/commands.h"
+#include "laws/error.h"
+
+int main(int argc, char** argv) {
+  using namespace ganzfeld::cli;
+  CLI::App app{"ganzfeld " GANZFELD_VERSION
+               " - laws of shading, vignetting and darkening (Koenderink & Pont) for any BRDF"};
+  app.set_version_flag("--version", GANZFELD_VERSION);
+  app.require_subcommand(1, 1);
+  Action action;
+  add_models_command(app, action);
+  add_eval_command(app, action);
+  add_verify_command(app, action);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::Success& e) {  // --help, --version
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    std::cerr << "ganzfeld: " << e.what() << " (see ganzfeld --help)\n";
+    return 2;
+  }
+  try {
+    return action ? action() : 2;
+  } catch (const ganzfeld::InputError& e) {
+    std::cerr << "ganzfeld: " << e.what() << "\n";
+    return 2;
+  } catch (const std::exception& e) {
+    std::cerr << "ganzfeld: internal error: " << e.what() << "\n";
+    return 1;
+  }
+}

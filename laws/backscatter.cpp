@@ -42,7 +42,7 @@ struct KpAngles {
 };
 KpAngles kp_angles(const Vec3& i, const Vec3& j) {
   return {std::atan2(std::hypot(i.x, i.y), i.z), std::atan2(j.z, j.x),
-          std::sqrt(std::max(0.0, 1.0 - j.y * j.y))};
+          std::hypot(j.x, j.z)};  // sin zeta without the cancellation of sqrt(1 - j_y^2)
 }
 }  // namespace
 

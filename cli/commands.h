@@ -1,0 +1,17 @@
+// Each sub-command registers its options and returns the action to run after parsing.
+#pragma once
+
+#include <functional>
+
+#include <CLI/CLI.hpp>
+
+namespace ganzfeld::cli {
+
+/// The action of the selected sub-command; returns the process exit code.
+using Action = std::function<int()>;
+
+void add_models_command(CLI::App& app, Action& action);
+void add_eval_command(CLI::App& app, Action& action);
+void add_verify_command(CLI::App& app, Action& action);
+
+}  // namespace ganzfeld::cli

@@ -1,0 +1,42 @@
+// `ganzfeld verify`: every closed form printed in Koenderink & Pont against our cubature on a grid
+// that includes the extremes (sky pole at the nadir and 0.999 from it, grazing views at 0 and
+// 1e-6, normal incidence). A printed form that disagrees by more than kAgreement is an erratum;
+// we then derive, implement and check a corrected form. The report becomes docs/errata.md.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace ganzfeld {
+
+/// A printed form "matches" when it agrees with cubature to this (issue #2, cli-contract.md).
+inline constexpr double kAgreement = 1e-9;
+/// Cubature tolerance for the references: two orders below kAgreement so that a disagreement
+/// is the formula's, not the integrator's.
+inline constexpr double kReferenceTolerance = 1e-11;
+
+struct CheckResult {
+  std::string id;
+  std::string source;       ///< where in the paper the claim is printed
+  std::string models;       ///< the model specs the claim was checked on
+  std::string printed;      ///< the claim as printed
+  std::string corrected;    ///< our corrected form (empty when the printed one matches)
+  std::string explanation;  ///< why it fails and how the correction was derived
+  bool erratum = false;
+  double max_abs_error = 0.0;
+  std::optional<double> corrected_max_abs_error;
+  long points = 0;
+  double max_reference_error = 0.0;  ///< largest error estimate of the cubature references
+  bool references_converged = true;
+};
+
+std::vector<CheckResult> run_verification();
+
+/// True when every matching or corrected form agrees to kAgreement and all references converged.
+bool verification_passed(const std::vector<CheckResult>& checks);
+
+/// docs/errata.md, stamped with the command that generates it.
+std::string errata_markdown(const std::vector<CheckResult>& checks, const std::string& command);
+
+}  // namespace ganzfeld
