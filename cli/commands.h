@@ -13,5 +13,8 @@ using Action = std::function<int()>;
 void add_models_command(CLI::App& app, Action& action);
 void add_eval_command(CLI::App& app, Action& action);
 void add_verify_command(CLI::App& app, Action& action);
+void add_bake_command(CLI::App& app, Action& action, int argc, const char* const* argv);  ///< argv: the command metadata
+void add_info_command(CLI::App& app, Action& action);
+void add_sample_command(CLI::App& app, Action& action);
 
 }  // namespace ganzfeld::cli

@@ -16,6 +16,9 @@ int main(int argc, char** argv) {
   add_models_command(app, action);
   add_eval_command(app, action);
   add_verify_command(app, action);
+  add_bake_command(app, action, argc, argv);
+  add_info_command(app, action);
+  add_sample_command(app, action);
   try {
     app.parse(argc, argv);
   } catch (const CLI::Success& e) {  // --help, --version

@@ -33,7 +33,9 @@ struct Estimate {
 
 struct CubatureOptions {
   double abs_tol = 1e-9;                     ///< stop when the summed error estimate <= this
-  long long max_evaluations = 50'000'000;    ///< budget per integral; beyond it: not converged
+  /// Budget per integral; beyond it: not converged. The initial grid is always evaluated (a
+  /// result needs at least one rule per panel), so it may exceed a budget smaller than itself.
+  long long max_evaluations = 50'000'000;
 };
 
 /// Number of nodes per axis of the Kronrod rule.

@@ -1,0 +1,64 @@
+// ganzfeld info: a table's metadata (docs/lut-format.md).
+#include <cstdio>
+#include <iostream>
+
+#include <nlohmann/json.hpp>
+
+#include "cli/commands.h"
+#include "laws/registry.h"
+#include "lut/exr_io.h"
+
+namespace ganzfeld::cli {
+
+namespace {
+struct InfoArgs {
+  std::string path;
+  bool json = false;
+};
+}  // namespace
+
+void add_info_command(CLI::App& app, Action& action) {
+  auto* cmd = app.add_subcommand("info", "metadata of a baked table (refuses files that are not valid tables)");
+  auto args = std::make_shared<InfoArgs>();
+  cmd->add_option("FILE", args->path, "table written by `ganzfeld bake`")->required();
+  cmd->add_flag("--json", args->json, "print one JSON document");
+  cmd->callback([&action, args] {
+    action = [args] {
+      const lut::Table table = lut::read_table(args->path);
+      if (args->json) {
+        nlohmann::ordered_json axes = nlohmann::ordered_json::array();
+        for (const lut::Axis& a : table.axes)
+          axes.push_back({{"name", a.name},
+                          {"min", a.min},
+                          {"max", a.max},
+                          {"count", a.count},
+                          {"mapping", lut::to_string(a.mapping)}});
+        nlohmann::ordered_json doc{{"path", args->path},
+                                   {"format_version", lut::kFormatVersion},
+                                   {"model", table.model},
+                                   {"law", to_string(table.law)},
+                                   {"axes", axes},
+                                   {"entries", table.entries()},
+                                   {"tolerance", table.tolerance},
+                                   {"max_error", table.max_error},
+                                   {"unconverged", table.unconverged},
+                                   {"encoding", lut::to_string(table.encoding)},
+                                   {"command", table.command},
+                                   {"version", table.version}};
+        std::cout << doc.dump(2) << "\n";
+        return 0;
+      }
+      std::printf("%s\n  format version %d, ganzfeld %s\n  model        %s\n  law          %s\n", args->path.c_str(),
+                  lut::kFormatVersion, table.version.c_str(), table.model.c_str(), to_string(table.law));
+      for (const lut::Axis& a : table.axes)
+        std::printf("  axis         %-12s [%s, %s] %d nodes, %s\n", a.name.c_str(), format_number(a.min).c_str(),
+                    format_number(a.max).c_str(), a.count, lut::to_string(a.mapping));
+      std::printf("  encoding     %s\n  tolerance    %s\n  max error    %s\n  unconverged  %lld of %zu\n  command      %s\n",
+                  lut::to_string(table.encoding), format_number(table.tolerance).c_str(),
+                  format_number(table.max_error).c_str(), table.unconverged, table.entries(), table.command.c_str());
+      return 0;
+    };
+  });
+}
+
+}  // namespace ganzfeld::cli

@@ -1,0 +1,50 @@
+// ganzfeld sample: a table lookup at given directions (lut/sample.h).
+#include <cstdio>
+#include <iostream>
+
+#include <nlohmann/json.hpp>
+
+#include "cli/args.h"
+#include "cli/commands.h"
+#include "lut/exr_io.h"
+#include "lut/sample.h"
+
+namespace ganzfeld::cli {
+
+namespace {
+struct SampleArgs {
+  std::string path;
+  DirectionArgs directions;
+  bool json = false;
+};
+}  // namespace
+
+void add_sample_command(CLI::App& app, Action& action) {
+  auto* cmd = app.add_subcommand(
+      "sample", "look a table up at directions (multilinear in index space, clamped at the axis ends)");
+  auto args = std::make_shared<SampleArgs>();
+  cmd->add_option("FILE", args->path, "table written by `ganzfeld bake`")->required();
+  args->directions.add_to(*cmd);
+  cmd->add_flag("--json", args->json, "print one JSON document");
+  cmd->callback([&action, args] {
+    action = [args] {
+      const lut::Table table = lut::read_table(args->path);
+      const Law law = table.law;
+      const bool needs_i = law == Law::g || law == Law::a;
+      const bool needs_j = law == Law::g || law == Law::h;
+      const Vec3 i = needs_i ? args->directions.incident(law) : Vec3{0, 0, 1};
+      const Vec3 j = needs_j ? args->directions.outgoing(law) : Vec3{0, 0, 1};
+      const lut::Sample s = lut::sample(table, i, j);
+      if (args->json) {
+        nlohmann::ordered_json doc{{"value", s.value}, {"error", s.error}};
+        std::cout << doc.dump(2) << "\n";
+      } else {
+        std::printf("%s %s = %.9g ± %.2g (table %s; error excludes interpolation between nodes)\n",
+                    table.model.c_str(), to_string(law), s.value, s.error, args->path.c_str());
+      }
+      return 0;
+    };
+  });
+}
+
+}  // namespace ganzfeld::cli

@@ -1,0 +1,74 @@
+#!/usr/bin/env bash
+# The command line as users and scripts see it (cli-contract.md): exit codes, one-line errors
+# on stderr, JSON on stdout, no partial output files. Usage: cli_test.sh PATH/TO/ganzfeld
+set -u
+G="$1"
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+passed=0 failed=0
+ok()   { passed=$((passed + 1)); }
+fail() { failed=$((failed + 1)); echo "FAIL: $*"; }
+
+# expect_bad "fragment of the message" args...: exit 2, exactly one stderr line containing the fragment
+expect_bad() {
+  local fragment="$1"; shift
+  "$G" "$@" >"$tmp/out" 2>"$tmp/err"; local code=$?
+  local lines; lines=$(wc -l <"$tmp/err")
+  if [ "$code" -ne 2 ]; then fail "exit $code (want 2): $*"; return; fi
+  if [ "$lines" -ne 1 ]; then fail "$lines stderr lines (want 1): $*"; return; fi
+  if ! grep -qF -- "$fragment" "$tmp/err"; then fail "stderr lacks '$fragment': $* -> $(cat "$tmp/err")"; return; fi
+  ok
+}
+json_field() { python3 -c "import json,sys; d=json.load(open('$1')); print($2)"; }
+
+# --- help and version
+"$G" --help >/dev/null && ok || fail "--help"
+"$G" eval --help | grep -q -- "--theta-i" && ok || fail "eval --help"
+
+# --- models
+"$G" models --json >"$tmp/models.json" && ok || fail "models --json"
+[ "$(json_field "$tmp/models.json" "len(d['models'])")" -ge 6 ] && ok || fail "models count"
+[ "$(json_field "$tmp/models.json" "[m['reciprocal'] for m in d['models'] if m['name']=='specular'][0]")" = "True" ] && ok || fail "models traits"
+
+# --- eval: the Core acceptance command
+"$G" eval --model specular:alpha=1000 --law g --theta-i 60 --theta-j 30 --phi 180 --tol 1e-10 --json >"$tmp/eval.json" 2>"$tmp/err" \
+  && ok || fail "eval acceptance"
+[ "$(json_field "$tmp/eval.json" "d['converged'] and d['error'] <= 1e-10 and d['law']=='g' and d['model']=='specular:alpha=1000'")" = "True" ] \
+  && ok || fail "eval acceptance JSON: $(cat "$tmp/eval.json")"
+[ ! -s "$tmp/err" ] && ok || fail "eval wrote to stderr"
+# f: error 0, one evaluation; h of Lambert is 1
+[ "$(json_field <("$G" eval --model lambert --law f --theta-i 10 --theta-j 20 --json) "d['error']==0 and d['evaluations']==1")" = "True" ] && ok || fail "eval f"
+[ "$(json_field <("$G" eval --model lambert --law h --j 0,0.3,1 --json) "abs(d['value']-1)<1e-12")" = "True" ] && ok || fail "eval h"
+# non-convergence is a reported result (exit 0, converged false, a warning on stderr)
+"$G" eval --model specular:alpha=1000 --law g --theta-i 60 --theta-j 30 --phi 180 --tol 1e-15 --max-evals 2000 --json >"$tmp/nc.json" 2>/dev/null
+[ "$(json_field "$tmp/nc.json" "d['converged']")" = "False" ] && ok || fail "non-convergence not reported"
+
+# --- bad input
+expect_bad "unknown model 'phong'" eval --model phong --law g --theta-i 1 --theta-j 1
+expect_bad "alpha=0" eval --model specular:alpha=0 --law h --theta-j 1
+expect_bad "alpha=nan" eval --model specular:alpha=nan --law h --theta-j 1
+expect_bad "unknown parameter 'beta'" eval --model specular:beta=1 --law h --theta-j 1
+expect_bad "KEY=VALUE" eval --model specular:alpha --law h --theta-j 1
+expect_bad "unknown law 'x'" eval --model lambert --law x
+expect_bad "--theta-j=95" eval --model lambert --law h --theta-j 95
+expect_bad "--theta-i=100" eval --model lambert --law a --theta-i 100
+expect_bad "--theta-i=181" eval --model lambert --law g --theta-i 181 --theta-j 0
+expect_bad "zero length" eval --model lambert --law h --j 0,0,0
+expect_bad "three finite numbers" eval --model lambert --law h --j 1,2
+expect_bad "below the surface" eval --model lambert --law h --j 0,0,-1
+expect_bad "--tol=0" eval --model lambert --law h --theta-j 1 --tol 0
+expect_bad "--tol=nan" eval --model lambert --law h --theta-j 1 --tol nan
+expect_bad "needs the view direction" eval --model lambert --law h
+expect_bad "not expected" eval --model lambert --law h --theta-j 1 --no-such-flag
+expect_bad "does not exist" verify --markdown "$tmp/no/such/dir/errata.md"
+[ ! -e "$tmp/no/such/dir/errata.md" ] && ok || fail "partial errata file"
+
+# --- verify
+"$G" verify --json --markdown "$tmp/errata.md" >"$tmp/verify.json" && ok || fail "verify exit code"
+[ "$(json_field "$tmp/verify.json" "len(d['checks'])==24 and all(c['status'] in ('matches','erratum') for c in d['checks'])")" = "True" ] && ok || fail "verify JSON"
+[ "$(json_field "$tmp/verify.json" "all((c['corrected_max_abs_error'] if c['status']=='erratum' else c['max_abs_error']) <= 1e-9 for c in d['checks'])")" = "True" ] && ok || fail "verify agreement"
+grep -q "minnaert.g.hyp2f1" "$tmp/errata.md" && ok || fail "errata markdown"
+ls -a "$tmp" | grep -q '\.tmp-' && fail "temporary file left behind" || ok
+
+echo "cli: $passed passed, $failed failed"
+[ "$failed" -eq 0 ]

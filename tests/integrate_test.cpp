@@ -1,0 +1,261 @@
+// integrate/: laws against closed forms and against an independent high-order reference, honesty
+// of the error estimate, the extremes of the Core issue, determinism, reported non-convergence.
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <random>
+
+#include <boost/math/quadrature/gauss_kronrod.hpp>
+#include <gtest/gtest.h>
+#include <tbb/global_control.h>
+#include <tbb/parallel_for.h>
+
+#include "integrate/laws.h"
+#include "laws/kp_lobes.h"
+#include "laws/spec.h"
+
+namespace ganzfeld {
+namespace {
+
+using std::numbers::pi;
+
+constexpr double kTol = 1e-10;  // requested absolute tolerance of the cubature under test
+// Honesty (Core issue): the estimate must bound the true error in >= 99.9% of cases.
+constexpr double kHonestFraction = 0.999;
+
+CubatureOptions options(double tol = kTol) {
+  CubatureOptions o;
+  o.abs_tol = tol;
+  return o;
+}
+
+Vec3 from_cos(double c, double phi = 0.0) {
+  const double s = std::sqrt(std::max(0.0, 1.0 - c * c));
+  return {s * std::cos(phi), s * std::sin(phi), c};
+}
+
+// ---------------------------------------------------------------------------------------------
+// Closed forms (the ones verified correct or corrected in docs/errata.md), on random geometry.
+struct Case {
+  std::string spec;
+  Vec3 i, j;
+  double exact;
+};
+
+std::vector<Case> closed_form_cases() {
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  std::vector<Case> cases;
+  for (int k = 0; k < 150; ++k) {
+    const double c = 2 * u(rng) - 1, mu = u(rng), phi = pi * u(rng), xi = 3 * u(rng);
+    const Vec3 i = from_cos(c), j = from_cos(mu, phi);
+    cases.push_back({"lambert", i, j, lambert::g(c)});
+    cases.push_back({"minnaert:xi=" + std::to_string(xi), i, j, minnaert::g(c, mu, std::stod(std::to_string(xi)))});
+    cases.push_back({"backscatter:alpha=1", i, j, backscatter::g_alpha1(i, j)});
+    cases.push_back({"asperity:alpha=1", i, j, asperity::g_alpha1(c, mu)});
+  }
+  return cases;
+}
+
+TEST(Integrate, VignettingMatchesClosedFormsWithHonestErrors) {
+  const auto cases = closed_form_cases();
+  int dishonest = 0;
+  for (const auto& cs : cases) {
+    const Estimate e = vignetting(*parse_model(cs.spec), cs.i, cs.j, options());
+    ASSERT_TRUE(e.converged) << cs.spec;
+    EXPECT_NEAR(e.value, cs.exact, kTol) << cs.spec;
+    // The closed forms carry ~1e-15 of rounding of their own.
+    if (std::abs(e.value - cs.exact) > e.error + 1e-14) ++dishonest;
+  }
+  EXPECT_LE(dishonest, (1.0 - kHonestFraction) * cases.size());
+}
+
+TEST(Integrate, DarkeningAlbedoAndReflectanceMatchClosedForms) {
+  for (double xi : {0.0, 1e-6, 0.3, 1.0, 2.7, 50.0}) {
+    const Minnaert m(xi);
+    for (double mu : {0.0, 1e-6, 0.3, 0.999, 1.0}) {
+      const Estimate h = darkening(m, from_cos(mu, 1.0), options());
+      const Estimate a = albedo(m, from_cos(mu, 2.0), options());
+      EXPECT_NEAR(h.value, minnaert::h(mu, xi), kTol) << xi << " " << mu;
+      EXPECT_NEAR(a.value, minnaert::a(mu, xi), kTol) << xi << " " << mu;
+      EXPECT_LE(std::abs(h.value - minnaert::h(mu, xi)), h.error + 1e-14);
+    }
+    const Estimate r = double_diffuse(m, options());
+    EXPECT_TRUE(r.converged);
+    EXPECT_NEAR(r.value, minnaert::r(xi), kTol) << xi;
+  }
+  const Specular s1(1);
+  for (double mu : {0.0, 0.5, 1.0}) EXPECT_NEAR(albedo(s1, from_cos(mu), options()).value, specular::a_alpha1_printed(mu), kTol);
+}
+
+// ---------------------------------------------------------------------------------------------
+// An independent reference: Boost's adaptive Gauss–Kronrod (61 points) nested over the lune,
+// written out here from its definition with its own frame, and with break points at the lobe's
+// coordinates. It shares no code with integrate/ (the lune map is validated by the closed forms).
+double reference_vignetting(const Model& model, const Vec3& i, const Vec3& j, const Vec3& lobe) {
+  using boost::math::quadrature::gauss_kronrod;
+  const Vec3 n{0, 0, 1};
+  Vec3 e = glm::cross(n, i);
+  if (glm::length(e) < 1e-300) e = Vec3{0, 1, 0};
+  e = glm::normalize(e);
+  const Vec3 u = glm::cross(e, n);
+  const double phi_lo = std::atan2(glm::length(glm::cross(n, i)), i.z) - pi / 2;
+  if (!(phi_lo < pi / 2)) return 0.0;
+  const double t_lobe = std::asin(std::clamp(glm::dot(lobe, e), -1.0, 1.0));
+  const double phi_lobe = std::atan2(glm::dot(lobe, u), lobe.z);
+  auto breaks = [](double lo, double hi, double centre) {
+    std::vector<double> b{lo};
+    for (double w : {-0.2, -0.05, 0.0, 0.05, 0.2})
+      if (centre + w > lo && centre + w < hi) b.push_back(centre + w);
+    b.push_back(hi);
+    std::sort(b.begin(), b.end());
+    return b;
+  };
+  auto integrate = [](auto&& f, const std::vector<double>& b) {
+    double sum = 0.0;
+    for (std::size_t k = 0; k + 1 < b.size(); ++k)
+      sum += gauss_kronrod<double, 61>::integrate(f, b[k], b[k + 1], 6, 1e-12);  // relative to |f|_1; agrees to ~1e-15 here
+    return sum;
+  };
+  const auto t_breaks = breaks(-pi / 2, pi / 2, t_lobe);
+  const auto phi_breaks = breaks(phi_lo, pi / 2, phi_lobe);
+  return integrate(
+      [&](double t) {
+        return integrate(
+            [&](double phi) {
+              const Vec3 k = std::cos(t) * (std::cos(phi) * n + std::sin(phi) * u) + std::sin(t) * e;
+              return std::cos(t) * std::max(k.z, 0.0) * model.f(k, j);
+            },
+            phi_breaks);
+      },
+      t_breaks);
+}
+
+TEST(Integrate, SharpLobesAgreeWithAnIndependentReference) {
+  struct Sharp {
+    std::string spec;
+    bool mirror_lobe;  // lobe about the mirror of j (specular) or about j itself (backscatter)
+  };
+  const std::vector<Sharp> models{{"specular:alpha=100", true}, {"specular:alpha=1000", true},
+                                  {"backscatter:alpha=1000", false}};
+  // Lobe inside the lune, at its sky edge (j's mirror perpendicular to i), and outside it.
+  const std::vector<std::pair<double, double>> geometry{
+      {60, 30}, {0, 45}, {120, 30}, {150, 60}, {91, 1}, {179.9, 80}, {45, 89.9999}};
+  int cases = 0, dishonest = 0;
+  for (const auto& model : models) {
+    const ModelPtr m = parse_model(model.spec);
+    for (auto [theta_i, theta_j] : geometry)
+      for (double phi_deg : {0.0, 90.0, 180.0}) {
+        const Vec3 i = from_cos(std::cos(theta_i * pi / 180)), j = from_cos(std::cos(theta_j * pi / 180), phi_deg * pi / 180);
+        const Estimate e = vignetting(*m, i, j, options());
+        const double ref = reference_vignetting(*m, i, j, model.mirror_lobe ? mirror(j) : j);
+        ASSERT_TRUE(e.converged) << model.spec << " " << theta_i << " " << theta_j << " " << phi_deg;
+        ASSERT_TRUE(std::isfinite(e.value));
+        EXPECT_NEAR(e.value, ref, kTol) << model.spec << " " << theta_i << " " << theta_j << " " << phi_deg;
+        ++cases;
+        if (std::abs(e.value - ref) > e.error + 1e-13) ++dishonest;
+      }
+  }
+  EXPECT_LE(dishonest, (1.0 - kHonestFraction) * cases);
+}
+
+// ---------------------------------------------------------------------------------------------
+// A sky with pole i and the complementary sky with pole -i make a Ganzfeld: g(i) + g(-i) = h.
+// A closed-form-free identity that exercises the lune map for every model and geometry.
+TEST(Integrate, ComplementarySkiesMakeAGanzfeld) {
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  for (const std::string spec : {"minnaert:xi=0.3", "specular:alpha=8", "specular:alpha=1000", "backscatter:alpha=4",
+                                 "perfect-backscatter:alpha=2", "asperity:alpha=4", "asperity:alpha=1000"}) {
+    const ModelPtr m = parse_model(spec);
+    for (int k = 0; k < 8; ++k) {
+      const Vec3 i = from_cos(2 * u(rng) - 1, 2 * pi * u(rng)), j = from_cos(u(rng), 2 * pi * u(rng));
+      const Estimate up = vignetting(*m, i, j, options()), down = vignetting(*m, -i, j, options());
+      const Estimate h = darkening(*m, j, options());
+      EXPECT_NEAR(up.value + down.value, h.value, up.error + down.error + h.error + 1e-14) << spec;
+    }
+  }
+}
+
+TEST(Integrate, PoleLimits) {
+  const Specular m(8);
+  const Vec3 j = from_cos(0.4, 1.0);
+  EXPECT_EQ(vignetting(m, {0, 0, -1}, j, options()).value, 0.0);                 // the sky below: nothing
+  EXPECT_NEAR(vignetting(m, {0, 0, 1}, j, options()).value, darkening(m, j, options()).value, 2 * kTol);
+  EXPECT_NEAR(vignetting(m, from_cos(1 - 1e-15), j, options()).value, darkening(m, j, options()).value, 1e-7);
+  EXPECT_LT(vignetting(m, from_cos(-0.999), j, options()).value, 1e-3);
+}
+
+// ---------------------------------------------------------------------------------------------
+// The extremes of the Core issue: converged, finite, never NaN/Inf, for every law.
+TEST(Integrate, ConvergesAtTheExtremes) {
+  const std::vector<std::string> specs{"minnaert:xi=1e-6", "minnaert:xi=0.3", "minnaert:xi=50",
+                                       "specular:alpha=1000", "backscatter:alpha=1000",
+                                       "perfect-backscatter:alpha=2", "perfect-backscatter:alpha=50",
+                                       "asperity:alpha=1000"};
+  const std::vector<double> cos_i{-1.0, -0.999, 0.0, 1e-6, 0.5, 1.0};
+  const std::vector<double> cos_j{0.0, 1e-6, 0.5, 1.0};
+  for (const auto& spec : specs) {
+    const ModelPtr m = parse_model(spec);
+    for (double ci : cos_i)
+      for (double cj : cos_j)
+        for (double phi : {0.0, pi / 2, pi}) {
+          const Vec3 i = from_cos(ci), j = from_cos(cj, phi);
+          for (Law law : {Law::g, Law::h, Law::a}) {
+            if (law == Law::a && ci < 0) continue;
+            const Estimate e = evaluate_law(*m, law, i, j, options());
+            ASSERT_TRUE(std::isfinite(e.value) && std::isfinite(e.error)) << spec;
+            ASSERT_TRUE(e.converged) << spec << " law " << to_string(law) << " ci=" << ci << " cj=" << cj;
+            ASSERT_GE(e.value, -kTol) << spec;
+          }
+        }
+    const Estimate r = double_diffuse(*m, options(1e-9));
+    EXPECT_TRUE(r.converged && std::isfinite(r.value)) << spec;
+  }
+}
+
+// Perfect backscatter near double grazing: f ~ 1/((i+j)·n), yet (k·n) f stays bounded and
+// g(i) + g(-i) = h must still hold.
+TEST(Integrate, PerfectBackscatterNearDoubleGrazing) {
+  const PerfectBackscatter m(2);
+  for (double mu : {0.0, 1e-9, 1e-6, 1e-3}) {
+    const Vec3 i = from_cos(mu), j = from_cos(mu, pi);
+    const Estimate up = vignetting(m, i, j, options()), down = vignetting(m, -i, j, options());
+    const Estimate h = darkening(m, j, options());
+    ASSERT_TRUE(up.converged && down.converged && h.converged) << mu;
+    EXPECT_NEAR(up.value + down.value, h.value, up.error + down.error + h.error + 1e-14) << mu;
+  }
+}
+
+TEST(Integrate, NonConvergenceIsReportedNotHidden) {
+  const Specular m(1000);
+  CubatureOptions tight = options(1e-15);
+  tight.max_evaluations = 20000;  // above the hint grid (~9k), far below what 1e-15 needs
+  const Estimate e = vignetting(m, from_cos(0.5), from_cos(0.8, pi), tight);
+  EXPECT_FALSE(e.converged);
+  EXPECT_TRUE(std::isfinite(e.value));
+  EXPECT_GT(e.error, tight.abs_tol);
+  EXPECT_LE(e.evaluations, tight.max_evaluations);
+}
+
+// Same input, same bits: sequential, one thread and two threads.
+TEST(Integrate, DeterministicWhateverTheThreadCount) {
+  const ModelPtr m = parse_model("0.7*minnaert:xi=0.3 + 0.3*specular:alpha=300");
+  std::vector<std::pair<Vec3, Vec3>> points;
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  for (int k = 0; k < 64; ++k) points.push_back({from_cos(2 * u(rng) - 1, 0), from_cos(u(rng), pi * u(rng))});
+  auto run = [&](int threads) {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+    std::vector<double> out(points.size());
+    tbb::parallel_for(std::size_t{0}, points.size(),
+                      [&](std::size_t k) { out[k] = vignetting(*m, points[k].first, points[k].second, options()).value; });
+    out.push_back(double_diffuse(*m, options()).value);
+    return out;
+  };
+  const auto one = run(1), two = run(2);
+  for (std::size_t k = 0; k < one.size(); ++k) EXPECT_EQ(one[k], two[k]) << k;  // bitwise
+}
+
+}  // namespace
+}  // namespace ganzfeld

@@ -1,0 +1,85 @@
+// integrate/verify: every id of the Core issue is checked, every matching or corrected form
+// agrees with cubature, and the committed docs/errata.md is what `ganzfeld verify` generates.
+#include <cmath>
+#include <fstream>
+#include <numbers>
+#include <set>
+#include <sstream>
+
+#include <gtest/gtest.h>
+
+#include "integrate/laws.h"
+#include "integrate/verify.h"
+#include "laws/kp_lobes.h"
+
+namespace ganzfeld {
+namespace {
+
+const std::vector<CheckResult>& report() {
+  static const std::vector<CheckResult> checks = run_verification();
+  return checks;
+}
+
+TEST(Verify, ChecksExactlyTheIdsOfTheCoreIssue) {
+  const std::set<std::string> required{
+      "lambert.g", "lambert.h", "lambert.a", "lambert.r", "minnaert.g.xi1", "minnaert.g.hyp2f1",
+      "minnaert.g.betainc", "minnaert.h", "minnaert.a", "minnaert.r", "minnaert.norm", "specular.a.alpha1",
+      "specular.a.alpha8", "specular.norm", "backscatter.g.alpha1", "backscatter.h.alpha1", "backscatter.norm",
+      "perfect-backscatter.norm", "perfect-backscatter.retro", "asperity.g.alpha1", "asperity.h.alpha1",
+      "asperity.norm", "reciprocity.a_equals_h", "mixture.plausible"};
+  std::set<std::string> seen;
+  for (const auto& c : report()) {
+    EXPECT_TRUE(seen.insert(c.id).second) << "duplicate " << c.id;
+    EXPECT_GT(c.points, 0) << c.id;
+  }
+  EXPECT_EQ(seen, required);
+}
+
+TEST(Verify, EveryMatchingOrCorrectedFormAgrees) {
+  for (const auto& c : report()) {
+    EXPECT_TRUE(c.references_converged) << c.id;
+    EXPECT_LE(c.max_reference_error, 10 * kReferenceTolerance) << c.id;
+    if (c.erratum) {
+      ASSERT_TRUE(c.corrected_max_abs_error.has_value()) << c.id << " has no corrected form";
+      EXPECT_LE(*c.corrected_max_abs_error, kAgreement) << c.id;
+      EXPECT_FALSE(c.corrected.empty()) << c.id;
+      EXPECT_FALSE(c.explanation.empty()) << c.id;
+    } else {
+      EXPECT_LE(c.max_abs_error, kAgreement) << c.id;
+    }
+  }
+  EXPECT_TRUE(verification_passed(report()));
+}
+
+// The erratum's explanation claims the printed "alpha = 1" g_a is the alpha = 2 result: check it.
+TEST(Verify, PrintedAsperityVignettingIsTheAlphaTwoResult) {
+  const Asperity alpha2(2);
+  CubatureOptions o;
+  o.abs_tol = kReferenceTolerance;
+  for (double c : {-0.9, -0.2, 0.0, 0.4, 1.0})
+    for (double mu : {0.0, 0.3, 1.0}) {
+      const Vec3 i{std::sqrt(1 - c * c), 0, c}, j{std::sqrt(1 - mu * mu), 0, mu};
+      EXPECT_NEAR(vignetting(alpha2, i, j, o).value, asperity::g_alpha1_printed(c, mu), kAgreement);
+    }
+}
+
+// A corrected constant must be a genuine improvement: the printed backscatter constant halves
+// the albedo at alpha = 1, i.e. the check is not vacuous.
+TEST(Verify, ErrataAreRealDisagreements) {
+  for (const auto& c : report())
+    if (c.erratum) {
+      EXPECT_GT(c.max_abs_error, 100 * kAgreement) << c.id;
+    }
+}
+
+TEST(Verify, CommittedErrataAreUpToDate) {
+  std::ifstream in(GANZFELD_SOURCE_DIR "/docs/errata.md");
+  ASSERT_TRUE(in) << "docs/errata.md is missing; run ganzfeld verify --markdown docs/errata.md";
+  std::stringstream committed;
+  committed << in.rdbuf();
+  EXPECT_EQ(committed.str(), errata_markdown(report(), "ganzfeld verify --markdown docs/errata.md"))
+      << "docs/errata.md is stale; regenerate it with ganzfeld verify --markdown docs/errata.md";
+}
+
+}  // namespace
+}  // namespace ganzfeld
