@@ -33,5 +33,7 @@ Estimate evaluate_law(const Model& model, Law law, const Vec3& i, const Vec3& j,
 
 /// Unit direction from polar angle theta (from n) and azimuth phi, radians.
 Vec3 direction(double theta, double phi);
+/// Unit direction with cos theta = `cos_theta` (no acos round trip, exact at 0 and ±1) and azimuth phi.
+Vec3 direction_from_cos(double cos_theta, double phi = 0.0);
 
 }  // namespace ganzfeld

@@ -33,6 +33,11 @@ Vec3 direction(double theta, double phi) {
   return {std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta)};
 }
 
+Vec3 direction_from_cos(double cos_theta, double phi) {
+  const double s = std::sqrt(std::max(0.0, 1.0 - cos_theta * cos_theta));
+  return {s * std::cos(phi), s * std::sin(phi), cos_theta};
+}
+
 namespace {
 
 const Vec3 kNormal{0.0, 0.0, 1.0};

@@ -38,10 +38,6 @@ CubatureOptions reference_options() {
   return o;
 }
 
-Vec3 from_cos(double c, double phi = 0.0) {
-  const double s = std::sqrt(std::max(0.0, 1.0 - c * c));
-  return {s * std::cos(phi), s * std::sin(phi), c};
-}
 
 /// One comparison: the printed value, our corrected value (NaN if none), the cubature reference.
 struct Sample {
@@ -103,7 +99,7 @@ std::vector<Job> vignetting_jobs(ModelPtr model, PairForm printed, PairForm corr
     for (double mu : kCosView)
       for (double phi : kPhiDeg)
         jobs.push_back([=] {
-          const Vec3 i = from_cos(c), j = from_cos(mu, phi * pi / 180);
+          const Vec3 i = direction_from_cos(c), j = direction_from_cos(mu, phi * pi / 180);
           return from_estimate(printed(i, j), corrected ? corrected(i, j) : kNaN,
                                vignetting(*model, i, j, reference_options()));
         });
@@ -115,7 +111,7 @@ std::vector<Job> cos_jobs(ModelPtr model, Law law, CosForm printed) {
   std::vector<Job> jobs;
   for (double mu : kCos)
     jobs.push_back([=] {
-      const Vec3 d = from_cos(mu);
+      const Vec3 d = direction_from_cos(mu);
       return from_estimate(printed(mu), kNaN, evaluate_law(*model, law, d, d, reference_options()));
     });
   return jobs;
@@ -130,7 +126,7 @@ struct Maximum {
 Maximum max_albedo(const Model& model) {
   Maximum m;
   auto a = [&](double mu) {
-    const Estimate e = albedo(model, from_cos(mu), reference_options());
+    const Estimate e = albedo(model, direction_from_cos(mu), reference_options());
     m.error = std::max(m.error, e.error);
     m.converged = m.converged && e.converged;
     ++m.points;
@@ -318,7 +314,7 @@ std::vector<CheckResult> perfect_backscatter_checks() {
       if (mu == 0.0) continue;  // on the horizon f(i,i) is the 1/0 of a null set
       retro.push_back([=] {
         const ModelPtr m = parse_model("perfect-backscatter:alpha=" + format_number(alpha));
-        const Vec3 i = from_cos(mu), n{0, 0, 1};
+        const Vec3 i = direction_from_cos(mu), n{0, 0, 1};
         return Sample{mu * m->f(i, i), kNaN, m->f(n, n), 0.0, true, 1};
       });
     }
@@ -378,7 +374,7 @@ CheckResult reciprocity_check() {
     for (double mu : kCos)
       jobs.push_back([spec, mu] {
         const ModelPtr m = parse_model(spec);
-        const Vec3 d = from_cos(mu);
+        const Vec3 d = direction_from_cos(mu);
         const Estimate a = albedo(*m, d, reference_options());
         const Estimate h = darkening(*m, d, reference_options());
         return Sample{a.value, kNaN, h.value, a.error + h.error, a.converged && h.converged, 1};
@@ -403,8 +399,8 @@ CheckResult mixture_check() {
       std::mt19937_64 rng(20190117);  // fixed seed: a reproducible report
       std::uniform_real_distribution<double> unit(0.0, 1.0);
       std::vector<Vec3> dirs;
-      for (double c : {0.0, 1e-6, 1.0}) dirs.push_back(from_cos(c, 2 * pi * unit(rng)));
-      for (int k = 0; k < 400; ++k) dirs.push_back(from_cos(unit(rng), 2 * pi * unit(rng)));
+      for (double c : {0.0, 1e-6, 1.0}) dirs.push_back(direction_from_cos(c, 2 * pi * unit(rng)));
+      for (int k = 0; k < 400; ++k) dirs.push_back(direction_from_cos(unit(rng), 2 * pi * unit(rng)));
       double negativity = 0.0, asymmetry = 0.0;
       long points = 0;
       for (const Vec3& i : dirs)
@@ -417,10 +413,10 @@ CheckResult mixture_check() {
       double excess = 0.0, nonlinearity = 0.0, ref_error = 0.0;
       bool converged = true;
       for (double mu : kCos) {
-        const Estimate a = albedo(*m, from_cos(mu), reference_options());
+        const Estimate a = albedo(*m, direction_from_cos(mu), reference_options());
         double sum = 0.0, sum_error = 0.0;
         for (const auto& lobe : lobes) {
-          const Estimate al = albedo(*lobe.model, from_cos(mu), reference_options());
+          const Estimate al = albedo(*lobe.model, direction_from_cos(mu), reference_options());
           sum += lobe.weight * al.value;
           sum_error += lobe.weight * al.error;
           converged = converged && al.converged;

@@ -29,10 +29,6 @@ CubatureOptions options(double tol = kTol) {
   return o;
 }
 
-Vec3 from_cos(double c, double phi = 0.0) {
-  const double s = std::sqrt(std::max(0.0, 1.0 - c * c));
-  return {s * std::cos(phi), s * std::sin(phi), c};
-}
 
 // ---------------------------------------------------------------------------------------------
 // Closed forms (the ones verified correct or corrected in docs/errata.md), on random geometry.
@@ -48,7 +44,7 @@ std::vector<Case> closed_form_cases() {
   std::vector<Case> cases;
   for (int k = 0; k < 150; ++k) {
     const double c = 2 * u(rng) - 1, mu = u(rng), phi = pi * u(rng), xi = 3 * u(rng);
-    const Vec3 i = from_cos(c), j = from_cos(mu, phi);
+    const Vec3 i = direction_from_cos(c), j = direction_from_cos(mu, phi);
     cases.push_back({"lambert", i, j, lambert::g(c)});
     cases.push_back({"minnaert:xi=" + std::to_string(xi), i, j, minnaert::g(c, mu, std::stod(std::to_string(xi)))});
     cases.push_back({"backscatter:alpha=1", i, j, backscatter::g_alpha1(i, j)});
@@ -74,8 +70,8 @@ TEST(Integrate, DarkeningAlbedoAndReflectanceMatchClosedForms) {
   for (double xi : {0.0, 1e-6, 0.3, 1.0, 2.7, 50.0}) {
     const Minnaert m(xi);
     for (double mu : {0.0, 1e-6, 0.3, 0.999, 1.0}) {
-      const Estimate h = darkening(m, from_cos(mu, 1.0), options());
-      const Estimate a = albedo(m, from_cos(mu, 2.0), options());
+      const Estimate h = darkening(m, direction_from_cos(mu, 1.0), options());
+      const Estimate a = albedo(m, direction_from_cos(mu, 2.0), options());
       EXPECT_NEAR(h.value, minnaert::h(mu, xi), kTol) << xi << " " << mu;
       EXPECT_NEAR(a.value, minnaert::a(mu, xi), kTol) << xi << " " << mu;
       EXPECT_LE(std::abs(h.value - minnaert::h(mu, xi)), h.error + 1e-14);
@@ -85,7 +81,7 @@ TEST(Integrate, DarkeningAlbedoAndReflectanceMatchClosedForms) {
     EXPECT_NEAR(r.value, minnaert::r(xi), kTol) << xi;
   }
   const Specular s1(1);
-  for (double mu : {0.0, 0.5, 1.0}) EXPECT_NEAR(albedo(s1, from_cos(mu), options()).value, specular::a_alpha1_printed(mu), kTol);
+  for (double mu : {0.0, 0.5, 1.0}) EXPECT_NEAR(albedo(s1, direction_from_cos(mu), options()).value, specular::a_alpha1_printed(mu), kTol);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -146,7 +142,7 @@ TEST(Integrate, SharpLobesAgreeWithAnIndependentReference) {
     const ModelPtr m = parse_model(model.spec);
     for (auto [theta_i, theta_j] : geometry)
       for (double phi_deg : {0.0, 90.0, 180.0}) {
-        const Vec3 i = from_cos(std::cos(theta_i * pi / 180)), j = from_cos(std::cos(theta_j * pi / 180), phi_deg * pi / 180);
+        const Vec3 i = direction_from_cos(std::cos(theta_i * pi / 180)), j = direction_from_cos(std::cos(theta_j * pi / 180), phi_deg * pi / 180);
         const Estimate e = vignetting(*m, i, j, options());
         const double ref = reference_vignetting(*m, i, j, model.mirror_lobe ? mirror(j) : j);
         ASSERT_TRUE(e.converged) << model.spec << " " << theta_i << " " << theta_j << " " << phi_deg;
@@ -169,7 +165,7 @@ TEST(Integrate, ComplementarySkiesMakeAGanzfeld) {
                                  "perfect-backscatter:alpha=2", "asperity:alpha=4", "asperity:alpha=1000"}) {
     const ModelPtr m = parse_model(spec);
     for (int k = 0; k < 8; ++k) {
-      const Vec3 i = from_cos(2 * u(rng) - 1, 2 * pi * u(rng)), j = from_cos(u(rng), 2 * pi * u(rng));
+      const Vec3 i = direction_from_cos(2 * u(rng) - 1, 2 * pi * u(rng)), j = direction_from_cos(u(rng), 2 * pi * u(rng));
       const Estimate up = vignetting(*m, i, j, options()), down = vignetting(*m, -i, j, options());
       const Estimate h = darkening(*m, j, options());
       EXPECT_NEAR(up.value + down.value, h.value, up.error + down.error + h.error + 1e-14) << spec;
@@ -179,11 +175,11 @@ TEST(Integrate, ComplementarySkiesMakeAGanzfeld) {
 
 TEST(Integrate, PoleLimits) {
   const Specular m(8);
-  const Vec3 j = from_cos(0.4, 1.0);
+  const Vec3 j = direction_from_cos(0.4, 1.0);
   EXPECT_EQ(vignetting(m, {0, 0, -1}, j, options()).value, 0.0);                 // the sky below: nothing
   EXPECT_NEAR(vignetting(m, {0, 0, 1}, j, options()).value, darkening(m, j, options()).value, 2 * kTol);
-  EXPECT_NEAR(vignetting(m, from_cos(1 - 1e-15), j, options()).value, darkening(m, j, options()).value, 1e-7);
-  EXPECT_LT(vignetting(m, from_cos(-0.999), j, options()).value, 1e-3);
+  EXPECT_NEAR(vignetting(m, direction_from_cos(1 - 1e-15), j, options()).value, darkening(m, j, options()).value, 1e-7);
+  EXPECT_LT(vignetting(m, direction_from_cos(-0.999), j, options()).value, 1e-3);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -200,7 +196,7 @@ TEST(Integrate, ConvergesAtTheExtremes) {
     for (double ci : cos_i)
       for (double cj : cos_j)
         for (double phi : {0.0, pi / 2, pi}) {
-          const Vec3 i = from_cos(ci), j = from_cos(cj, phi);
+          const Vec3 i = direction_from_cos(ci), j = direction_from_cos(cj, phi);
           for (Law law : {Law::g, Law::h, Law::a}) {
             if (law == Law::a && ci < 0) continue;
             const Estimate e = evaluate_law(*m, law, i, j, options());
@@ -219,7 +215,7 @@ TEST(Integrate, ConvergesAtTheExtremes) {
 TEST(Integrate, PerfectBackscatterNearDoubleGrazing) {
   const PerfectBackscatter m(2);
   for (double mu : {0.0, 1e-9, 1e-6, 1e-3}) {
-    const Vec3 i = from_cos(mu), j = from_cos(mu, pi);
+    const Vec3 i = direction_from_cos(mu), j = direction_from_cos(mu, pi);
     const Estimate up = vignetting(m, i, j, options()), down = vignetting(m, -i, j, options());
     const Estimate h = darkening(m, j, options());
     ASSERT_TRUE(up.converged && down.converged && h.converged) << mu;
@@ -231,7 +227,7 @@ TEST(Integrate, NonConvergenceIsReportedNotHidden) {
   const Specular m(1000);
   CubatureOptions tight = options(1e-15);
   tight.max_evaluations = 20000;  // above the hint grid (~9k), far below what 1e-15 needs
-  const Estimate e = vignetting(m, from_cos(0.5), from_cos(0.8, pi), tight);
+  const Estimate e = vignetting(m, direction_from_cos(0.5), direction_from_cos(0.8, pi), tight);
   EXPECT_FALSE(e.converged);
   EXPECT_TRUE(std::isfinite(e.value));
   EXPECT_GT(e.error, tight.abs_tol);
@@ -244,7 +240,7 @@ TEST(Integrate, DeterministicWhateverTheThreadCount) {
   std::vector<std::pair<Vec3, Vec3>> points;
   std::mt19937_64 rng(3);
   std::uniform_real_distribution<double> u(0.0, 1.0);
-  for (int k = 0; k < 64; ++k) points.push_back({from_cos(2 * u(rng) - 1, 0), from_cos(u(rng), pi * u(rng))});
+  for (int k = 0; k < 64; ++k) points.push_back({direction_from_cos(2 * u(rng) - 1, 0), direction_from_cos(u(rng), pi * u(rng))});
   auto run = [&](int threads) {
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
     std::vector<double> out(points.size());
