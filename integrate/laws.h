@@ -9,7 +9,9 @@
 // is the lune with i = n. No indicator functions anywhere.
 #pragma once
 
+#include <array>
 #include <string>
+#include <vector>
 
 #include "integrate/cubature.h"
 #include "laws/model.h"
@@ -30,6 +32,20 @@ Estimate double_diffuse(const Model& model, const CubatureOptions& options);
 /// (error 0, one evaluation).
 Estimate evaluate_law(const Model& model, Law law, const Vec3& i, const Vec3& j,
                       const CubatureOptions& options);
+
+/// The lune {k·n > 0} ∩ {k·pole > 0} as the rectangle t ∈ [-pi/2, pi/2] × phi ∈ [phi_lo, pi/2]:
+/// k = cos t (cos phi n + sin phi u) + sin t e, dk = cos t dt dphi. With pole = n it is the
+/// hemisphere, oriented so that the plane of n and `fixed` lies at t = 0.
+struct Lune {
+  Vec3 e, u;           ///< edge axis and the tangent towards the pole
+  double phi_lo = 0;   ///< theta_pole - pi/2
+  bool empty = false;  ///< pole at the nadir
+  Vec3 direction(double t, double phi) const;
+};
+Lune lune(const Vec3& pole, const Vec3& fixed);
+/// The engine's initial grid on that rectangle, from the model's mass hints (lines at each
+/// peak and ±1, ±4 widths; at delta and 4 delta from the horizon).
+std::array<std::vector<double>, 2> lune_cuts(const Model& model, const Lune& lune, const Vec3& fixed, Varying varying);
 
 /// Unit direction from polar angle theta (from n) and azimuth phi, radians.
 Vec3 direction(double theta, double phi);

@@ -44,15 +44,14 @@ const Vec3 kNormal{0.0, 0.0, 1.0};
 constexpr double kBroadLobe = 0.35;   // wider hints (radians) are left to plain adaptivity
 constexpr double kThinLayer = 0.3;    // thicker horizon layers likewise
 
-/// The lune {k·n > 0} ∩ {k·pole > 0} as a rectangle (see laws.h).
-struct LuneFrame {
-  Vec3 e, u;          // edge axis, and the tangent towards the pole: k = cos t (cos phi n + sin phi u) + sin t e
-  double phi_lo = 0;  // theta_pole - pi/2
-  bool empty = false;
-};
+}  // namespace
 
-LuneFrame lune_frame(const Vec3& pole, const Vec3& fixed) {
-  LuneFrame frame;
+Vec3 Lune::direction(double t, double phi) const {
+  return std::cos(t) * (std::cos(phi) * kNormal + std::sin(phi) * u) + std::sin(t) * e;
+}
+
+Lune lune(const Vec3& pole, const Vec3& fixed) {
+  Lune frame;
   const Vec3 n_x_pole = glm::cross(kNormal, pole);
   const double s = glm::length(n_x_pole);
   if (s > 0.0) {
@@ -74,10 +73,12 @@ LuneFrame lune_frame(const Vec3& pole, const Vec3& fixed) {
   return frame;
 }
 
+namespace {
+
 /// Initial cut lines from the model's mass hints: each peak (clamped into the rectangle) gets
 /// lines at its centre and at ±1 and ±4 widths; a horizon layer of thickness delta gets lines at
 /// delta and 4 delta from the horizon (phi = pi/2, and the caps t = ±pi/2).
-std::array<std::vector<double>, 2> cuts_from_hints(const MassHints& hints, const LuneFrame& fr) {
+std::array<std::vector<double>, 2> cuts_from_hints(const MassHints& hints, const Lune& fr) {
   std::vector<double> t_lines{0.0}, phi_lines{0.5 * (fr.phi_lo + pi / 2)};
   double min_scale = 1.0;
   for (const Peak& peak : hints.peaks) {
@@ -106,11 +107,19 @@ std::array<std::vector<double>, 2> cuts_from_hints(const MassHints& hints, const
   return {tidy_cuts(t_lines, -pi / 2, pi / 2, gap), tidy_cuts(phi_lines, fr.phi_lo, pi / 2, gap)};
 }
 
+}  // namespace
+
+std::array<std::vector<double>, 2> lune_cuts(const Model& model, const Lune& lune, const Vec3& fixed, Varying varying) {
+  return cuts_from_hints(model.mass_hints(fixed, varying), lune);
+}
+
+namespace {
+
 Estimate integrate_lune(const Model& model, const Vec3& pole, const Vec3& fixed, Varying varying,
                         const CubatureOptions& options) {
-  const LuneFrame fr = lune_frame(pole, fixed);
+  const Lune fr = lune(pole, fixed);
   if (fr.empty) return {};
-  const auto cuts = cuts_from_hints(model.mass_hints(fixed, varying), fr);
+  const auto cuts = lune_cuts(model, fr, fixed, varying);
 
   constexpr int N = kRuleNodes;
   std::array<Vec3, N * N> k_dirs, fixed_dirs;
