@@ -19,6 +19,7 @@ int main(int argc, char** argv) {
   add_bake_command(app, action, argc, argv);
   add_info_command(app, action);
   add_sample_command(app, action);
+  add_bench_command(app, action);
   try {
     app.parse(argc, argv);
   } catch (const CLI::Success& e) {  // --help, --version

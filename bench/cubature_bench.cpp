@@ -1,0 +1,427 @@
+#include "bench/cubature_bench.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <functional>
+#include <limits>
+#include <mutex>
+#include <numbers>
+#include <random>
+
+#include <boost/math/quadrature/gauss_kronrod.hpp>
+#include <boost/math/quadrature/tanh_sinh.hpp>
+#include <boost/math/special_functions/legendre.hpp>
+#include <cubature.h>
+#include <tbb/parallel_for.h>
+
+#include "integrate/laws.h"
+#include "laws/spec.h"
+
+namespace ganzfeld::bench {
+
+namespace {
+
+using std::numbers::pi;
+using Clock = std::chrono::steady_clock;
+constexpr double kErrorFloor = 1e-16;  // achieved errors below double rounding count as this
+
+double seconds_since(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+struct Case {
+  ModelPtr model;
+  Vec3 i, j;     // sky pole and view
+  Vec3 lobe;     // where the integrand peaks (break points of the Boost reference)
+};
+
+/// The one integrand wrapper every competitor goes through: counts evaluations and enforces
+/// the cap (by exception for C++ integrators; libcubature gets the cap as maxEval).
+struct CappedOut {};
+struct Integrand {
+  const Case* c;
+  Lune lune;
+  long long count = 0, cap = 0;
+  bool throw_on_cap = true;
+
+  void tick() {
+    if (++count > cap && throw_on_cap) throw CappedOut{};
+  }
+  /// (k·n) f(k, j) cos t on the lune rectangle.
+  double lune_point(double t, double phi) {
+    tick();
+    const Vec3 k = lune.direction(t, phi);
+    return std::cos(t) * std::max(k.z, 0.0) * c->model->f(k, c->j);
+  }
+  /// (k·n) f(k, j) sin theta [k·i > 0] on the hemisphere rectangle (the naive way).
+  double hemisphere_point(double theta, double phi) {
+    tick();
+    const Vec3 k = direction(theta, phi);
+    if (glm::dot(k, c->i) <= 0.0) return 0.0;
+    return std::sin(theta) * std::max(k.z, 0.0) * c->model->f(k, c->j);
+  }
+};
+
+// ---------------------------------------------------------------------------------------------
+// Families of integrands (seeded).
+
+Vec3 random_unit_orthogonal(const Vec3& v, std::mt19937_64& rng) {
+  std::normal_distribution<double> g;
+  Vec3 q{g(rng), g(rng), g(rng)};
+  q -= glm::dot(q, v) * v;
+  return glm::normalize(q);
+}
+
+/// A pole i whose sky edge (the great circle ⊥ i) lies at signed angular distance delta from
+/// `lobe` (delta > 0: the lobe is inside the lune's k·i > 0 side).
+Vec3 pole_at_distance(const Vec3& lobe, double delta, std::mt19937_64& rng) {
+  const Vec3 q = random_unit_orthogonal(lobe, rng);
+  return std::sin(delta) * lobe + std::cos(delta) * q;
+}
+
+struct Family {
+  std::string name;
+  std::function<Case(std::mt19937_64&, int)> make;
+};
+
+std::vector<Family> families() {
+  auto lobe_family = [](std::string name, bool mirror_lobe) {
+    return Family{name, [name, mirror_lobe](std::mt19937_64& rng, int k) {
+      std::uniform_real_distribution<double> u(0.0, 1.0);
+      const double alphas[] = {1, 10, 100, 1000};
+      const double alpha = alphas[k % 4];
+      const double w = std::sqrt(2.0 / alpha);
+      const Vec3 j = direction_from_cos(0.05 + 0.95 * u(rng), 2 * pi * u(rng));
+      const Vec3 lobe = mirror_lobe ? mirror(j) : j;
+      double delta;
+      switch ((k / 4) % 3) {
+        case 0: delta = 0.3 + 0.9 * u(rng); break;             // inside
+        case 1: delta = (4 * u(rng) - 2) * std::min(w, 0.3); break;  // near the sky edge
+        default: delta = -(0.3 + 0.9 * u(rng)); break;          // outside
+      }
+      return Case{parse_model(name + ":alpha=" + std::to_string(int(alpha))), pole_at_distance(lobe, delta, rng), j, lobe};
+    }};
+  };
+  return {
+      lobe_family("specular", true),
+      lobe_family("backscatter", false),
+      {"minnaert", [](std::mt19937_64& rng, int k) {
+         std::uniform_real_distribution<double> u(0.0, 1.0);
+         const char* xi[] = {"0.3", "1", "2.7"};
+         const Vec3 j = direction_from_cos(u(rng), 2 * pi * u(rng));
+         return Case{parse_model(std::string("minnaert:xi=") + xi[k % 3]), direction_from_cos(2 * u(rng) - 1, 2 * pi * u(rng)), j, Vec3{0, 0, 1}};
+       }},
+      {"asperity", [](std::mt19937_64& rng, int k) {
+         std::uniform_real_distribution<double> u(0.0, 1.0);
+         const int alphas[] = {1, 10, 100, 1000};
+         const Vec3 j = direction_from_cos(0.01 + 0.99 * u(rng), 2 * pi * u(rng));
+         return Case{parse_model("asperity:alpha=" + std::to_string(alphas[k % 4])),
+                     direction_from_cos(2 * u(rng) - 1, 2 * pi * u(rng)), j, direction_from_cos(0.0, std::atan2(j.y, j.x))};
+       }},
+      {"degenerate", [](std::mt19937_64& rng, int k) {
+         std::uniform_real_distribution<double> u(0.0, 1.0);
+         const char* specs[] = {"specular:alpha=10", "minnaert:xi=0.3", "asperity:alpha=4"};
+         const double poles[] = {1.0 - 1e-12, 1.0, -1.0 + 1e-6, -0.999, 1e-6};
+         const double views[] = {0.0, 1e-6, 1.0};
+         const Vec3 j = direction_from_cos(views[k % 3], 2 * pi * u(rng));
+         const ModelPtr m = parse_model(specs[k % 3]);
+         return Case{m, direction_from_cos(poles[(k / 3) % 5], 2 * pi * u(rng)), j, mirror(j)};
+       }},
+      {"perfect-backscatter", [](std::mt19937_64& rng, int k) {
+         std::uniform_real_distribution<double> u(0.0, 1.0);
+         const int alphas[] = {2, 10, 100};
+         const Vec3 j = direction_from_cos(1e-3 * u(rng), 2 * pi * u(rng));
+         return Case{parse_model("perfect-backscatter:alpha=" + std::to_string(alphas[k % 3])),
+                     direction_from_cos(2e-3 * u(rng) - 1e-3, 2 * pi * u(rng)), j, j};
+       }},
+  };
+}
+
+// ---------------------------------------------------------------------------------------------
+// Competitors.
+
+using BreakPoints = std::array<std::vector<double>, 2>;
+
+/// Independent reference: Boost gauss_kronrod<61>, nested, with break points at the lobe.
+double boost_reference(const Case& c, const Lune& lune) {
+  using boost::math::quadrature::gauss_kronrod;
+  Integrand in{&c, lune, 0, std::numeric_limits<long long>::max(), false};
+  const double t_lobe = std::asin(std::clamp(glm::dot(c.lobe, lune.e), -1.0, 1.0));
+  const double phi_lobe = std::atan2(glm::dot(c.lobe, lune.u), c.lobe.z);
+  auto breaks = [](double lo, double hi, double centre) {
+    std::vector<double> b{lo, hi};
+    for (double w : {-0.2, -0.05, 0.0, 0.05, 0.2})
+      if (centre + w > lo && centre + w < hi) b.push_back(centre + w);
+    std::sort(b.begin(), b.end());
+    return b;
+  };
+  auto integrate = [](auto&& f, const std::vector<double>& b) {
+    double sum = 0.0;
+    for (std::size_t k = 0; k + 1 < b.size(); ++k) sum += gauss_kronrod<double, 61>::integrate(f, b[k], b[k + 1], 6, 1e-12);
+    return sum;
+  };
+  const auto tb = breaks(-pi / 2, pi / 2, t_lobe), pb = breaks(lune.phi_lo, pi / 2, phi_lobe);
+  return integrate([&](double t) { return integrate([&](double phi) { return in.lune_point(t, phi); }, pb); }, tb);
+}
+
+int cubature_callback(unsigned, const double* x, void* data, unsigned, double* out) {
+  auto* in = static_cast<std::pair<Integrand*, bool>*>(data);
+  *out = in->second ? in->first->hemisphere_point(x[0], x[1]) : in->first->lune_point(x[0], x[1]);
+  return 0;
+}
+
+Run run_libcubature(const Case& c, const Lune& lune, double tol, long long cap, bool naive, bool p_adaptive, double ref) {
+  Integrand in{&c, lune, 0, cap, false};
+  std::pair<Integrand*, bool> data{&in, naive};
+  const double lo_lune[2] = {-pi / 2, lune.phi_lo}, hi_lune[2] = {pi / 2, pi / 2};
+  const double lo_hemi[2] = {0.0, 0.0}, hi_hemi[2] = {pi / 2, 2 * pi};
+  double value = 0.0, error = 0.0;
+  const auto start = Clock::now();
+  auto fn = p_adaptive ? pcubature : hcubature;
+  fn(1, cubature_callback, &data, 2, naive ? lo_hemi : lo_lune, naive ? hi_hemi : hi_lune, static_cast<size_t>(cap), tol, 0.0,
+     ERROR_INDIVIDUAL, &value, &error);
+  Run r;
+  r.competitor = naive ? "hcubature_naive" : (p_adaptive ? "pcubature_lune" : "hcubature_lune");
+  r.tolerance = tol;
+  r.seconds = seconds_since(start);
+  r.evaluations = in.count;
+  r.estimate = error;
+  r.achieved_error = std::max(std::abs(value - ref), kErrorFloor);
+  r.capped = in.count >= cap;
+  return r;
+}
+
+template <class Nested>
+Run run_boost(const std::string& name, const Case& c, const Lune& lune, double tol, long long cap, double ref, Nested nested) {
+  Integrand in{&c, lune, 0, cap, true};
+  Run r;
+  r.competitor = name;
+  r.tolerance = tol;
+  const auto start = Clock::now();
+  try {
+    const double value = nested(in, tol);
+    r.achieved_error = std::max(std::abs(value - ref), kErrorFloor);
+  } catch (const CappedOut&) {
+    r.capped = true;
+    r.achieved_error = std::numeric_limits<double>::infinity();
+  } catch (const std::exception&) {  // e.g. tanh_sinh refusing a non-finite value
+    r.achieved_error = std::numeric_limits<double>::infinity();
+  }
+  r.seconds = seconds_since(start);
+  r.evaluations = in.count;
+  return r;
+}
+
+double nested_gauss_kronrod(Integrand& in, double tol) {
+  using boost::math::quadrature::gauss_kronrod;
+  return gauss_kronrod<double, 15>::integrate(
+      [&](double t) {
+        return gauss_kronrod<double, 15>::integrate([&](double phi) { return in.lune_point(t, phi); }, in.lune.phi_lo, pi / 2, 15, tol);
+      },
+      -pi / 2, pi / 2, 15, tol);
+}
+
+double nested_tanh_sinh(Integrand& in, double tol) {
+  boost::math::quadrature::tanh_sinh<double> ts;
+  return ts.integrate(
+      [&](double t) { return ts.integrate([&](double phi) { return in.lune_point(t, phi); }, in.lune.phi_lo, pi / 2, tol); },
+      -pi / 2, pi / 2, tol);
+}
+
+/// Gauss–Legendre nodes and weights on [-1, 1] for any n (Boost's Legendre zeros).
+struct GaussLegendre {
+  std::vector<double> x, w;
+};
+const GaussLegendre& gauss_legendre(int n) {
+  static std::mutex mutex;
+  static std::map<int, GaussLegendre> cache;
+  std::lock_guard lock(mutex);
+  auto it = cache.find(n);
+  if (it != cache.end()) return it->second;
+  GaussLegendre gl;
+  for (double z : boost::math::legendre_p_zeros<double>(n)) {
+    const double dp = boost::math::legendre_p_prime(n, z);
+    const double weight = 2.0 / ((1.0 - z * z) * dp * dp);
+    gl.x.push_back(z);
+    gl.w.push_back(weight);
+    if (z != 0.0) {
+      gl.x.push_back(-z);
+      gl.w.push_back(weight);
+    }
+  }
+  return cache.emplace(n, gl).first->second;
+}
+
+/// The oracle: composite n×n Gauss–Legendre on our initial grid, n as small as hindsight allows.
+Run run_oracle(const Case& c, const Lune& lune, const BreakPoints& cuts, double target, double ref) {
+  Run r;
+  r.competitor = "oracle";
+  r.tolerance = target;
+  const auto start = Clock::now();
+  for (int n : {2, 3, 4, 5, 6, 7, 8, 10, 12, 14, 16, 20, 24, 28, 32, 40, 48, 64, 80, 96, 128, 160, 192, 256}) {
+    const GaussLegendre& gl = gauss_legendre(n);
+    Integrand in{&c, lune, 0, std::numeric_limits<long long>::max(), false};
+    double sum = 0.0;
+    for (std::size_t a = 0; a + 1 < cuts[0].size(); ++a)
+      for (std::size_t b = 0; b + 1 < cuts[1].size(); ++b) {
+        const double ht = 0.5 * (cuts[0][a + 1] - cuts[0][a]), ct = 0.5 * (cuts[0][a + 1] + cuts[0][a]);
+        const double hp = 0.5 * (cuts[1][b + 1] - cuts[1][b]), cp = 0.5 * (cuts[1][b + 1] + cuts[1][b]);
+        for (std::size_t p = 0; p < gl.x.size(); ++p)
+          for (std::size_t q = 0; q < gl.x.size(); ++q)
+            sum += ht * hp * gl.w[p] * gl.w[q] * in.lune_point(ct + ht * gl.x[p], cp + hp * gl.x[q]);
+      }
+    r.evaluations = in.count;
+    r.achieved_error = std::max(std::abs(sum - ref), kErrorFloor);
+    if (r.achieved_error <= target) break;
+  }
+  r.capped = r.achieved_error > target;
+  r.seconds = seconds_since(start);
+  return r;
+}
+
+/// Monte Carlo as real-time engines bake: cosine-weighted directions, estimator pi f [k·i > 0].
+Run run_monte_carlo(const Case& c, double budget_seconds, double ref, std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  auto sample = [&] {
+    const double r1 = u(rng), r2 = u(rng);
+    const double s = std::sqrt(r1);
+    const Vec3 k{s * std::cos(2 * pi * r2), s * std::sin(2 * pi * r2), std::sqrt(std::max(0.0, 1.0 - r1))};
+    return glm::dot(k, c.i) > 0.0 ? pi * c.model->f(k, c.j) : 0.0;
+  };
+  // Calibrate the cost per sample, then spend the same wall time as ours.
+  const auto start = Clock::now();
+  long long n = 0;
+  double sum = 0.0;
+  do {
+    for (int k = 0; k < 1000; ++k) sum += sample();
+    n += 1000;
+  } while (seconds_since(start) < budget_seconds && n < 100'000'000);
+  Run r;
+  r.competitor = "mc";
+  r.evaluations = n;
+  r.seconds = seconds_since(start);
+  r.achieved_error = std::max(std::abs(sum / n - ref), kErrorFloor);
+  return r;
+}
+
+/// Cheapest run of a competitor that reaches `target`; the cap (a lower bound) if none does.
+std::pair<double, bool> cost_to_reach(const std::vector<Run>& runs, const std::string& who, double target, long long cap) {
+  double best = std::numeric_limits<double>::infinity();
+  for (const Run& r : runs)
+    if (r.competitor == who && r.achieved_error <= target && !r.capped) best = std::min(best, double(r.evaluations));
+  if (std::isfinite(best)) return {best, false};
+  return {double(cap), true};
+}
+
+}  // namespace
+
+CubatureBenchOptions quick_options() {
+  CubatureBenchOptions o;
+  o.cases_per_family = 4;
+  o.tolerances = {1e-6, 1e-10};
+  o.competitor_cap = 200'000;
+  return o;
+}
+
+std::vector<FamilyResult> run_cubature_benchmark(const CubatureBenchOptions& options) {
+  const std::vector<std::string> competitors{"oracle", "hcubature_lune", "hcubature_naive", "pcubature_lune",
+                                             "boost_gauss_kronrod", "boost_tanh_sinh"};
+  std::vector<FamilyResult> results;
+  for (const Family& family : families()) {
+    std::mt19937_64 rng(options.seed);
+    std::vector<Case> cases;
+    for (int k = 0; k < options.cases_per_family; ++k) cases.push_back(family.make(rng, k));
+
+    struct CaseResult {
+      bool skipped = false;
+      std::vector<Run> runs;
+      std::map<std::string, std::pair<double, bool>> ratio;  // (ratio, capped)
+      double mc_ratio = 0.0;
+      int missed = 0, dishonest = 0, ours = 0;
+    };
+    std::vector<CaseResult> per_case(cases.size());
+    tbb::parallel_for(std::size_t{0}, cases.size(), [&](std::size_t k) {
+      const Case& c = cases[k];
+      CaseResult& out = per_case[k];
+      const Lune lu = lune(c.i, c.j);
+      if (lu.empty) {
+        out.skipped = true;
+        return;
+      }
+      CubatureOptions ref_options;
+      ref_options.abs_tol = 1e-13;
+      ref_options.max_evaluations = 500'000'000;
+      const double ref = vignetting(*c.model, c.i, c.j, ref_options).value;
+      if (std::abs(ref - boost_reference(c, lu)) > kReferenceAgreement) {
+        out.skipped = true;
+        return;
+      }
+      for (double tol : options.tolerances) {
+        CubatureOptions o;
+        o.abs_tol = tol;
+        const auto start = Clock::now();
+        const Estimate e = vignetting(*c.model, c.i, c.j, o);
+        Run r{"ours", tol, std::max(std::abs(e.value - ref), kErrorFloor), e.error, seconds_since(start), e.evaluations, false};
+        out.runs.push_back(r);
+        ++out.ours;
+        if (r.achieved_error > tol) ++out.missed;
+        if (r.achieved_error > r.estimate + kErrorFloor) ++out.dishonest;
+        const long long cap = options.competitor_cap;
+        out.runs.push_back(run_libcubature(c, lu, tol, cap, false, false, ref));
+        out.runs.push_back(run_libcubature(c, lu, tol, cap, true, false, ref));
+        out.runs.push_back(run_libcubature(c, lu, tol, cap, false, true, ref));
+        out.runs.push_back(run_boost("boost_gauss_kronrod", c, lu, tol, cap, ref, nested_gauss_kronrod));
+        out.runs.push_back(run_boost("boost_tanh_sinh", c, lu, tol, cap, ref, nested_tanh_sinh));
+      }
+      const double target = options.ratio_tolerance;
+      const auto [ours_cost, ours_missed] = cost_to_reach(out.runs, "ours", target, options.competitor_cap);
+      out.runs.push_back(run_oracle(c, lu, lune_cuts(*c.model, lu, c.j, Varying::incident), target, ref));
+      for (const auto& who : competitors) {
+        const auto [cost, capped] = cost_to_reach(out.runs, who, target, options.competitor_cap);
+        out.ratio[who] = {cost / ours_cost, capped};
+      }
+      // Monte Carlo with our wall time at the ratio tolerance.
+      for (const Run& r : out.runs)
+        if (r.competitor == "ours" && r.tolerance == target) {
+          const Run mc = run_monte_carlo(c, std::max(r.seconds, 1e-4), ref, options.seed + k);
+          out.runs.push_back(mc);
+          out.mc_ratio = mc.achieved_error / r.achieved_error;
+        }
+      (void)ours_missed;
+    });
+
+    FamilyResult fr;
+    fr.name = family.name;
+    std::map<std::string, double> log_sum;
+    double mc_log_sum = 0.0;
+    int total_ours = 0, missed = 0, dishonest = 0;
+    for (const CaseResult& cr : per_case) {
+      if (cr.skipped) {
+        ++fr.skipped;
+        continue;
+      }
+      ++fr.cases;
+      total_ours += cr.ours;
+      missed += cr.missed;
+      dishonest += cr.dishonest;
+      for (const auto& [who, rc] : cr.ratio) {
+        log_sum[who] += std::log(rc.first);
+        if (rc.second) ++fr.capped[who];
+      }
+      mc_log_sum += std::log(std::max(cr.mc_ratio, 1e-300));
+      fr.runs.insert(fr.runs.end(), cr.runs.begin(), cr.runs.end());
+    }
+    if (fr.cases > 0) {
+      for (const auto& [who, s] : log_sum) fr.evals_ratio[who] = std::exp(s / fr.cases);
+      fr.mc_error_ratio_equal_time = std::exp(mc_log_sum / fr.cases);
+      fr.missed_rate = double(missed) / total_ours;
+      fr.dishonest_rate = double(dishonest) / total_ours;
+    }
+    results.push_back(std::move(fr));
+  }
+  return results;
+}
+
+}  // namespace ganzfeld::bench

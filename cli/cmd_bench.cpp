@@ -1,0 +1,127 @@
+#include <chrono>
+#include <cstdio>
+#include <iostream>
+
+#include <nlohmann/json.hpp>
+#include <tbb/global_control.h>
+
+#include "bench/cubature_bench.h"
+#include "cli/commands.h"
+#include "laws/error.h"
+#include "laws/spec.h"
+#include "lut/bake.h"
+
+namespace ganzfeld::cli {
+
+namespace {
+
+struct BenchArgs {
+  std::string what;
+  bool json = false, quick = false;
+  int cases = 0;
+};
+
+nlohmann::ordered_json cubature_report(const BenchArgs& args) {
+  bench::CubatureBenchOptions options = args.quick ? bench::quick_options() : bench::CubatureBenchOptions{};
+  if (args.cases > 0) options.cases_per_family = args.cases;
+  const auto families = bench::run_cubature_benchmark(options);
+  nlohmann::ordered_json doc;
+  doc["benchmark"] = "cubature";
+  doc["ratio_tolerance"] = options.ratio_tolerance;
+  doc["tolerances"] = options.tolerances;
+  doc["competitor_cap"] = options.competitor_cap;
+  doc["families"] = nlohmann::ordered_json::array();
+  for (const auto& f : families) {
+    nlohmann::ordered_json ratios, capped;
+    for (const auto& [who, r] : f.evals_ratio) ratios[who] = r;
+    for (const auto& [who, n] : f.capped) capped[who] = n;
+    nlohmann::ordered_json runs = nlohmann::ordered_json::array();
+    for (const auto& r : f.runs)
+      runs.push_back({r.competitor, r.tolerance, r.achieved_error, r.evaluations, r.seconds, r.capped});
+    doc["families"].push_back({{"name", f.name},
+                               {"cases", f.cases},
+                               {"skipped", f.skipped},
+                               {"missed_rate", f.missed_rate},
+                               {"dishonest_rate", f.dishonest_rate},
+                               {"evals_ratio", ratios},
+                               {"capped_cases", capped},
+                               {"mc_error_ratio_equal_time", f.mc_error_ratio_equal_time},
+                               {"runs_columns", {"competitor", "tolerance", "achieved_error", "evaluations", "seconds", "capped"}},
+                               {"runs", runs}});
+  }
+  return doc;
+}
+
+/// Bake throughput (issue 8): a 64x64x32 g table at 1e-9 for specular alpha = 8 and 1000, with
+/// 1 and 2 threads.
+nlohmann::ordered_json bake_report(const BenchArgs& args) {
+  nlohmann::ordered_json doc;
+  doc["benchmark"] = "bake";
+  doc["tables"] = nlohmann::ordered_json::array();
+  const std::vector<int> res = args.quick ? std::vector<int>{16, 16, 8} : std::vector<int>{64, 64, 32};
+  for (const char* spec : {"specular:alpha=8", "specular:alpha=1000"}) {
+    nlohmann::ordered_json row{{"model", spec}, {"law", "g"}, {"resolution", res}, {"tolerance", 1e-9}};
+    double seconds[3] = {0, 0, 0};
+    for (int threads : {1, 2}) {
+      tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+      lut::BakeOptions o;
+      o.resolution = res;
+      o.tolerance = 1e-9;
+      const auto start = std::chrono::steady_clock::now();
+      const auto table = lut::bake(*parse_model(spec), Law::g, o);
+      seconds[threads] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      row["unconverged"] = table.unconverged;
+      row["max_error"] = table.max_error;
+    }
+    row["seconds_1_thread"] = seconds[1];
+    row["seconds_2_threads"] = seconds[2];
+    row["speedup_2_threads"] = seconds[1] / seconds[2];
+    doc["tables"].push_back(row);
+  }
+  return doc;
+}
+
+}  // namespace
+
+void add_bench_command(CLI::App& app, Action& action) {
+  auto* cmd = app.add_subcommand("bench", "benchmarks that print ratios measured in one run");
+  auto args = std::make_shared<BenchArgs>();
+  cmd->add_option("what", args->what, "cubature | bake | render")->required();
+  cmd->add_flag("--json", args->json, "print one JSON document");
+  cmd->add_flag("--quick", args->quick, "a small sample (CI); the full run takes minutes");
+  cmd->add_option("--cases", args->cases, "cases per integrand family (cubature; default 200, quick 4)");
+  cmd->callback([&action, args] {
+    action = [args] {
+      nlohmann::ordered_json doc;
+      if (args->what == "cubature") doc = cubature_report(*args);
+      else if (args->what == "bake") doc = bake_report(*args);
+      else if (args->what == "render") throw InputError("bench render is not built yet (it arrives with the rasterizer); allowed now: cubature, bake");
+      else throw InputError("unknown benchmark '" + args->what + "'; allowed: cubature, bake, render");
+      if (args->json) {
+        std::cout << doc.dump(2) << "\n";
+        return 0;
+      }
+      if (args->what == "cubature") {
+        std::printf("evaluations of each competitor / ours to reach error %.0e (geometric mean; > = capped cases)\n",
+                    doc["ratio_tolerance"].get<double>());
+        std::printf("%-20s %5s %7s %8s %9s %9s %9s %9s %9s %9s %9s\n", "family", "cases", "missed", "oracle", "hcub_lune",
+                    "hcub_naive", "pcub_lune", "boost_gk", "boost_ts", "mc_err", "dishonest");
+        for (const auto& f : doc["families"]) {
+          auto ratio = [&](const char* who) { return f["evals_ratio"].value(who, 0.0); };
+          std::printf("%-20s %5d %7.4f %8.3g %9.3g %9.3g %9.3g %9.3g %9.3g %9.2g %9.4f\n", f["name"].get<std::string>().c_str(),
+                      f["cases"].get<int>(), f["missed_rate"].get<double>(), ratio("oracle"), ratio("hcubature_lune"),
+                      ratio("hcubature_naive"), ratio("pcubature_lune"), ratio("boost_gauss_kronrod"), ratio("boost_tanh_sinh"),
+                      f["mc_error_ratio_equal_time"].get<double>(), f["dishonest_rate"].get<double>());
+        }
+      } else {
+        for (const auto& t : doc["tables"])
+          std::printf("%-22s g %s tol 1e-9: %.2f s (1 thread), %.2f s (2 threads), speed-up %.2f, unconverged %lld\n",
+                      t["model"].get<std::string>().c_str(), t["resolution"].dump().c_str(), t["seconds_1_thread"].get<double>(),
+                      t["seconds_2_threads"].get<double>(), t["speedup_2_threads"].get<double>(), t["unconverged"].get<long long>());
+      }
+      return 0;
+    };
+  });
+}
+
+}  // namespace ganzfeld::cli
