@@ -2,11 +2,8 @@
 
 #include <cmath>
 #include <cstdio>
-#include <filesystem>
-#include <fstream>
 #include <numbers>
 #include <sstream>
-#include <unistd.h>
 
 #include "laws/error.h"
 #include "laws/registry.h"
@@ -89,28 +86,5 @@ void validate_tolerance(double tol) {
     throw InputError("--tol=" + format_number(tol) + " is not allowed; expected an absolute tolerance in [1e-15, 1]");
 }
 
-void write_file_atomically(const std::string& path, const std::string& content) {
-  namespace fs = std::filesystem;
-  const fs::path target(path);
-  const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
-  if (!fs::is_directory(dir)) throw InputError("cannot write '" + path + "': directory '" + dir.string() + "' does not exist");
-  const fs::path temp = dir / ("." + target.filename().string() + ".tmp-" + std::to_string(::getpid()));
-  {
-    std::ofstream out(temp, std::ios::binary);
-    out << content;
-    out.close();
-    if (!out) {
-      std::error_code ec;
-      fs::remove(temp, ec);
-      throw InputError("cannot write '" + path + "': the directory is not writable or the disk is full");
-    }
-  }
-  std::error_code ec;
-  fs::rename(temp, target, ec);
-  if (ec) {
-    fs::remove(temp, ec);
-    throw InputError("cannot write '" + path + "': " + ec.message());
-  }
-}
 
 }  // namespace ganzfeld::cli

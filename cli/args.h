@@ -1,4 +1,4 @@
-// Shared command-line plumbing: direction flags, tolerances, atomic file output.
+// Shared command-line plumbing: direction flags and tolerances.
 #pragma once
 
 #include <optional>
@@ -27,8 +27,5 @@ Vec3 parse_vector(const std::string& flag, const std::string& text);
 /// Refuses non-finite, non-positive or absurd tolerances with a one-line message.
 void validate_tolerance(double tol);
 
-/// Writes `content` to a temporary file beside `path`, then renames it over `path`: readers never
-/// see a partial file, and a failure leaves none behind.
-void write_file_atomically(const std::string& path, const std::string& content);
 
 }  // namespace ganzfeld::cli

@@ -5,6 +5,7 @@
 
 #include "cli/args.h"
 #include "cli/commands.h"
+#include "lut/atomic_file.h"
 #include "integrate/verify.h"
 
 namespace ganzfeld::cli {
@@ -26,7 +27,7 @@ void add_verify_command(CLI::App& app, Action& action) {
       const auto checks = run_verification();
       if (!args->markdown.empty()) {
         const std::string command = "ganzfeld verify --markdown docs/errata.md";
-        write_file_atomically(args->markdown, errata_markdown(checks, command));
+        write_text_atomically(args->markdown, errata_markdown(checks, command));
       }
       const bool passed = verification_passed(checks);
       if (args->json) {

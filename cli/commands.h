@@ -16,6 +16,9 @@ void add_verify_command(CLI::App& app, Action& action);
 void add_bake_command(CLI::App& app, Action& action, int argc, const char* const* argv);  ///< argv: the command metadata
 void add_info_command(CLI::App& app, Action& action);
 void add_sample_command(CLI::App& app, Action& action);
+void add_tradeoff_command(CLI::App& app, Action& action);
 void add_bench_command(CLI::App& app, Action& action);
+void add_render_command(CLI::App& app, Action& action);
+void add_figure_command(CLI::App& app, Action& action);
 
 }  // namespace ganzfeld::cli

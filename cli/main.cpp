@@ -19,7 +19,10 @@ int main(int argc, char** argv) {
   add_bake_command(app, action, argc, argv);
   add_info_command(app, action);
   add_sample_command(app, action);
+  add_tradeoff_command(app, action);
   add_bench_command(app, action);
+  add_render_command(app, action);
+  add_figure_command(app, action);
   try {
     app.parse(argc, argv);
   } catch (const CLI::Success& e) {  // --help, --version

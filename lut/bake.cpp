@@ -91,7 +91,7 @@ Table bake(const Model& model, Law law, const BakeOptions& options) {
   if (!std::isfinite(options.tolerance) || !(options.tolerance > 0.0))
     throw InputError("tolerance " + format_number(options.tolerance) + " is not allowed; expected a positive number");
   Table table;
-  table.axes = default_axes(law, options.resolution);  // refuses other laws and counts < 2
+  table.axes = make_axes(law, options.resolution, options.mappings);  // refuses other laws and counts < 2
   const std::uint64_t bytes = table_bytes(options.resolution);
   if (bytes > kMaxTableBytes)
     throw InputError("resolution " + resolution_text(options.resolution) + " would need " + std::to_string(bytes) +

@@ -21,6 +21,8 @@ inline constexpr std::uint64_t kBytesPerEntry = 2 * sizeof(float);
 
 struct BakeOptions {
   std::vector<int> resolution;  ///< nodes per axis (g: 3 counts; h, a: 1)
+  /// Mapping per axis (same count as `resolution`); empty = the law's defaults (default_axes).
+  std::vector<Mapping> mappings;
   double tolerance = 1e-9;      ///< absolute tolerance of every entry's cubature
   long long max_evaluations = CubatureOptions{}.max_evaluations;  ///< per entry
   Encoding encoding = Encoding::single;
@@ -37,7 +39,8 @@ std::vector<int> parse_resolution(const std::string& text, Law law);
 /// Memory the table would need, in bytes (entries x kBytesPerEntry), saturating at UINT64_MAX.
 std::uint64_t table_bytes(const std::vector<int>& resolution) noexcept;
 
-/// Bakes law g, h or a of an isotropic model (axes: default_axes). Refuses (InputError) other
+/// Bakes law g, h or a of an isotropic model (axes: make_axes(law, resolution, mappings): the
+/// default mappings unless overridden). Refuses (InputError) other
 /// laws, anisotropic models, counts < 2 and tables above kMaxTableBytes before allocating, and
 /// values outside the half range when encoding = half. Entries that miss the tolerance are
 /// kept with their (larger) error estimate and counted in Table::unconverged.

@@ -1,12 +1,10 @@
 #include "lut/exr_io.h"
 
-#include <atomic>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <limits>
 #include <set>
-#include <unistd.h>
 
 #include <Imath/half.h>
 #include <OpenEXR/ImfChannelList.h>
@@ -20,6 +18,7 @@
 #include <nlohmann/json.hpp>
 
 #include "laws/error.h"
+#include "lut/atomic_file.h"
 #include "laws/registry.h"
 #include "laws/spec.h"
 
@@ -71,15 +70,6 @@ nlohmann::ordered_json axes_json(const Table& table) {
   return axes;
 }
 
-std::string temp_path_for(const fs::path& target) {
-  static std::atomic<unsigned> counter{0};
-  const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
-  // Built with += : g++ 12 warns falsely (-Wrestrict) on "." + std::string&&.
-  std::string name(".");
-  name += target.filename().string();
-  name += ".tmp-" + std::to_string(::getpid()) + "-" + std::to_string(counter++);
-  return (dir / name).string();
-}
 
 }  // namespace
 
@@ -134,15 +124,9 @@ void write_table(const Table& table, const std::string& path) {
                  Imf::Slice(type, reinterpret_cast<char*>(const_cast<float*>(table.error.data())), stride, stride * width));
   }
 
-  const std::string temp = temp_path_for(fs::path(path));
-  auto fail = [&](const std::string& why) {
-    std::error_code ec;
-    fs::remove(temp, ec);
-    throw InputError("cannot write '" + path + "': " + one_line(why));
-  };
-  try {
+  write_atomically(path, [&](const std::string& temp) {
     std::ofstream os(temp, std::ios::binary | std::ios::trunc);
-    if (!os) fail("cannot create a file in its directory (missing or not writable)");
+    if (!os) throw std::runtime_error("cannot create a file in its directory (missing or not writable)");
     {
       Imf::StdOFStream stream(os, temp.c_str());
       Imf::OutputFile file(stream, header);
@@ -150,15 +134,8 @@ void write_table(const Table& table, const std::string& path) {
       file.writePixels(height);
     }  // the destructor writes the line-offset table
     os.close();
-    if (!os) fail("the write failed (disk full?)");
-  } catch (const InputError&) {
-    throw;
-  } catch (const std::exception& e) {
-    fail(e.what());
-  }
-  std::error_code ec;
-  fs::rename(temp, path, ec);
-  if (ec) fail(ec.message());
+    if (!os) throw std::runtime_error("the write failed (disk full?)");
+  });
 }
 
 namespace {

@@ -88,6 +88,36 @@ std::vector<Axis> default_axes(Law law, std::span<const int> counts) {
   return axes;
 }
 
+std::vector<Axis> make_axes(Law law, std::span<const int> counts, std::span<const Mapping> mappings) {
+  std::vector<Axis> axes = default_axes(law, counts);
+  if (mappings.empty()) return axes;
+  if (mappings.size() != axes.size())
+    throw InputError(std::string("law ") + to_string(law) + " has " + std::to_string(axes.size()) + " axes but " +
+                     std::to_string(mappings.size()) + " mappings were given");
+  for (std::size_t d = 0; d < axes.size(); ++d) axes[d].mapping = mappings[d];
+  return axes;
+}
+
+std::vector<Mapping> parse_mappings(const std::string& text, Law law) {
+  const std::size_t count = law == Law::g ? 3 : 1;
+  if (text == "default") return {};
+  const std::string bad = "mapping '" + text + "' is not valid for law " + to_string(law) + "; expected default, M" +
+                          (law == Law::g ? " or MxMxM" : "") + " with M one of linear, sqrt, cos";
+  std::vector<Mapping> mappings;
+  std::size_t start = 0;
+  while (true) {
+    const std::size_t x = text.find('x', start);
+    const std::string part = text.substr(start, x == std::string::npos ? std::string::npos : x - start);
+    if (part != "linear" && part != "sqrt" && part != "cos") throw InputError(bad);
+    mappings.push_back(parse_mapping(part));
+    if (x == std::string::npos) break;
+    start = x + 1;
+  }
+  if (mappings.size() == 1) mappings.assign(count, mappings[0]);
+  if (mappings.size() != count) throw InputError(bad);
+  return mappings;
+}
+
 std::size_t Table::entries() const noexcept { return static_cast<std::size_t>(entry_count(axes)); }
 
 std::uint64_t entry_count(std::span<const Axis> axes) noexcept {

@@ -61,6 +61,15 @@ inline constexpr const char* kAxisPhi = "phi";                ///< azimuth of j 
 ///   a: cos_theta_i in [0, 1] (sqrt)
 std::vector<Axis> default_axes(Law law, std::span<const int> counts);
 
+/// default_axes with the mapping of each axis replaced by `mappings[d]` (empty: keep the
+/// defaults). Throws InputError when `mappings` is neither empty nor one per axis.
+std::vector<Axis> make_axes(Law law, std::span<const int> counts, std::span<const Mapping> mappings);
+
+/// Parses "M", "MxM" or "MxMxM" (M = linear, sqrt or cos) into one mapping per axis of the law;
+/// a single M stands for every axis; "default" gives the empty list (the law's defaults).
+/// Throws InputError naming the text and the expected form.
+std::vector<Mapping> parse_mappings(const std::string& text, Law law);
+
 struct Table {
   Law law = Law::g;
   std::string model;           ///< canonical spec, Model::spec()

@@ -60,7 +60,7 @@ expect_bad "--tol=0" eval --model lambert --law h --theta-j 1 --tol 0
 expect_bad "--tol=nan" eval --model lambert --law h --theta-j 1 --tol nan
 expect_bad "needs the view direction" eval --model lambert --law h
 expect_bad "not expected" eval --model lambert --law h --theta-j 1 --no-such-flag
-expect_bad "does not exist" verify --markdown "$tmp/no/such/dir/errata.md"
+expect_bad "cannot write" verify --markdown "$tmp/no/such/dir/errata.md"
 [ ! -e "$tmp/no/such/dir/errata.md" ] && ok || fail "partial errata file"
 
 # --- verify
@@ -69,6 +69,29 @@ expect_bad "does not exist" verify --markdown "$tmp/no/such/dir/errata.md"
 [ "$(json_field "$tmp/verify.json" "all((c['corrected_max_abs_error'] if c['status']=='erratum' else c['max_abs_error']) <= 1e-9 for c in d['checks'])")" = "True" ] && ok || fail "verify agreement"
 grep -q "minnaert.g.hyp2f1" "$tmp/errata.md" && ok || fail "errata markdown"
 ls -a "$tmp" | grep -q '\.tmp-' && fail "temporary file left behind" || ok
+
+# --- bake --scene: only the tables the scene needs, cached; the second run bakes nothing
+scene="$(dirname "$0")/../examples/default.json"
+tiny=(--res-g 3x3x3 --res-h 5 --tol 1e-6)
+"$G" bake --scene "$scene" --out "$tmp/cache" "${tiny[@]}" --json >"$tmp/scene1.json" && ok || fail "scene bake"
+[ "$(json_field "$tmp/scene1.json" "len(d['tables'])==6 and all(t['status']=='baked' for t in d['tables']) and sorted(set(t['law'] for t in d['tables']))==['g','h']")" = "True" ] \
+  && ok || fail "scene bake JSON: $(cat "$tmp/scene1.json")"
+"$G" bake --scene "$scene" --out "$tmp/cache" "${tiny[@]}" --json >"$tmp/scene2.json" && ok || fail "scene bake again"
+[ "$(json_field "$tmp/scene2.json" "len(d['tables'])==6 and all(t['status']=='reused' for t in d['tables'])")" = "True" ] \
+  && ok || fail "second scene bake not all reused: $(cat "$tmp/scene2.json")"
+[ "$(ls "$tmp/cache" | wc -l)" -eq 6 ] && ok || fail "cache holds $(ls -a "$tmp/cache")"
+"$G" bake --model specular:alpha=8 --law h --res 5 --tol 1e-6 -o "$tmp/h.exr" --json >/dev/null && ok || fail "single bake"
+[ "$(json_field <("$G" bake --model specular:alpha=8 --law h --res 5 --tol 1e-6 -o "$tmp/h.exr" --json) "d['tables'][0]['status']")" = "reused" ] \
+  && ok || fail "single bake not reused"
+[ "$(json_field <("$G" bake --model specular:alpha=8 --law h --res 6 --tol 1e-6 -o "$tmp/h.exr" --json) "d['tables'][0]['status']")" = "baked" ] \
+  && ok || fail "single bake with another key reused"
+echo '{"lights": [{"type": "spot"}]}' >"$tmp/bad_scene.json"
+expect_bad '"spot"' bake --scene "$tmp/bad_scene.json" --out "$tmp/cache2"
+[ ! -e "$tmp/cache2" ] && ok || fail "bad scene created its --out"
+expect_bad "does not exist" bake --scene "$scene" --out "$tmp/no/such/cache" "${tiny[@]}"
+[ ! -e "$tmp/no" ] && ok || fail "--out under a missing parent created something"
+expect_bad "mutually exclusive" bake --scene "$scene" --model lambert --out "$tmp/cache"
+expect_bad "no such file" bake --scene "$tmp/none.json" --out "$tmp/cache"
 
 echo "cli: $passed passed, $failed failed"
 [ "$failed" -eq 0 ]

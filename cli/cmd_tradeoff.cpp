@@ -1,0 +1,188 @@
+// `ganzfeld tradeoff`: the speed/accuracy trade of a law's tables, measured in one run against a
+// dense cubature reference (lut/tradeoff.h says what is measured and how).
+#include <cstdio>
+#include <iostream>
+#include <unistd.h>
+
+#include <nlohmann/json.hpp>
+
+#include "cli/args.h"
+#include "cli/commands.h"
+#include "lut/atomic_file.h"
+#include "laws/error.h"
+#include "laws/spec.h"
+#include "lut/bake.h"
+#include "lut/exr_io.h"
+#include "lut/tradeoff.h"
+
+namespace ganzfeld::cli {
+
+namespace {
+
+struct TradeoffArgs {
+  std::string model, law, plot, markdown, resolutions, mappings;
+  bool json = false, quick = false;
+  long long points = -1;  // -1: 2000, or 300 with --quick
+  long long seed = 1;
+};
+
+constexpr long long kDefaultPoints = 2000;
+constexpr long long kQuickPoints = 300;
+constexpr long long kMaxPoints = 1'000'000;
+
+/// The sweep, narrowed by --res / --mapping when given ("N,N,..." / "M[xMxM],...").
+lut::TradeoffPlan make_plan(Law law, const TradeoffArgs& args) {
+  lut::TradeoffPlan plan = args.quick ? lut::quick_plan(law) : lut::full_plan(law);
+  auto split = [](const std::string& text) {
+    std::vector<std::string> parts;
+    std::size_t start = 0;
+    while (true) {
+      const std::size_t c = text.find(',', start);
+      parts.push_back(text.substr(start, c == std::string::npos ? std::string::npos : c - start));
+      if (c == std::string::npos) break;
+      start = c + 1;
+    }
+    return parts;
+  };
+  if (!args.resolutions.empty()) {
+    plan.resolutions.clear();
+    for (const std::string& r : split(args.resolutions)) plan.resolutions.push_back(lut::parse_resolution(r, law));
+  }
+  if (!args.mappings.empty()) {
+    plan.mapping_sets.clear();
+    for (const std::string& m : split(args.mappings)) {
+      std::vector<lut::Mapping> set = lut::parse_mappings(m, law);
+      if (set.empty())  // "default"
+        for (const lut::Axis& axis : lut::default_axes(law, plan.resolutions.front())) set.push_back(axis.mapping);
+      plan.mapping_sets.push_back(set);
+    }
+  }
+  return plan;
+}
+
+/// The command that reproduces the measurement (outputs omitted), with the model in canonical form.
+std::string measurement_command(const TradeoffArgs& args, const std::string& spec, Law law) {
+  std::string c = "ganzfeld tradeoff --model '" + spec + "' --law " + to_string(law);
+  if (args.quick) c += " --quick";
+  if (args.points >= 0) c += " --points " + std::to_string(args.points);
+  if (args.seed != 1) c += " --seed " + std::to_string(args.seed);
+  if (!args.resolutions.empty()) c += " --res " + args.resolutions;
+  if (!args.mappings.empty()) c += " --mapping " + args.mappings;
+  return c;
+}
+
+nlohmann::ordered_json to_json(const lut::TradeoffReport& report, bool quick, const std::string& command) {
+  nlohmann::ordered_json rows = nlohmann::ordered_json::array();
+  for (const lut::TradeoffRow& r : report.rows) {
+    nlohmann::ordered_json mappings = nlohmann::ordered_json::array();
+    for (lut::Mapping m : r.config.mappings) mappings.push_back(lut::to_string(m));
+    rows.push_back({{"resolution", r.config.resolution},
+                    {"mappings", mappings},
+                    {"encoding", lut::to_string(r.config.encoding)},
+                    {"tolerance", r.config.tolerance},
+                    {"entries", r.entries},
+                    {"bytes", r.bytes},
+                    {"texture_bytes", r.texture_bytes},
+                    {"file_bytes", r.file_bytes},
+                    {"bake_seconds", r.bake_seconds},
+                    {"lookup_ns", r.lookup_ns},
+                    {"max_error", r.max_error},
+                    {"rms_error", r.rms_error},
+                    {"max_stored_error", r.max_stored_error},
+                    {"unconverged", r.unconverged},
+                    {"worst", {{"i", {r.worst.i.x, r.worst.i.y, r.worst.i.z}}, {"j", {r.worst.j.x, r.worst.j.y, r.worst.j.z}}}}});
+  }
+  const lut::Reference& ref = report.reference;
+  return {{"model", report.model},
+          {"law", to_string(report.law)},
+          {"quick", quick},
+          {"command", command},
+          {"reference",
+           {{"points", ref.points.size()},
+            {"extreme_points", ref.extreme_points},
+            {"seed", ref.seed},
+            {"tolerance", ref.tolerance},
+            {"max_error", ref.max_error},
+            {"unconverged", ref.unconverged},
+            {"seconds", ref.seconds}}},
+          {"seconds", report.seconds},
+          {"rows", rows}};
+}
+
+void print_text(const lut::TradeoffReport& report) {
+  std::printf("%s law %s: %zu reference points (tolerance %.0e), %.1f s\n", report.model.c_str(),
+              to_string(report.law), report.reference.points.size(), report.reference.tolerance, report.seconds);
+  std::printf("%-10s %-16s %-5s %-6s %10s %10s %9s %8s %10s %10s %10s\n", "res", "mappings", "enc", "tol", "bytes",
+              "file", "bake s", "ns/look", "max err", "rms err", "stored");
+  for (const lut::TradeoffRow& r : report.rows)
+    std::printf("%-10s %-16s %-5s %-6.0e %10llu %10llu %9.4f %8.1f %10.3g %10.3g %10.3g\n",
+                lut::resolution_text(r.config.resolution).c_str(), lut::mappings_text(r.config.mappings).c_str(),
+                lut::to_string(r.config.encoding), r.config.tolerance, static_cast<unsigned long long>(r.bytes),
+                static_cast<unsigned long long>(r.file_bytes), r.bake_seconds, r.lookup_ns, r.max_error, r.rms_error,
+                r.max_stored_error);
+}
+
+}  // namespace
+
+void add_tradeoff_command(CLI::App& app, Action& action) {
+  auto* cmd = app.add_subcommand(
+      "tradeoff", "measure table error, bytes, bake and lookup time over resolutions x mappings x encodings x tolerances");
+  auto args = std::make_shared<TradeoffArgs>();
+  cmd->add_option("--model", args->model, "model spec, e.g. specular:alpha=8 (see `ganzfeld models`)")->required();
+  cmd->add_option("--law", args->law, "g (vignetting), h (darkening) or a (albedo)")->required();
+  cmd->add_flag("--json", args->json, "print one JSON document");
+  cmd->add_option("--plot", args->plot, "write a PNG: max error vs bytes and vs bake time");
+  cmd->add_option("--markdown", args->markdown, "write the summary and the table as Markdown");
+  cmd->add_flag("--quick", args->quick, "a few configurations and 300 points (seconds; for tests and CI)");
+  cmd->add_option("--points", args->points, "random reference points (default 2000, 300 with --quick)");
+  cmd->add_option("--seed", args->seed, "seed of the random reference points (default 1)");
+  cmd->add_option("--res", args->resolutions, "only these resolutions, comma-separated, e.g. 17x17x9,33x33x17");
+  cmd->add_option("--mapping", args->mappings,
+                  "only these mapping sets, comma-separated, each default or M[xMxM] with M = linear, sqrt, cos");
+  cmd->callback([&action, args] {
+    action = [args] {
+      const Law law = parse_law(args->law);
+      if (law != Law::g && law != Law::h && law != Law::a)
+        throw InputError("--law " + args->law + " has no table; allowed: g, h, a");
+      const ModelPtr model = parse_model(args->model);
+      const long long points = args->points < 0 ? (args->quick ? kQuickPoints : kDefaultPoints) : args->points;
+      if (points < 1 || points > kMaxPoints)
+        throw InputError("--points=" + std::to_string(args->points) + " is not allowed; expected an integer in [1, " +
+                         std::to_string(kMaxPoints) + "]");
+      if (args->seed < 0)
+        throw InputError("--seed=" + std::to_string(args->seed) + " is not allowed; expected an integer >= 0");
+      const lut::TradeoffPlan plan = make_plan(law, *args);
+      // Refuse unwritable outputs before the measurement, not after.
+      if (!args->plot.empty()) lut::check_writable(args->plot);
+      if (!args->markdown.empty()) lut::check_writable(args->markdown);
+
+      lut::TradeoffOptions options;
+      options.points = static_cast<int>(points);
+      options.seed = static_cast<std::uint64_t>(args->seed);
+      if (::isatty(2))
+        options.progress = [](std::size_t done, std::size_t total) {
+          std::fprintf(stderr, "\rtradeoff: %zu/%zu configurations", done, total);
+          if (done == total) std::fprintf(stderr, "\n");
+        };
+      const lut::TradeoffReport report = lut::measure_tradeoff(*model, law, plan, options);
+      const std::string command = measurement_command(*args, model->spec(), law);
+
+      if (!args->plot.empty()) lut::write_tradeoff_plot(report, args->plot);
+      if (!args->markdown.empty()) {
+        std::string plot_link;
+        if (!args->plot.empty()) {
+          const std::size_t slash = args->plot.find_last_of('/');
+          plot_link = slash == std::string::npos ? args->plot : args->plot.substr(slash + 1);
+        }
+        write_text_atomically(args->markdown, lut::tradeoff_markdown(report, command, plot_link));
+      }
+      if (args->json)
+        std::cout << to_json(report, args->quick, command).dump(2) << "\n";
+      else
+        print_text(report);
+      return 0;
+    };
+  });
+}
+
+}  // namespace ganzfeld::cli

@@ -1,0 +1,153 @@
+#include "rasterizer/shading.h"
+
+#include <cmath>
+#include <stdexcept>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include "laws/kp_lobes.h"
+#include "lut/sample.h"
+
+namespace ganzfeld::raster {
+
+namespace {
+
+class LambertLaws final : public LawSource {
+ public:
+  bool has(Law) const override { return true; }
+  double g(const Vec3& i, const Vec3&) const override { return lambert::g(i.z); }
+  double h(const Vec3&) const override { return 1.0; }
+  std::string describe() const override { return "lambert closed forms"; }
+};
+
+class TableLaws final : public LawSource {
+ public:
+  TableLaws(std::shared_ptr<const lut::Table> g, std::shared_ptr<const lut::Table> h) : g_(std::move(g)), h_(std::move(h)) {}
+  bool has(Law law) const override { return (law == Law::g && g_) || (law == Law::h && h_); }
+  double g(const Vec3& i, const Vec3& j) const override {
+    const auto x = lut::coordinates(Law::g, i, j);
+    return lut::sample(*g_, std::span<const double>(x)).value;
+  }
+  double h(const Vec3& j) const override {
+    const double x[1] = {std::clamp(j.z, 0.0, 1.0)};
+    return lut::sample(*h_, std::span<const double>(x)).value;
+  }
+  std::string describe() const override { return "tables"; }
+
+ private:
+  std::shared_ptr<const lut::Table> g_, h_;
+};
+
+class DirectLaws final : public LawSource {
+ public:
+  DirectLaws(ModelPtr model, double tolerance) : model_(std::move(model)) { options_.abs_tol = tolerance; }
+  bool has(Law law) const override { return law == Law::g || law == Law::h; }
+  double g(const Vec3& i, const Vec3& j) const override { return vignetting(*model_, i, j, options_).value; }
+  double h(const Vec3& j) const override { return darkening(*model_, j, options_).value; }
+  std::string describe() const override { return "direct cubature"; }
+
+ private:
+  ModelPtr model_;
+  CubatureOptions options_;
+};
+
+/// j clamped to the horizon (j·n >= 0) for the laws of extended sources (shading.h).
+Vec3 clamp_to_horizon(Vec3 j) {
+  if (j.z >= 0.0) return j;
+  const double r = std::hypot(j.x, j.y);
+  return r > 0.0 ? Vec3{j.x / r, j.y / r, 0.0} : Vec3{1.0, 0.0, 0.0};
+}
+
+}  // namespace
+
+LawSourcePtr lambert_laws() { return std::make_shared<LambertLaws>(); }
+LawSourcePtr table_laws(std::shared_ptr<const lut::Table> g, std::shared_ptr<const lut::Table> h) {
+  return std::make_shared<TableLaws>(std::move(g), std::move(h));
+}
+LawSourcePtr direct_laws(ModelPtr model, double tolerance) {
+  return std::make_shared<DirectLaws>(std::move(model), tolerance);
+}
+
+bool is_lambert(const Model& model) { return dynamic_cast<const Lambert*>(&model) != nullptr; }
+
+TangentFrame::TangentFrame(const Vec3& normal) : n(normal) {
+  const double sign = std::copysign(1.0, n.z);
+  const double a = -1.0 / (sign + n.z);
+  const double b_ = n.x * n.y * a;
+  t = {1.0 + sign * n.x * n.x * a, sign * b_, -sign * n.x};
+  b = {b_, sign + n.y * n.y * a, -n.y};
+}
+
+Rgb shade(const ShadingMaterial& material, const std::vector<Light>& lights, const Vec3& n, const Vec3& j_world) {
+  const TangentFrame frame(n);
+  const Vec3 j = frame.local(j_world);
+  const Vec3 j_clamped = clamp_to_horizon(j);
+  Rgb out{0, 0, 0};
+  for (const Light& light : lights) {
+    const Vec3 i = frame.local(glm::normalize(light.direction));
+    for (const ShadingLobe& lobe : material) {
+      double value = 0.0;
+      switch (light.type) {
+        case Light::Type::collimated:
+          if (i.z > 0.0 && j.z > 0.0) value = i.z * lobe.model->f(i, j);
+          break;
+        case Light::Type::hemispherical: value = lobe.laws->g(i, j_clamped); break;
+        case Light::Type::ganzfeld: value = lobe.laws->h(j_clamped); break;
+      }
+      for (int c = 0; c < 3; ++c) out[c] += lobe.weight * lobe.color[c] * light.intensity[c] * value;
+    }
+  }
+  return out;
+}
+
+void check_laws_available(const RenderScene& scene) {
+  if (scene.mesh_material.size() != scene.meshes.size()) throw std::logic_error("one material index per mesh expected");
+  const LawsNeeded needed = laws_needed(scene.lights);
+  for (std::size_t m : scene.mesh_material) {  // materials no mesh uses are never shaded
+    if (m >= scene.materials.size()) throw std::logic_error("mesh material index out of range");
+    for (const ShadingLobe& lobe : scene.materials[m]) {
+      if (!lobe.model) throw std::logic_error("a shading lobe has no model");
+      if ((needed.g || needed.h) && !lobe.laws) throw std::logic_error("lobe " + lobe.model->spec() + " has no law source");
+      if (needed.g && !lobe.laws->has(Law::g)) throw std::logic_error("lobe " + lobe.model->spec() + " has no g");
+      if (needed.h && !lobe.laws->has(Law::h)) throw std::logic_error("lobe " + lobe.model->spec() + " has no h");
+    }
+  }
+}
+
+Image shade_image(const RenderScene& scene, const GBuffer& gb) {
+  check_laws_available(scene);
+  Image image(gb.width, gb.height, scene.camera.background);
+  tbb::parallel_for(tbb::blocked_range<int>(0, gb.height), [&](const tbb::blocked_range<int>& rows) {
+    for (int y = rows.begin(); y != rows.end(); ++y)
+      for (int x = 0; x < gb.width; ++x) {
+        const Fragment& f = gb.at(x, y);
+        if (f.mesh == Fragment::kNone) continue;
+        const Rgb c = shade(scene.materials[scene.mesh_material[f.mesh]], scene.lights, f.normal, f.view);
+        float* p = image.at(x, y);
+        for (int k = 0; k < 3; ++k) p[k] = static_cast<float>(c[k]);
+      }
+  });
+  return image;
+}
+
+Image render(const RenderScene& scene) { return shade_image(scene, rasterize(scene.camera, scene.meshes)); }
+
+void add_scene_geometry(const Scene& scene, RenderScene& out) {
+  for (const SceneObject& object : scene.objects) {
+    if (object.shape == SceneObject::Shape::sphere) out.meshes.push_back(uv_sphere(object.center, object.radius, kSphereSegments));
+    else out.meshes.push_back(load_obj(object.mesh_path));
+    out.mesh_material.push_back(object.material);
+  }
+}
+
+LawsNeeded laws_needed(const std::vector<Light>& lights) {
+  LawsNeeded needed;
+  for (const Light& light : lights) {
+    needed.g = needed.g || light.type == Light::Type::hemispherical;
+    needed.h = needed.h || light.type == Light::Type::ganzfeld;
+  }
+  return needed;
+}
+
+}  // namespace ganzfeld::raster

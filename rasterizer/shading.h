@@ -1,0 +1,102 @@
+// Radiance per pixel: K&P's three canonical light fields, summed over lights and lobes
+// ("Material Properties and Extended Sources for Surface Rendering", section "Extended sources"):
+//   collimated beam     N = H0 (i·n) f(i, j)        0 when i·n <= 0 (body shadow) or j·n <= 0
+//   hemispherical sky   N = N_i g(i, j, n)          i = the sky's pole, i·n in [-1, 1]
+//   Ganzfeld            N = N_i h(j, n)
+// Everything is evaluated in the LOCAL frame of the pixel's normal (n = +z, an orthonormal
+// tangent frame built from n alone): the isotropic laws only see i·n, j·n and the relative
+// azimuth of the tangential parts of i and j, which the frame preserves.
+// A pixel's j·n can be slightly negative only through interpolated mesh normals at a silhouette;
+// for the sky and the Ganzfeld j is then clamped to the horizon (the limit of the visible side).
+//
+// f is always the model's own closed form. g and h come from a LawSource, one per lobe:
+//   tables  — lut::sample on baked tables (fast; error = table error + interpolation error)
+//   direct  — integrate/laws.h cubature per pixel (slow; the reference, to a tolerance)
+//   lambert — the closed forms g = (1 + i·n)/2, h = 1 (exact)
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "integrate/laws.h"
+#include "lut/scene.h"
+#include "lut/table.h"
+#include "rasterizer/image.h"
+#include "rasterizer/raster.h"
+
+namespace ganzfeld::raster {
+
+/// The laws of one lobe beyond f, in the local frame (n = +z, unit i and j, j·n >= 0).
+class LawSource {
+ public:
+  virtual ~LawSource() = default;
+  virtual bool has(Law law) const = 0;
+  /// Law of vignetting for the sky pole i (i·n in [-1, 1]).
+  virtual double g(const Vec3& i, const Vec3& j) const = 0;
+  /// Law of darkening.
+  virtual double h(const Vec3& j) const = 0;
+  virtual std::string describe() const = 0;
+};
+using LawSourcePtr = std::shared_ptr<const LawSource>;
+
+/// g = (1 + i·n)/2, h = 1 (K&P, white Lambertian surface).
+LawSourcePtr lambert_laws();
+/// Tables of one lobe (either may be null when the scene does not need that law).
+LawSourcePtr table_laws(std::shared_ptr<const lut::Table> g, std::shared_ptr<const lut::Table> h);
+/// Cubature per call at absolute tolerance `tolerance` (integrate/laws.h).
+LawSourcePtr direct_laws(ModelPtr model, double tolerance);
+
+/// True for the Lambert model, whose g and h have the exact closed forms above.
+bool is_lambert(const Model& model);
+
+struct ShadingLobe {
+  double weight = 1.0;
+  Rgb color{1, 1, 1};
+  ModelPtr model;
+  LawSourcePtr laws;
+};
+using ShadingMaterial = std::vector<ShadingLobe>;
+
+/// A right-handed orthonormal frame (t, b, n) for unit n (Duff et al. 2017, "Building an
+/// orthonormal basis, revisited"); local(v) = (v·t, v·b, v·n).
+struct TangentFrame {
+  Vec3 t, b, n;
+  explicit TangentFrame(const Vec3& n);
+  Vec3 local(const Vec3& v) const { return {glm::dot(v, t), glm::dot(v, b), glm::dot(v, n)}; }
+};
+
+/// Radiance towards j (unit, world) of a surface with unit world normal n.
+Rgb shade(const ShadingMaterial& material, const std::vector<Light>& lights, const Vec3& n, const Vec3& j);
+
+/// Everything the rasterizer needs to make a picture.
+struct RenderScene {
+  Camera camera;
+  std::vector<Mesh> meshes;
+  std::vector<std::size_t> mesh_material;  ///< per mesh: index into materials
+  std::vector<ShadingMaterial> materials;
+  std::vector<Light> lights;
+};
+
+/// Throws std::logic_error when a lobe lacks a law the lights need (a programming error: the
+/// caller builds the sources from the scene's lights).
+void check_laws_available(const RenderScene& scene);
+
+/// Shades a G-buffer (rows in parallel; deterministic). Background pixels get the camera's colour.
+Image shade_image(const RenderScene& scene, const GBuffer& gbuffer);
+
+/// rasterize + shade_image.
+Image render(const RenderScene& scene);
+
+/// Meshes and per-mesh materials of a scene's objects: spheres become uv_sphere(center, radius,
+/// kSphereSegments), mesh objects are loaded with load_obj.
+inline constexpr int kSphereSegments = 128;
+void add_scene_geometry(const Scene& scene, RenderScene& out);
+
+/// Which of g and h the scene's lights need (a sky needs g, a Ganzfeld h; collimated light none).
+struct LawsNeeded {
+  bool g = false, h = false;
+};
+LawsNeeded laws_needed(const std::vector<Light>& lights);
+
+}  // namespace ganzfeld::raster

@@ -1,0 +1,365 @@
+// Scenes (lut/scene.h), the tables they need (lut/plan.h) and the table cache (lut/cache.h):
+// parsing with defaults, every refusal of a bad scene, the plan per light field, reuse of a
+// cached table and re-baking of a corrupt or mismatching one.
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <unistd.h>
+
+#include <gtest/gtest.h>
+
+#include "laws/error.h"
+#include "laws/spec.h"
+#include "lut/cache.h"
+#include "lut/exr_io.h"
+#include "lut/plan.h"
+#include "lut/scene.h"
+
+// Suite names start with lower-case "scene" so that `ctest -R scene` selects exactly these.
+namespace ganzfeld::lut {
+namespace {
+
+namespace fs = std::filesystem;
+
+// Tiny tables so the cache tests bake in well under a second: these tests are about which
+// file is reused, not about accuracy.
+constexpr double kTinyTol = 1e-6;
+const std::vector<int> kTinyH{5};
+const std::vector<int> kTinyG{3, 3, 3};
+// Normalized weights are computed as w / sum(w): exact up to a couple of roundings.
+constexpr double kWeightTol = 1e-15;
+
+std::string temp_dir() {
+  static const std::string dir = [] {
+    const fs::path d = fs::temp_directory_path() / ("ganzfeld_scene_test-" + std::to_string(::getpid()));
+    fs::create_directories(d);
+    return d.string();
+  }();
+  return dir;
+}
+
+class RemoveTempDir : public ::testing::Environment {
+ public:
+  void TearDown() override {
+    std::error_code ec;
+    fs::remove_all(temp_dir(), ec);
+  }
+};
+[[maybe_unused]] const auto* const kRemoveTempDir = ::testing::AddGlobalTestEnvironment(new RemoveTempDir);
+
+/// Writes `text` to a fresh file in the temporary directory and returns its path.
+std::string write_scene(const std::string& text) {
+  static int counter = 0;
+  const std::string path = (fs::path(temp_dir()) / ("scene" + std::to_string(counter++) + ".json")).string();
+  std::ofstream(path) << text;
+  return path;
+}
+
+Scene scene_from(const std::string& text) { return load_scene(write_scene(text)); }
+
+/// The message load_scene gives for `text` ("" when it accepts the scene).
+std::string refusal(const std::string& text) {
+  try {
+    load_scene(write_scene(text));
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+/// A scene with one sphere of material "m" = `material` (JSON) under `lights` (JSON array).
+std::string sphere_scene(const std::string& material, const std::string& lights) {
+  return R"({"materials": {"m": )" + material + R"(}, "objects": [{"shape": "sphere", "material": "m"}], "lights": )" +
+         lights + "}";
+}
+
+constexpr const char* kAllLights = R"([{"type": "collimated", "direction": [1, 1, 1]},
+                                       {"type": "hemispherical", "pole": [0, 1, 0]},
+                                       {"type": "ganzfeld", "radiance": 0.2}])";
+
+std::vector<std::pair<std::string, Law>> plan_of(const Scene& scene) {
+  std::vector<std::pair<std::string, Law>> out;
+  for (const TableRequest& r : tables_needed(scene)) out.emplace_back(r.spec, r.law);
+  return out;
+}
+
+// --- load_scene -----------------------------------------------------------------------------
+
+TEST(scene, ContractExampleParses) {
+  const std::string mesh_dir = (fs::path(temp_dir()) / "meshes").string();
+  const Scene s = scene_from(R"({
+    "camera": {"width": 320, "height": 200, "eye": [0, 0, 6], "target": [0, 0, 0],
+               "up": [0, 1, 0], "fov_deg": 25, "background": [0, 0, 0]},
+    "materials": {
+      "velvet":  {"model": "asperity:alpha=4", "color": [0.6, 0.1, 0.1]},
+      "plastic": {"lobes": [{"weight": 0.8, "model": "minnaert:xi=1",   "color": [0.2, 0.4, 0.8]},
+                            {"weight": 0.2, "model": "specular:alpha=8", "color": [1, 1, 1]}]}
+    },
+    "objects": [{"shape": "sphere", "center": [0, 0, 0], "radius": 1, "material": "velvet"},
+                {"shape": "mesh", "path": "meshes/model.obj", "material": "plastic"}],
+    "lights": [{"type": "collimated",    "direction": [1, 1, 1], "irradiance": [1, 1, 1]},
+               {"type": "hemispherical", "pole": [0, 1, 0],     "radiance": [0.5, 0.5, 0.5]},
+               {"type": "ganzfeld",                               "radiance": [0.2, 0.2, 0.2]}]
+  })");
+  EXPECT_EQ(s.camera.width, 320);
+  EXPECT_EQ(s.camera.height, 200);
+  ASSERT_EQ(s.materials.size(), 2u);
+  EXPECT_EQ(s.materials[0].name, "velvet");  // file order
+  ASSERT_EQ(s.materials[1].lobes.size(), 2u);
+  EXPECT_EQ(s.materials[1].lobes[1].spec, "specular:alpha=8");
+  EXPECT_NEAR(s.materials[1].lobes[0].weight, 0.8, kWeightTol);
+  EXPECT_EQ(s.materials[1].lobes[0].color, (Rgb{0.2, 0.4, 0.8}));
+  ASSERT_EQ(s.objects.size(), 2u);
+  EXPECT_EQ(s.objects[0].material, 0u);
+  EXPECT_EQ(s.objects[1].material, 1u);
+  EXPECT_EQ(s.objects[1].shape, SceneObject::Shape::mesh);
+  EXPECT_EQ(s.objects[1].mesh_path, (fs::path(mesh_dir) / "model.obj").string());
+  ASSERT_EQ(s.lights.size(), 3u);
+  EXPECT_EQ(s.lights[1].type, Light::Type::hemispherical);
+  EXPECT_NEAR(glm::length(s.lights[0].direction), 1.0, kWeightTol);  // normalized
+  EXPECT_NEAR(s.lights[0].direction.x, 1.0 / std::sqrt(3.0), kWeightTol);
+}
+
+TEST(scene, DefaultsForMissingFields) {
+  const Scene s = scene_from(R"({"camera": {"width": 64}, "materials": {"m": {"model": "lambert"}},
+                                 "objects": [{"shape": "sphere", "material": "m"}]})");
+  const Camera defaults;
+  EXPECT_EQ(s.camera.width, 64);
+  EXPECT_EQ(s.camera.height, defaults.height);
+  EXPECT_EQ(s.camera.fov_deg, defaults.fov_deg);
+  EXPECT_EQ(s.camera.eye, defaults.eye);
+  EXPECT_EQ(s.materials[0].lobes[0].color, (Rgb{1, 1, 1}));
+  EXPECT_EQ(s.objects[0].radius, 1.0);
+  EXPECT_TRUE(s.lights.empty());
+}
+
+TEST(scene, MixtureModelSplitsIntoLobesWithMultipliedWeights) {
+  const Scene s = scene_from(sphere_scene(R"({"lobes": [
+      {"weight": 1, "model": "0.7*minnaert:xi=1 + 0.3*specular:alpha=8", "color": [0, 0, 1]},
+      {"weight": 1, "model": "lambert"}]})",
+                                          "[]"));
+  const auto& lobes = s.materials[0].lobes;
+  ASSERT_EQ(lobes.size(), 3u);
+  EXPECT_EQ(lobes[0].spec, "minnaert:xi=1");
+  EXPECT_EQ(lobes[1].spec, "specular:alpha=8");
+  EXPECT_EQ(lobes[2].spec, "lambert");
+  EXPECT_NEAR(lobes[0].weight, 0.35, kWeightTol);
+  EXPECT_NEAR(lobes[1].weight, 0.15, kWeightTol);
+  EXPECT_NEAR(lobes[2].weight, 0.5, kWeightTol);
+  EXPECT_EQ(lobes[1].color, (Rgb{0, 0, 1}));  // a mixture's lobes share its colour
+  ASSERT_TRUE(lobes[1].model);
+  EXPECT_EQ(lobes[1].model->spec(), "specular:alpha=8");
+}
+
+TEST(scene, RefusesBadScenesNamingTheValue) {
+  struct Case {
+    std::string text, fragment;
+  };
+  const std::string m = R"("materials": {"m": {"model": "lambert"}})";
+  const std::string sphere = R"("objects": [{"shape": "sphere", "material": "m"}])";
+  const std::vector<Case> cases = {
+      {"{\"camera\": {\"width\": 512,}}", "line 1, column"},
+      {"[1, 2]", "[1,2]"},
+      {R"({"camera": {}, "lamps": []})", "unknown top-level key 'lamps'; allowed: camera, materials, objects, lights"},
+      {R"({"camera": {"width": 0}})", "camera.width = 0"},
+      {R"({"camera": {"width": 16385}})", "16385"},
+      {R"({"camera": {"height": 2.5}})", "camera.height = 2.5"},
+      {R"({"camera": {"width": "512"}})", "camera.width = \"512\""},
+      {R"({"camera": {"fov_deg": 180}})", "camera.fov_deg = 180"},
+      {R"({"camera": {"fov_deg": 0}})", "camera.fov_deg = 0"},
+      {R"({"camera": {"eye": [0, 0]}})", "camera.eye = [0,0]"},
+      {R"({"camera": {"zoom": 2}})", "unknown key 'camera.zoom'"},
+      {R"({"camera": {"up": [0, 0, 0]}})", "camera.up = [0,0,0]"},
+      {"{" + m + R"(, "objects": [{"shape": "sphere", "material": "gold"}]})", "\"gold\" is not defined"},
+      {"{" + m + R"(, "objects": [{"shape": "cube", "material": "m"}]})", "\"cube\""},
+      {"{" + m + R"(, "objects": [{"shape": "sphere", "radius": 0, "material": "m"}]})", "objects[0].radius = 0"},
+      {"{" + m + R"(, "objects": [{"shape": "sphere", "radius": -1, "material": "m"}]})", "radius = -1"},
+      {"{" + m + R"(, "objects": [{"shape": "mesh", "material": "m"}]})", "has no \"path\""},
+      {"{" + m + "," + sphere + R"(, "lights": [{"type": "spot"}]})",
+       "\"spot\" is not allowed; allowed: collimated, hemispherical, ganzfeld"},
+      {"{" + m + "," + sphere + R"(, "lights": [{"type": "collimated", "direction": [0, 0, 0]}]})",
+       "lights[0].direction = [0,0,0]"},
+      {"{" + m + "," + sphere + R"(, "lights": [{"type": "hemispherical", "pole": [0, 0, 0]}]})",
+       "lights[0].pole = [0,0,0]"},
+      {"{" + m + "," + sphere + R"(, "lights": [{"type": "collimated", "direction": [1e999, 0, 0]}]})",
+       "number overflow parsing '1e999'"},
+      {"{" + m + "," + sphere + R"(, "lights": [{"type": "collimated", "irradiance": [1, -1, 1]}]})",
+       "lights[0].irradiance[1] = -1"},
+      {"{" + m + "," + sphere + R"(, "lights": [{"type": "ganzfeld", "radiance": -0.5}]})", "radiance = -0.5"},
+      {R"({"materials": {"m": {"model": "phong"}}})", "unknown model 'phong'"},
+      {R"({"materials": {"m": {"model": "specular:alpha=0"}}})", "alpha=0"},
+      {R"({"materials": {"m": {"model": "lambert", "color": [1, 1]}}})", "materials.m.color = [1,1]"},
+      {R"({"materials": {"m": {"model": "lambert", "color": [1, -2, 1]}}})", "materials.m.color[1] = -2"},
+      {R"({"materials": {"m": {"lobes": [{"weight": -1, "model": "lambert"}]}}})", "materials.m.lobes[0].weight = -1"},
+      {R"({"materials": {"m": {"lobes": [{"weight": 1, "model": "lambert", "colour": 1}]}}})",
+       "unknown key 'materials.m.lobes[0].colour'"},
+      {R"({"materials": {"m": {}}})", "exactly one of"},
+      {R"({"materials": {"m": {"model": "lambert", "shine": 1}}})", "unknown key 'materials.m.shine'"},
+  };
+  for (const Case& c : cases) {
+    const std::string message = refusal(c.text);
+    EXPECT_NE(message.find(c.fragment), std::string::npos) << c.text << "\n -> " << message;
+    EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+    EXPECT_NE(message.find("scene '"), std::string::npos) << message;  // names the file
+  }
+}
+
+TEST(scene, RefusesMissingOrUnreadableFiles) {
+  try {
+    load_scene(temp_dir() + "/no/such/scene.json");
+    FAIL() << "accepted a missing file";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("no such file"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(load_scene(temp_dir()), InputError);  // a directory
+}
+
+TEST(scene, MeshPathIsRelativeToTheSceneFile) {
+  const Scene s = scene_from(R"({"materials": {"m": {"model": "lambert"}},
+                                 "objects": [{"shape": "mesh", "path": "../bunny.obj", "material": "m"},
+                                             {"shape": "mesh", "path": "/abs/cube.obj", "material": "m"}]})");
+  EXPECT_EQ(s.objects[0].mesh_path, (fs::path(temp_dir()).parent_path() / "bunny.obj").string());
+  EXPECT_EQ(s.objects[1].mesh_path, "/abs/cube.obj");
+}
+
+// --- tables_needed ----------------------------------------------------------------------------
+
+TEST(scene, CollimatedOnlyNeedsNoTable) {
+  const Scene s = scene_from(sphere_scene(R"({"model": "specular:alpha=8"})", R"([{"type": "collimated"}])"));
+  EXPECT_TRUE(tables_needed(s).empty());
+}
+
+TEST(scene, GanzfeldNeedsHOfNonLambertLobesOnly) {
+  const Scene s =
+      scene_from(sphere_scene(R"({"model": "0.5*lambert + 0.5*specular:alpha=8"})", R"([{"type": "ganzfeld"}])"));
+  const auto plan = plan_of(s);
+  ASSERT_EQ(plan.size(), 1u);
+  EXPECT_EQ(plan[0], std::make_pair(std::string("specular:alpha=8"), Law::h));
+}
+
+TEST(scene, SkyAndGanzfeldNeedGAndHOfEachLobeDeduplicated) {
+  const Scene s = scene_from(R"({
+    "materials": {"a": {"model": "0.8*minnaert:xi=2 + 0.2*specular:alpha=8"},
+                  "b": {"lobes": [{"weight": 1, "model": "specular:alpha=8", "color": [1, 0, 0]},
+                                  {"weight": 1, "model": "asperity:alpha=4"},
+                                  {"weight": 1, "model": "lambert"}]},
+                  "unused": {"model": "backscatter:alpha=1"}},
+    "objects": [{"shape": "sphere", "material": "b"}, {"shape": "sphere", "material": "a"},
+                {"shape": "sphere", "material": "a"}],
+    "lights": [{"type": "ganzfeld"}, {"type": "hemispherical"}, {"type": "collimated"}, {"type": "ganzfeld"}]
+  })");
+  const std::vector<std::pair<std::string, Law>> want = {
+      {"minnaert:xi=2", Law::g}, {"specular:alpha=8", Law::g}, {"asperity:alpha=4", Law::g},
+      {"minnaert:xi=2", Law::h}, {"specular:alpha=8", Law::h}, {"asperity:alpha=4", Law::h}};
+  EXPECT_EQ(plan_of(s), want);
+}
+
+TEST(scene, UnusedMaterialNeedsNothing) {
+  const Scene s = scene_from(R"({"materials": {"m": {"model": "specular:alpha=8"}}, "objects": [],
+                                 "lights": [{"type": "ganzfeld"}, {"type": "hemispherical"}]})");
+  EXPECT_TRUE(tables_needed(s).empty());
+}
+
+// --- the cache --------------------------------------------------------------------------------
+
+BakeOptions tiny(Law law) {
+  BakeOptions o;
+  o.resolution = law == Law::g ? kTinyG : kTinyH;
+  o.tolerance = kTinyTol;
+  return o;
+}
+
+std::string fresh_dir(const std::string& name) {
+  const fs::path d = fs::path(temp_dir()) / name;
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d.string();
+}
+
+TEST(scene, CacheKeyAndFileName) {
+  const ModelPtr m = parse_model("specular:alpha=8");
+  const TableKey key = table_key(*m, Law::h, tiny(Law::h));
+  const std::string name = cache_file_name(key);
+  EXPECT_EQ(name.rfind("specular_alpha=8.h.", 0), 0u) << name;
+  EXPECT_EQ(name.size(), std::string("specular_alpha=8.h.").size() + 16 + 4) << name;
+  EXPECT_EQ(name, cache_file_name(table_key(*m, Law::h, tiny(Law::h))));  // deterministic
+  // Every part of the key changes the name.
+  BakeOptions o = tiny(Law::h);
+  o.tolerance = 1e-7;
+  EXPECT_NE(cache_file_name(table_key(*m, Law::h, o)), name);
+  o = tiny(Law::h);
+  o.resolution = {6};
+  EXPECT_NE(cache_file_name(table_key(*m, Law::h, o)), name);
+  o = tiny(Law::h);
+  o.encoding = Encoding::half;
+  EXPECT_NE(cache_file_name(table_key(*m, Law::h, o)), name);
+  o = tiny(Law::h);
+  o.mappings = {Mapping::linear};
+  EXPECT_NE(cache_file_name(table_key(*m, Law::h, o)), name);
+  EXPECT_NE(cache_file_name(table_key(*m, Law::a, tiny(Law::a))), name);
+  EXPECT_NE(cache_file_name(table_key(*parse_model("specular:alpha=9"), Law::h, tiny(Law::h))), name);
+  EXPECT_EQ(fnv1a_64(""), 0xcbf29ce484222325ull);  // the FNV-1a offset basis
+  EXPECT_EQ(fnv1a_64("a"), 0xaf63dc4c8601ec8cull);  // published test vector
+}
+
+TEST(scene, CacheReusesAMatchingTable) {
+  const std::string dir = fresh_dir("reuse");
+  const ModelPtr m = parse_model("specular:alpha=8");
+  const CacheResult first = lookup_or_bake(dir, *m, Law::g, tiny(Law::g), "test");
+  EXPECT_EQ(first.status, CacheStatus::baked);
+  EXPECT_TRUE(fs::exists(first.path));
+  const auto written = fs::last_write_time(first.path);
+  const CacheResult second = lookup_or_bake(dir, *m, Law::g, tiny(Law::g), "test");
+  EXPECT_EQ(second.status, CacheStatus::reused);
+  EXPECT_EQ(second.path, first.path);
+  EXPECT_EQ(second.table.value, first.table.value);
+  EXPECT_EQ(fs::last_write_time(first.path), written);
+  EXPECT_EQ(lookup_or_bake(dir, *m, Law::g, tiny(Law::g), "test", /*force=*/true).status, CacheStatus::baked);
+  // A different key is a different file.
+  BakeOptions o = tiny(Law::g);
+  o.encoding = Encoding::half;
+  const CacheResult half = lookup_or_bake(dir, *m, Law::g, o, "test");
+  EXPECT_EQ(half.status, CacheStatus::baked);
+  EXPECT_NE(half.path, first.path);
+  EXPECT_EQ(std::distance(fs::directory_iterator(dir), fs::directory_iterator{}), 2);  // no temporaries left
+}
+
+TEST(scene, CacheRebakesACorruptFile) {
+  const std::string dir = fresh_dir("corrupt");
+  const ModelPtr m = parse_model("asperity:alpha=4");
+  const std::string path = cache_path(dir, *m, Law::h, tiny(Law::h));
+  // Truncated: half of a valid table.
+  const CacheResult good = lookup_or_bake(dir, *m, Law::h, tiny(Law::h), "test");
+  const auto size = fs::file_size(path);
+  fs::resize_file(path, size / 2);
+  const CacheResult truncated = lookup_or_bake(dir, *m, Law::h, tiny(Law::h), "test");
+  EXPECT_EQ(truncated.status, CacheStatus::baked);
+  EXPECT_EQ(read_table(path).value, good.table.value);
+  // Not an EXR at all.
+  std::ofstream(path, std::ios::trunc) << "garbage";
+  EXPECT_EQ(lookup_or_bake(dir, *m, Law::h, tiny(Law::h), "test").status, CacheStatus::baked);
+  EXPECT_EQ(lookup_or_bake(dir, *m, Law::h, tiny(Law::h), "test").status, CacheStatus::reused);
+}
+
+TEST(scene, CacheRebakesAMismatchingFile) {
+  const std::string dir = fresh_dir("mismatch");
+  const ModelPtr m = parse_model("specular:alpha=8");
+  const std::string path = cache_path(dir, *m, Law::h, tiny(Law::h));
+  // A valid table of another key sitting under this key's name (a copy, a stale file, a collision).
+  BakeOptions other = tiny(Law::h);
+  other.tolerance = 1e-5;
+  EXPECT_EQ(bake_or_reuse(path, *m, Law::h, other, "test").status, CacheStatus::baked);
+  EXPECT_EQ(read_table(path).tolerance, 1e-5);
+  const CacheResult r = lookup_or_bake(dir, *m, Law::h, tiny(Law::h), "test");
+  EXPECT_EQ(r.status, CacheStatus::baked);
+  EXPECT_EQ(read_table(path).tolerance, kTinyTol);
+  // And another model, same law and axes.
+  EXPECT_EQ(bake_or_reuse(path, *parse_model("specular:alpha=9"), Law::h, tiny(Law::h), "test").status,
+            CacheStatus::baked);
+  EXPECT_EQ(lookup_or_bake(dir, *m, Law::h, tiny(Law::h), "test").status, CacheStatus::baked);
+  EXPECT_EQ(read_table(path).model, "specular:alpha=8");
+}
+
+}  // namespace
+}  // namespace ganzfeld::lut
