@@ -6,6 +6,7 @@
 #include <tbb/global_control.h>
 
 #include "bench/cubature_bench.h"
+#include "bench/render_bench.h"
 #include "cli/commands.h"
 #include "laws/error.h"
 #include "laws/spec.h"
@@ -81,6 +82,15 @@ nlohmann::ordered_json bake_report(const BenchArgs& args) {
   return doc;
 }
 
+nlohmann::ordered_json render_report(const BenchArgs& args) {
+  const auto r = bench::run_render_benchmark(args.quick);
+  return {{"benchmark", "render"},
+          {"size", r.size},
+          {"direct_crop", r.crop},
+          {"seconds", {{"lambert_ambient", r.seconds_lambert}, {"tables", r.seconds_tables}, {"direct_crop", r.seconds_direct}}},
+          {"ratios", {{"tables_vs_lambert", r.tables_vs_lambert}, {"direct_vs_tables", r.direct_vs_tables}}}};
+}
+
 }  // namespace
 
 void add_bench_command(CLI::App& app, Action& action) {
@@ -95,7 +105,7 @@ void add_bench_command(CLI::App& app, Action& action) {
       nlohmann::ordered_json doc;
       if (args->what == "cubature") doc = cubature_report(*args);
       else if (args->what == "bake") doc = bake_report(*args);
-      else if (args->what == "render") throw InputError("bench render is not built yet (it arrives with the rasterizer); allowed now: cubature, bake");
+      else if (args->what == "render") doc = render_report(*args);
       else throw InputError("unknown benchmark '" + args->what + "'; allowed: cubature, bake, render");
       if (args->json) {
         std::cout << doc.dump(2) << "\n";
@@ -113,6 +123,13 @@ void add_bench_command(CLI::App& app, Action& action) {
                       ratio("hcubature_naive"), ratio("pcubature_lune"), ratio("boost_gauss_kronrod"), ratio("boost_tanh_sinh"),
                       f["mc_error_ratio_equal_time"].get<double>(), f["dishonest_rate"].get<double>());
         }
+      } else if (args->what == "render") {
+        std::printf("%dx%d sphere: Lambert + ambient %.3f s, tables (3 lights, 2 lobes) %.3f s, direct %dx%d crop %.3f s\n"
+                    "per pixel: tables / Lambert = %.2f, direct / tables = %.3g\n",
+                    doc["size"].get<int>(), doc["size"].get<int>(), doc["seconds"]["lambert_ambient"].get<double>(),
+                    doc["seconds"]["tables"].get<double>(), doc["direct_crop"].get<int>(), doc["direct_crop"].get<int>(),
+                    doc["seconds"]["direct_crop"].get<double>(), doc["ratios"]["tables_vs_lambert"].get<double>(),
+                    doc["ratios"]["direct_vs_tables"].get<double>());
       } else {
         for (const auto& t : doc["tables"])
           std::printf("%-22s g %s tol 1e-9: %.2f s (1 thread), %.2f s (2 threads), speed-up %.2f, unconverged %lld\n",

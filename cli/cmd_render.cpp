@@ -27,10 +27,8 @@ namespace ganzfeld::cli {
 
 namespace {
 
-// Table defaults: those of `ganzfeld bake --scene`, so a cache filled by it is reused here.
-constexpr int kResG[3] = {32, 32, 16};
-constexpr int kResH = 128;
-constexpr double kTableTol = 1e-8;
+// Table defaults are lut::kScene* (those of `ganzfeld bake --scene`), so a cache filled by
+// either command is reused by the other.
 /// Per-pixel tolerance of --direct: far below what an 8-bit PNG or the tables resolve.
 constexpr double kDirectTol = 1e-6;
 
@@ -67,7 +65,7 @@ std::string prepare_cache(const std::string& text) {
 
 int run_render(const RenderArgs& args) {
   const auto start = std::chrono::steady_clock::now();
-  const double tol = args.tol.value_or(args.direct ? kDirectTol : kTableTol);
+  const double tol = args.tol.value_or(args.direct ? kDirectTol : lut::kSceneTolerance);
   validate_tolerance(tol);
   raster::image_format(args.output);  // refuse a bad extension or path before any work
   lut::check_writable(args.output);
@@ -87,7 +85,7 @@ int run_render(const RenderArgs& args) {
   if (!args.direct) {
     for (const lut::TableRequest& request : lut::tables_needed(scene)) {
       lut::BakeOptions options;
-      options.resolution = request.law == Law::g ? std::vector<int>(kResG, kResG + 3) : std::vector<int>{kResH};
+      options.resolution = request.law == Law::g ? std::vector<int>(lut::kSceneResG, lut::kSceneResG + 3) : std::vector<int>{lut::kSceneResH};
       options.tolerance = tol;
       if (!args.quiet && !args.json && ::isatty(STDERR_FILENO)) {
         const std::string label = std::string("baking ") + to_string(request.law) + " of " + request.spec;
