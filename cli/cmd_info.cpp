@@ -42,6 +42,8 @@ void add_info_command(CLI::App& app, Action& action) {
                                    {"tolerance", table.tolerance},
                                    {"max_error", table.max_error},
                                    {"unconverged", table.unconverged},
+                                   {"interpolation_error", table.interpolation_error},
+                                   {"interpolation_checks", table.interpolation_checks},
                                    {"encoding", lut::to_string(table.encoding)},
                                    {"command", table.command},
                                    {"version", table.version}};
@@ -53,9 +55,10 @@ void add_info_command(CLI::App& app, Action& action) {
       for (const lut::Axis& a : table.axes)
         std::printf("  axis         %-12s [%s, %s] %d nodes, %s\n", a.name.c_str(), format_number(a.min).c_str(),
                     format_number(a.max).c_str(), a.count, lut::to_string(a.mapping));
-      std::printf("  encoding     %s\n  tolerance    %s\n  max error    %s\n  unconverged  %lld of %zu\n  command      %s\n",
+      std::printf("  encoding     %s\n  tolerance    %s\n  max error    %s (at the nodes)\n  interpolation error %s (measured at %lld cell centres)\n  unconverged  %lld of %zu\n  command      %s\n",
                   lut::to_string(table.encoding), format_number(table.tolerance).c_str(),
-                  format_number(table.max_error).c_str(), table.unconverged, table.entries(), table.command.c_str());
+                  format_number(table.max_error).c_str(), format_number(table.interpolation_error).c_str(),
+                  table.interpolation_checks, table.unconverged, table.entries(), table.command.c_str());
       return 0;
     };
   });

@@ -36,11 +36,16 @@ void add_sample_command(CLI::App& app, Action& action) {
       const Vec3 j = needs_j ? args->directions.outgoing(law) : Vec3{0, 0, 1};
       const lut::Sample s = lut::sample(table, i, j);
       if (args->json) {
-        nlohmann::ordered_json doc{{"value", s.value}, {"error", s.error}};
+        // error: the interpolated node errors plus the table's measured interpolation error.
+        nlohmann::ordered_json doc{{"value", s.value},
+                                   {"error", s.error + table.interpolation_error},
+                                   {"node_error", s.error},
+                                   {"interpolation_error", table.interpolation_error}};
         std::cout << doc.dump(2) << "\n";
       } else {
-        std::printf("%s %s = %.9g ± %.2g (table %s; error excludes interpolation between nodes)\n",
-                    table.model.c_str(), to_string(law), s.value, s.error, args->path.c_str());
+        std::printf("%s %s = %.9g ± %.2g (node error %.2g + interpolation error %.2g measured at %lld cell centres; table %s)\n",
+                    table.model.c_str(), to_string(law), s.value, s.error + table.interpolation_error, s.error,
+                    table.interpolation_error, table.interpolation_checks, args->path.c_str());
       }
       return 0;
     };

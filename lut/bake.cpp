@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <limits>
 #include <mutex>
+#include <random>
 
 #include <Imath/half.h>
 #include <tbb/blocked_range.h>
@@ -14,6 +15,7 @@
 #include "integrate/laws.h"
 #include "laws/error.h"
 #include "laws/registry.h"
+#include "lut/sample.h"
 
 namespace ganzfeld::lut {
 
@@ -123,23 +125,24 @@ Table bake(const Model& model, Law law, const BakeOptions& options) {
   std::uint64_t reported = 0;
   const std::uint64_t step = std::max<std::uint64_t>(1, n / kProgressSteps);
 
-  // Entry m -> directions. g: m = (k_i * n_j + k_j) * n_phi + k_phi with
+  // Axis coordinates -> directions. g: (ci, cj, phi) with
   //   i = (sqrt(1 - ci^2), 0, ci),  j = (sqrt(1 - cj^2) cos phi, sqrt(1 - cj^2) sin phi, cj);
   // h: j = (sqrt(1 - cj^2), 0, cj);  a: i = (sqrt(1 - ci^2), 0, ci).
+  auto law_at = [&](std::span<const double> x) -> Estimate {
+    if (law == Law::g)
+      return vignetting(model, direction_from_cos(x[0]), direction_from_cos(x[1], x[2]), cubature);
+    const Vec3 d = direction_from_cos(x[0]);
+    return law == Law::h ? darkening(model, d, cubature) : albedo(model, d, cubature);
+  };
+  // Entry m = (k_i * n_j + k_j) * n_phi + k_phi (g) or k (h, a).
   auto entry = [&](std::uint64_t m) -> Estimate {
-    auto sin_of = [](double c) { return std::sqrt(std::max(0.0, 1.0 - c * c)); };
     if (law == Law::g) {
       const std::uint64_t n_j = nodes[1].size(), n_phi = nodes[2].size();
-      const double ci = nodes[0][m / (n_j * n_phi)];
-      const double cj = nodes[1][(m / n_phi) % n_j];
-      const double phi = nodes[2][m % n_phi];
-      const Vec3 i{sin_of(ci), 0.0, ci};
-      const Vec3 j{sin_of(cj) * std::cos(phi), sin_of(cj) * std::sin(phi), cj};
-      return vignetting(model, i, j, cubature);
+      const double x[3] = {nodes[0][m / (n_j * n_phi)], nodes[1][(m / n_phi) % n_j], nodes[2][m % n_phi]};
+      return law_at(x);
     }
-    const double c = nodes[0][m];
-    const Vec3 d{sin_of(c), 0.0, c};
-    return law == Law::h ? darkening(model, d, cubature) : albedo(model, d, cubature);
+    const double x[3] = {nodes[0][m], 0.0, 0.0};  // h, a read x[0] only
+    return law_at(std::span<const double>(x, 1));
   };
 
   tbb::parallel_for(tbb::blocked_range<std::uint64_t>(0, n, 1), [&](const tbb::blocked_range<std::uint64_t>& r) {
@@ -169,6 +172,36 @@ Table bake(const Model& model, Law law, const BakeOptions& options) {
   table.unconverged = unconverged;
   table.max_error = 0.0;
   for (float e : table.error) table.max_error = std::max(table.max_error, static_cast<double>(e));
+
+  // Interpolation check: lookups at cell centres (where multilinear interpolation errs most)
+  // against cubature, at every cell of small tables and at a seeded sample of about 1/16 of the
+  // cells of large ones (~6% of the bake).
+  std::vector<std::uint64_t> cell_counts;
+  std::uint64_t cells = 1;
+  for (const Axis& axis : table.axes) {
+    cell_counts.push_back(static_cast<std::uint64_t>(axis.count - 1));
+    cells *= cell_counts.back();
+  }
+  const std::uint64_t checks = std::min<std::uint64_t>(cells, std::max<std::uint64_t>(kMinInterpolationChecks, n / 16));
+  std::vector<std::uint64_t> chosen(checks);
+  std::mt19937_64 rng(kInterpolationSeed);
+  for (std::uint64_t c = 0; c < checks; ++c)
+    chosen[c] = checks == cells ? c : std::uniform_int_distribution<std::uint64_t>(0, cells - 1)(rng);
+  std::vector<double> check_error(checks);
+  tbb::parallel_for(std::uint64_t{0}, checks, [&](std::uint64_t c) {
+    std::vector<double> x(table.axes.size());
+    std::uint64_t rest = chosen[c];
+    for (std::size_t d = table.axes.size(); d-- > 0;) {
+      const std::uint64_t k = rest % cell_counts[d];
+      rest /= cell_counts[d];
+      x[d] = table.axes[d].coordinate((static_cast<double>(k) + 0.5) / static_cast<double>(cell_counts[d]));
+    }
+    const Estimate exact = law_at(x);
+    check_error[c] = std::abs(sample(table, x).value - exact.value) + exact.error;
+  });
+  table.interpolation_checks = static_cast<long long>(checks);
+  table.interpolation_error = 0.0;
+  for (double e : check_error) table.interpolation_error = std::max(table.interpolation_error, e);
   return table;
 }
 

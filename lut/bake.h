@@ -31,6 +31,10 @@ struct BakeOptions {
   std::function<void(std::uint64_t done, std::uint64_t total)> progress;
 };
 inline constexpr int kProgressSteps = 1000;
+/// The interpolation check after baking (Table::interpolation_error): at least this many cell
+/// centres (all cells when there are fewer), with a fixed seed so bakes are reproducible.
+inline constexpr std::uint64_t kMinInterpolationChecks = 512;
+inline constexpr std::uint64_t kInterpolationSeed = 20190117;
 
 /// Parses "N", "NxN" or "NxNxN" into node counts; a single N stands for every axis of the law
 /// (g: N x N x N). Throws InputError naming the text and the expected form.

@@ -39,6 +39,8 @@ constexpr const char* kAttrAxes = "ganzfeld.axes";
 constexpr const char* kAttrTolerance = "ganzfeld.tolerance";
 constexpr const char* kAttrMaxError = "ganzfeld.max_error";
 constexpr const char* kAttrUnconverged = "ganzfeld.unconverged";
+constexpr const char* kAttrInterpolationError = "ganzfeld.interpolation_error";    // optional on read
+constexpr const char* kAttrInterpolationChecks = "ganzfeld.interpolation_checks";  // optional on read
 constexpr const char* kAttrCommand = "ganzfeld.command";
 constexpr const char* kAttrGanzfeldVersion = "ganzfeld.version";
 constexpr const char* kAttrEncoding = "ganzfeld.encoding";
@@ -103,6 +105,8 @@ void write_table(const Table& table, const std::string& path) {
   attr(kAttrTolerance, format_number(table.tolerance));
   attr(kAttrMaxError, format_number(table.max_error));
   attr(kAttrUnconverged, std::to_string(table.unconverged));
+  attr(kAttrInterpolationError, format_number(table.interpolation_error));
+  attr(kAttrInterpolationChecks, std::to_string(table.interpolation_checks));
   attr(kAttrCommand, table.command);
   attr(kAttrGanzfeldVersion, table.version);
   attr(kAttrEncoding, to_string(table.encoding));
@@ -225,6 +229,13 @@ struct Reader {
       if (unconverged != std::floor(unconverged) || unconverged > 9e18)
         refuse(std::string(kAttrUnconverged) + " is not a count");
       table.unconverged = static_cast<long long>(unconverged);
+      if (header.findTypedAttribute<Imf::StringAttribute>(kAttrInterpolationChecks)) {
+        const double checks = number(header, kAttrInterpolationChecks);
+        table.interpolation_error = number(header, kAttrInterpolationError);
+        if (checks != std::floor(checks) || checks < 0 || checks > 9e18 || !(table.interpolation_error >= 0))
+          refuse(std::string(kAttrInterpolationChecks) + " / " + kAttrInterpolationError + " are not a count and an error");
+        table.interpolation_checks = static_cast<long long>(checks);
+      }
       table.command = attribute(header, kAttrCommand);
       table.version = attribute(header, kAttrGanzfeldVersion);
       if (table.axes.size() != (table.law == Law::g ? 3u : 1u))

@@ -79,6 +79,11 @@ struct Table {
   double tolerance = 0.0;      ///< absolute tolerance the cubature was asked for
   double max_error = 0.0;      ///< max of `error`
   long long unconverged = 0;   ///< entries whose cubature missed the tolerance
+  /// Largest |lookup - cubature| (+ the cubature's own error) measured after baking at the
+  /// centres of `interpolation_checks` cells, where multilinear interpolation errs most: the
+  /// between-node error that `error` (node values only) does not cover. Measured, not a bound.
+  double interpolation_error = 0.0;
+  long long interpolation_checks = 0;  ///< 0 for tables made before the measurement existed
   std::string command;         ///< the command line that made the table
   std::string version;         ///< ganzfeld version that made it
   Encoding encoding = Encoding::single;

@@ -470,5 +470,45 @@ TEST(lut, FailedWriteLeavesNoFile) {
   EXPECT_EQ(after.size(), before.size() + 1) << "a temporary file was left behind";
 }
 
+// The error a lookup reports (interpolated node errors + the table's measured interpolation
+// error) must cover |lookup - cubature| between nodes, where interpolation dominates. The
+// interpolation error is measured at cell centres, not bounded, so we allow a small fraction
+// of misses at fresh random points.
+constexpr double kAllowedMissFraction = 0.01;  // measured, not a bound: see lut/table.h
+TEST(lut, ReportedErrorCoversInterpolationBetweenNodes) {
+  struct Case {
+    const char* spec;
+    Law law;
+    std::vector<int> res;
+  };
+  for (const Case& c : {Case{"specular:alpha=8", Law::g, {12, 12, 7}}, Case{"minnaert:xi=0.3", Law::h, {17}},
+                        Case{"asperity:alpha=4", Law::a, {9}}}) {
+    const ModelPtr model = parse_model(c.spec);
+    BakeOptions options;
+    options.resolution = c.res;
+    options.tolerance = 1e-9;
+    const Table baked = bake(*model, c.law, options);
+    const Table table = round_trip(baked, "interpolation.exr");
+    EXPECT_EQ(table.interpolation_error, baked.interpolation_error) << c.spec;  // survives the file
+    EXPECT_EQ(table.interpolation_checks, baked.interpolation_checks) << c.spec;
+    ASSERT_GT(table.interpolation_checks, 0) << c.spec;
+    ASSERT_GT(table.interpolation_error, table.max_error) << c.spec;  // interpolation dominates here
+    std::mt19937_64 rng(99);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    CubatureOptions exact;
+    exact.abs_tol = 1e-11;
+    int misses = 0;
+    constexpr int kPoints = 300;
+    for (int k = 0; k < kPoints; ++k) {
+      const Vec3 i = direction_from_cos(c.law == Law::g ? 2 * u(rng) - 1 : u(rng));
+      const Vec3 j = direction_from_cos(u(rng), std::numbers::pi * u(rng));
+      const Sample s = sample(table, i, j);
+      const double truth = evaluate_law(*model, c.law, i, j, exact).value;
+      if (std::abs(s.value - truth) > s.error + table.interpolation_error) ++misses;
+    }
+    EXPECT_LE(misses, kAllowedMissFraction * kPoints) << c.spec;
+  }
+}
+
 }  // namespace
 }  // namespace ganzfeld::lut
