@@ -44,7 +44,7 @@ struct Lune {
 };
 Lune lune(const Vec3& pole, const Vec3& fixed);
 /// The engine's initial grid on that rectangle, from the model's mass hints (lines at each
-/// peak and ±1, ±4 widths; at delta and 4 delta from the horizon).
+/// peak and ±2 widths; at delta and 4 delta from the horizon).
 std::array<std::vector<double>, 2> lune_cuts(const Model& model, const Lune& lune, const Vec3& fixed, Varying varying);
 
 /// Unit direction from polar angle theta (from n) and azimuth phi, radians.
