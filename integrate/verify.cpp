@@ -446,6 +446,7 @@ std::vector<CheckResult> run_verification() {
     all.insert(all.end(), group.begin(), group.end());
   all.push_back(reciprocity_check());
   all.push_back(mixture_check());
+  for (auto&& check : hvd_checks()) all.push_back(std::move(check));
   return all;
 }
 

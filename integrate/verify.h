@@ -33,6 +33,10 @@ struct CheckResult {
 
 std::vector<CheckResult> run_verification();
 
+/// Checks of the halfway-vector-disk models (Edwards et al.; integrate/verify_hvd.cpp), appended
+/// to run_verification() after the Koenderink–Pont checks.
+std::vector<CheckResult> hvd_checks();
+
 /// True when every matching or corrected form agrees to kAgreement and all references converged.
 bool verification_passed(const std::vector<CheckResult>& checks);
 

@@ -51,6 +51,8 @@ std::vector<ModelInfo> build_catalogue() {
                {true, true, EnergyClass::plausible},
                {"asperity.g.alpha1", "asperity.h.alpha1", "asperity.norm"},
                [](const ParamValues& p) { return std::make_shared<Asperity>(p.at("alpha")); }});
+  register_hvd_models(c);
+  register_classic_models(c);
   return c;
 }
 }  // namespace

@@ -34,6 +34,10 @@ struct ModelInfo {
   std::function<ModelPtr(const ParamValues&)> make;  ///< params complete and validated
 };
 
+/// Model families register themselves here (one function per family, in its own file).
+void register_hvd_models(std::vector<ModelInfo>& catalogue);      // laws/hvd.cpp (Edwards et al.)
+void register_classic_models(std::vector<ModelInfo>& catalogue);  // laws/classic.cpp (Walker's survey)
+
 /// Every registered model, in presentation order.
 const std::vector<ModelInfo>& model_catalogue();
 /// Throws InputError naming the unknown model and listing the known ones.

