@@ -1,8 +1,431 @@
 // The classic models of the Oregon BRDF Library survey (Walker 1999; issue 7): registered here.
+// Formulas, sources and the differences from the thesis's summaries: laws/classic_models.h and
+// docs/models.md.
+#include <algorithm>
+#include <cmath>
+#include <complex>
+#include <numbers>
+
+#include <boost/math/quadrature/gauss_kronrod.hpp>
+
+#include "laws/classic_models.h"
+#include "laws/error.h"
 #include "laws/registry.h"
 
 namespace ganzfeld {
 
-void register_classic_models(std::vector<ModelInfo>&) {}
+using std::numbers::pi;
+
+namespace {
+
+/// max(0, x)^n with 0 for x <= 0 (no 0^0 = 1 on the far side of a lobe).
+double cosine_power(double x, double n) noexcept { return x > 0.0 ? std::pow(std::min(x, 1.0), n) : 0.0; }
+
+/// Unit halfway vector; false when i + j vanishes (opposite directions on the horizon).
+bool halfway(const Vec3& i, const Vec3& j, Vec3& h) noexcept {
+  const Vec3 s = i + j;
+  const double len = glm::length(s);
+  if (!(len > 0.0)) return false;
+  h = s / len;
+  return true;
+}
+
+std::string spec_of(const std::string& name, std::initializer_list<std::pair<const char*, double>> kv) {
+  std::string s = name;
+  char sep = ':';
+  for (const auto& [key, value] : kv) {
+    s += sep;
+    s += key;
+    s += '=';
+    s += format_number(value);
+    sep = ',';
+  }
+  return s;
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------------
+double fresnel_complex(double cos_theta, double eta, double k) noexcept {
+  using C = std::complex<double>;
+  const double c = std::clamp(cos_theta, 0.0, 1.0);
+  const C e(eta, k);
+  const C sin2_t = (1.0 - c * c) / (e * e);  // Snell: sin theta_t = sin theta_i / (eta + i k)
+  const C cos_t = std::sqrt(1.0 - sin2_t);
+  const C den_s = c + e * cos_t, den_p = e * c + cos_t;
+  // Both vanish only for eta + ik = 1 at grazing incidence, where the limit is total reflection.
+  if (std::norm(den_s) == 0.0 || std::norm(den_p) == 0.0) return 1.0;
+  const double r_s = std::norm((c - e * cos_t) / den_s);
+  const double r_p = std::norm((e * c - cos_t) / den_p);
+  return std::clamp(0.5 * (r_s + r_p), 0.0, 1.0);
+}
+
+// ---------------------------------------------------------------------------------------------
+Phong::Phong(double kd, double ks, double n) : kd_(kd), ks_(ks), n_(n) {}
+
+std::string Phong::spec() const { return spec_of("phong", {{"kd", kd_}, {"ks", ks_}, {"n", n_}}); }
+
+double Phong::f(const Vec3& i, const Vec3& j) const noexcept {
+  if (i.z < 0.0 || j.z < 0.0) return 0.0;
+  // Phong's specular intensity carries no cos(theta_i): as a BRDF it is divided by mu_i.
+  return kd_ / pi + ks_ * cosine_power(glm::dot(mirror(i), j), n_) / std::max(i.z, kGrazingCosFloor);
+}
+
+MassHints Phong::mass_hints(const Vec3& fixed, Varying) const {
+  // cos^n psi ~ exp(-n psi^2 / 2): a Gaussian of standard deviation 1/sqrt(n) about the mirror.
+  return {{{mirror(fixed), 1.0 / std::sqrt(n_)}}, 0.0};
+}
+
+PhongLewis::PhongLewis(double kd, double ks, double n)
+    : kd_(kd), ks_(ks), n_(n), C_((n + 2.0) / (2.0 * pi)) {}
+
+std::string PhongLewis::spec() const {
+  return spec_of("phong-lewis", {{"kd", kd_}, {"ks", ks_}, {"n", n_}});
+}
+
+double PhongLewis::f(const Vec3& i, const Vec3& j) const noexcept {
+  if (i.z < 0.0 || j.z < 0.0) return 0.0;
+  return kd_ / pi + ks_ * C_ * cosine_power(glm::dot(mirror(i), j), n_);
+}
+
+MassHints PhongLewis::mass_hints(const Vec3& fixed, Varying) const {
+  return {{{mirror(fixed), 1.0 / std::sqrt(n_)}}, 0.0};
+}
+
+double blinn_phong_normalization(double n) {
+  const double bracket = 2.0 * (1.0 - std::exp2(-(n + 4.0) / 2.0)) / (n + 4.0) -
+                         (1.0 - std::exp2(-(n + 2.0) / 2.0)) / (n + 2.0);
+  return 1.0 / (8.0 * pi * bracket);
+}
+
+BlinnPhong::BlinnPhong(double kd, double ks, double n)
+    : kd_(kd), ks_(ks), n_(n), C_(blinn_phong_normalization(n)) {}
+
+std::string BlinnPhong::spec() const {
+  return spec_of("blinn-phong", {{"kd", kd_}, {"ks", ks_}, {"n", n_}});
+}
+
+double BlinnPhong::f(const Vec3& i, const Vec3& j) const noexcept {
+  if (i.z < 0.0 || j.z < 0.0) return 0.0;
+  Vec3 h;
+  if (!halfway(i, j, h)) return kd_ / pi;
+  return kd_ / pi + ks_ * C_ * cosine_power(h.z, n_);
+}
+
+MassHints BlinnPhong::mass_hints(const Vec3& fixed, Varying) const {
+  // (h·n)^n ~ exp(-n delta^2 / 2) and delta ~ psi/2 near the mirror: width 2/sqrt(n) in psi.
+  return {{{mirror(fixed), 2.0 / std::sqrt(n_)}}, 0.0};
+}
+
+// ---------------------------------------------------------------------------------------------
+CookTorrance::CookTorrance(FacetDistribution d, double kd, double ks, double m, double eta, double k)
+    : d_(d), kd_(kd), ks_(ks), m_(m), eta_(eta), k_(k) {
+  if (d_ == FacetDistribution::gaussian) {
+    // 1/c = 2 pi ∫_0^{pi/2} exp(-(delta/m)^2) cos delta sin delta d delta.
+    const auto integrand = [m](double delta) {
+      return std::exp(-(delta / m) * (delta / m)) * std::cos(delta) * std::sin(delta);
+    };
+    const double I = boost::math::quadrature::gauss_kronrod<double, 61>::integrate(
+        integrand, 0.0, pi / 2, 15, 1e-13);
+    c_gauss_ = 1.0 / (2.0 * pi * I);
+  }
+}
+
+std::string CookTorrance::spec() const {
+  return spec_of(d_ == FacetDistribution::beckmann ? "cook-torrance" : "cook-torrance-gaussian",
+                 {{"kd", kd_}, {"ks", ks_}, {"m", m_}, {"eta", eta_}, {"k", k_}});
+}
+
+double CookTorrance::D(double c) const noexcept {
+  if (!(c > 0.0)) return 0.0;
+  c = std::min(c, 1.0);
+  if (d_ == FacetDistribution::beckmann) {
+    const double x = (1.0 - c * c) / (c * c * m_ * m_);  // tan^2 delta / m^2
+    if (x > 700.0) return 0.0;                           // exp underflows before c^4 does
+    const double c2 = c * c;
+    return std::exp(-x) / (pi * m_ * m_ * c2 * c2);
+  }
+  const double delta = std::acos(c);
+  return c_gauss_ * std::exp(-(delta / m_) * (delta / m_));
+}
+
+double CookTorrance::f(const Vec3& i, const Vec3& j) const noexcept {
+  if (i.z < 0.0 || j.z < 0.0) return 0.0;
+  const double diffuse = kd_ / pi;
+  Vec3 h;
+  if (!halfway(i, j, h)) return diffuse;
+  const double mu_i = i.z, mu_j = j.z, nh = h.z, jh = glm::dot(j, h);
+  const double mu_max = std::max(mu_i, mu_j);
+  if (!(mu_max > 0.0) || !(jh > 0.0)) return diffuse;
+  // G/(mu_i mu_j) = min(1, 2 nh mu_j/jh, 2 nh mu_i/jh)/(mu_i mu_j)
+  //               = min(1/(mu_i mu_j), (2 nh/jh)/max(mu_i, mu_j)): finite when one cosine vanishes.
+  double G_over = 2.0 * nh / jh / mu_max;
+  const double p = mu_i * mu_j;
+  if (p > 0.0) G_over = std::min(G_over, 1.0 / p);
+  const double s = fresnel_complex(jh, eta_, k_) * D(nh) * G_over / 4.0;
+  return std::isfinite(s) ? diffuse + ks_ * s : diffuse;
+}
+
+MassHints CookTorrance::mass_hints(const Vec3& fixed, Varying) const {
+  // exp(-tan^2 delta/m^2) ~ exp(-psi^2/(4 m^2)) near the mirror (psi ~ 2 delta): width sqrt(2) m.
+  return {{{mirror(fixed), std::sqrt(2.0) * m_}}, 0.0};
+}
+
+// ---------------------------------------------------------------------------------------------
+Ward::Ward(double rho_d, double rho_s, double alpha_x, double alpha_y, bool anisotropic)
+    : rho_d_(rho_d), rho_s_(rho_s), alpha_x_(alpha_x), alpha_y_(alpha_y), anisotropic_(anisotropic) {}
+
+std::string Ward::spec() const {
+  if (anisotropic_)
+    return spec_of("ward-aniso", {{"rho_d", rho_d_}, {"rho_s", rho_s_}, {"alpha_x", alpha_x_},
+                                  {"alpha_y", alpha_y_}});
+  return spec_of("ward", {{"rho_d", rho_d_}, {"rho_s", rho_s_}, {"alpha", alpha_x_}});
+}
+
+double Ward::f(const Vec3& i, const Vec3& j) const noexcept {
+  if (i.z < 0.0 || j.z < 0.0) return 0.0;
+  const double diffuse = rho_d_ / pi;
+  const Vec3 h = i + j;  // unnormalized: tan^2 delta cos^2 phi_h = (h_x/h_z)^2
+  if (!(h.z > 0.0)) return diffuse;
+  const double ex = h.x / (alpha_x_ * h.z), ey = h.y / (alpha_y_ * h.z);
+  const double e = ex * ex + ey * ey;
+  if (!(e < 700.0)) return diffuse;
+  const double root = std::sqrt(std::max(i.z * j.z, kGrazingCosFloor * kGrazingCosFloor));
+  return diffuse + rho_s_ * std::exp(-e) / (4.0 * pi * alpha_x_ * alpha_y_ * root);
+}
+
+MassHints Ward::mass_hints(const Vec3& fixed, Varying) const {
+  return {{{mirror(fixed), std::sqrt(2.0) * std::min(alpha_x_, alpha_y_)}}, 0.0};
+}
+
+// ---------------------------------------------------------------------------------------------
+OrenNayar::OrenNayar(double sigma, double rho) : sigma_(sigma), rho_(rho) {}
+
+std::string OrenNayar::spec() const { return spec_of("oren-nayar", {{"sigma", sigma_}, {"rho", rho_}}); }
+
+double OrenNayar::f(const Vec3& i, const Vec3& j) const noexcept {
+  if (i.z < 0.0 || j.z < 0.0) return 0.0;
+  const double mu_i = std::min(i.z, 1.0), mu_j = std::min(j.z, 1.0);
+  const double theta_i = std::acos(mu_i), theta_r = std::acos(mu_j);
+  const double alpha = std::max(theta_i, theta_r), beta = std::min(theta_i, theta_r);
+  // cos(phi_r - phi_i) from the projections on the surface; 0 when an azimuth is undefined
+  // (then beta = 0 and every azimuthal term vanishes anyway).
+  const double pxy = std::hypot(i.x, i.y) * std::hypot(j.x, j.y);
+  const double cos_dphi = pxy > 0.0 ? std::clamp((i.x * j.x + i.y * j.y) / pxy, -1.0, 1.0) : 0.0;
+  const double s2 = sigma_ * sigma_;
+  const double C1 = 1.0 - 0.5 * s2 / (s2 + 0.33);
+  const double two_beta_pi = 2.0 * beta / pi;
+  double C2 = 0.45 * s2 / (s2 + 0.09) * std::sin(alpha);
+  if (cos_dphi < 0.0) C2 = 0.45 * s2 / (s2 + 0.09) * (std::sin(alpha) - two_beta_pi * two_beta_pi * two_beta_pi);
+  const double C3 = 0.125 * s2 / (s2 + 0.09) * std::pow(4.0 * alpha * beta / (pi * pi), 2);
+  // tan beta and tan((alpha+beta)/2) diverge only when both directions graze: kGrazingCosFloor.
+  const double tan_beta = std::sin(beta) / std::max(std::cos(beta), kGrazingCosFloor);
+  const double half = 0.5 * (alpha + beta);
+  const double tan_half = std::sin(half) / std::max(std::cos(half), kGrazingCosFloor);
+  const double L1 = rho_ / pi * (C1 + cos_dphi * C2 * tan_beta + (1.0 - std::abs(cos_dphi)) * C3 * tan_half);
+  const double L2 = 0.17 * rho_ * rho_ / pi * s2 / (s2 + 0.13) * (1.0 - cos_dphi * two_beta_pi * two_beta_pi);
+  return L1 + L2;
+}
+
+// ---------------------------------------------------------------------------------------------
+Lafortune::Lafortune(double kd, double C_x, double C_y, double C_z, double n)
+    : kd_(kd), C_x_(C_x), C_y_(C_y), C_z_(C_z), n_(n) {}
+
+std::string Lafortune::spec() const {
+  return spec_of("lafortune", {{"kd", kd_}, {"Cx", C_x_}, {"Cy", C_y_}, {"Cz", C_z_}, {"n", n_}});
+}
+
+double Lafortune::f(const Vec3& i, const Vec3& j) const noexcept {
+  if (i.z < 0.0 || j.z < 0.0) return 0.0;
+  const double x = C_x_ * i.x * j.x + C_y_ * i.y * j.y + C_z_ * i.z * j.z;
+  return kd_ / pi + (x > 0.0 ? std::pow(x, n_) : 0.0);
+}
+
+MassHints Lafortune::mass_hints(const Vec3& fixed, Varying) const {
+  // The lobe peaks along (Cx x, Cy y, Cz z) of the fixed direction; width ~ 1/sqrt(n).
+  const Vec3 axis{C_x_ * fixed.x, C_y_ * fixed.y, C_z_ * fixed.z};
+  const double len = glm::length(axis);
+  if (!(len > 0.0)) return {};
+  return {{{axis / len, 1.0 / std::sqrt(n_)}}, 0.0};
+}
+
+// ---------------------------------------------------------------------------------------------
+Hapke::Hapke(double rho, double g, HapkePhase phase) : rho_(rho), g_(g), phase_(phase) {}
+
+std::string Hapke::spec() const {
+  return spec_of("hapke", {{"rho", rho_}, {"g", g_}, {"phase", static_cast<double>(phase_)}});
+}
+
+double Hapke::B(double tan_alpha, double cos_alpha, double g) noexcept {
+  if (!(cos_alpha > 0.0)) return 1.0;  // alpha >= pi/2 (the limit from below is 1 too)
+  if (!(tan_alpha > 0.0)) return 2.0;   // alpha = 0: the full opposition surge
+  const double one_minus_e = -std::expm1(-g / tan_alpha);  // accurate as tan alpha -> inf
+  return 2.0 - tan_alpha / (2.0 * g) * one_minus_e * (2.0 + one_minus_e);
+}
+
+double Hapke::f(const Vec3& i, const Vec3& j) const noexcept {
+  if (i.z < 0.0 || j.z < 0.0) return 0.0;
+  const double cos_a = std::clamp(glm::dot(i, j), -1.0, 1.0);
+  const double sin_a = glm::length(glm::cross(i, j));  // accurate near alpha = 0
+  const double a = std::atan2(sin_a, cos_a);
+  const double tan_a = cos_a > 0.0 ? sin_a / cos_a : 0.0;  // unused by B when cos_a <= 0
+  double S = 1.0;
+  if (phase_ == HapkePhase::forward) S = 4.0 / 9.0 * (1.0 - 0.5 * cos_a) * (1.0 - 0.5 * cos_a);
+  if (phase_ == HapkePhase::back) S = std::max(0.0, (sin_a + (pi - a) * cos_a) / pi);
+  return rho_ * S * B(tan_a, cos_a, g_) / (pi * std::max(i.z + j.z, kGrazingCosFloor));
+}
+
+MassHints Hapke::mass_hints(const Vec3& fixed, Varying) const {
+  // The opposition surge on `fixed` (B falls from 2 over tan alpha ~ g), and the
+  // Lommel–Seeliger factor (k·n)/((k + fixed)·n) switching over k·n ~ fixed·n.
+  const double layer = fixed.z < 0.3 ? fixed.z : 0.0;
+  return {{{fixed, std::min(g_, 1.0)}}, layer};
+}
+
+// ---------------------------------------------------------------------------------------------
+namespace {
+
+const char* kWalker = "Walker 1999, MSc thesis (U. Oregon), ch. III";
+
+/// Plausibility needs the two reflectances to share one unit of energy (Walker: "the sum
+/// rho_s + rho_d should be less than or equal to one"): checked where the model is made.
+void require_sum_at_most_one(const std::string& model, const char* a, double va, const char* b, double vb) {
+  if (va + vb > 1.0)
+    throw InputError(model + ": " + a + "=" + format_number(va) + " + " + b + "=" + format_number(vb) +
+                     " = " + format_number(va + vb) + " exceeds 1; allowed: " + a + " + " + b + " <= 1");
+}
+
+ParamInfo kd_param(double def) {
+  return {"kd", ParamType::real, 0.0, 1.0, def, "Lambertian (diffuse) reflectance; kd + ks <= 1"};
+}
+ParamInfo ks_param(double def) {
+  return {"ks", ParamType::real, 0.0, 1.0, def, "specular reflectance (weight of the lobe); kd + ks <= 1"};
+}
+ParamInfo n_param(double def, const char* meaning) {
+  return {"n", ParamType::real, 1.0, 10000.0, def, meaning};
+}
+
+ModelInfo cook_torrance_info(FacetDistribution d) {
+  const bool beckmann = d == FacetDistribution::beckmann;
+  return {beckmann ? "cook-torrance" : "cook-torrance-gaussian",
+          std::string("microfacet specular + Lambert, f = kd/pi + ks F D G/(pi (i.n)(j.n)); D = ") +
+              (beckmann ? "Beckmann exp(-tan^2 d/m^2)/(4 m^2 cos^4 d)" : "Gaussian c exp(-(d/m)^2)") +
+              ", V-groove G, exact Fresnel for eta + ik",
+          std::string("Cook & Torrance 1981, SIGGRAPH '81; ") + kWalker + ", Cook-Torrance",
+          {kd_param(0.3), ks_param(0.7),
+           {"m", ParamType::real, 0.01, 1.0, 0.15, "RMS slope of the microfacets (roughness)"},
+           {"eta", ParamType::real, 0.01, 10.0, 1.6, "real part of the complex index of refraction"},
+           {"k", ParamType::real, 0.0, 20.0, 0.2, "imaginary part (extinction coefficient)"}},
+          {true, true, EnergyClass::plausible},
+          {},
+          [d](const ParamValues& p) -> ModelPtr {
+            const std::string name = d == FacetDistribution::beckmann ? "cook-torrance" : "cook-torrance-gaussian";
+            require_sum_at_most_one(name, "kd", p.at("kd"), "ks", p.at("ks"));
+            return std::make_shared<CookTorrance>(d, p.at("kd"), p.at("ks"), p.at("m"), p.at("eta"), p.at("k"));
+          }};
+}
+
+}  // namespace
+
+void register_classic_models(std::vector<ModelInfo>& c) {
+  c.push_back({"phong", "original Phong as a BRDF, f = kd/pi + ks cos^n(psi)/(i.n) (not reciprocal)",
+               std::string("Phong 1975, CACM 18(6); ") + kWalker + ", Phong (eq. III.6)",
+               {kd_param(0.5), ks_param(0.5), n_param(20.0, "specular exponent")},
+               {true, false, EnergyClass::not_plausible},
+               {},
+               [](const ParamValues& p) -> ModelPtr {
+                 require_sum_at_most_one("phong", "kd", p.at("kd"), "ks", p.at("ks"));
+                 return std::make_shared<Phong>(p.at("kd"), p.at("ks"), p.at("n"));
+               }});
+  c.push_back({"phong-lewis", "Lewis's normalized Phong, f = kd/pi + ks (n+2)/(2 pi) cos^n(psi)",
+               std::string("Lewis 1994, Computer Graphics Forum 13(2); ") + kWalker + ", Phong",
+               {kd_param(0.5), ks_param(0.5), n_param(20.0, "specular exponent")},
+               {true, true, EnergyClass::plausible},
+               {},
+               [](const ParamValues& p) -> ModelPtr {
+                 require_sum_at_most_one("phong-lewis", "kd", p.at("kd"), "ks", p.at("ks"));
+                 return std::make_shared<PhongLewis>(p.at("kd"), p.at("ks"), p.at("n"));
+               }});
+  c.push_back({"blinn-phong",
+               "halfway-vector Phong, f = kd/pi + ks C(n) (h.n)^n, C(n): unit albedo at normal incidence",
+               std::string("Blinn 1977, SIGGRAPH '77; ") + kWalker + ", Phong (halfway variant)",
+               {kd_param(0.5), ks_param(0.5), n_param(20.0, "exponent of h.n")},
+               {true, true, EnergyClass::plausible},
+               {},
+               [](const ParamValues& p) -> ModelPtr {
+                 require_sum_at_most_one("blinn-phong", "kd", p.at("kd"), "ks", p.at("ks"));
+                 return std::make_shared<BlinnPhong>(p.at("kd"), p.at("ks"), p.at("n"));
+               }});
+  c.push_back(cook_torrance_info(FacetDistribution::beckmann));
+  c.push_back(cook_torrance_info(FacetDistribution::gaussian));
+  c.push_back({"ward",
+               "isotropic Ward, f = rho_d/pi + rho_s exp(-tan^2 d/alpha^2)/(4 pi alpha^2 sqrt((i.n)(j.n)))",
+               std::string("Ward 1992, SIGGRAPH '92, eq. 4a; ") + kWalker + ", Ward (eq. III.22)",
+               {{"rho_d", ParamType::real, 0.0, 1.0, 0.5, "diffuse reflectance; rho_d + rho_s <= 1"},
+                {"rho_s", ParamType::real, 0.0, 1.0, 0.1, "specular reflectance; rho_d + rho_s <= 1"},
+                {"alpha", ParamType::real, 0.01, 1.0, 0.1, "RMS slope of the surface (lobe width)"}},
+               {true, true, EnergyClass::not_plausible},
+               {},
+               [](const ParamValues& p) -> ModelPtr {
+                 require_sum_at_most_one("ward", "rho_d", p.at("rho_d"), "rho_s", p.at("rho_s"));
+                 return std::make_shared<Ward>(p.at("rho_d"), p.at("rho_s"), p.at("alpha"), p.at("alpha"), false);
+               }});
+  c.push_back({"ward-aniso",
+               "anisotropic Ward (tangent = local x axis), elliptical Gaussian in the halfway slope",
+               std::string("Ward 1992, SIGGRAPH '92, eq. 5a; ") + kWalker + ", Ward (eq. III.23)",
+               {{"rho_d", ParamType::real, 0.0, 1.0, 0.10, "diffuse reflectance; rho_d + rho_s <= 1"},
+                {"rho_s", ParamType::real, 0.0, 1.0, 0.33, "specular reflectance; rho_d + rho_s <= 1"},
+                {"alpha_x", ParamType::real, 0.01, 1.0, 0.05, "RMS slope along the tangent (x)"},
+                {"alpha_y", ParamType::real, 0.01, 1.0, 0.16, "RMS slope along the bitangent (y)"}},
+               {false, true, EnergyClass::not_plausible},
+               {},
+               [](const ParamValues& p) -> ModelPtr {
+                 require_sum_at_most_one("ward-aniso", "rho_d", p.at("rho_d"), "rho_s", p.at("rho_s"));
+                 return std::make_shared<Ward>(p.at("rho_d"), p.at("rho_s"), p.at("alpha_x"), p.at("alpha_y"),
+                                               true);
+               }});
+  c.push_back({"oren-nayar",
+               "rough Lambertian facets (V-cavities), full model with interreflections (L1 + L2)",
+               std::string("Oren & Nayar 1994, SIGGRAPH '94, eqs. 8 and 11; ") + kWalker +
+                   ", Oren-Nayar (eqs. III.25-26, app. D)",
+               {{"sigma", ParamType::real, 0.0, 0.6, 0.3,
+                 "RMS facet slope angle in radians (<= 0.6: beyond ~0.68 the model goes negative)"},
+                {"rho", ParamType::real, 0.0, 1.0, 0.8, "albedo of the Lambertian facets"}},
+               {true, true, EnergyClass::not_plausible},
+               {},
+               [](const ParamValues& p) -> ModelPtr {
+                 return std::make_shared<OrenNayar>(p.at("sigma"), p.at("rho"));
+               }});
+  c.push_back({"lafortune",
+               "one generalized cosine lobe + Lambert, f = kd/pi + max(0, Cx ix jx + Cy iy jy + Cz iz jz)^n",
+               std::string("Lafortune et al. 1997, SIGGRAPH '97, eq. 4; ") + kWalker + ", Lafortune (eq. III.32)",
+               {kd_param(0.5),
+                {"Cx", ParamType::real, -10.0, 10.0, -1.0, "lobe coefficient along the tangent (x)"},
+                {"Cy", ParamType::real, -10.0, 10.0, -1.0, "lobe coefficient along the bitangent (y)"},
+                {"Cz", ParamType::real, -10.0, 10.0, 1.0, "lobe coefficient along the normal (z)"},
+                {"n", ParamType::real, 1.0, 10000.0, 20.0, "lobe exponent; n log10(max|C|) <= 300"}},
+               {false, true, EnergyClass::not_plausible},
+               {},
+               [](const ParamValues& p) -> ModelPtr {
+                 const double c_max = std::max({std::abs(p.at("Cx")), std::abs(p.at("Cy")), std::abs(p.at("Cz"))});
+                 if (c_max > 1.0 && p.at("n") * std::log10(c_max) > 300.0)
+                   throw InputError("lafortune: n=" + format_number(p.at("n")) + " with max|C|=" +
+                                    format_number(c_max) + " overflows; allowed: n log10(max|C|) <= 300");
+                 return std::make_shared<Lafortune>(p.at("kd"), p.at("Cx"), p.at("Cy"), p.at("Cz"), p.at("n"));
+               }});
+  c.push_back({"hapke",
+               "Hapke/Lommel-Seeliger lunar law, f = rho S(a) B(a, g)/(pi (i.n + j.n)), a = phase angle",
+               std::string("Hapke 1963, J. Geophys. Res. 68; ") + kWalker +
+                   ", Hapke/Lommel-Seeliger (eqs. III.27-29)",
+               {{"rho", ParamType::real, 0.0, 1.0, 0.5, "single-scattering reflectance (scale)"},
+                {"g", ParamType::real, 0.01, 10.0, 0.6, "compaction g = 2y/tau (opposition-surge width)"},
+                {"phase", ParamType::integer, 0.0, 2.0, 0.0, "phase law S: 0 isotropic, 1 forward, 2 back"}},
+               {true, true, EnergyClass::not_plausible},
+               {},
+               [](const ParamValues& p) -> ModelPtr {
+                 const auto phase = static_cast<HapkePhase>(static_cast<int>(p.at("phase")));
+                 return std::make_shared<Hapke>(p.at("rho"), p.at("g"), phase);
+               }});
+}
 
 }  // namespace ganzfeld

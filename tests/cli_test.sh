@@ -44,7 +44,7 @@ json_field() { python3 -c "import json,sys; d=json.load(open('$1')); print($2)";
 [ "$(json_field "$tmp/nc.json" "d['converged']")" = "False" ] && ok || fail "non-convergence not reported"
 
 # --- bad input
-expect_bad "unknown model 'phong'" eval --model phong --law g --theta-i 1 --theta-j 1
+expect_bad "unknown model 'no-such-model'" eval --model no-such-model --law g --theta-i 1 --theta-j 1
 expect_bad "alpha=0" eval --model specular:alpha=0 --law h --theta-j 1
 expect_bad "alpha=nan" eval --model specular:alpha=nan --law h --theta-j 1
 expect_bad "unknown parameter 'beta'" eval --model specular:beta=1 --law h --theta-j 1

@@ -116,7 +116,7 @@ void expect_refused(const std::string& spec, const std::vector<std::string>& fra
 }
 
 TEST(Spec, BadInputIsRefusedWithTheValueAndWhatIsAllowed) {
-  expect_refused("phong", {"'phong'", "lambert", "asperity"});
+  expect_refused("no-such-model", {"'no-such-model'", "lambert", "asperity"});
   expect_refused("specular:beta=2", {"'beta'", "alpha"});
   expect_refused("specular:alpha=0.5", {"alpha=0.5", "[1, 10000]"});
   expect_refused("specular:alpha=nan", {"alpha=nan", "finite"});

@@ -187,7 +187,7 @@ TEST(scene, RefusesBadScenesNamingTheValue) {
       {"{" + m + "," + sphere + R"(, "lights": [{"type": "collimated", "irradiance": [1, -1, 1]}]})",
        "lights[0].irradiance[1] = -1"},
       {"{" + m + "," + sphere + R"(, "lights": [{"type": "ganzfeld", "radiance": -0.5}]})", "radiance = -0.5"},
-      {R"({"materials": {"m": {"model": "phong"}}})", "unknown model 'phong'"},
+      {R"({"materials": {"m": {"model": "no-such-model"}}})", "unknown model 'no-such-model'"},
       {R"({"materials": {"m": {"model": "specular:alpha=0"}}})", "alpha=0"},
       {R"({"materials": {"m": {"model": "lambert", "color": [1, 1]}}})", "materials.m.color = [1,1]"},
       {R"({"materials": {"m": {"model": "lambert", "color": [1, -2, 1]}}})", "materials.m.color[1] = -2"},

@@ -1,0 +1,378 @@
+// The classic catalogue (Walker 1999 survey; laws/classic_models.h, docs/models.md): known
+// values and limits, energy (albedo by cubature, integrate/laws.h), reciprocity and isotropy
+// measured against the declared traits, finiteness on random and grazing directions, and
+// parameter validation.
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <random>
+#include <string>
+#include <vector>
+
+#include <boost/math/quadrature/gauss_kronrod.hpp>
+#include <gtest/gtest.h>
+
+#include "integrate/laws.h"
+#include "laws/classic_models.h"
+#include "laws/error.h"
+#include "laws/registry.h"
+#include "laws/spec.h"
+
+namespace ganzfeld {
+namespace {
+
+using std::numbers::pi;
+
+// --- tolerances --------------------------------------------------------------------------------
+/// Absolute tolerance asked of the cubature for albedos; its estimate is the raw Kronrod–Gauss
+/// difference (integrate/cubature.h), a pessimistic bound, so results are within it.
+constexpr double kCubatureTol = 1e-6;
+/// Slack on albedo comparisons: ten times the requested cubature tolerance.
+constexpr double kAlbedoTol = 10 * kCubatureTol;
+/// Reciprocity of formulas that are symmetric expressions but evaluate i·h vs j·h (Cook–Torrance
+/// Fresnel argument): a few ulps of relative rounding.
+constexpr double kSymmetricRel = 1e-12;
+/// A model declared non-reciprocal must show at least this relative asymmetry somewhere on the
+/// test directions (Phong's 1/mu_i gives ratios mu_j/mu_i far from 1).
+constexpr double kAsymmetryEvidence = 0.1;
+/// Same for anisotropy: the value must change by this much (relative) under a rotation about n.
+constexpr double kAnisotropyEvidence = 0.1;
+/// Values below this (1/sr; the models are O(1) at their defaults) are compared absolutely:
+/// far outside a lobe, f is rounding noise (cos psi ~ 1e-16) whose relative error means nothing.
+constexpr double kValueFloor = 1e-6;
+/// Rotating i and j about n changes the inputs by ~1 ulp; the sharpest lobe (n = 10000,
+/// d f/f = n d cos psi) amplifies that to ~1e-12 relative: allow 1e-9.
+constexpr double kRotationRel = 1e-9;
+/// Closed-form Fresnel checks: relative rounding of a dozen complex operations.
+constexpr double kFresnelRel = 1e-12;
+/// Ward 1992's normalization 1/(4 pi alpha^2) is exact only as alpha -> 0; the albedo deficit
+/// at normal incidence measured here is ~3 alpha^2 (0.9926 at alpha = 0.05): allow 5 alpha^2.
+constexpr double kWardDeficitPerAlpha2 = 5.0;
+/// Facet-distribution normalization by 1-D Gauss–Kronrod (tolerance 1e-12 requested).
+constexpr double kNormalizationTol = 1e-9;
+
+CubatureOptions options() {
+  CubatureOptions o;
+  o.abs_tol = kCubatureTol;
+  o.max_evaluations = 5'000'000;
+  return o;
+}
+
+const std::vector<double> kIncidenceCosines{1.0, 0.9, 0.7, 0.5, 0.3, 0.1, 0.03, 0.01, 1e-3};
+
+/// Albedo a(i) for i at the given cosine; must converge.
+double albedo_at(const Model& m, double cos_i, double phi = 0.3) {
+  const Estimate e = albedo(m, direction_from_cos(cos_i, phi), options());
+  EXPECT_TRUE(e.converged) << m.spec() << " cos_i=" << cos_i;
+  return e.value;
+}
+double max_albedo(const Model& m) {
+  double mx = 0.0;
+  for (double c : kIncidenceCosines) mx = std::max(mx, albedo_at(m, c));
+  return mx;
+}
+
+// Every classic model at defaults and at the extremes of its parameters.
+const std::vector<std::string> kSpecs{
+    "phong", "phong:kd=0,ks=1,n=1", "phong:n=10000", "phong-lewis", "phong-lewis:kd=0,ks=1,n=1",
+    "phong-lewis:n=10000", "blinn-phong", "blinn-phong:kd=0,ks=1,n=1", "blinn-phong:n=10000",
+    "cook-torrance", "cook-torrance:m=0.01,eta=0.01,k=20", "cook-torrance:m=1,eta=10,k=0",
+    "cook-torrance:eta=1,k=0", "cook-torrance-gaussian", "cook-torrance-gaussian:m=0.01",
+    "cook-torrance-gaussian:m=1,eta=0.2,k=3", "ward", "ward:alpha=0.01", "ward:alpha=1,rho_d=0,rho_s=1",
+    "ward-aniso", "ward-aniso:alpha_x=0.01,alpha_y=1", "oren-nayar", "oren-nayar:sigma=0",
+    "oren-nayar:sigma=0.6,rho=1", "oren-nayar:sigma=0.6,rho=0.01", "lafortune",
+    "lafortune:Cx=10,Cy=-3,Cz=0.5,n=250", "lafortune:Cx=0.8,Cy=0.8,Cz=0.8,n=1", "lafortune:Cx=-1,Cy=-1,Cz=-1",
+    "hapke", "hapke:g=0.01,rho=1", "hapke:g=10,phase=1", "hapke:phase=2"};
+
+const std::vector<std::string> kNames{"phong",      "phong-lewis", "blinn-phong", "cook-torrance",
+                                      "cook-torrance-gaussian", "ward", "ward-aniso", "oren-nayar",
+                                      "lafortune", "hapke"};
+
+Vec3 from_cos(double c, double phi) { return direction_from_cos(c, phi); }
+
+std::vector<Vec3> test_directions() {
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  std::vector<Vec3> dirs;
+  for (double c : {0.0, 1e-9, 1e-6, 1e-3, 0.2, 0.5, 0.9, 1.0 - 1e-12, 1.0})
+    for (double phi : {0.0, 0.25 * pi, 0.5 * pi, pi, 1.5 * pi}) dirs.push_back(from_cos(c, phi));
+  for (int k = 0; k < 50; ++k) dirs.push_back(from_cos(u(rng), 2 * pi * u(rng)));
+  // Near-mirror pairs with unequal cosines, inside even the sharpest lobe (n = 10000: width
+  // 0.01 rad): where a non-reciprocal factor such as Phong's 1/mu_i shows.
+  for (double c : {0.01, 0.05, 0.2}) {
+    dirs.push_back(from_cos(c, 0.4));
+    dirs.push_back(from_cos(1.5 * c, 0.4 + pi));
+  }
+  return dirs;
+}
+
+Vec3 rotate_z(const Vec3& v, double a) {
+  return {std::cos(a) * v.x - std::sin(a) * v.y, std::sin(a) * v.x + std::cos(a) * v.y, v.z};
+}
+
+// --- catalogue ---------------------------------------------------------------------------------
+TEST(classic, EveryModelIsRegisteredWithADocumentedParameterTable) {
+  for (const auto& name : kNames) {
+    const ModelInfo& info = find_model(name);
+    EXPECT_FALSE(info.summary.empty()) << name;
+    EXPECT_FALSE(info.source.empty()) << name;
+    for (const auto& p : info.parameters) {
+      EXPECT_FALSE(p.meaning.empty()) << name << "." << p.name;
+      EXPECT_LE(p.min, p.default_value) << name << "." << p.name;
+      EXPECT_LE(p.default_value, p.max) << name << "." << p.name;
+    }
+    const ModelPtr m = parse_model(name);
+    EXPECT_EQ(parse_model(m->spec())->spec(), m->spec()) << name;  // canonical spec round-trips
+    EXPECT_EQ(m->traits().reciprocal, info.traits.reciprocal) << name;
+    EXPECT_EQ(m->traits().energy, info.traits.energy) << name;
+  }
+}
+
+// --- plausibility of the numbers -----------------------------------------------------------------
+TEST(classic, FiniteNonNegativeAndZeroBelowTheHorizon) {
+  const auto dirs = test_directions();
+  const Vec3 below{0.6, 0, -0.8}, up{0, 0, 1};
+  for (const auto& spec : kSpecs) {
+    const ModelPtr m = parse_model(spec);
+    for (const Vec3& i : dirs)
+      for (const Vec3& j : dirs) {
+        const double f = m->f(i, j);
+        ASSERT_TRUE(std::isfinite(f)) << spec << " i=" << i.z << " j=" << j.z;
+        ASSERT_GE(f, 0.0) << spec << " i=" << i.z << " j=" << j.z;
+      }
+    EXPECT_EQ(m->f(below, up), 0.0) << spec;
+    EXPECT_EQ(m->f(up, below), 0.0) << spec;
+  }
+}
+
+TEST(classic, MeasuredReciprocityMatchesTraits) {
+  const auto dirs = test_directions();
+  for (const auto& spec : kSpecs) {
+    const ModelPtr m = parse_model(spec);
+    double worst = 0.0;
+    for (const Vec3& i : dirs)
+      for (const Vec3& j : dirs) {
+        if (i.z < 1e-3 || j.z < 1e-3) continue;  // away from the regularized horizon layer
+        const double a = m->f(i, j), b = m->f(j, i);
+        const double scale = std::max({std::abs(a), std::abs(b), kValueFloor});
+        worst = std::max(worst, std::abs(a - b) / scale);
+      }
+    if (m->traits().reciprocal)
+      EXPECT_LE(worst, kSymmetricRel) << spec;
+    else
+      EXPECT_GE(worst, kAsymmetryEvidence) << spec;
+  }
+}
+
+TEST(classic, MeasuredIsotropyMatchesTraits) {
+  const auto dirs = test_directions();
+  for (const auto& spec : kSpecs) {
+    const ModelPtr m = parse_model(spec);
+    double worst = 0.0;
+    for (const Vec3& i : dirs)
+      for (const Vec3& j : dirs) {
+        if (i.z < 1e-3 || j.z < 1e-3) continue;  // the horizon layer is rounding-dominated
+        const double a = m->f(i, j), b = m->f(rotate_z(i, 0.7), rotate_z(j, 0.7));
+        const double scale = std::max({std::abs(a), std::abs(b), kValueFloor});
+        worst = std::max(worst, std::abs(a - b) / scale);
+      }
+    if (m->traits().isotropic)
+      EXPECT_LE(worst, kRotationRel) << spec;
+    else
+      EXPECT_GE(worst, kAnisotropyEvidence) << spec;
+  }
+}
+
+// --- energy ------------------------------------------------------------------------------------
+TEST(classic, PlausibleModelsHaveAlbedoAtMostOneAtTheExtremes) {
+  // Full specular weight, F ~ 1 (eta = 0.01, k = 20), sharpest and broadest lobes.
+  for (const std::string spec :
+       {"phong-lewis:kd=0,ks=1,n=1", "phong-lewis:kd=0,ks=1,n=3", "phong-lewis:kd=0,ks=1,n=10000",
+        "blinn-phong:kd=0,ks=1,n=1", "blinn-phong:kd=0,ks=1,n=5", "blinn-phong:kd=0,ks=1,n=10000",
+        "cook-torrance:kd=0,ks=1,m=0.01,eta=0.01,k=20", "cook-torrance:kd=0,ks=1,m=0.3,eta=0.01,k=20",
+        "cook-torrance:kd=0,ks=1,m=1,eta=0.01,k=20", "cook-torrance-gaussian:kd=0,ks=1,m=0.01,eta=0.01,k=20",
+        "cook-torrance-gaussian:kd=0,ks=1,m=1,eta=0.01,k=20", "cook-torrance:kd=0.5,ks=0.5,m=0.5"}) {
+    const ModelPtr m = parse_model(spec);
+    ASSERT_EQ(m->traits().energy, EnergyClass::plausible) << spec;
+    EXPECT_LE(max_albedo(*m), 1.0 + kAlbedoTol) << spec;
+  }
+}
+
+TEST(classic, NotPlausibleModelsHaveACounterExample) {
+  // Each declared not_plausible: an albedo above 1 (all are non-negative; phong also fails
+  // reciprocity, checked above).
+  for (const std::string spec : {"phong:kd=0,ks=1,n=20", "ward:rho_d=0,rho_s=1,alpha=1",
+                                 "ward-aniso:rho_d=0,rho_s=1,alpha_x=1,alpha_y=1", "oren-nayar:sigma=0.3,rho=1",
+                                 "lafortune:kd=0,Cx=-5,Cy=-5,Cz=5,n=1", "hapke:rho=1"}) {
+    const ModelPtr m = parse_model(spec);
+    ASSERT_EQ(m->traits().energy, EnergyClass::not_plausible) << spec;
+    EXPECT_GT(max_albedo(*m), 1.0 + kAlbedoTol) << spec;
+  }
+}
+
+// --- Phong family ----------------------------------------------------------------------------------
+TEST(classic, PhongLewisAlbedoIsKdPlusKsAtNormalIncidenceAndBelowElsewhere) {
+  for (double n : {1.0, 20.0, 1000.0}) {
+    const PhongLewis m(0.3, 0.6, n);
+    EXPECT_NEAR(albedo_at(m, 1.0), 0.9, kAlbedoTol) << n;
+    for (double c : kIncidenceCosines) EXPECT_LE(albedo_at(m, c), 0.9 + kAlbedoTol) << n << " " << c;
+  }
+}
+
+TEST(classic, PhongIsLewisWithoutNormalizationDividedByCosThetaI) {
+  const Phong phong(0.2, 0.5, 10.0);
+  const PhongLewis lewis(0.2, 0.5, 10.0);
+  const Vec3 i = from_cos(0.4, 0.1), j = from_cos(0.5, pi + 0.2);
+  const double spec_lewis = lewis.f(i, j) - 0.2 / pi;
+  EXPECT_NEAR(phong.f(i, j) - 0.2 / pi, spec_lewis / ((10.0 + 2.0) / (2 * pi)) / 0.4,
+              kSymmetricRel * phong.f(i, j));
+}
+
+TEST(classic, BlinnPhongNormalizationAndHalfwaySymmetry) {
+  // Unit lobe albedo at normal incidence (the closed form of blinn_phong_normalization).
+  for (double n : {1.0, 7.5, 100.0, 10000.0}) {
+    const BlinnPhong m(0.0, 1.0, n);
+    EXPECT_NEAR(albedo_at(m, 1.0), 1.0, kAlbedoTol) << n;
+  }
+  EXPECT_NEAR(blinn_phong_normalization(0.0), 1.0 / pi, 1e-15);  // (h.n)^0: Lambert's 1/pi
+  // f depends on i and j only through h: swapping them, or rotating the pair by pi about h,
+  // leaves it unchanged.
+  const BlinnPhong m(0.1, 0.8, 30.0);
+  const Vec3 i = from_cos(0.6, 0.2), j = from_cos(0.8, 2.5);
+  const Vec3 h = glm::normalize(i + j);
+  const Vec3 i2 = 2.0 * glm::dot(i, h) * h - i, j2 = 2.0 * glm::dot(j, h) * h - j;  // pi about h
+  EXPECT_EQ(m.f(i, j), m.f(j, i));
+  EXPECT_NEAR(m.f(i2, j2), m.f(i, j), kSymmetricRel * m.f(i, j));
+}
+
+// --- Cook–Torrance ---------------------------------------------------------------------------------
+TEST(classic, FresnelAtNormalIncidenceAndGrazing) {
+  for (auto [eta, k] : {std::pair{1.6, 0.2}, {1.5, 0.0}, {0.2, 3.0}, {0.01, 20.0}, {10.0, 0.0}}) {
+    const double expected = ((eta - 1) * (eta - 1) + k * k) / ((eta + 1) * (eta + 1) + k * k);
+    EXPECT_NEAR(fresnel_complex(1.0, eta, k), expected, kFresnelRel) << eta << "+" << k << "i";
+    EXPECT_NEAR(fresnel_complex(0.0, eta, k), 1.0, kFresnelRel) << eta << "+" << k << "i";
+  }
+  EXPECT_EQ(fresnel_complex(0.0, 1.0, 0.0), 1.0);  // the 0/0 case: limit
+}
+
+TEST(classic, FresnelForADielectricMatchesWalkersEquationIII11) {
+  const double eta = 1.5;
+  for (double deg : {5.0, 20.0, 45.0, 70.0, 85.0}) {
+    const double ti = deg * pi / 180, tt = std::asin(std::sin(ti) / eta);
+    const double walker = 0.5 * std::pow(std::sin(ti - tt) / std::sin(ti + tt), 2) *
+                          (1 + std::pow(std::cos(ti + tt) / std::cos(ti - tt), 2));
+    EXPECT_NEAR(fresnel_complex(std::cos(ti), eta, 0.0), walker, kFresnelRel) << deg;
+  }
+}
+
+TEST(classic, FacetDistributionsAreNormalized) {
+  for (auto d : {FacetDistribution::beckmann, FacetDistribution::gaussian})
+    for (double m_rough : {0.05, 0.3, 1.0}) {
+      const CookTorrance ct(d, 0.0, 1.0, m_rough, 1.5, 0.0);
+      const auto integrand = [&](double delta) { return ct.D(std::cos(delta)) * std::cos(delta) * std::sin(delta); };
+      const double I = 2 * pi * boost::math::quadrature::gauss_kronrod<double, 61>::integrate(
+                                     integrand, 0.0, pi / 2, 15, 1e-12);
+      EXPECT_NEAR(I, 1.0, kNormalizationTol) << static_cast<int>(d) << " m=" << m_rough;
+    }
+}
+
+TEST(classic, CookTorranceAtTheMirrorOfNormalIncidence) {
+  // i = j = n: h = n, G = 1, D_n(1) = 1/(pi m^2), so f = kd/pi + ks F(1)/(4 pi m^2).
+  const double kd = 0.2, ks = 0.7, m = 0.15, eta = 1.6, k = 0.2;
+  const CookTorrance ct(FacetDistribution::beckmann, kd, ks, m, eta, k);
+  const Vec3 n{0, 0, 1};
+  const double F0 = ((eta - 1) * (eta - 1) + k * k) / ((eta + 1) * (eta + 1) + k * k);
+  const double expected = kd / pi + ks * F0 / (4 * pi * m * m);
+  EXPECT_NEAR(ct.f(n, n), expected, kSymmetricRel * expected);
+}
+
+// --- Ward ------------------------------------------------------------------------------------------
+TEST(classic, WardAlbedoAtNormalIncidenceIsRhoSForSmallAlpha) {
+  for (double alpha : {0.02, 0.05, 0.1}) {
+    const double rho_s = 0.8;
+    const Ward iso(0.0, rho_s, alpha, alpha, false);
+    EXPECT_NEAR(albedo_at(iso, 1.0), rho_s, kWardDeficitPerAlpha2 * alpha * alpha * rho_s) << alpha;
+    const Ward aniso(0.0, rho_s, alpha, 2 * alpha, true);
+    EXPECT_NEAR(albedo_at(aniso, 1.0), rho_s, kWardDeficitPerAlpha2 * 4 * alpha * alpha * rho_s) << alpha;
+  }
+}
+
+TEST(classic, WardAnisoWithEqualAlphasIsWard) {
+  const auto dirs = test_directions();
+  const Ward iso(0.2, 0.3, 0.1, 0.1, false), aniso(0.2, 0.3, 0.1, 0.1, true);
+  for (const Vec3& i : dirs)
+    for (const Vec3& j : dirs) ASSERT_EQ(iso.f(i, j), aniso.f(i, j));
+  // The tangent is the local x axis: the highlight is longer along the rougher axis.
+  const Ward brass(0.0, 0.33, 0.05, 0.16, true);
+  const Vec3 i = from_cos(0.8, 0.0), mirror_i = mirror(i);
+  const Vec3 off_x = glm::normalize(mirror_i + Vec3{0.05, 0, 0});
+  const Vec3 off_y = glm::normalize(mirror_i + Vec3{0, 0.05, 0});
+  EXPECT_LT(brass.f(i, off_x), brass.f(i, off_y));
+}
+
+// --- Oren–Nayar ------------------------------------------------------------------------------------
+TEST(classic, OrenNayarWithZeroSigmaIsLambert) {
+  const auto dirs = test_directions();
+  for (double rho : {0.0, 0.37, 1.0}) {
+    const OrenNayar m(0.0, rho);
+    for (const Vec3& i : dirs)
+      for (const Vec3& j : dirs) ASSERT_DOUBLE_EQ(m.f(i, j), rho / pi) << rho;
+  }
+}
+
+TEST(classic, OrenNayarAtNormalIncidenceAndView) {
+  // beta = 0: only C1 and the interreflection constant remain (eqs. 8 and 11).
+  const double sigma = 0.4, rho = 0.7, s2 = sigma * sigma;
+  const OrenNayar m(sigma, rho);
+  const double expected = rho / pi * (1 - 0.5 * s2 / (s2 + 0.33)) + 0.17 * rho * rho / pi * s2 / (s2 + 0.13);
+  const Vec3 n{0, 0, 1};
+  EXPECT_NEAR(m.f(n, n), expected, kSymmetricRel * expected);
+}
+
+// --- Hapke ----------------------------------------------------------------------------------------
+TEST(classic, HapkeOppositionSurgeAndPhaseLaws) {
+  // B(0) = 2 (full surge), continuous to 1 at alpha = pi/2 (expm1 keeps it so), 1 beyond.
+  EXPECT_EQ(Hapke::B(0.0, 1.0, 0.6), 2.0);
+  EXPECT_NEAR(Hapke::B(1e-6, 1.0, 0.6), 2.0, 1e-5);  // B ~ 2 - 3 tan(alpha)/(2g)
+  EXPECT_NEAR(Hapke::B(1e12, 1e-12, 0.6), 1.0, 1e-9);  // B ~ 1 + g^2/(3 tan^2 alpha) -> 1
+  EXPECT_EQ(Hapke::B(0.0, -0.5, 0.6), 1.0);
+  // Retroreflection: at i = j = n, f = rho S(0) B(0)/(2 pi) with S(0) = 1, 1/4, 1.
+  const Vec3 n{0, 0, 1};
+  EXPECT_NEAR(Hapke(0.5, 0.6, HapkePhase::isotropic).f(n, n), 0.5 * 2.0 / (2 * pi), kSymmetricRel);
+  EXPECT_NEAR(Hapke(0.5, 0.6, HapkePhase::forward).f(n, n), 0.5 * (4.0 / 9.0) * 0.25 * 2.0 / (2 * pi), kSymmetricRel);
+  EXPECT_NEAR(Hapke(0.5, 0.6, HapkePhase::back).f(n, n), 0.5 * 2.0 / (2 * pi), kSymmetricRel);
+}
+
+// --- parameter validation ---------------------------------------------------------------------
+void expect_input_error(const std::string& spec, const std::vector<std::string>& fragments) {
+  try {
+    parse_model(spec);
+    ADD_FAILURE() << spec << " was accepted";
+  } catch (const InputError& e) {
+    const std::string what = e.what();
+    for (const auto& f : fragments) EXPECT_NE(what.find(f), std::string::npos) << spec << ": " << what;
+  }
+}
+
+TEST(classic, BadParametersAreRefusedNamingKeyAndRange) {
+  expect_input_error("phong:n=0.5", {"phong", "n=0.5", "[1, 10000]"});
+  expect_input_error("phong-lewis:kd=0.7,ks=0.7", {"kd=0.7", "ks=0.7", "<= 1"});
+  expect_input_error("blinn-phong:ks=-0.1", {"ks=-0.1", "[0, 1]"});
+  expect_input_error("cook-torrance:m=0", {"m=0", "[0.01, 1]"});
+  expect_input_error("cook-torrance-gaussian:eta=11", {"eta=11", "[0.01, 10]"});
+  expect_input_error("cook-torrance:k=nan", {"k=", "not finite"});
+  expect_input_error("cook-torrance:kd=0.6", {"kd=0.6", "ks=0.7", "<= 1"});
+  expect_input_error("ward:alpha=2", {"alpha=2", "[0.01, 1]"});
+  expect_input_error("ward:rho_d=0.95", {"rho_d=0.95", "rho_s=0.1", "<= 1"});
+  expect_input_error("ward-aniso:alpha_y=0", {"alpha_y=0", "[0.01, 1]"});
+  expect_input_error("ward-aniso:alpha=0.1", {"unknown parameter 'alpha'", "alpha_x"});
+  expect_input_error("oren-nayar:sigma=0.7", {"sigma=0.7", "[0, 0.6]"});
+  expect_input_error("oren-nayar:rho=1.5", {"rho=1.5", "[0, 1]"});
+  expect_input_error("lafortune:Cx=10,n=1000", {"n=1000", "overflows"});
+  expect_input_error("lafortune:Cz=11", {"Cz=11", "[-10, 10]"});
+  expect_input_error("hapke:phase=1.5", {"phase=1.5", "integer"});
+  expect_input_error("hapke:g=0", {"g=0", "[0.01, 10]"});
+}
+
+}  // namespace
+}  // namespace ganzfeld
