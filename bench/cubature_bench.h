@@ -52,4 +52,13 @@ struct FamilyResult {
 
 std::vector<FamilyResult> run_cubature_benchmark(const CubatureBenchOptions& options);
 
+/// docs/performance.md: the ratio table per family, the targets of issue 8 as measured, and
+/// the plot, stamped with `command`.
+std::string performance_markdown(const std::vector<FamilyResult>& families, const CubatureBenchOptions& options,
+                                 const std::string& command, const std::string& plot_file);
+
+/// Work–precision plot: per competitor and requested tolerance, the geometric means over all
+/// cases of evaluations (x) and achieved error (y), joined across tolerances.
+void write_work_precision_plot(const std::vector<FamilyResult>& families, const std::string& path);
+
 }  // namespace ganzfeld::bench

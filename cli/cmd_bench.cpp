@@ -1,4 +1,5 @@
 #include <chrono>
+#include <filesystem>
 #include <cstdio>
 #include <iostream>
 
@@ -10,6 +11,7 @@
 #include "cli/commands.h"
 #include "laws/error.h"
 #include "laws/spec.h"
+#include "lut/atomic_file.h"
 #include "lut/bake.h"
 
 namespace ganzfeld::cli {
@@ -20,12 +22,23 @@ struct BenchArgs {
   std::string what;
   bool json = false, quick = false;
   int cases = 0;
+  std::string markdown, plot;
 };
 
 nlohmann::ordered_json cubature_report(const BenchArgs& args) {
   bench::CubatureBenchOptions options = args.quick ? bench::quick_options() : bench::CubatureBenchOptions{};
   if (args.cases > 0) options.cases_per_family = args.cases;
   const auto families = bench::run_cubature_benchmark(options);
+  if (!args.plot.empty()) bench::write_work_precision_plot(families, args.plot);
+  if (!args.markdown.empty()) {
+    std::string command = "ganzfeld bench cubature";
+    if (args.quick) command += " --quick";
+    if (args.cases > 0) command += " --cases " + std::to_string(args.cases);
+    command += " --markdown " + args.markdown;
+    if (!args.plot.empty()) command += " --plot " + args.plot;
+    const std::string plot_file = args.plot.empty() ? "" : std::filesystem::path(args.plot).filename().string();
+    write_text_atomically(args.markdown, bench::performance_markdown(families, options, command, plot_file));
+  }
   nlohmann::ordered_json doc;
   doc["benchmark"] = "cubature";
   doc["ratio_tolerance"] = options.ratio_tolerance;
@@ -100,6 +113,8 @@ void add_bench_command(CLI::App& app, Action& action) {
   cmd->add_flag("--json", args->json, "print one JSON document");
   cmd->add_flag("--quick", args->quick, "a small sample (CI); the full run takes minutes");
   cmd->add_option("--cases", args->cases, "cases per integrand family (cubature; default 200, quick 4)");
+  cmd->add_option("--markdown", args->markdown, "cubature: also write the report (docs/performance.md) to FILE");
+  cmd->add_option("--plot", args->plot, "cubature: also write the work-precision plot (PNG) to FILE");
   cmd->callback([&action, args] {
     action = [args] {
       nlohmann::ordered_json doc;
