@@ -11,6 +11,7 @@
 #include <tbb/parallel_for.h>
 
 #include "integrate/laws.h"
+#include "integrate/verify_support.h"
 #include "laws/kp_lobes.h"
 #include "laws/mixture.h"
 #include "laws/registry.h"
@@ -21,7 +22,7 @@ namespace ganzfeld {
 namespace {
 
 using std::numbers::pi;
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+using namespace verify_support;
 
 const char* kSrc = "Koenderink & Pont, Material Properties and Extended Sources for Surface Rendering";
 
@@ -32,50 +33,11 @@ const std::vector<double> kCosView{0.0, 1e-6, 0.25, 0.5, 0.75, 1.0};
 const std::vector<double> kPhiDeg{0.0, 45.0, 90.0, 135.0, 180.0};
 const std::vector<double> kCos{0.0, 1e-6, 0.1, 0.25, 0.5, 0.75, 0.9, 0.999, 1.0};
 
-CubatureOptions reference_options() {
-  CubatureOptions o;
-  o.abs_tol = kReferenceTolerance;
-  return o;
-}
-
-
-/// One comparison: the printed value, our corrected value (NaN if none), the cubature reference.
-struct Sample {
-  double printed = 0.0, corrected = kNaN, reference = 0.0, reference_error = 0.0;
-  bool converged = true;
-  long points = 1;
-};
-using Job = std::function<Sample()>;
 
 Sample from_estimate(double printed, double corrected, const Estimate& e) {
   return {printed, corrected, e.value, e.error, e.converged, 1};
 }
 
-CheckResult run_check(CheckResult check, const std::vector<Job>& jobs) {
-  std::vector<Sample> samples(jobs.size());
-  tbb::parallel_for(std::size_t{0}, jobs.size(), [&](std::size_t k) { samples[k] = jobs[k](); });
-  double worst = 0.0, worst_corrected = 0.0;
-  bool has_corrected = false;
-  auto diff = [](double x, double y) {
-    const double d = std::abs(x - y);
-    return std::isnan(d) ? std::numeric_limits<double>::infinity() : d;
-  };
-  for (const Sample& s : samples) {
-    worst = std::max(worst, diff(s.printed, s.reference));
-    if (!std::isnan(s.corrected)) {
-      has_corrected = true;
-      worst_corrected = std::max(worst_corrected, diff(s.corrected, s.reference));
-    }
-    check.points += s.points;
-    check.max_reference_error = std::max(check.max_reference_error, s.reference_error);
-    check.references_converged = check.references_converged && s.converged;
-  }
-  check.max_abs_error = worst;
-  check.erratum = worst > kAgreement;
-  if (check.erratum && has_corrected) check.corrected_max_abs_error = worst_corrected;
-  if (!check.erratum) check.corrected.clear();
-  return check;
-}
 
 CheckResult meta(std::string id, std::string where, std::string models, std::string printed,
                  std::string corrected = "", std::string explanation = "") {
@@ -438,6 +400,42 @@ CheckResult mixture_check() {
 }
 
 }  // namespace
+
+namespace verify_support {
+
+CubatureOptions reference_options() {
+  CubatureOptions o;
+  o.abs_tol = kReferenceTolerance;
+  return o;
+}
+
+CheckResult run_check(CheckResult check, const std::vector<Job>& jobs) {
+  std::vector<Sample> samples(jobs.size());
+  tbb::parallel_for(std::size_t{0}, jobs.size(), [&](std::size_t k) { samples[k] = jobs[k](); });
+  double worst = 0.0, worst_corrected = 0.0;
+  bool has_corrected = false;
+  auto diff = [](double x, double y) {
+    const double d = std::abs(x - y);
+    return std::isnan(d) ? std::numeric_limits<double>::infinity() : d;
+  };
+  for (const Sample& s : samples) {
+    worst = std::max(worst, diff(s.printed, s.reference));
+    if (!std::isnan(s.corrected)) {
+      has_corrected = true;
+      worst_corrected = std::max(worst_corrected, diff(s.corrected, s.reference));
+    }
+    check.points += s.points;
+    check.max_reference_error = std::max(check.max_reference_error, s.reference_error);
+    check.references_converged = check.references_converged && s.converged;
+  }
+  check.max_abs_error = worst;
+  check.erratum = worst > kAgreement;
+  if (check.erratum && has_corrected) check.corrected_max_abs_error = worst_corrected;
+  if (!check.erratum) check.corrected.clear();
+  return check;
+}
+
+}  // namespace verify_support
 
 std::vector<CheckResult> run_verification() {
   std::vector<CheckResult> all;

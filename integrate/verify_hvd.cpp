@@ -4,8 +4,6 @@
 //   hvd.energy.orthogonal eq. 24/36: the same with lumps inside the disk; outside, the measured
 //                         loss equals F_fit × (lump volume off the disk), predicted by 1-D quadrature
 //   hvd.reciprocity       section 6: not reciprocal; measured max |f(i,j) − f(j,i)| and a(θ) vs h(θ)
-// run_check / Sample / Job / reference_options are small copies of verify.cpp's helpers (they
-// live in its anonymous namespace).
 #include <algorithm>
 #include <cmath>
 #include <functional>
@@ -17,6 +15,7 @@
 
 #include "integrate/laws.h"
 #include "integrate/verify.h"
+#include "integrate/verify_support.h"
 #include "laws/hvd.h"
 #include "laws/registry.h"
 #include "laws/spec.h"
@@ -26,43 +25,11 @@ namespace ganzfeld {
 namespace {
 
 using std::numbers::pi;
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+using namespace verify_support;
 const char* kSrc = "Edwards et al., The Halfway Vector Disk for BRDF Modeling";
 
 /// Outgoing polar angles (degrees): normal to 89°, where R_s = 1 − sin θ_o = 1.5e-4.
 const std::vector<double> kThetaO{0.0, 10.0, 30.0, 45.0, 60.0, 75.0, 85.0, 89.0};
-
-CubatureOptions reference_options() {
-  CubatureOptions o;
-  o.abs_tol = kReferenceTolerance;
-  return o;
-}
-
-struct Sample {
-  double printed = 0.0, corrected = kNaN, reference = 0.0, reference_error = 0.0;
-  bool converged = true;
-  long points = 1;
-};
-using Job = std::function<Sample()>;
-
-CheckResult run_check(CheckResult check, const std::vector<Job>& jobs) {
-  std::vector<Sample> samples(jobs.size());
-  tbb::parallel_for(std::size_t{0}, jobs.size(), [&](std::size_t k) { samples[k] = jobs[k](); });
-  double worst = 0.0;
-  auto diff = [](double x, double y) {
-    const double d = std::abs(x - y);
-    return std::isnan(d) ? std::numeric_limits<double>::infinity() : d;
-  };
-  for (const Sample& s : samples) {
-    worst = std::max(worst, diff(s.printed, s.reference));
-    check.points += s.points;
-    check.max_reference_error = std::max(check.max_reference_error, s.reference_error);
-    check.references_converged = check.references_converged && s.converged;
-  }
-  check.max_abs_error = worst;
-  check.erratum = worst > kAgreement;
-  return check;
-}
 
 CheckResult meta(std::string id, std::string where, std::string models, std::string printed) {
   CheckResult c;
