@@ -1,6 +1,11 @@
 #include "cli/args.h"
 
+#include <chrono>
 #include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <unistd.h>
 #include <cstdio>
 #include <numbers>
 #include <sstream>
@@ -86,5 +91,93 @@ void validate_tolerance(double tol) {
     throw InputError("--tol=" + format_number(tol) + " is not allowed; expected an absolute tolerance in [1e-15, 1]");
 }
 
+
+/// Words joined into a line a POSIX shell reproduces: words with anything but [A-Za-z0-9_./:=,+-]
+/// are single-quoted. The first word is written as `ganzfeld`.
+std::string shell_line(const std::vector<std::string>& words) {
+  std::string line = "ganzfeld";
+  for (std::size_t k = 1; k < words.size(); ++k) {
+    const std::string& word = words[k];
+    const bool plain = !word.empty() && word.find_first_not_of("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz"
+                                                               "0123456789_./:=,+-") == std::string::npos;
+    line += ' ';
+    if (plain) {
+      line += word;
+    } else {
+      line += '\'';
+      for (char c : word) line += c == '\'' ? std::string("'\\''") : std::string(1, c);
+      line += '\'';
+    }
+  }
+  return line;
+}
+
+/// "\rbaking g: 42% (55050/131072), 3 s left" on stderr, redrawn in place.
+namespace {
+class ProgressBar {
+ public:
+  explicit ProgressBar(std::string label) : label_(std::move(label)), start_(std::chrono::steady_clock::now()) {}
+  void update(std::uint64_t done, std::uint64_t total) {
+    const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+    const double fraction = total ? static_cast<double>(done) / total : 1.0;
+    const int percent = static_cast<int>(100.0 * fraction);
+    if (percent == last_percent_ && done != total) return;
+    last_percent_ = percent;
+    constexpr int kWidth = 30;
+    const int filled = static_cast<int>(kWidth * fraction);
+    std::string bar(filled, '#');
+    bar.resize(kWidth, '.');
+    std::fprintf(stderr, "\r%s [%s] %3d%% (%llu/%llu)", label_.c_str(), bar.c_str(), percent,
+                 static_cast<unsigned long long>(done), static_cast<unsigned long long>(total));
+    if (fraction > 0.0 && done != total) std::fprintf(stderr, " %.0f s left  ", elapsed * (1.0 - fraction) / fraction);
+    if (done == total) std::fprintf(stderr, " %.1f s      \n", elapsed);
+    std::fflush(stderr);
+  }
+
+ private:
+  std::string label_;
+  std::chrono::steady_clock::time_point start_;
+  int last_percent_ = -1;
+};
+}  // namespace
+
+/// A progress bar for the bake of `law` of `spec` when stderr is a terminal and not --quiet.
+void attach_progress(lut::BakeOptions& options, bool quiet, Law law, const std::string& spec) {
+  if (quiet || !::isatty(STDERR_FILENO)) return;
+  auto bar = std::make_shared<ProgressBar>(std::string("baking ") + to_string(law) + " of " + spec);
+  options.progress = [bar](std::uint64_t done, std::uint64_t total) { bar->update(done, total); };
+}
+
+/// Creates the cache directory if its parent exists; refuses a missing parent, a non-directory
+/// and an unwritable directory. Returns the directory.
+std::string prepare_directory(const std::string& flag, const std::string& text) {
+  namespace fs = std::filesystem;
+  fs::path dir(text);
+  if (text.empty()) throw InputError(flag + " is empty; expected a directory");
+  if (!dir.has_filename() && dir.has_parent_path()) dir = dir.parent_path();  // "cache/" -> "cache"
+  std::error_code ec;
+  if (fs::exists(dir, ec)) {
+    if (!fs::is_directory(dir, ec)) throw InputError(flag + " '" + text + "' exists and is not a directory");
+  } else {
+    const fs::path parent = dir.has_parent_path() ? dir.parent_path() : fs::path(".");
+    if (!fs::is_directory(parent, ec))
+      throw InputError("cannot create " + flag + " '" + text + "': directory '" + parent.string() + "' does not exist");
+    if (!fs::create_directory(dir, ec) && !fs::is_directory(dir))
+      throw InputError("cannot create " + flag + " '" + text + "': " + ec.message());
+  }
+  if (::access(dir.c_str(), W_OK) != 0) throw InputError(flag + " '" + text + "' is not a writable directory");
+  return dir.string();
+}
+
+lut::CacheResult bake_into_cache(const std::string& dir, const lut::TableRequest& request, const lut::BakeOptions& options,
+                                 bool force) {
+  const std::string path = lut::cache_path(dir, *request.model, request.law, options);
+  // Stamped into the file: the single-table command that reproduces exactly this file.
+  const std::string command = shell_line({"ganzfeld", "bake", "--model", request.spec, "--law", to_string(request.law),
+                                          "--res", lut::resolution_text(options.resolution), "--tol",
+                                          format_number(options.tolerance), "--encoding", lut::to_string(options.encoding),
+                                          "--max-evals", std::to_string(options.max_evaluations), "-o", path});
+  return lut::bake_or_reuse(path, *request.model, request.law, options, command, force);
+}
 
 }  // namespace ganzfeld::cli

@@ -7,6 +7,9 @@
 #include <CLI/CLI.hpp>
 
 #include "integrate/laws.h"
+#include "lut/bake.h"
+#include "lut/cache.h"
+#include "lut/plan.h"
 
 namespace ganzfeld::cli {
 
@@ -26,6 +29,22 @@ Vec3 parse_vector(const std::string& flag, const std::string& text);
 
 /// Refuses non-finite, non-positive or absurd tolerances with a one-line message.
 void validate_tolerance(double tol);
+
+/// Words joined into a line a POSIX shell reproduces: words with anything but [A-Za-z0-9_./:=,+-]
+/// are single-quoted. The first word is written as `ganzfeld`.
+std::string shell_line(const std::vector<std::string>& words);
+
+/// A progress bar on stderr for the bake of `law` of `spec`, when stderr is a terminal and not `quiet`.
+void attach_progress(lut::BakeOptions& options, bool quiet, Law law, const std::string& spec);
+
+/// The table cache directory named by `flag` (--out, --cache): created if its parent exists;
+/// a missing parent, a non-directory or an unwritable directory is refused. Returns it.
+std::string prepare_directory(const std::string& flag, const std::string& text);
+
+/// One table of a scene in the cache directory (lut/cache.h), baked or reused, stamped with the
+/// single-table `ganzfeld bake` command that reproduces it: shared by `bake --scene` and `render`.
+lut::CacheResult bake_into_cache(const std::string& dir, const lut::TableRequest& request, const lut::BakeOptions& options,
+                                 bool force = false);
 
 
 }  // namespace ganzfeld::cli

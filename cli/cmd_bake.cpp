@@ -2,12 +2,9 @@
 // table a scene needs into a cache directory (lut/plan.h, lut/cache.h). A table whose file
 // already carries exactly the requested key (spec, law, axes, tolerance, encoding, format
 // version) is reused, not re-baked, unless --force.
-#include <chrono>
 #include <cstdio>
-#include <filesystem>
 #include <iostream>
 #include <optional>
-#include <unistd.h>
 
 #include <nlohmann/json.hpp>
 
@@ -26,7 +23,6 @@ namespace ganzfeld::cli {
 
 namespace {
 
-namespace fs = std::filesystem;
 
 // Defaults of a scene bake: a scene's tables bake in about a second (the example scene's six
 // tables: 1.6 s on 2 cores). Interpolation between nodes dominates the error: for g of
@@ -51,66 +47,6 @@ struct BakeArgs {
   bool quiet = false, json = false, force = false;
   std::vector<std::string> argv;  ///< the command line, stamped into single tables
 };
-
-/// Words joined into a line a POSIX shell reproduces: words with anything but [A-Za-z0-9_./:=,+-]
-/// are single-quoted. The first word is written as `ganzfeld`.
-std::string shell_line(const std::vector<std::string>& words) {
-  std::string line = "ganzfeld";
-  for (std::size_t k = 1; k < words.size(); ++k) {
-    const std::string& word = words[k];
-    const bool plain = !word.empty() && word.find_first_not_of("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz"
-                                                               "0123456789_./:=,+-") == std::string::npos;
-    line += ' ';
-    if (plain) {
-      line += word;
-    } else {
-      line += '\'';
-      for (char c : word) line += c == '\'' ? std::string("'\\''") : std::string(1, c);
-      line += '\'';
-    }
-  }
-  return line;
-}
-
-std::string counts_text(const std::vector<int>& counts) {
-  std::string s;
-  for (int c : counts) s += (s.empty() ? "" : "x") + std::to_string(c);
-  return s;
-}
-
-/// "\rbaking g: 42% (55050/131072), 3 s left" on stderr, redrawn in place.
-class ProgressBar {
- public:
-  explicit ProgressBar(std::string label) : label_(std::move(label)), start_(std::chrono::steady_clock::now()) {}
-  void update(std::uint64_t done, std::uint64_t total) {
-    const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
-    const double fraction = total ? static_cast<double>(done) / total : 1.0;
-    const int percent = static_cast<int>(100.0 * fraction);
-    if (percent == last_percent_ && done != total) return;
-    last_percent_ = percent;
-    constexpr int kWidth = 30;
-    const int filled = static_cast<int>(kWidth * fraction);
-    std::string bar(filled, '#');
-    bar.resize(kWidth, '.');
-    std::fprintf(stderr, "\r%s [%s] %3d%% (%llu/%llu)", label_.c_str(), bar.c_str(), percent,
-                 static_cast<unsigned long long>(done), static_cast<unsigned long long>(total));
-    if (fraction > 0.0 && done != total) std::fprintf(stderr, " %.0f s left  ", elapsed * (1.0 - fraction) / fraction);
-    if (done == total) std::fprintf(stderr, " %.1f s      \n", elapsed);
-    std::fflush(stderr);
-  }
-
- private:
-  std::string label_;
-  std::chrono::steady_clock::time_point start_;
-  int last_percent_ = -1;
-};
-
-/// A progress bar for the bake of `law` of `spec` when stderr is a terminal and not --quiet.
-void attach_progress(lut::BakeOptions& options, const BakeArgs& args, Law law, const std::string& spec) {
-  if (args.quiet || !::isatty(STDERR_FILENO)) return;
-  auto bar = std::make_shared<ProgressBar>(std::string("baking ") + to_string(law) + " of " + spec);
-  options.progress = [bar](std::uint64_t done, std::uint64_t total) { bar->update(done, total); };
-}
 
 /// parse_resolution with its message naming `flag` instead of --res.
 std::vector<int> resolution_for(const std::string& flag, const std::string& text, Law law) {
@@ -147,26 +83,6 @@ void warn_unconverged(const lut::CacheResult& r, long long max_evaluations) {
             << format_number(t.max_error) << ")\n";
 }
 
-/// Creates the cache directory if its parent exists; refuses a missing parent, a non-directory
-/// and an unwritable directory. Returns the directory.
-std::string prepare_directory(const std::string& text) {
-  fs::path dir(text);
-  if (text.empty()) throw InputError("--out is empty; expected a directory for the scene's tables");
-  if (!dir.has_filename() && dir.has_parent_path()) dir = dir.parent_path();  // "cache/" -> "cache"
-  std::error_code ec;
-  if (fs::exists(dir, ec)) {
-    if (!fs::is_directory(dir, ec)) throw InputError("--out '" + text + "' exists and is not a directory");
-  } else {
-    const fs::path parent = dir.has_parent_path() ? dir.parent_path() : fs::path(".");
-    if (!fs::is_directory(parent, ec))
-      throw InputError("cannot create --out '" + text + "': directory '" + parent.string() + "' does not exist");
-    if (!fs::create_directory(dir, ec) && !fs::is_directory(dir))
-      throw InputError("cannot create --out '" + text + "': " + ec.message());
-  }
-  if (::access(dir.c_str(), W_OK) != 0) throw InputError("--out '" + text + "' is not a writable directory");
-  return dir.string();
-}
-
 int bake_one(const BakeArgs& args) {
   // Everything is checked before the (possibly long) bake.
   if (args.law.empty()) throw InputError("bake --model needs --law g|h|a");
@@ -187,7 +103,7 @@ int bake_one(const BakeArgs& args) {
   options.encoding = lut::parse_encoding(args.encoding);
   lut::table_key(*model, law, options);  // refuses bad axes now
   lut::check_writable(args.output);
-  attach_progress(options, args, law, model->spec());
+  attach_progress(options, args.quiet, law, model->spec());
 
   const lut::CacheResult r = lut::bake_or_reuse(args.output, *model, law, options, shell_line(args.argv), args.force);
   const lut::Table& table = r.table;
@@ -217,7 +133,7 @@ int bake_scene(const BakeArgs& args) {
   const std::vector<int> res_h = resolution_for("--res-h", args.res_h, Law::h);
   const Scene scene = load_scene(args.scene);
   const std::vector<lut::TableRequest> requests = lut::tables_needed(scene);
-  const std::string dir = prepare_directory(args.out_dir);
+  const std::string dir = prepare_directory("--out", args.out_dir);
 
   nlohmann::ordered_json tables = nlohmann::ordered_json::array();
   int baked = 0;
@@ -227,19 +143,13 @@ int bake_scene(const BakeArgs& args) {
     options.tolerance = tol;
     options.max_evaluations = args.max_evaluations;
     options.encoding = encoding;
-    const std::string path = lut::cache_path(dir, *request.model, request.law, options);
-    // Stamped into the file: the single-table command that reproduces exactly this file.
-    const std::string command = shell_line({"ganzfeld", "bake", "--model", request.spec, "--law",
-                                            to_string(request.law), "--res", counts_text(options.resolution),
-                                            "--tol", format_number(tol), "--encoding", lut::to_string(encoding),
-                                            "--max-evals", std::to_string(args.max_evaluations), "-o", path});
-    attach_progress(options, args, request.law, request.spec);
-    const lut::CacheResult r = lut::bake_or_reuse(path, *request.model, request.law, options, command, args.force);
+    attach_progress(options, args.quiet, request.law, request.spec);
+    const lut::CacheResult r = bake_into_cache(dir, request, options, args.force);
     baked += r.status == lut::CacheStatus::baked;
     tables.push_back(table_json(r));
     if (!args.json)
       std::printf("%s %s of %s, %s nodes, max error %.3g -> %s\n", lut::to_string(r.status), to_string(request.law),
-                  request.spec.c_str(), counts_text(options.resolution).c_str(), r.table.max_error, path.c_str());
+                  request.spec.c_str(), lut::resolution_text(options.resolution).c_str(), r.table.max_error, r.path.c_str());
     warn_unconverged(r, args.max_evaluations);
   }
   if (args.json) {

@@ -2,12 +2,10 @@
 // which tables exist (lut/plan.h): only those are baked, or reused from --cache DIR (lut/cache.h,
 // the same files `ganzfeld bake --scene SCENE --out DIR` makes with its defaults).
 #include <chrono>
-#include <filesystem>
 #include <optional>
 #include <cstdio>
 #include <iostream>
 #include <map>
-#include <unistd.h>
 
 #include <nlohmann/json.hpp>
 
@@ -38,31 +36,6 @@ struct RenderArgs {
   bool direct = false, json = false, quiet = false;
 };
 
-std::string counts_text(const std::vector<int>& counts) {
-  std::string text;
-  for (int c : counts) text += (text.empty() ? "" : "x") + std::to_string(c);
-  return text;
-}
-
-/// Creates the cache directory if its parent exists; refuses anything else.
-std::string prepare_cache(const std::string& text) {
-  namespace fs = std::filesystem;
-  fs::path dir(text);
-  if (!dir.has_filename() && dir.has_parent_path()) dir = dir.parent_path();
-  std::error_code ec;
-  if (fs::exists(dir, ec)) {
-    if (!fs::is_directory(dir, ec)) throw InputError("--cache '" + text + "' exists and is not a directory");
-  } else {
-    const fs::path parent = dir.has_parent_path() ? dir.parent_path() : fs::path(".");
-    if (!fs::is_directory(parent, ec))
-      throw InputError("cannot create --cache '" + text + "': directory '" + parent.string() + "' does not exist");
-    if (!fs::create_directory(dir, ec) && !fs::is_directory(dir))
-      throw InputError("cannot create --cache '" + text + "': " + ec.message());
-  }
-  if (::access(dir.c_str(), W_OK) != 0) throw InputError("--cache '" + text + "' is not a writable directory");
-  return dir.string();
-}
-
 int run_render(const RenderArgs& args) {
   const auto start = std::chrono::steady_clock::now();
   const double tol = args.tol.value_or(args.direct ? kDirectTol : lut::kSceneTolerance);
@@ -71,7 +44,7 @@ int run_render(const RenderArgs& args) {
   lut::check_writable(args.output);
   const Scene scene = load_scene(args.scene);
   raster::validate_camera(scene.camera);
-  const std::string cache = args.cache.empty() ? std::string() : prepare_cache(args.cache);
+  const std::string cache = args.cache.empty() ? std::string() : prepare_directory("--cache", args.cache);
 
   raster::RenderScene rs;
   rs.camera = scene.camera;
@@ -87,23 +60,14 @@ int run_render(const RenderArgs& args) {
       lut::BakeOptions options;
       options.resolution = request.law == Law::g ? std::vector<int>(lut::kSceneResG, lut::kSceneResG + 3) : std::vector<int>{lut::kSceneResH};
       options.tolerance = tol;
-      if (!args.quiet && !args.json && ::isatty(STDERR_FILENO)) {
-        const std::string label = std::string("baking ") + to_string(request.law) + " of " + request.spec;
-        options.progress = [label](std::uint64_t done, std::uint64_t total) {
-          std::fprintf(stderr, "\r%s: %3d%%", label.c_str(), static_cast<int>(100.0 * done / std::max<std::uint64_t>(total, 1)));
-          if (done == total) std::fprintf(stderr, "\n");
-        };
-      }
+      attach_progress(options, args.quiet || args.json, request.law, request.spec);
       lut::Table table;
       std::string path, status = "baked";
       if (!cache.empty()) {
-        path = lut::cache_path(cache, *request.model, request.law, options);
-        const std::string command = "ganzfeld bake --model " + request.spec + " --law " + to_string(request.law) +
-                                    " --res " + counts_text(options.resolution) + " --tol " + format_number(tol) +
-                                    " --encoding float -o " + path;
-        lut::CacheResult r = lut::bake_or_reuse(path, *request.model, request.law, options, command);
-        status = lut::to_string(r.status);
-        table = std::move(r.table);
+        lut::CacheResult result = bake_into_cache(cache, request, options);
+        path = result.path;
+        status = lut::to_string(result.status);
+        table = std::move(result.table);
       } else {
         table = lut::bake(*request.model, request.law, options);
       }

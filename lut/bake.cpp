@@ -37,12 +37,6 @@ float round_up_to_encoding(double x, Encoding encoding) noexcept {
   return static_cast<float>(h);
 }
 
-std::string resolution_text(const std::vector<int>& counts) {
-  std::string s;
-  for (std::size_t d = 0; d < counts.size(); ++d) s += (d ? "x" : "") + std::to_string(counts[d]);
-  return s;
-}
-
 std::string gib(std::uint64_t bytes) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%.1f", static_cast<double>(bytes) / (1 << 30));
@@ -72,6 +66,15 @@ std::vector<int> parse_resolution(const std::string& text, Law law) {
   for (int c : counts)
     if (c < 2) throw InputError(bad + " (each axis needs at least 2 nodes: the first at min, the last at max)");
   return counts;
+}
+
+std::string resolution_text(const std::vector<int>& resolution) {
+  std::string s;
+  for (std::size_t d = 0; d < resolution.size(); ++d) {
+    if (d) s += 'x';
+    s += std::to_string(resolution[d]);
+  }
+  return s;
 }
 
 std::uint64_t table_bytes(const std::vector<int>& resolution) noexcept {

@@ -40,6 +40,9 @@ inline constexpr std::uint64_t kInterpolationSeed = 20190117;
 /// (g: N x N x N). Throws InputError naming the text and the expected form.
 std::vector<int> parse_resolution(const std::string& text, Law law);
 
+/// "64x64x32": node counts joined by x.
+std::string resolution_text(const std::vector<int>& resolution);
+
 /// Memory the table would need, in bytes (entries x kBytesPerEntry), saturating at UINT64_MAX.
 std::uint64_t table_bytes(const std::vector<int>& resolution) noexcept;
 

@@ -289,15 +289,6 @@ TradeoffReport measure_tradeoff(const Model& model, Law law, const TradeoffPlan&
 
 // --- Text -------------------------------------------------------------------------------------
 
-std::string resolution_text(const std::vector<int>& resolution) {
-  std::string s;
-  for (std::size_t d = 0; d < resolution.size(); ++d) {
-    if (d) s += 'x';
-    s += std::to_string(resolution[d]);
-  }
-  return s;
-}
-
 std::string mappings_text(const std::vector<Mapping>& mappings) {
   std::string s;
   for (std::size_t d = 0; d < mappings.size(); ++d) {

@@ -133,7 +133,6 @@ struct TradeoffReport {
 TradeoffReport measure_tradeoff(const Model& model, Law law, const TradeoffPlan& plan, const TradeoffOptions& options);
 
 /// "65x65x33", "cos,cos,linear".
-std::string resolution_text(const std::vector<int>& resolution);
 std::string mappings_text(const std::vector<Mapping>& mappings);
 
 /// The report as Markdown: a summary computed from the rows (between the lines
