@@ -48,6 +48,11 @@ struct Light {
   Rgb intensity{1, 1, 1};   ///< collimated: normal irradiance H0; otherwise radiance N
 };
 
+/// A light of grey intensity (irradiance H0 or radiance N) from/with `direction`.
+inline Light grey_light(Light::Type type, const Vec3& direction, double intensity) {
+  return {type, direction, {intensity, intensity, intensity}};
+}
+
 struct Scene {
   Camera camera;
   std::vector<Material> materials;

@@ -34,13 +34,6 @@ Camera sphere_camera(int size, const Rgb& background) {
   return c;
 }
 
-Light light(Light::Type type, const Vec3& direction, double intensity) {
-  Light l;
-  l.type = type;
-  l.direction = direction;
-  l.intensity = {intensity, intensity, intensity};
-  return l;
-}
 
 ShadingMaterial lambert_material(const Rgb& color) {
   ShadingLobe lobe;
@@ -128,8 +121,8 @@ Image indicatrix_quadrant(const Model& model, int size) {
                      lambert_material({0.35, 0.35, 0.4})};
   scene.mesh_material = {0, 1, 2};
   // A key light from the viewer's upper left and a soft fill, so the surface reads in 3-D.
-  scene.lights = {light(Light::Type::collimated, {-0.4, 0.8, 0.5}, 0.75 * kPi),
-                  light(Light::Type::ganzfeld, {0, 1, 0}, 0.2)};
+  scene.lights = {grey_light(Light::Type::collimated, {-0.4, 0.8, 0.5}, 0.75 * kPi),
+                  grey_light(Light::Type::ganzfeld, {0, 1, 0}, 0.2)};
   return render(scene);
 }
 
@@ -182,11 +175,11 @@ Image koenderink_pont_panel(const std::string& spec, const FigureOptions& option
   const Vec3 beam = std::cos(kPi / 4) * Vec3{0, 0, 1} + std::sin(kPi / 4) * glm::normalize(Vec3{1, 1, 0});
   Image panel(2 * s + gap, 2 * s + gap, {1, 1, 1});
   blit(indicatrix_quadrant(*model, s), panel, 0, 0);
-  blit(sphere_quadrant(material, light(Light::Type::collimated, beam, kPi * kFieldRadiance), s, kFigureBackground),
+  blit(sphere_quadrant(material, grey_light(Light::Type::collimated, beam, kPi * kFieldRadiance), s, kFigureBackground),
        panel, s + gap, 0);
-  blit(sphere_quadrant(material, light(Light::Type::hemispherical, {0, 1, 0}, kFieldRadiance), s, kFigureBackground),
+  blit(sphere_quadrant(material, grey_light(Light::Type::hemispherical, {0, 1, 0}, kFieldRadiance), s, kFigureBackground),
        panel, 0, s + gap);
-  blit(sphere_quadrant(material, light(Light::Type::ganzfeld, {0, 1, 0}, kFieldRadiance), s, kFieldRadiance), panel,
+  blit(sphere_quadrant(material, grey_light(Light::Type::ganzfeld, {0, 1, 0}, kFieldRadiance), s, kFieldRadiance), panel,
        s + gap, s + gap);
   return panel;
 }

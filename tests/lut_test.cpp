@@ -12,6 +12,8 @@
 #include <unistd.h>
 
 #include <gtest/gtest.h>
+
+#include "tests/temp_dir.h"
 #include <tbb/task_arena.h>
 
 #include <OpenEXR/ImfChannelList.h>
@@ -59,25 +61,9 @@ constexpr double kAtNode = 1e-6;
 
 constexpr std::uint64_t kSeed = 20240601;
 
-std::string temp_dir() {
-  static const std::string dir = [] {
-    const fs::path d = fs::temp_directory_path() / ("ganzfeld_lut_test-" + std::to_string(::getpid()));
-    fs::create_directories(d);
-    return d.string();
-  }();
-  return dir;
-}
+using testing_support::temp_dir;
 std::string temp_file(const std::string& name) { return (fs::path(temp_dir()) / name).string(); }
 
-/// Removes this process's temporary directory after the last test.
-class RemoveTempDir : public ::testing::Environment {
- public:
-  void TearDown() override {
-    std::error_code ec;
-    fs::remove_all(temp_dir(), ec);
-  }
-};
-[[maybe_unused]] const auto* const kRemoveTempDir = ::testing::AddGlobalTestEnvironment(new RemoveTempDir);
 
 Table bake_table(const std::string& spec, Law law, std::vector<int> res, Encoding enc = Encoding::single) {
   BakeOptions options;

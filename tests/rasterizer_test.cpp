@@ -52,13 +52,6 @@ std::string text(double x) {
   return buffer;
 }
 
-Light make_light(Light::Type type, const Vec3& direction, double intensity) {
-  Light l;
-  l.type = type;
-  l.direction = direction;
-  l.intensity = {intensity, intensity, intensity};
-  return l;
-}
 
 ShadingMaterial one_lobe(const std::string& spec, LawSourcePtr laws, const Rgb& color = {1, 1, 1}) {
   ShadingLobe lobe;
@@ -137,7 +130,7 @@ TEST(rasterizer, WhiteLambertSphereIsInvisibleInGanzfeld) {
   // weight (1) * colour (1) * N * h (1): products with 1.0 are exact, so the bound is 0.
   constexpr double N = 0.6;
   const RenderScene scene =
-      sphere_scene(one_lobe("lambert", lambert_laws()), {make_light(Light::Type::ganzfeld, {0, 1, 0}, N)}, N);
+      sphere_scene(one_lobe("lambert", lambert_laws()), {grey_light(Light::Type::ganzfeld, {0, 1, 0}, N)}, N);
   expect_sphere_pixels(scene, [](const Vec3&, const Vec3&) { return static_cast<float>(N); }, 0.0);
 }
 
@@ -150,7 +143,7 @@ TEST(rasterizer, WhiteLambertSphereFromTableIsInvisibleInGanzfeld) {
   options.tolerance = 1e-10;
   auto h = std::make_shared<const lut::Table>(lut::bake(*parse_model("lambert"), Law::h, options));
   const RenderScene scene =
-      sphere_scene(one_lobe("lambert", table_laws(nullptr, h)), {make_light(Light::Type::ganzfeld, {0, 1, 0}, N)}, N);
+      sphere_scene(one_lobe("lambert", table_laws(nullptr, h)), {grey_light(Light::Type::ganzfeld, {0, 1, 0}, N)}, N);
   expect_sphere_pixels(scene, [](const Vec3&, const Vec3&) { return N; }, N * h->max_error + kFloatRounding);
 }
 
@@ -159,7 +152,7 @@ TEST(rasterizer, LambertSphereUnderSkyIsHalfOnePlusCos) {
   // Bound: the closed form is exact; float storage and the normal's rounding remain.
   const Vec3 pole = glm::normalize(Vec3{0.3, 0.8, 0.4});
   const RenderScene scene = sphere_scene(one_lobe("lambert", lambert_laws()),
-                                         {make_light(Light::Type::hemispherical, pole, 1.0)}, 0.0);
+                                         {grey_light(Light::Type::hemispherical, pole, 1.0)}, 0.0);
   expect_sphere_pixels(
       scene, [&](const Vec3& n, const Vec3&) { return 0.5 * (1.0 + glm::dot(pole, n)); },
       kFloatRounding + kNormalRounding);
@@ -170,7 +163,7 @@ TEST(rasterizer, MinnaertSphereInGanzfeldShowsDarkening) {
   // the true error: integrate/cubature.h) plus float rounding.
   constexpr double kTol = 1e-10;
   const RenderScene scene = sphere_scene(one_lobe("minnaert:xi=1", direct_laws(parse_model("minnaert:xi=1"), kTol)),
-                                         {make_light(Light::Type::ganzfeld, {0, 1, 0}, 1.0)}, 0.0);
+                                         {grey_light(Light::Type::ganzfeld, {0, 1, 0}, 1.0)}, 0.0);
   expect_sphere_pixels(
       scene, [](const Vec3& n, const Vec3& j) { return std::max(glm::dot(n, j), 0.0); },
       kTol + kFloatRounding + kNormalRounding);
@@ -187,7 +180,7 @@ TEST(rasterizer, MinnaertSphereFromTableWithinInterpolationBound) {
   auto h = std::make_shared<const lut::Table>(lut::bake(*model, Law::h, options));
   const double du = 1.0 / 63;
   const RenderScene scene = sphere_scene(one_lobe("minnaert:xi=1", table_laws(nullptr, h)),
-                                         {make_light(Light::Type::ganzfeld, {0, 1, 0}, 1.0)}, 0.0);
+                                         {grey_light(Light::Type::ganzfeld, {0, 1, 0}, 1.0)}, 0.0);
   expect_sphere_pixels(
       scene, [](const Vec3& n, const Vec3& j) { return std::max(glm::dot(n, j), 0.0); },
       du * du / 4 + h->max_error + kFloatRounding + kNormalRounding);
@@ -197,7 +190,7 @@ TEST(rasterizer, CollimatedLambertIsCosineOverPi) {
   // H0 (i·n) f_L with f_L = 1/pi; 0 in the body shadow.
   const Vec3 i = glm::normalize(Vec3{1, 1, 1});
   const RenderScene scene = sphere_scene(one_lobe("lambert", lambert_laws()),
-                                         {make_light(Light::Type::collimated, i, std::numbers::pi)}, 0.0);
+                                         {grey_light(Light::Type::collimated, i, std::numbers::pi)}, 0.0);
   expect_sphere_pixels(
       scene, [&](const Vec3& n, const Vec3& j) { return glm::dot(n, j) > 0 ? std::max(glm::dot(i, n), 0.0) : 0.0; },
       kFloatRounding + kNormalRounding);
@@ -256,8 +249,8 @@ TEST(rasterizer, TablesAgreeWithDirectWithinTableErrorPlusInterpolation) {
   auto h = std::make_shared<const lut::Table>(lut::bake(*model, Law::h, h_options));
   const double bound = Ns * (g->max_error + interpolation_bound(*g)) + Ng * (h->max_error + interpolation_bound(*h)) +
                        (Ns + Ng) * kDirectTol + kFloatRounding;
-  const std::vector<Light> lights{make_light(Light::Type::hemispherical, glm::normalize(Vec3{0.2, 1, 0.3}), Ns),
-                                  make_light(Light::Type::ganzfeld, {0, 1, 0}, Ng)};
+  const std::vector<Light> lights{grey_light(Light::Type::hemispherical, glm::normalize(Vec3{0.2, 1, 0.3}), Ns),
+                                  grey_light(Light::Type::ganzfeld, {0, 1, 0}, Ng)};
   RenderScene tables = sphere_scene(one_lobe(spec, table_laws(g, h)), lights, 0.0);
   RenderScene direct = sphere_scene(one_lobe(spec, direct_laws(model, kDirectTol)), lights, 0.0);
   tables.camera.width = tables.camera.height = direct.camera.width = direct.camera.height = 48;
@@ -333,7 +326,7 @@ TEST(rasterizer, InterpolationIsPerspectiveCorrect) {
 
 TEST(rasterizer, DeterministicForAnyThreadCount) {
   const RenderScene scene = sphere_scene(one_lobe("specular:alpha=8", lambert_laws()),
-                                         {make_light(Light::Type::collimated, {1, 1, 1}, 3.0)}, 0.1);
+                                         {grey_light(Light::Type::collimated, {1, 1, 1}, 3.0)}, 0.1);
   Image one, many;
   {
     tbb::global_control c(tbb::global_control::max_allowed_parallelism, 1);

@@ -9,6 +9,8 @@
 
 #include <gtest/gtest.h>
 
+#include "tests/temp_dir.h"
+
 #include "laws/error.h"
 #include "laws/spec.h"
 #include "lut/cache.h"
@@ -30,23 +32,8 @@ const std::vector<int> kTinyG{3, 3, 3};
 // Normalized weights are computed as w / sum(w): exact up to a couple of roundings.
 constexpr double kWeightTol = 1e-15;
 
-std::string temp_dir() {
-  static const std::string dir = [] {
-    const fs::path d = fs::temp_directory_path() / ("ganzfeld_scene_test-" + std::to_string(::getpid()));
-    fs::create_directories(d);
-    return d.string();
-  }();
-  return dir;
-}
+using testing_support::temp_dir;
 
-class RemoveTempDir : public ::testing::Environment {
- public:
-  void TearDown() override {
-    std::error_code ec;
-    fs::remove_all(temp_dir(), ec);
-  }
-};
-[[maybe_unused]] const auto* const kRemoveTempDir = ::testing::AddGlobalTestEnvironment(new RemoveTempDir);
 
 /// Writes `text` to a fresh file in the temporary directory and returns its path.
 std::string write_scene(const std::string& text) {
