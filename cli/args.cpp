@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <iostream>
 #include <memory>
 #include <unistd.h>
 #include <cstdio>
@@ -178,6 +179,37 @@ lut::CacheResult bake_into_cache(const std::string& dir, const lut::TableRequest
                                           format_number(options.tolerance), "--encoding", lut::to_string(options.encoding),
                                           "--max-evals", std::to_string(options.max_evaluations), "-o", path});
   return lut::bake_or_reuse(path, *request.model, request.law, options, command, force);
+}
+
+SceneTables prepare_scene_tables(const Scene& scene, double tol, const std::string& cache, bool quiet) {
+  SceneTables out;
+  for (const lut::TableRequest& request : lut::tables_needed(scene)) {
+    lut::BakeOptions options;
+    options.resolution = request.law == Law::g ? std::vector<int>(lut::kSceneResG, lut::kSceneResG + 3)
+                                               : std::vector<int>{lut::kSceneResH};
+    options.tolerance = tol;
+    attach_progress(options, quiet, request.law, request.spec);
+    lut::Table table;
+    std::string path, status = "baked";
+    if (!cache.empty()) {
+      lut::CacheResult result = bake_into_cache(cache, request, options);
+      path = result.path;
+      status = lut::to_string(result.status);
+      table = std::move(result.table);
+    } else {
+      table = lut::bake(*request.model, request.law, options);
+    }
+    if (table.unconverged > 0)
+      std::cerr << "ganzfeld: warning: " << table.unconverged << " entries of " << to_string(request.law) << " of "
+                << request.spec << " missed tolerance " << format_number(tol) << " (max error "
+                << format_number(table.max_error) << ")\n";
+    nlohmann::ordered_json entry{{"model", request.spec}, {"law", to_string(request.law)}, {"status", status},
+                                 {"max_error", table.max_error}};
+    if (!path.empty()) entry["path"] = path;
+    out.json.push_back(entry);
+    out.tables[{request.spec, request.law}] = std::make_shared<const lut::Table>(std::move(table));
+  }
+  return out;
 }
 
 }  // namespace ganzfeld::cli

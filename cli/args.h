@@ -1,15 +1,20 @@
 // Shared command-line plumbing: direction flags and tolerances.
 #pragma once
 
+#include <map>
+#include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 
 #include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
 
 #include "integrate/laws.h"
 #include "lut/bake.h"
 #include "lut/cache.h"
 #include "lut/plan.h"
+#include "lut/scene.h"
 
 namespace ganzfeld::cli {
 
@@ -46,5 +51,14 @@ std::string prepare_directory(const std::string& flag, const std::string& text);
 lut::CacheResult bake_into_cache(const std::string& dir, const lut::TableRequest& request, const lut::BakeOptions& options,
                                  bool force = false);
 
+/// The tables a scene's lights need (lut::tables_needed), with the scene defaults of lut/plan.h
+/// at tolerance `tol`: reused from or baked into `cache` (a prepared directory), or baked in
+/// memory when `cache` is empty. Warns on stderr about entries that missed the tolerance.
+/// Shared by `render` and `export-glsl --scene`.
+struct SceneTables {
+  std::map<std::pair<std::string, Law>, std::shared_ptr<const lut::Table>> tables;
+  nlohmann::ordered_json json = nlohmann::ordered_json::array();  ///< per table: model, law, status, max_error[, path]
+};
+SceneTables prepare_scene_tables(const Scene& scene, double tol, const std::string& cache, bool quiet);
 
 }  // namespace ganzfeld::cli

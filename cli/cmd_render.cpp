@@ -53,35 +53,10 @@ int run_render(const RenderArgs& args) {
 
   // Law sources per lobe: Lambert closed forms; otherwise direct cubature or the tables the
   // scene needs (tables_needed lists each (spec, law) once).
-  nlohmann::ordered_json tables_json = nlohmann::ordered_json::array();
-  std::map<std::pair<std::string, Law>, std::shared_ptr<const lut::Table>> tables;
-  if (!args.direct) {
-    for (const lut::TableRequest& request : lut::tables_needed(scene)) {
-      lut::BakeOptions options;
-      options.resolution = request.law == Law::g ? std::vector<int>(lut::kSceneResG, lut::kSceneResG + 3) : std::vector<int>{lut::kSceneResH};
-      options.tolerance = tol;
-      attach_progress(options, args.quiet || args.json, request.law, request.spec);
-      lut::Table table;
-      std::string path, status = "baked";
-      if (!cache.empty()) {
-        lut::CacheResult result = bake_into_cache(cache, request, options);
-        path = result.path;
-        status = lut::to_string(result.status);
-        table = std::move(result.table);
-      } else {
-        table = lut::bake(*request.model, request.law, options);
-      }
-      if (table.unconverged > 0)
-        std::cerr << "ganzfeld: warning: " << table.unconverged << " entries of " << to_string(request.law) << " of "
-                  << request.spec << " missed tolerance " << format_number(tol) << " (max error "
-                  << format_number(table.max_error) << ")\n";
-      nlohmann::ordered_json entry{{"model", request.spec}, {"law", to_string(request.law)}, {"status", status},
-                                   {"max_error", table.max_error}};
-      if (!path.empty()) entry["path"] = path;
-      tables_json.push_back(entry);
-      tables[{request.spec, request.law}] = std::make_shared<const lut::Table>(std::move(table));
-    }
-  }
+  SceneTables scene_tables;
+  if (!args.direct) scene_tables = prepare_scene_tables(scene, tol, cache, args.quiet || args.json);
+  const auto& tables = scene_tables.tables;
+  const nlohmann::ordered_json& tables_json = scene_tables.json;
   for (const Material& material : scene.materials) {
     raster::ShadingMaterial shading;
     for (const MaterialLobe& lobe : material.lobes) {

@@ -20,5 +20,6 @@ void add_tradeoff_command(CLI::App& app, Action& action);
 void add_bench_command(CLI::App& app, Action& action);
 void add_render_command(CLI::App& app, Action& action);
 void add_figure_command(CLI::App& app, Action& action);
+void add_export_glsl_command(CLI::App& app, Action& action);
 
 }  // namespace ganzfeld::cli

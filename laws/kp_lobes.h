@@ -55,6 +55,8 @@ class Specular final : public Model {
   Traits traits() const override { return {true, true, EnergyClass::plausible}; }
   double f(const Vec3& i, const Vec3& j) const noexcept override;
   MassHints mass_hints(const Vec3& fixed, Varying varying) const override;
+  double alpha() const { return alpha_; }
+  double C_s() const { return C_s_; }
 
  private:
   double alpha_, C_s_;
@@ -80,6 +82,8 @@ class Backscatter final : public Model {
   Traits traits() const override { return {true, true, EnergyClass::plausible}; }
   double f(const Vec3& i, const Vec3& j) const noexcept override;
   MassHints mass_hints(const Vec3& fixed, Varying varying) const override;
+  double alpha() const { return alpha_; }
+  double C_b() const { return C_b_; }
 
  private:
   double alpha_, C_b_;
@@ -104,6 +108,9 @@ class PerfectBackscatter final : public Model {
   Traits traits() const override { return {true, true, EnergyClass::plausible}; }
   double f(const Vec3& i, const Vec3& j) const noexcept override;
   MassHints mass_hints(const Vec3& fixed, Varying varying) const override;
+  int alpha() const { return alpha_; }
+  /// C_pb 2^alpha = (1 + alpha)/(2 pi): f = this × ((1 + i·j)/2)^alpha / ((i + j)·n).
+  double C_pb_times_2_pow_alpha() const { return C_pb_times_2_pow_alpha_; }
 
  private:
   int alpha_;
@@ -123,6 +130,7 @@ class Asperity final : public Model {
   Traits traits() const override { return {true, true, EnergyClass::plausible}; }
   double f(const Vec3& i, const Vec3& j) const noexcept override;
   MassHints mass_hints(const Vec3& fixed, Varying varying) const override;
+  double alpha() const { return alpha_; }
 
  private:
   double alpha_;

@@ -3,23 +3,7 @@
 # on stderr, JSON on stdout, no partial output files. Usage: cli_test.sh PATH/TO/ganzfeld
 set -u
 G="$1"
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
-passed=0 failed=0
-ok()   { passed=$((passed + 1)); }
-fail() { failed=$((failed + 1)); echo "FAIL: $*"; }
-
-# expect_bad "fragment of the message" args...: exit 2, exactly one stderr line containing the fragment
-expect_bad() {
-  local fragment="$1"; shift
-  "$G" "$@" >"$tmp/out" 2>"$tmp/err"; local code=$?
-  local lines; lines=$(wc -l <"$tmp/err")
-  if [ "$code" -ne 2 ]; then fail "exit $code (want 2): $*"; return; fi
-  if [ "$lines" -ne 1 ]; then fail "$lines stderr lines (want 1): $*"; return; fi
-  if ! grep -qF -- "$fragment" "$tmp/err"; then fail "stderr lacks '$fragment': $* -> $(cat "$tmp/err")"; return; fi
-  ok
-}
-json_field() { python3 -c "import json,sys; d=json.load(open('$1')); print($2)"; }
+. "$(dirname "$0")/harness.sh"
 
 # --- help and version
 "$G" --help >/dev/null && ok || fail "--help"

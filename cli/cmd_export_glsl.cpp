@@ -1,0 +1,153 @@
+// ganzfeld export-glsl: tables for real-time shaders (lut/glsl.h, lut/texture_file.h,
+// docs/shaders.md).
+//   export-glsl TABLE.exr -o LAW.glsl [--texture ktx2|header|none] [--model SPEC --law L]
+//       the sampling function of one table, and its texture beside it (LAW.ktx2 or LAW.h);
+//       --model/--law state what the shader expects: a table of another model or law is refused.
+//   export-glsl --scene SCENE.json --out DIR [--cache DIR] [--tol T] [--texture ...]
+//       DIR/ganzfeld_scene.glsl (the reference shading of every material), one texture per table
+//       the scene needs (named after its sampler uniform) and DIR/manifest.json binding them.
+// Everything is generated in memory first; each file is written atomically, so a refused input
+// leaves no output.
+#include <filesystem>
+#include <iostream>
+#include <optional>
+
+#include <nlohmann/json.hpp>
+
+#include "cli/args.h"
+#include "cli/commands.h"
+#include "laws/error.h"
+#include "laws/registry.h"
+#include "laws/spec.h"
+#include "lut/atomic_file.h"
+#include "lut/exr_io.h"
+#include "lut/glsl.h"
+#include "lut/scene.h"
+#include "lut/texture_file.h"
+
+namespace ganzfeld::cli {
+
+namespace {
+
+struct ExportArgs {
+  std::string table, output, scene, out_dir, cache, texture = "ktx2", model, law;
+  std::optional<double> tol;
+  bool json = false, quiet = false;
+};
+
+std::optional<lut::TextureFormat> texture_format(const std::string& text) {
+  if (text == "none") return std::nullopt;
+  try {
+    return lut::parse_texture_format(text);
+  } catch (const InputError&) {
+    throw InputError("unknown --texture '" + text + "'; allowed: ktx2, header, none");
+  }
+}
+
+int export_table(const ExportArgs& args) {
+  if (args.output.empty()) throw InputError("export-glsl TABLE.exr needs -o FILE.glsl");
+  if (std::filesystem::path(args.output).extension() != ".glsl")
+    throw InputError("output '" + args.output + "' must end in .glsl");
+  const auto format = texture_format(args.texture);
+  const lut::Table table = lut::read_table(args.table);
+  if (!args.model.empty() || !args.law.empty()) {
+    if (args.model.empty() || args.law.empty()) throw InputError("--model and --law go together (the table the shader expects)");
+    const Law law = parse_law(args.law);
+    if (law != Law::g && law != Law::h && law != Law::a)
+      throw InputError("--law '" + args.law + "' has no table; allowed: g, h, a");
+    lut::check_table_is(table, parse_model(args.model)->spec(), law);
+  }
+  const std::string glsl = lut::glsl_table_snippet(table);
+  std::string texture_path;
+  if (format) {
+    texture_path = std::filesystem::path(args.output).replace_extension(lut::texture_extension(*format)).string();
+    lut::write_texture(table, *format, texture_path, lut::glsl_function_name(table.model, table.law));
+  }
+  write_text_atomically(args.output, glsl, "shader");
+  if (args.json) {
+    nlohmann::ordered_json doc{{"glsl", args.output},
+                               {"function", lut::glsl_function_name(table.model, table.law)},
+                               {"sampler", lut::glsl_sampler_type(table.law)},
+                               {"model", table.model},
+                               {"law", to_string(table.law)}};
+    doc["texture"] = texture_path.empty() ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(texture_path);
+    std::cout << doc.dump(2) << "\n";
+  } else if (!args.quiet) {
+    std::cout << "wrote " << args.output << (texture_path.empty() ? "" : " and " + texture_path) << "\n";
+  }
+  return 0;
+}
+
+int export_scene(const ExportArgs& args) {
+  if (args.out_dir.empty()) throw InputError("export-glsl --scene needs --out DIR");
+  const auto format = texture_format(args.texture);
+  const double tol = args.tol.value_or(lut::kSceneTolerance);
+  validate_tolerance(tol);
+  const Scene scene = load_scene(args.scene);
+  lut::check_scene_exportable(scene);  // before any bake
+  const std::string cache = args.cache.empty() ? std::string() : prepare_directory("--cache", args.cache);
+  const SceneTables scene_tables = prepare_scene_tables(scene, tol, cache, args.quiet || args.json);
+  lut::SceneTableMap tables;
+  for (const auto& [key, table] : scene_tables.tables) tables[key] = table.get();
+  const std::string glsl = lut::glsl_scene_shader(scene, tables, args.scene);  // refuses before any file is written
+
+  const std::string dir = prepare_directory("--out", args.out_dir);
+  nlohmann::ordered_json manifest{{"scene", args.scene}, {"glsl", "ganzfeld_scene.glsl"}};
+  nlohmann::ordered_json textures = nlohmann::ordered_json::array();
+  for (const auto& [key, table] : scene_tables.tables) {
+    const std::string sampler = lut::glsl_sampler_name(key.first, key.second);
+    nlohmann::ordered_json entry{{"sampler", sampler},
+                                 {"type", lut::glsl_sampler_type(key.second)},
+                                 {"model", key.first},
+                                 {"law", to_string(key.second)},
+                                 {"max_error", table->max_error},
+                                 {"interpolation_error", table->interpolation_error}};
+    if (format) {
+      const std::string file = sampler + lut::texture_extension(*format);
+      lut::write_texture(*table, *format, (std::filesystem::path(dir) / file).string(), sampler);
+      entry["file"] = file;
+    }
+    textures.push_back(entry);
+  }
+  manifest["textures"] = textures;
+  write_text_atomically((std::filesystem::path(dir) / "manifest.json").string(), manifest.dump(2) + "\n", "manifest");
+  write_text_atomically((std::filesystem::path(dir) / "ganzfeld_scene.glsl").string(), glsl, "shader");
+  if (args.json) {
+    manifest["out"] = dir;
+    manifest["tables"] = scene_tables.json;
+    std::cout << manifest.dump(2) << "\n";
+  } else if (!args.quiet) {
+    std::cout << "wrote " << dir << "/ganzfeld_scene.glsl, manifest.json and " << textures.size() << " textures\n";
+  }
+  return 0;
+}
+
+}  // namespace
+
+void add_export_glsl_command(CLI::App& app, Action& action) {
+  auto* cmd = app.add_subcommand("export-glsl",
+                                 "GLSL (4.30 core, ES 3.00) that samples a table exactly as lut/ does, plus the table as "
+                                 "a texture; or everything a scene's shader needs (docs/shaders.md)");
+  auto args = std::make_shared<ExportArgs>();
+  cmd->add_option("TABLE", args->table, "a table written by `ganzfeld bake` (omit with --scene)");
+  cmd->add_option("-o,--output", args->output, "the GLSL snippet, FILE.glsl; the texture goes beside it");
+  cmd->add_option("--texture", args->texture,
+                  "texture file: ktx2 (KTX 2.0, R32F or R16F, the default), header (C array) or none");
+  cmd->add_option("--model", args->model, "the model the shader expects: a table of another model is refused");
+  cmd->add_option("--law", args->law, "the law the shader expects (g, h, a): a table of another law is refused");
+  cmd->add_option("--scene", args->scene, "export the reference shader and every table of SCENE.json instead");
+  cmd->add_option("--out", args->out_dir, "with --scene: the output directory (created if its parent exists)");
+  cmd->add_option("--cache", args->cache, "with --scene: reuse/store the scene's tables in DIR (as `render --cache`)");
+  cmd->add_option("--tol", args->tol, "with --scene: cubature tolerance of the tables (default 1e-8)");
+  cmd->add_flag("--quiet", args->quiet, "no progress and no summary line");
+  cmd->add_flag("--json", args->json, "print one JSON document");
+  cmd->callback([&action, args] {
+    action = [args] {
+      if (args->scene.empty() == args->table.empty())
+        throw InputError("export-glsl needs either TABLE.exr -o FILE.glsl or --scene SCENE.json --out DIR");
+      return args->scene.empty() ? export_table(*args) : export_scene(*args);
+    };
+  });
+}
+
+}  // namespace ganzfeld::cli

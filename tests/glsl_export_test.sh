@@ -1,0 +1,103 @@
+#!/usr/bin/env bash
+# `ganzfeld export-glsl` (issue #5): every exported snippet compiles with glslangValidator as
+# GLSL 4.30 core and GLSL ES 3.00 fragment shaders, with texelFetch and with hardware filtering;
+# the scene shader compiles; mismatched tables and bad input are refused with exit 2 and leave no
+# output. Usage: glsl_export_test.sh PATH/TO/ganzfeld PATH/TO/glslangValidator
+set -u
+G="$1"
+V="$2"
+. "$(dirname "$0")/harness.sh"
+
+# compile SNIPPET VERSION DEFINES CALL SAMPLER: wrap a snippet into a fragment shader and validate it
+compile() {
+  local snippet="$1" version="$2" defines="$3" call="$4" sampler="$5" name
+  name="$tmp/$(basename "$snippet" .glsl)_${version// /_}_${defines:-plain}.frag"
+  {
+    echo "#version $version"
+    [ -n "$defines" ] && echo "#define $defines"
+    cat "$snippet"
+    [ -n "$sampler" ] && echo "uniform highp $sampler tab;"
+    echo "out vec4 color;"
+    echo "void main() { color = vec4($call); }"
+  } >"$name"
+  if "$V" "$name" >"$tmp/validator.log" 2>&1; then ok; else fail "glslangValidator $name: $(cat "$tmp/validator.log")"; fi
+}
+
+# --- one table of each law, float and half
+"$G" bake --model specular:alpha=8 --law g --res 9x9x5 --tol 1e-6 -o "$tmp/g.exr" --quiet >/dev/null || fail "bake g"
+"$G" bake --model asperity:alpha=4 --law h --res 17 --tol 1e-6 --encoding half -o "$tmp/h.exr" --quiet >/dev/null || fail "bake h"
+"$G" bake --model minnaert:xi=0.5 --law a --res 17 --tol 1e-6 -o "$tmp/a.exr" --quiet >/dev/null || fail "bake a"
+"$G" export-glsl "$tmp/g.exr" -o "$tmp/g.glsl" --json >"$tmp/g.json" && ok || fail "export g"
+[ -s "$tmp/g.ktx2" ] && ok || fail "no g.ktx2"
+python3 -c "import json; d=json.load(open('$tmp/g.json')); assert d['function']=='gz_specular_alpha_8_g' and d['sampler']=='sampler3D' and d['texture'].endswith('g.ktx2')" \
+  && ok || fail "export JSON: $(cat "$tmp/g.json")"
+"$G" export-glsl "$tmp/h.exr" -o "$tmp/h.glsl" --texture header --quiet && ok || fail "export h"
+grep -q "static const uint16_t gz_asperity_alpha_4_h_texels\[17\]" "$tmp/h.h" && ok || fail "C header of a half table"
+"$G" export-glsl "$tmp/a.exr" -o "$tmp/a.glsl" --texture none --quiet && ok || fail "export a"
+[ ! -e "$tmp/a.ktx2" ] && [ ! -e "$tmp/a.h" ] && ok || fail "--texture none wrote a texture"
+grep -q "made by: ganzfeld bake --model minnaert:xi=0.5 --law a" "$tmp/a.glsl" && ok || fail "command not in the GLSL comment"
+
+for version in "430 core" "300 es"; do
+  for defines in "" GANZFELD_HARDWARE_FILTER; do
+    compile "$tmp/g.glsl" "$version" "$defines" "gz_specular_alpha_8_g(tab, vec3(0.3, 0.0, 0.9), vec3(-0.2, 0.1, 0.9), vec3(0.0, 0.0, 1.0))" sampler3D
+    compile "$tmp/h.glsl" "$version" "$defines" "gz_asperity_alpha_4_h(tab, vec3(0.3, 0.0, 0.9), vec3(0.0, 0.0, 1.0))" sampler2D
+    compile "$tmp/a.glsl" "$version" "$defines" "gz_minnaert_xi_0_5_a(tab, vec3(0.3, 0.0, 0.9), vec3(0.0, 0.0, 1.0))" sampler2D
+  done
+done
+# Two snippets in one shader: the shared helpers are guarded.
+cat "$tmp/g.glsl" "$tmp/h.glsl" >"$tmp/both.glsl"
+compile "$tmp/both.glsl" "430 core" "" "gz_specular_alpha_8_g(tab, vec3(0.0, 0.0, 1.0), vec3(0.0, 0.0, 1.0), vec3(0.0, 0.0, 1.0))" sampler3D
+
+# --- the scene shader (every law kind, closed-form Lambert, collimated f of every K&P lobe)
+cat >"$tmp/scene.json" <<'EOF'
+{
+  "camera": {"width": 64, "height": 64, "eye": [0, 0, 8], "target": [0, 0, 0], "up": [0, 1, 0], "fov_deg": 30},
+  "materials": {
+    "a": {"lobes": [{"weight": 0.5, "model": "lambert", "color": [1, 1, 1]},
+                    {"weight": 0.5, "model": "backscatter:alpha=2", "color": [1, 0.5, 0.2]}]},
+    "b": {"lobes": [{"weight": 0.5, "model": "perfect-backscatter:alpha=2", "color": [1, 1, 1]},
+                    {"weight": 0.5, "model": "asperity:alpha=2", "color": [1, 1, 1]}]},
+    "unused": {"model": "specular:alpha=1000"}
+  },
+  "objects": [{"shape": "sphere", "center": [-1, 0, 0], "radius": 1, "material": "a"},
+              {"shape": "sphere", "center": [1, 0, 0], "radius": 1, "material": "b"}],
+  "lights": [{"type": "collimated", "direction": [1, 1, 1], "irradiance": [1, 1, 1]},
+             {"type": "hemispherical", "pole": [0, 1, 0], "radiance": [0.5, 0.5, 0.5]},
+             {"type": "ganzfeld", "radiance": [0.2, 0.2, 0.2]}]
+}
+EOF
+"$G" export-glsl --scene "$tmp/scene.json" --out "$tmp/scene_out" --tol 1e-5 --texture header --json >"$tmp/scene.json.out" \
+  && ok || fail "export --scene"
+python3 - "$tmp/scene.json.out" "$tmp/scene_out" <<'EOF' && ok || fail "scene manifest"
+import json, os, sys
+d = json.load(open(sys.argv[1]))
+samplers = sorted(t["sampler"] for t in d["textures"])
+# Lambert has closed forms; the unused material has no tables; three lobes x (g, h) tables
+assert len(samplers) == 6, samplers
+assert not any("lambert" in s or "1000" in s for s in samplers), samplers
+for t in d["textures"]:
+    assert os.path.exists(os.path.join(sys.argv[2], t["file"])), t
+m = json.load(open(os.path.join(sys.argv[2], "manifest.json")))
+assert m["textures"] == d["textures"]
+EOF
+for version in "430 core" "300 es"; do
+  compile "$tmp/scene_out/ganzfeld_scene.glsl" "$version" "" "gz_scene_radiance(1, vec3(0.0, 0.0, 1.0), vec3(0.0, 0.6, 0.8)), 1.0" ""
+done
+
+# --- refusals: exit 2, one line, no output
+expect_bad "needs law g of 'specular:alpha=8'" export-glsl "$tmp/h.exr" -o "$tmp/x.glsl" --model specular:alpha=8 --law g
+expect_bad "needs law g of 'asperity:alpha=2'" export-glsl "$tmp/h.exr" -o "$tmp/x.glsl" --model asperity:alpha=2 --law g
+expect_bad "needs law h of 'asperity:alpha=5'" export-glsl "$tmp/h.exr" -o "$tmp/x.glsl" --model asperity:alpha=5 --law h
+"$G" export-glsl "$tmp/h.exr" -o "$tmp/right.glsl" --model asperity:alpha=4 --law h --quiet && ok || fail "matching --model/--law refused"
+expect_bad "allowed: ktx2, header, none" export-glsl "$tmp/g.exr" -o "$tmp/x.glsl" --texture png
+expect_bad "must end in .glsl" export-glsl "$tmp/g.exr" -o "$tmp/x.txt"
+expect_bad "either TABLE.exr" export-glsl -o "$tmp/x.glsl"
+printf 'not an exr' >"$tmp/bad.exr"
+expect_bad "bad.exr" export-glsl "$tmp/bad.exr" -o "$tmp/x.glsl"
+[ ! -e "$tmp/x.glsl" ] && [ ! -e "$tmp/x.ktx2" ] && ok || fail "a refused export left output"
+sed 's/"backscatter:alpha=2"/"oren-nayar:sigma=0.3"/' "$tmp/scene.json" >"$tmp/classic.json"
+expect_bad "no GLSL form of f for model 'oren-nayar" export-glsl --scene "$tmp/classic.json" --out "$tmp/classic_out" --tol 1e-4
+[ ! -e "$tmp/classic_out" ] && ok || fail "a refused scene export left output"
+
+echo "glsl_export_test: $passed passed, $failed failed"
+[ "$failed" -eq 0 ]

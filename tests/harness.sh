@@ -1,0 +1,19 @@
+# Shared by the shell tests (source it after setting G, the ganzfeld executable): a temporary
+# directory $tmp removed at exit, pass/fail counters and the refusal check of cli-contract.md.
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+passed=0 failed=0
+ok()   { passed=$((passed + 1)); }
+fail() { failed=$((failed + 1)); echo "FAIL: $*"; }
+
+# expect_bad "fragment of the message" args...: exit 2, exactly one stderr line containing the fragment
+expect_bad() {
+  local fragment="$1"; shift
+  "$G" "$@" >"$tmp/out" 2>"$tmp/err"; local code=$?
+  local lines; lines=$(wc -l <"$tmp/err")
+  if [ "$code" -ne 2 ]; then fail "exit $code (want 2): $*"; return; fi
+  if [ "$lines" -ne 1 ]; then fail "$lines stderr lines (want 1): $*"; return; fi
+  if ! grep -qF -- "$fragment" "$tmp/err"; then fail "stderr lacks '$fragment': $* -> $(cat "$tmp/err")"; return; fi
+  ok
+}
+json_field() { python3 -c "import json,sys; d=json.load(open('$1')); print($2)"; }
