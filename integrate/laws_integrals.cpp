@@ -76,29 +76,46 @@ Lune lune(const Vec3& pole, const Vec3& fixed) {
 namespace {
 
 /// Initial cut lines from the model's mass hints: each peak (clamped into the rectangle) gets
-/// lines at its centre and at ±2 widths (measured: 15% fewer evaluations than ±1, ±4, as honest); a horizon layer of thickness delta gets lines at
-/// delta and 4 delta from the horizon (phi = pi/2, and the caps t = ±pi/2).
+/// lines at its centre and at ±2 widths (measured: 15% fewer evaluations than ±1, ±4, as honest),
+/// per scale when the lobe is elongated (Peak::across); a horizon layer of thickness delta gets
+/// lines at delta and 4 delta from the horizon (phi = pi/2, phi = -pi/2 for the hemisphere, and
+/// the caps t = ±pi/2).
 std::array<std::vector<double>, 2> cuts_from_hints(const MassHints& hints, const Lune& fr) {
   std::vector<double> t_lines{0.0}, phi_lines{0.5 * (fr.phi_lo + pi / 2)};  // 2x2 at least: a 1x1 start
   // misses asperity horizon layers below the hint threshold (measured: 6% dishonest estimates)
   double min_scale = 1.0;
   for (const Peak& peak : hints.peaks) {
-    if (!(peak.width < kBroadLobe)) continue;
-    const double w = std::max(peak.width, 1e-7);
+    const double across = peak.across > 0.0 ? peak.across : peak.width;
+    if (!(std::min(peak.width, across) < kBroadLobe)) continue;
     const Vec3 d = glm::normalize(peak.direction);
     const double t_d = std::asin(std::clamp(glm::dot(d, fr.e), -1.0, 1.0));
     const double phi_d = std::clamp(std::atan2(glm::dot(d, fr.u), d.z), fr.phi_lo, pi / 2);
-    const double w_phi = w / std::max(std::cos(t_d), w);  // longitude shrinks towards the poles
-    for (double m : {-2.0, 0.0, 2.0}) {
-      t_lines.push_back(t_d + m * w);
-      phi_lines.push_back(phi_d + m * w_phi);
+    // An elongated lobe's two scales need not align with t and phi (the lune of g is tilted
+    // against the plane of the peak), so both get lines at both scales.
+    for (double scale : {peak.width, across}) {
+      if (!(scale < kBroadLobe)) continue;
+      const double w = std::max(scale, 1e-13);
+      const double w_phi = w / std::max(std::cos(t_d), w);  // longitude shrinks towards the poles
+      for (double m : {-2.0, 0.0, 2.0}) {
+        t_lines.push_back(t_d + m * w);
+        phi_lines.push_back(phi_d + m * w_phi);
+      }
+      // A ladder of lines at 16 and 128 widths (up to the broad-lobe scale), so the panels next
+      // to a very sharp lobe grow gradually: a hint narrower than the lobe's real tails would
+      // otherwise leave them at the edge of a panel a thousand times wider, where no node looks.
+      for (double m = 16.0; m * w < kBroadLobe; m *= 8.0)
+        for (double sign : {-1.0, 1.0}) {
+          t_lines.push_back(t_d + sign * m * w);
+          phi_lines.push_back(phi_d + sign * m * w_phi);
+        }
+      min_scale = std::min(min_scale, w);
     }
-    min_scale = std::min(min_scale, w);
   }
   const double delta = hints.horizon_layer;
   if (delta > 0.0 && delta < kThinLayer) {
     for (double m : {1.0, 4.0}) {
       phi_lines.push_back(pi / 2 - m * delta);
+      if (fr.phi_lo <= -pi / 2) phi_lines.push_back(-pi / 2 + m * delta);  // the hemisphere: both ends
       t_lines.push_back(pi / 2 - m * delta);
       t_lines.push_back(-pi / 2 + m * delta);
     }

@@ -34,6 +34,28 @@ double Lump::pdf(const Uv& h) const noexcept {
   return (n + 1.0) / (pi * R_u * R_v) * std::pow(s, n);
 }
 
+Uv Lump::sample(double xi1, double xi2) const noexcept {
+  // Eq. 28: 1 − ξ^(1/(n+1)) as −expm1(log ξ/(n+1)), exact for the large n of sharp lumps.
+  const double s = xi1 > 0.0 ? -std::expm1(std::log(xi1) / (n + 1.0)) : 1.0;
+  const double r = std::sqrt(std::clamp(s, 0.0, 1.0));
+  const double theta = 2.0 * pi * xi2;
+  return {centre.u + R_u * r * std::cos(theta), centre.v + R_v * r * std::sin(theta)};
+}
+
+std::optional<Vec3> incident_from_scaling(const Uv& h, const Vec3& j) noexcept {
+  const Vec3 H = glm::normalize(Vec3{h.u, h.v, j.z});
+  const Vec3 i = 2.0 * glm::dot(j, H) * H - j;
+  if (!(i.z > 0.0)) return std::nullopt;
+  return glm::normalize(i);
+}
+
+std::optional<Vec3> incident_from_orthogonal(const Uv& h, const Vec3& j) noexcept {
+  const double x = h.u - j.x, y = h.v - j.y;
+  const double s2 = x * x + y * y;
+  if (!(s2 < 1.0)) return std::nullopt;
+  return Vec3{x, y, std::sqrt(1.0 - s2)};
+}
+
 double schlick(double cos_theta, double F_0, double F_90) noexcept {
   const double x = 1.0 - std::clamp(cos_theta, 0.0, 1.0);
   const double x2 = x * x;
@@ -110,6 +132,53 @@ double HvdEmpirical::f(const Vec3& i, const Vec3& j) const noexcept {
   return diffuse + F * divide_by_cos(p * J, i.z);
 }
 
+namespace {
+/// Probability of drawing the diffuse part: its share of ∫ f (i·n) di.
+double diffuse_share(double diffuse, double specular) {
+  return diffuse + specular > 0.0 ? diffuse / (diffuse + specular) : 1.0;
+}
+/// Picks the diffuse part (cosine) or a lump from u[0]; `lump_sample` maps a lump point to i.
+template <class ToIncident>
+std::optional<IncidentSample> sample_hvd(const Model& model, const Vec3& j, const std::array<double, 3>& u,
+                                         double p_diffuse, const std::array<hvd::Lump, 2>& L, double k,
+                                         ToIncident to_incident) {
+  if (!(j.z > 0.0)) return std::nullopt;
+  std::optional<Vec3> i;
+  if (u[0] < p_diffuse) {
+    i = sample_cosine(u[1], u[2]);
+  } else {
+    const double v = (u[0] - p_diffuse) / (1.0 - p_diffuse);  // uniform in [0, 1) again
+    i = to_incident(L[v < 1.0 - k ? 0 : 1].sample(u[1], u[2]));
+  }
+  if (!i || !(i->z > 0.0)) return std::nullopt;
+  const double pdf = model.pdf_incident(j, *i);
+  if (!(pdf > 0.0)) return std::nullopt;
+  return IncidentSample{*i, pdf};
+}
+}  // namespace
+
+std::optional<IncidentSample> HvdEmpirical::sample_incident(const Vec3& j, const std::array<double, 3>& u) const {
+  const double F = hvd::schlick(j.z, p_.F_0);
+  return sample_hvd(*this, j, u, diffuse_share((1.0 - F) * p_.C_d, F), lumps(j), p_.k,
+                    [&](const hvd::Uv& h) { return hvd::incident_from_scaling(h, j); });
+}
+
+double HvdEmpirical::pdf_incident(const Vec3& j, const Vec3& i) const {
+  if (!(j.z > 0.0) || !(i.z > 0.0)) return 0.0;
+  const double F = hvd::schlick(j.z, p_.F_0);
+  const double P_d = diffuse_share((1.0 - F) * p_.C_d, F);
+  double lump = 0.0;
+  if (P_d < 1.0) {
+    const double J = hvd::scaling_jacobian(i, j);
+    if (J > 0.0) {
+      const auto L = lumps(j);
+      const hvd::Uv h = hvd::scaling_uv(i, j);
+      lump = ((1.0 - p_.k) * (p_.k < 1.0 ? L[0].pdf(h) : 0.0) + p_.k * (p_.k > 0.0 ? L[1].pdf(h) : 0.0)) * J;
+    }
+  }
+  return P_d * i.z / pi + (1.0 - P_d) * lump;
+}
+
 MassHints HvdEmpirical::mass_hints(const Vec3& fixed, Varying) const {
   // The specular lump's centre maps to Ĥ = n, i.e. the mirror direction; the retro lump's centre
   // to Ĥ = ω_o, i.e. back to the fixed direction. Used for albedo too (fixed = i): the lobes
@@ -120,9 +189,13 @@ MassHints HvdEmpirical::mass_hints(const Vec3& fixed, Varying) const {
   const double R_max = hvd::max_specular_radius(height);
   const double w_s = lobe_width(std::min(p_.rs_u, p_.rs_v) * R_max, p_.n_s, height);
   const double w_s_wide = lobe_width(std::max(p_.rs_u, p_.rs_v) * R_max, p_.n_s, height);
+  // Across the plane of incidence a disk offset dv moves i by 2 dv whatever the height (i =
+  // 2(j·Ĥ)Ĥ − j with Ĥ tilted by dv/(j·n) and j·Ĥ ~ j·n), while along it i moves by 2 du/(j·n):
+  // near grazing the lobe is a thin arc, 1/(j·n) times thinner across than along.
+  const double across_s = lobe_width(std::min(p_.rs_u, p_.rs_v) * R_max, p_.n_s, 1.0);
   if (p_.k < 1.0) {
-    hints.peaks.push_back({mirror(fixed), w_s});
-    if (w_s_wide > w_s) hints.peaks.push_back({mirror(fixed), w_s_wide});
+    hints.peaks.push_back({mirror(fixed), w_s, across_s});
+    if (w_s_wide > w_s) hints.peaks.push_back({mirror(fixed), w_s_wide, across_s});
   }
   if (p_.k > 0.0) {
     hints.peaks.push_back({fixed, lobe_width(std::min(p_.rr_u, p_.rr_v), p_.n_r, 1.0)});
@@ -169,6 +242,23 @@ double HvdFit::f(const Vec3& i, const Vec3& j) const noexcept {
   return (1.0 - F) * p_.C_d / pi + F * p;
 }
 
+std::optional<IncidentSample> HvdFit::sample_incident(const Vec3& j, const std::array<double, 3>& u) const {
+  const double F = hvd::schlick(j.z, p_.F_0, p_.F_90);
+  return sample_hvd(*this, j, u, diffuse_share((1.0 - F) * p_.C_d, F), lumps(), p_.k,
+                    [&](const hvd::Uv& h) { return hvd::incident_from_orthogonal(h, j); });
+}
+
+double HvdFit::pdf_incident(const Vec3& j, const Vec3& i) const {
+  if (!(j.z > 0.0) || !(i.z > 0.0)) return 0.0;
+  const double F = hvd::schlick(j.z, p_.F_0, p_.F_90);
+  const double P_d = diffuse_share((1.0 - F) * p_.C_d, F);
+  const auto L = lumps();
+  const hvd::Uv h = hvd::orthogonal_uv(i, j);
+  // dA = (i·n) dω_i on the disk (eq. 23 with |H|² = 4(ω_i·Ĥ)²).
+  const double lump = ((1.0 - p_.k) * L[0].pdf(h) + p_.k * L[1].pdf(h)) * i.z;
+  return P_d * i.z / pi + (1.0 - P_d) * lump;
+}
+
 MassHints HvdFit::mass_hints(const Vec3& fixed, Varying) const {
   // h = i_uv + j_uv = 0 at the mirror direction; ρ cos dω = p dA, and dA = cos dω, so the lobe's
   // angular width about the mirror direction is ~ R/√(n+1) / cos θ near grazing.
@@ -176,8 +266,9 @@ MassHints HvdFit::mass_hints(const Vec3& fixed, Varying) const {
   const double height = std::max(fixed.z, 1e-300);
   const double w1 = std::min(pi, p_.R_1 / std::sqrt(p_.n_1 + 1.0) / std::sqrt(height));
   const double w2 = std::min(pi, p_.R_2 / std::sqrt(p_.n_2 + 1.0) / std::sqrt(height));
-  if (p_.k < 1.0) hints.peaks.push_back({mirror(fixed), w1});
-  if (p_.k > 0.0) hints.peaks.push_back({mirror(fixed), w2});
+  // Across the plane of incidence a disk offset moves i by the same angle whatever the height.
+  if (p_.k < 1.0) hints.peaks.push_back({mirror(fixed), w1, std::min(pi, p_.R_1 / std::sqrt(p_.n_1 + 1.0))});
+  if (p_.k > 0.0) hints.peaks.push_back({mirror(fixed), w2, std::min(pi, p_.R_2 / std::sqrt(p_.n_2 + 1.0))});
   const double w = std::min(w1, w2);
   if (fixed.z < 4.0 * w + 0.05) hints.horizon_layer = std::max(w, 1e-9);
   return hints;

@@ -16,6 +16,7 @@
 #pragma once
 
 #include <array>
+#include <optional>
 #include <string>
 
 #include "laws/model.h"
@@ -35,6 +36,10 @@ struct Lump {
   Uv centre;
   double R_u = 1.0, R_v = 1.0, n = 0.0;
   double pdf(const Uv& h) const noexcept;
+  /// A point drawn with density pdf from two uniform numbers: eq. 28 on the unit lump,
+  /// r = sqrt(1 − ξ1^(1/(n+1))), θ = 2π ξ2, then scaled by R_u, R_v and moved to the centre
+  /// (eq. 29 and the text after it).
+  Uv sample(double xi1, double xi2) const noexcept;
 };
 
 /// Schlick's Fresnel approximation, eq. 30 / eq. 34: F_0 + (F_90 − F_0)(1 − cos θ)^5.
@@ -50,6 +55,14 @@ double max_specular_radius(double cos_theta_o) noexcept;
 Uv scaling_uv(const Vec3& i, const Vec3& j) noexcept;
 /// Orthogonal projection (eq. 22), (u, v) part: i_uv + j_uv.
 Uv orthogonal_uv(const Vec3& i, const Vec3& j) noexcept;
+
+/// Inverse of scaling_uv for outgoing j (eq. 21 then eq. 13): the disk point (u, v) lies at height
+/// j·n, Ĥ = (u, v, j·n)/|·| and i = 2(j·Ĥ)Ĥ − j. Nothing unless i·n > 0 (points off the disk).
+std::optional<Vec3> incident_from_scaling(const Uv& h, const Vec3& j) noexcept;
+/// Inverse of orthogonal_uv for outgoing j (eq. 25): the disk point is i_uv + j_uv, so i_uv =
+/// h − j_uv and the i·n that eq. 25 needs is recovered as sqrt(1 − |i_uv|²). Nothing for points
+/// off the disk (|h − j_uv| >= 1).
+std::optional<Vec3> incident_from_orthogonal(const Uv& h, const Vec3& j) noexcept;
 
 /// dμ(h)/dω_i for the scaling projection: Q(ω_i) = p(h) · this, with Q = ρ (ω_i·N) the
 /// incident-direction PDF (eq. 8 and 19): (ω_o·N)² |H|² / (2 (H·N)³). 0 when (i+j)·n <= 0.
@@ -72,6 +85,11 @@ class HvdEmpirical final : public Model {
   Traits traits() const override;
   double f(const Vec3& i, const Vec3& j) const noexcept override;
   MassHints mass_hints(const Vec3& fixed, Varying varying) const override;
+  /// Eq. 12–13, 21, 28–29: the diffuse part by cosine, the lumps on the disk, chosen in
+  /// proportion to their shares of ∫ f (i·n) di, so that f (i·n)/pdf = (1 − F) C_d + F for every
+  /// draw: perfect importance sampling of the law of darkening.
+  std::optional<IncidentSample> sample_incident(const Vec3& j, const std::array<double, 3>& u) const override;
+  double pdf_incident(const Vec3& j, const Vec3& i) const override;
   const Params& params() const { return p_; }
   /// The disk PDF of eq. 32 for outgoing direction j (lumps placed and sized for j).
   std::array<hvd::Lump, 2> lumps(const Vec3& j) const noexcept;
@@ -93,6 +111,10 @@ class HvdFit final : public Model {
   Traits traits() const override;
   double f(const Vec3& i, const Vec3& j) const noexcept override;
   MassHints mass_hints(const Vec3& fixed, Varying varying) const override;
+  /// Eq. 25, 28–29 with the orthogonal projection; draws whose lump point falls off the disk
+  /// fail (that is the energy the model loses), so the density integrates to the success rate.
+  std::optional<IncidentSample> sample_incident(const Vec3& j, const std::array<double, 3>& u) const override;
+  double pdf_incident(const Vec3& j, const Vec3& i) const override;
   const Params& params() const { return p_; }
   std::array<hvd::Lump, 2> lumps() const noexcept;
 

@@ -15,13 +15,6 @@ const char* to_string(EnergyClass c) {
   return "?";
 }
 
-void Model::f_batch(std::span<const Vec3> i, std::span<const Vec3> j,
-                    std::span<double> out) const noexcept {
-  for (std::size_t m = 0; m < out.size(); ++m) out[m] = f(i[m], j[m]);
-}
-
-MassHints Model::mass_hints(const Vec3&, Varying) const { return {}; }
-
 double Lambert::f(const Vec3& i, const Vec3& j) const noexcept {
   if (i.z < 0.0 || j.z < 0.0) return 0.0;
   return std::numbers::inv_pi;

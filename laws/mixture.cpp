@@ -1,6 +1,7 @@
 #include "laws/mixture.h"
 
 #include <algorithm>
+#include <cmath>
 
 #include "laws/registry.h"
 
@@ -36,6 +37,30 @@ Traits Mixture::traits() const {
 double Mixture::f(const Vec3& i, const Vec3& j) const noexcept {
   double sum = 0.0;
   for (const auto& lobe : lobes_) sum += lobe.weight * lobe.model->f(i, j);
+  return sum;
+}
+
+std::optional<IncidentSample> Mixture::sample_incident(const Vec3& j, const std::array<double, 3>& u) const {
+  double below = 0.0;
+  for (std::size_t k = 0; k < lobes_.size(); ++k) {
+    const double w = lobes_[k].weight;
+    if (u[0] < below + w || k + 1 == lobes_.size()) {
+      // Rescale u[0] within the chosen lobe's interval so the lobe sees a fresh uniform number.
+      const double within = std::clamp((u[0] - below) / w, 0.0, std::nextafter(1.0, 0.0));
+      auto s = lobes_[k].model->sample_incident(j, {within, u[1], u[2]});
+      if (!s) return std::nullopt;
+      s->pdf = pdf_incident(j, s->i);
+      if (!(s->pdf > 0.0)) return std::nullopt;
+      return s;
+    }
+    below += w;
+  }
+  return std::nullopt;
+}
+
+double Mixture::pdf_incident(const Vec3& j, const Vec3& i) const {
+  double sum = 0.0;
+  for (const auto& lobe : lobes_) sum += lobe.weight * lobe.model->pdf_incident(j, i);
   return sum;
 }
 

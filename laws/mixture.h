@@ -16,6 +16,10 @@ class Mixture final : public Model {
   Traits traits() const override;
   double f(const Vec3& i, const Vec3& j) const noexcept override;
   MassHints mass_hints(const Vec3& fixed, Varying varying) const override;
+  /// Picks a lobe with probability equal to its weight (u[0]), then samples that lobe;
+  /// the density is the weighted sum of the lobes' densities.
+  std::optional<IncidentSample> sample_incident(const Vec3& j, const std::array<double, 3>& u) const override;
+  double pdf_incident(const Vec3& j, const Vec3& i) const override;
   const std::vector<Lobe>& lobes() const { return lobes_; }
 
  private:

@@ -6,7 +6,9 @@
 // unit vectors. f(i, j) is the BRDF ("law of shading") in 1/sr.
 #pragma once
 
+#include <array>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -38,6 +40,9 @@ struct Traits {
 struct Peak {
   Vec3 direction;  ///< unit vector of the lobe's maximum (may lie outside the domain)
   double width;    ///< angular scale in radians (e.g. sqrt(2/alpha) for a cosine-power lobe)
+  /// Angular scale across the plane of n and the peak, when the lobe is elongated (0: the same
+  /// as width). Halfway-vector lobes near grazing are 10^4 times thinner across than along.
+  double across = 0.0;
 };
 struct MassHints {
   std::vector<Peak> peaks;
@@ -50,6 +55,12 @@ struct MassHints {
 enum class Varying {
   incident,  ///< k in f(k, j): laws of vignetting g and darkening h
   outgoing,  ///< k in f(i, k): albedo a
+};
+
+/// An incident direction drawn for a fixed outgoing direction (Model::sample_incident).
+struct IncidentSample {
+  Vec3 i{0, 0, 1};   ///< unit, local frame, i·n > 0
+  double pdf = 0.0;  ///< its density per steradian, = pdf_incident(j, i)
 };
 
 class Model {
@@ -70,7 +81,21 @@ class Model {
 
   /// Where the integrand k -> (k·n) f(k, fixed) [or f(fixed, k)] has its mass.
   virtual MassHints mass_hints(const Vec3& fixed, Varying varying) const;
+
+  /// Importance sampling of the incident direction i for the outgoing (viewing) direction j,
+  /// from three uniform numbers in [0, 1): what a path tracer needs, and an unbiased estimator
+  /// of the law of darkening, h(j) = E[f(i, j)(i·n)/pdf]. Nothing when the draw falls outside
+  /// the BRDF's support (mass a model loses, e.g. hvd-fit lumps hanging off the disk), or when
+  /// j·n <= 0. The default draws i with density (i·n)/π (Malley's method).
+  virtual std::optional<IncidentSample> sample_incident(const Vec3& j, const std::array<double, 3>& u) const;
+  /// The density per steradian with which sample_incident draws i (0 where it never does); its
+  /// integral over the hemisphere is the probability that a draw succeeds.
+  virtual double pdf_incident(const Vec3& j, const Vec3& i) const;
 };
+
+/// Cosine-weighted direction about n = +z from two uniform numbers (Malley's method: a uniform
+/// point of the unit disk lifted to the hemisphere); density (i·n)/π.
+Vec3 sample_cosine(double u1, double u2) noexcept;
 
 using ModelPtr = std::shared_ptr<const Model>;
 

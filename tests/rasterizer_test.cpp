@@ -147,6 +147,31 @@ TEST(rasterizer, WhiteLambertSphereFromTableIsInvisibleInGanzfeld) {
   expect_sphere_pixels(scene, [](const Vec3&, const Vec3&) { return N; }, N * h->max_error + kFloatRounding);
 }
 
+TEST(rasterizer, WhiteHvdEmpiricalSphereIsInvisibleInGanzfeld) {
+  // Edwards et al., Figure 2: with C_d = 1 the empirical HVD BRDF conserves energy over incident
+  // directions for every viewing direction, so h = 1 and the sphere vanishes in a Ganzfeld, like
+  // white Lambert, although its lobes are sharp and it is not reciprocal (its albedo a != 1).
+  // Through an h table baked from the law of darkening itself (never from a): the bound is N times
+  // the table's stored node error; the table is constant (1) between nodes except in its first
+  // cell, j·n < 6e-5, where the specular lump degenerates to a delta (h(horizon) = 1 - F = 0) —
+  // which no pixel of this sphere reaches (checked).
+  constexpr double N = 0.6;
+  lut::BakeOptions options;
+  options.resolution = {128};
+  options.tolerance = 1e-8;
+  const ModelPtr model = parse_model("hvd-empirical:cd=1,f0=0.04,k=0.3,ns=100,nr=10");
+  auto h = std::make_shared<const lut::Table>(lut::bake(*model, Law::h, options));
+  EXPECT_EQ(h->unconverged, 0);
+  const double first_node = h->axes[0].node(1);
+  ShadingMaterial material = one_lobe("lambert", table_laws(nullptr, h));
+  material[0].model = model;
+  const RenderScene scene = sphere_scene(material, {grey_light(Light::Type::ganzfeld, {0, 1, 0}, N)}, N);
+  const GBuffer gb = rasterize(scene.camera, scene.meshes);
+  for (const Fragment& f : gb.pixels)
+    if (f.mesh != Fragment::kNone) ASSERT_GT(glm::dot(f.normal, f.view), first_node);
+  expect_sphere_pixels(scene, [](const Vec3&, const Vec3&) { return N; }, N * h->max_error + kFloatRounding);
+}
+
 TEST(rasterizer, LambertSphereUnderSkyIsHalfOnePlusCos) {
   // K&P: g_L = (1 + i·n)/2 with i the sky's pole, per pixel with n from the exact sphere.
   // Bound: the closed form is exact; float storage and the normal's rounding remain.
