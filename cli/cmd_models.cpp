@@ -18,6 +18,13 @@ void add_models_command(CLI::App& app, Action& action) {
       for (const auto& m : model_catalogue()) {
         nlohmann::ordered_json params = nlohmann::ordered_json::array();
         std::string example = m.name;
+        if (m.make_with_file) {  // measured models: file=PATH comes first and is required
+          params.push_back({{"name", "file"},
+                            {"type", "path"},
+                            {"required", true},
+                            {"meaning", "the measured data file (no ',', '+' or '*' in the path)"}});
+          example += ":file=DATA";
+        }
         for (const auto& p : m.parameters) {
           params.push_back({{"name", p.name},
                             {"type", p.type == ParamType::integer ? "integer" : "real"},
@@ -48,10 +55,15 @@ void add_models_command(CLI::App& app, Action& action) {
                   << "    traits: " << (m["isotropic"].get<bool>() ? "isotropic" : "anisotropic") << ", "
                   << (m["reciprocal"].get<bool>() ? "reciprocal" : "not reciprocal") << ", "
                   << m["energy_class"].get<std::string>() << "\n";
-        for (const auto& p : m["parameters"])
+        for (const auto& p : m["parameters"]) {
+          if (p["type"] == "path") {
+            std::cout << "    " << p["name"].get<std::string>() << " (path, required): " << p["meaning"].get<std::string>() << "\n";
+            continue;
+          }
           std::cout << "    " << p["name"].get<std::string>() << " (" << p["type"].get<std::string>() << " in ["
                     << format_number(p["min"]) << ", " << format_number(p["max"]) << "], default "
                     << format_number(p["default"]) << "): " << p["meaning"].get<std::string>() << "\n";
+        }
       }
       std::cout << "mixtures: " << doc["mixtures"].get<std::string>() << "\n";
       return 0;

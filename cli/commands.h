@@ -21,5 +21,6 @@ void add_bench_command(CLI::App& app, Action& action);
 void add_render_command(CLI::App& app, Action& action);
 void add_figure_command(CLI::App& app, Action& action);
 void add_export_glsl_command(CLI::App& app, Action& action);
+void add_export_brdf_command(CLI::App& app, Action& action);
 
 }  // namespace ganzfeld::cli

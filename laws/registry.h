@@ -32,11 +32,15 @@ struct ModelInfo {
   Traits traits;
   std::vector<std::string> closed_forms;  ///< ids of printed closed forms checked by `verify`
   std::function<ModelPtr(const ParamValues&)> make;  ///< params complete and validated
+  /// Set instead of `make` for measured models: the spec carries `file=PATH` (required), which
+  /// is passed as text; the other parameters as usual.
+  std::function<ModelPtr(const std::string& file, const ParamValues&)> make_with_file = nullptr;
 };
 
 /// Model families register themselves here (one function per family, in its own file).
 void register_hvd_models(std::vector<ModelInfo>& catalogue);      // laws/hvd.cpp (Edwards et al.)
 void register_classic_models(std::vector<ModelInfo>& catalogue);  // laws/classic.cpp (Walker's survey)
+void register_measured_models(std::vector<ModelInfo>& catalogue);  // laws/measured.cpp (MERL, tabulated)
 
 /// Every registered model, in presentation order.
 const std::vector<ModelInfo>& model_catalogue();

@@ -48,6 +48,7 @@ ModelPtr parse_single(const std::string& spec_text) {
 
   ParamValues values;
   for (const auto& p : info.parameters) values[p.name] = p.default_value;
+  std::string file;
   if (colon != std::string::npos) {
     std::vector<std::string> seen;
     for (const auto& item : split(spec.substr(colon + 1), ',')) {
@@ -56,6 +57,12 @@ ModelPtr parse_single(const std::string& spec_text) {
         throw InputError("malformed model spec '" + spec + "': expected KEY=VALUE, got '" + trim(item) + "'");
       const std::string key = trim(item.substr(0, eq));
       const std::string text = trim(item.substr(eq + 1));
+      if (key == "file" && info.make_with_file) {  // measured models: a path, not a number
+        if (!file.empty()) throw InputError("parameter 'file' given twice in '" + spec + "'");
+        if (text.empty()) throw InputError(name + ": file= needs a path");
+        file = text;
+        continue;
+      }
       const ParamInfo* param = nullptr;
       std::string allowed;
       for (const auto& p : info.parameters) {
@@ -74,6 +81,10 @@ ModelPtr parse_single(const std::string& spec_text) {
       validate_param(info, *param, value);
       values[key] = value;
     }
+  }
+  if (info.make_with_file) {
+    if (file.empty()) throw InputError(name + " needs file=PATH (the measured data), e.g. " + name + ":file=data.binary");
+    return info.make_with_file(file, values);
   }
   return info.make(values);
 }
