@@ -47,6 +47,13 @@ expect_bad "not expected" eval --model lambert --law h --theta-j 1 --no-such-fla
 expect_bad "cannot write" verify --markdown "$tmp/no/such/dir/errata.md"
 [ ! -e "$tmp/no/such/dir/errata.md" ] && ok || fail "partial errata file"
 
+# --- plausibility: JSON shape, the Lambert row, refusals
+"$G" plausibility --json >"$tmp/plaus.json" && ok || fail "plausibility --json"
+[ "$(json_field "$tmp/plaus.json" "[m for m in d['models'] if m['spec']=='lambert'][0]['ganzfeld_invisible'] and all(m['traits_consistent'] for m in d['models'])")" = "True" ] \
+  && ok || fail "plausibility JSON"
+expect_bad "tolerance" plausibility --tol -1
+expect_bad "cannot write" plausibility --markdown "$tmp/no/such/dir/p.md"
+
 # --- verify
 "$G" verify --json --markdown "$tmp/errata.md" >"$tmp/verify.json" && ok || fail "verify exit code"
 [ "$(json_field "$tmp/verify.json" "len(d['checks'])>=24 and all(c['status'] in ('matches','erratum') for c in d['checks'])")" = "True" ] && ok || fail "verify JSON"
