@@ -3,6 +3,7 @@
 // docs/models.md.
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <complex>
 #include <numbers>
 
@@ -194,6 +195,44 @@ double Ward::f(const Vec3& i, const Vec3& j) const noexcept {
   return diffuse + rho_s_ * std::exp(-e) / (4.0 * pi * alpha_x_ * alpha_y_ * root);
 }
 
+std::optional<IncidentSample> Ward::sample_incident(const Vec3& j, const std::array<double, 3>& u) const {
+  if (!(j.z > 0.0)) return std::nullopt;
+  const double total = rho_d_ + rho_s_;
+  const double p_diffuse = total > 0.0 ? rho_d_ / total : 1.0;
+  Vec3 i;
+  if (u[0] < p_diffuse) {
+    i = sample_cosine(u[1], u[2]);
+  } else {
+    const double phi = std::atan2(alpha_y_ * std::sin(2.0 * pi * u[2]), alpha_x_ * std::cos(2.0 * pi * u[2]));
+    const double c = std::cos(phi), s = std::sin(phi);
+    const double tan2 = -std::log(std::max(u[1], std::numeric_limits<double>::min())) /
+                        (c * c / (alpha_x_ * alpha_x_) + s * s / (alpha_y_ * alpha_y_));
+    const double cos_d = 1.0 / std::sqrt(1.0 + tan2), sin_d = std::sqrt(tan2) * cos_d;
+    const Vec3 h{sin_d * c, sin_d * s, cos_d};
+    i = 2.0 * glm::dot(j, h) * h - j;
+  }
+  if (!(i.z > 0.0)) return std::nullopt;
+  const double pdf = pdf_incident(j, i);
+  if (!(pdf > 0.0)) return std::nullopt;
+  return IncidentSample{glm::normalize(i), pdf};
+}
+
+double Ward::pdf_incident(const Vec3& j, const Vec3& i) const {
+  if (!(j.z > 0.0) || !(i.z > 0.0)) return 0.0;
+  const double total = rho_d_ + rho_s_;
+  const double p_diffuse = total > 0.0 ? rho_d_ / total : 1.0;
+  double lobe = 0.0;
+  const Vec3 sum = i + j;
+  if (p_diffuse < 1.0 && sum.z > 0.0) {
+    const Vec3 h = glm::normalize(sum);
+    const double ex = h.x / (alpha_x_ * h.z), ey = h.y / (alpha_y_ * h.z);
+    const double e = ex * ex + ey * ey;
+    if (e < 700.0)
+      lobe = std::exp(-e) / (4.0 * pi * alpha_x_ * alpha_y_ * h.z * h.z * h.z * glm::dot(i, h));
+  }
+  return p_diffuse * i.z / pi + (1.0 - p_diffuse) * lobe;
+}
+
 MassHints Ward::mass_hints(const Vec3& fixed, Varying) const {
   return {{{mirror(fixed), std::sqrt(2.0) * std::min(alpha_x_, alpha_y_)}}, 0.0};
 }
@@ -229,24 +268,54 @@ double OrenNayar::f(const Vec3& i, const Vec3& j) const noexcept {
 
 // ---------------------------------------------------------------------------------------------
 Lafortune::Lafortune(double kd, double C_x, double C_y, double C_z, double n)
-    : kd_(kd), C_x_(C_x), C_y_(C_y), C_z_(C_z), n_(n) {}
+    : kd_(kd), lobes_{{C_x, C_y, C_z, n}} {}
+
+Lafortune::Lafortune(double kd, std::vector<Lobe> lobes, std::string spec)
+    : kd_(kd), lobes_(std::move(lobes)), preset_(std::move(spec)) {}
 
 std::string Lafortune::spec() const {
-  return spec_of("lafortune", {{"kd", kd_}, {"Cx", C_x_}, {"Cy", C_y_}, {"Cz", C_z_}, {"n", n_}});
+  if (!preset_.empty()) return preset_;
+  const Lobe& l = lobes_.front();
+  return spec_of("lafortune", {{"kd", kd_}, {"Cx", l.C_x}, {"Cy", l.C_y}, {"Cz", l.C_z}, {"n", l.n}});
+}
+
+Traits Lafortune::traits() const {
+  bool isotropic = true;
+  for (const Lobe& l : lobes_) isotropic = isotropic && l.C_x == l.C_y;
+  return {isotropic, true, EnergyClass::not_plausible};
 }
 
 double Lafortune::f(const Vec3& i, const Vec3& j) const noexcept {
   if (i.z < 0.0 || j.z < 0.0) return 0.0;
-  const double x = C_x_ * i.x * j.x + C_y_ * i.y * j.y + C_z_ * i.z * j.z;
-  return kd_ / pi + (x > 0.0 ? std::pow(x, n_) : 0.0);
+  double sum = kd_ / pi;
+  for (const Lobe& l : lobes_) {
+    const double x = l.C_x * i.x * j.x + l.C_y * i.y * j.y + l.C_z * i.z * j.z;
+    if (x > 0.0) sum += std::pow(x, l.n);
+  }
+  return sum;
 }
 
 MassHints Lafortune::mass_hints(const Vec3& fixed, Varying) const {
-  // The lobe peaks along (Cx x, Cy y, Cz z) of the fixed direction; width ~ 1/sqrt(n).
-  const Vec3 axis{C_x_ * fixed.x, C_y_ * fixed.y, C_z_ * fixed.z};
-  const double len = glm::length(axis);
-  if (!(len > 0.0)) return {};
-  return {{{axis / len, 1.0 / std::sqrt(n_)}}, 0.0};
+  // Each lobe peaks along (Cx x, Cy y, Cz z) of the fixed direction; width ~ 1/sqrt(n).
+  MassHints hints;
+  for (const Lobe& l : lobes_) {
+    const Vec3 axis{l.C_x * fixed.x, l.C_y * fixed.y, l.C_z * fixed.z};
+    const double len = glm::length(axis);
+    if (len > 0.0) hints.peaks.push_back({axis / len, 1.0 / std::sqrt(l.n)});
+  }
+  return hints;
+}
+
+ModelPtr lafortune_paint(int channel) {
+  // Lafortune et al. 1997, blue paint: diffuse, then three lobes (Cxy, Cz, n) per channel R, G, B.
+  static constexpr double kd[3] = {0.3094, 0.39667, 0.70837};
+  static constexpr double lobes[3][3][3] = {
+      {{0.870567, 0.803624, 21.820103}, {-0.451218, 0.023123, 2.774499}, {-1.031545, 0.706734, 66.899060}},
+      {{0.857255, 0.774290, 18.597755}, {-0.406681, 0.017625, 2.581499}, {-1.029426, 0.696530, 63.767912}},
+      {{0.670982, 0.586674, 7.472717}, {-0.477976, 0.227295, 3.677653}, {-1.026588, 0.687715, 57.489181}}};
+  std::vector<Lafortune::Lobe> l;
+  for (const auto& c : lobes[channel]) l.push_back({c[0], c[0], c[1], c[2]});
+  return std::make_shared<Lafortune>(kd[channel], std::move(l), "lafortune-paint:channel=" + std::to_string(channel));
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -413,6 +482,14 @@ void register_classic_models(std::vector<ModelInfo>& c) {
                                     format_number(c_max) + " overflows; allowed: n log10(max|C|) <= 300");
                  return std::make_shared<Lafortune>(p.at("kd"), p.at("Cx"), p.at("Cy"), p.at("Cz"), p.at("n"));
                }});
+  c.push_back({"lafortune-paint",
+               "Lafortune et al.'s three-lobe fit to measured blue paint (one RGB channel), f = kd/pi + sum of 3 lobes",
+               std::string("Lafortune, Foo, Torrance, Greenberg 1997, SIGGRAPH '97 (blue paint fit); ") + kWalker +
+                   ", Lafortune (fig. 35)",
+               {{"channel", ParamType::integer, 0.0, 2.0, 2.0, "0 red, 1 green, 2 blue"}},
+               {true, true, EnergyClass::not_plausible},
+               {},
+               [](const ParamValues& p) -> ModelPtr { return lafortune_paint(static_cast<int>(p.at("channel"))); }});
   c.push_back({"hapke",
                "Hapke/Lommel-Seeliger lunar law, f = rho S(a) B(a, g)/(pi (i.n + j.n)), a = phase angle",
                std::string("Hapke 1963, J. Geophys. Res. 68; ") + kWalker +

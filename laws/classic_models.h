@@ -12,6 +12,9 @@
 // printed one only on a layer of thickness kGrazingCosFloor at the horizon.
 #pragma once
 
+#include <string>
+#include <vector>
+
 #include "laws/model.h"
 
 namespace ganzfeld {
@@ -114,6 +117,14 @@ class Ward final : public Model {
   Traits traits() const override { return {!anisotropic_, true, EnergyClass::not_plausible}; }
   double f(const Vec3& i, const Vec3& j) const noexcept override;
   MassHints mass_hints(const Vec3& fixed, Varying varying) const override;
+  /// Ward's sampling (1992, section 5.3, eq. 6–7 and 9–10), with the density B. Walter derived
+  /// for it ("Notes on the Ward BRDF", 2005): the halfway vector from
+  ///   phi_h = atan2(alpha_y sin 2 pi u2, alpha_x cos 2 pi u2),
+  ///   tan^2 delta = -log u1 / (cos^2 phi_h / alpha_x^2 + sin^2 phi_h / alpha_y^2),
+  /// i the reflection of j about it, pdf(i) = exp(-tan^2 delta (...)) / (4 pi alpha_x alpha_y
+  /// cos^3 delta (i·h)); the diffuse part by cosine, chosen with probability rho_d/(rho_d + rho_s).
+  std::optional<IncidentSample> sample_incident(const Vec3& j, const std::array<double, 3>& u) const override;
+  double pdf_incident(const Vec3& j, const Vec3& i) const override;
 
  private:
   double rho_d_, rho_s_, alpha_x_, alpha_y_;
@@ -140,15 +151,29 @@ class OrenNayar final : public Model {
 ///   f = kd/pi + max(0, Cx ix jx + Cy iy jy + Cz iz jz)^n.
 class Lafortune final : public Model {
  public:
+  struct Lobe {
+    double C_x, C_y, C_z, n;
+  };
   Lafortune(double kd, double C_x, double C_y, double C_z, double n);
+  /// Several lobes, f = kd/pi + sum_k max(0, Cx ix jx + Cy iy jy + Cz iz jz)^n_k (eq. 4 summed),
+  /// named by `spec` (a preset such as lafortune-paint:channel=2).
+  Lafortune(double kd, std::vector<Lobe> lobes, std::string spec);
   std::string spec() const override;
-  Traits traits() const override { return {C_x_ == C_y_, true, EnergyClass::not_plausible}; }
+  Traits traits() const override;
   double f(const Vec3& i, const Vec3& j) const noexcept override;
   MassHints mass_hints(const Vec3& fixed, Varying varying) const override;
 
  private:
-  double kd_, C_x_, C_y_, C_z_, n_;
+  double kd_;
+  std::vector<Lobe> lobes_;
+  std::string preset_;  ///< empty for the one-lobe model with its parameters in the spec
 };
+
+/// Lafortune, Foo, Torrance & Greenberg 1997 (SIGGRAPH '97), their three-lobe fit to measured
+/// blue (latex) paint, per RGB channel: the paint of Walker's Figure 35 (the thesis shows the
+/// lobe but prints no coefficients). Coefficients as published with the paper's data and
+/// reproduced in pbrt (1st ed.) "bluepaint"; Cx = Cy (isotropic).
+ModelPtr lafortune_paint(int channel);
 
 // ---------------------------------------------------------------------------------------------
 /// Hapke 1963 ("A theoretical photometric function for the lunar surface") in the form of

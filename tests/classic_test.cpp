@@ -376,3 +376,35 @@ TEST(classic, BadParametersAreRefusedNamingKeyAndRange) {
 
 }  // namespace
 }  // namespace ganzfeld
+
+namespace ganzfeld {
+namespace {
+
+TEST(classic, LafortunePaintPresetIsTheThreeLobeSum) {
+  // The preset is kd/pi plus three lobes; blue paint reflects most in blue, and each channel's
+  // albedo stays below 1 at the incidences of the fit (the fit is not constrained there, so we
+  // measure instead of asserting plausibility).
+  const ModelPtr blue = parse_model("lafortune-paint"), red = parse_model("lafortune-paint:channel=0");
+  EXPECT_EQ(blue->spec(), "lafortune-paint:channel=2");
+  const Vec3 i{std::sin(0.5), 0.0, std::cos(0.5)}, j{-std::sin(0.3), 0.1, std::cos(0.3)};
+  double expected = 0.70837 / std::numbers::pi;
+  const double lobes[3][3] = {{0.670982, 0.586674, 7.472717}, {-0.477976, 0.227295, 3.677653},
+                              {-1.026588, 0.687715, 57.489181}};
+  for (const auto& lobe : lobes) {
+    const double x = lobe[0] * (i.x * j.x + i.y * j.y) + lobe[1] * i.z * j.z;
+    if (x > 0.0) expected += std::pow(x, lobe[2]);
+  }
+  EXPECT_NEAR(blue->f(i, j), expected, 1e-12);
+  EXPECT_NEAR(blue->f(i, j), blue->f(j, i), 1e-15);  // reciprocal: symmetric in i and j
+  for (double theta : {0.0, 0.5, 1.0, 1.3}) {
+    const Vec3 d{std::sin(theta), 0.0, std::cos(theta)};
+    const double a_blue = albedo(*blue, d, CubatureOptions{}).value, a_red = albedo(*red, d, CubatureOptions{}).value;
+    EXPECT_GT(a_blue, a_red);
+    EXPECT_LT(a_blue, 1.0);
+    EXPECT_GT(a_red, 0.0);
+  }
+  EXPECT_THROW(parse_model("lafortune-paint:channel=3"), InputError);
+}
+
+}  // namespace
+}  // namespace ganzfeld
