@@ -68,6 +68,8 @@ int run_render(const RenderArgs& args) {
         s.laws = raster::lambert_laws();
       } else if (args.direct) {
         s.laws = raster::direct_laws(lobe.model, tol);
+      } else if (!lobe.model->traits().isotropic) {
+        s.laws = raster::direct_laws(lobe.model, kDirectTol);  // no tables for anisotropic models (lut/plan.h)
       } else {
         auto find = [&](Law law) -> std::shared_ptr<const lut::Table> {
           const auto it = tables.find({lobe.model->spec(), law});

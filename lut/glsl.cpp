@@ -276,11 +276,18 @@ std::string glsl_model_f(const Model& model) {
 }
 
 void check_scene_exportable(const Scene& scene) {
-  bool collimated = false;
-  for (const Light& light : scene.lights) collimated = collimated || light.type == Light::Type::collimated;
-  if (!collimated) return;
+  bool collimated = false, extended = false;
+  for (const Light& light : scene.lights) {
+    collimated = collimated || light.type == Light::Type::collimated;
+    extended = extended || light.type != Light::Type::collimated;
+  }
   for (const SceneObject& object : scene.objects)
-    for (const MaterialLobe& lobe : scene.materials.at(object.material).lobes) glsl_model_f(*lobe.model);
+    for (const MaterialLobe& lobe : scene.materials.at(object.material).lobes) {
+      if (collimated) glsl_model_f(*lobe.model);
+      if (extended && !lobe.model->traits().isotropic)
+        throw InputError("model '" + lobe.spec + "' is anisotropic: its sky and Ganzfeld terms have no tables (a fourth "
+                         "axis would be needed), so no GLSL; allowed: isotropic models under extended lights");
+    }
 }
 
 std::string glsl_scene_shader(const Scene& scene, const SceneTableMap& tables, const std::string& source) {

@@ -23,7 +23,7 @@ std::vector<TableRequest> tables_needed(const Scene& scene) {
     for (std::size_t m = 0; m < scene.materials.size(); ++m) {
       if (!used[m]) continue;
       for (const MaterialLobe& lobe : scene.materials[m].lobes) {
-        if (has_closed_form(lobe.spec, law)) continue;
+        if (has_closed_form(lobe.spec, law) || !lobe.model->traits().isotropic) continue;
         TableRequest r{lobe.spec, law, lobe.model};
         if (std::find(out.begin(), out.end(), r) == out.end()) out.push_back(std::move(r));
       }

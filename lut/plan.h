@@ -4,6 +4,8 @@
 //   hemispherical sky    N g(i, j, n)       g of every lobe of every material an object uses
 //   Ganzfeld             N h(j, n)          h of every such lobe
 // Lambert lobes never need a table: h = 1 and g = (1 + i·n)/2 in closed form (K&P).
+// Anisotropic lobes get none either: their g would need a fourth axis (the azimuth of j from the
+// tangent); renders compute their g and h directly by cubature per pixel instead.
 #pragma once
 
 #include <string>

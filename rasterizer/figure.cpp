@@ -127,7 +127,7 @@ Image indicatrix_quadrant(const Model& model, int size) {
 }
 
 /// Sphere quadrants need g (sky) and h (Ganzfeld) of every lobe: closed forms for Lambert,
-/// small tables otherwise.
+/// small tables otherwise (direct cubature for anisotropic models).
 ShadingMaterial figure_material(const std::string& spec, const FigureOptions& options) {
   ShadingMaterial material;
   for (const Lobe& lobe : parse_lobes(spec)) {
@@ -136,6 +136,9 @@ ShadingMaterial figure_material(const std::string& spec, const FigureOptions& op
     s.model = lobe.model;
     if (is_lambert(*lobe.model)) {
       s.laws = lambert_laws();
+    } else if (!lobe.model->traits().isotropic) {
+      // Anisotropic: no tables (they would need a fourth axis, lut/plan.h); cubature per pixel.
+      s.laws = direct_laws(lobe.model, options.tolerance);
     } else {
       lut::BakeOptions g_options, h_options;
       g_options.resolution = options.g_resolution;

@@ -242,6 +242,14 @@ TEST(scene, SkyAndGanzfeldNeedGAndHOfEachLobeDeduplicated) {
   EXPECT_EQ(plan_of(s), want);
 }
 
+TEST(scene, AnisotropicLobesNeedNoTable) {
+  // Their g would need a fourth axis; renders compute them directly instead (lut/plan.h).
+  const Scene s = scene_from(sphere_scene(R"({"model": "0.5*ward-aniso + 0.5*specular:alpha=8"})",
+                                          R"([{"type": "ganzfeld"}, {"type": "hemispherical"}])"));
+  const std::vector<std::pair<std::string, Law>> want = {{"specular:alpha=8", Law::g}, {"specular:alpha=8", Law::h}};
+  EXPECT_EQ(plan_of(s), want);
+}
+
 TEST(scene, UnusedMaterialNeedsNothing) {
   const Scene s = scene_from(R"({"materials": {"m": {"model": "specular:alpha=8"}}, "objects": [],
                                  "lights": [{"type": "ganzfeld"}, {"type": "hemispherical"}]})");
