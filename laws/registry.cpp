@@ -53,6 +53,7 @@ std::vector<ModelInfo> build_catalogue() {
                [](const ParamValues& p) { return std::make_shared<Asperity>(p.at("alpha")); }});
   register_hvd_models(c);
   register_classic_models(c);
+  register_he_torrance_models(c);
   register_measured_models(c);
   return c;
 }

@@ -41,6 +41,7 @@ struct ModelInfo {
 void register_hvd_models(std::vector<ModelInfo>& catalogue);      // laws/hvd.cpp (Edwards et al.)
 void register_classic_models(std::vector<ModelInfo>& catalogue);  // laws/classic.cpp (Walker's survey)
 void register_measured_models(std::vector<ModelInfo>& catalogue);  // laws/measured.cpp (MERL, tabulated)
+void register_he_torrance_models(std::vector<ModelInfo>& catalogue);  // laws/he_torrance.cpp
 
 /// Every registered model, in presentation order.
 const std::vector<ModelInfo>& model_catalogue();
