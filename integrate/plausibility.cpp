@@ -102,6 +102,7 @@ std::vector<PlausibilityCase> plausibility_cases() {
       {"oren-nayar:sigma=0,rho=1", "sigma = 0: must be white Lambert"},
       {"oren-nayar:sigma=0.6,rho=1", "roughest allowed facets"},
       {"hapke:rho=1,g=0.6,phase=0", "white Lommel-Seeliger with opposition surge"},
+      {"blinn-dusty:w=1,tau=1000,phase=4,g=0.9", "white thick dust, strong backscatter (Henyey-Greenstein)"},
   };
   // Every analytic model at its defaults (measured models need a file: not here).
   std::vector<PlausibilityCase> out;

@@ -31,19 +31,6 @@ bool halfway(const Vec3& i, const Vec3& j, Vec3& h) noexcept {
   return true;
 }
 
-std::string spec_of(const std::string& name, std::initializer_list<std::pair<const char*, double>> kv) {
-  std::string s = name;
-  char sep = ':';
-  for (const auto& [key, value] : kv) {
-    s += sep;
-    s += key;
-    s += '=';
-    s += format_number(value);
-    sep = ',';
-  }
-  return s;
-}
-
 }  // namespace
 
 // ---------------------------------------------------------------------------------------------

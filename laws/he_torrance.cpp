@@ -44,19 +44,6 @@ double q_exact(double m, double g) noexcept {
   return boost::math::gamma_p_derivative(m + 1.0, g, NoThrow()) / g;
 }
 
-std::string spec_of(const std::string& name, std::initializer_list<std::pair<const char*, double>> kv) {
-  std::string s = name;
-  char sep = ':';
-  for (const auto& [key, value] : kv) {
-    s += sep;
-    s += key;
-    s += '=';
-    s += format_number(value);
-    sep = ',';
-  }
-  return s;
-}
-
 }  // namespace
 
 // ---------------------------------------------------------------------------------------------

@@ -54,6 +54,7 @@ std::vector<ModelInfo> build_catalogue() {
   register_hvd_models(c);
   register_classic_models(c);
   register_he_torrance_models(c);
+  register_blinn_dusty_models(c);
   register_measured_models(c);
   return c;
 }
@@ -71,6 +72,19 @@ const ModelInfo& find_model(const std::string& name) {
     known += (known.empty() ? "" : ", ") + m.name;
   }
   throw InputError("unknown model '" + name + "'; known models: " + known);
+}
+
+std::string spec_of(const std::string& name, std::initializer_list<std::pair<const char*, double>> kv) {
+  std::string s = name;
+  char sep = ':';
+  for (const auto& [key, value] : kv) {
+    s += sep;
+    s += key;
+    s += '=';
+    s += format_number(value);
+    sep = ',';
+  }
+  return s;
 }
 
 std::string format_number(double value) {

@@ -3,6 +3,8 @@
 #pragma once
 
 #include <functional>
+#include <initializer_list>
+#include <utility>
 #include <map>
 #include <string>
 #include <vector>
@@ -42,6 +44,7 @@ void register_hvd_models(std::vector<ModelInfo>& catalogue);      // laws/hvd.cp
 void register_classic_models(std::vector<ModelInfo>& catalogue);  // laws/classic.cpp (Walker's survey)
 void register_measured_models(std::vector<ModelInfo>& catalogue);  // laws/measured.cpp (MERL, tabulated)
 void register_he_torrance_models(std::vector<ModelInfo>& catalogue);  // laws/he_torrance.cpp
+void register_blinn_dusty_models(std::vector<ModelInfo>& catalogue);  // laws/blinn_dusty.cpp
 
 /// Every registered model, in presentation order.
 const std::vector<ModelInfo>& model_catalogue();
@@ -54,5 +57,8 @@ void validate_param(const ModelInfo& model, const ParamInfo& param, double value
 
 /// Shortest text that round-trips the double (used in canonical spec strings).
 std::string format_number(double value);
+
+/// A canonical spec "name:key=value,key=value" with format_number values, in the given order.
+std::string spec_of(const std::string& name, std::initializer_list<std::pair<const char*, double>> kv);
 
 }  // namespace ganzfeld

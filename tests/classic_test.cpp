@@ -12,6 +12,8 @@
 #include <boost/math/quadrature/gauss_kronrod.hpp>
 #include <gtest/gtest.h>
 
+#include "tests/test_support.h"
+
 #include "integrate/laws.h"
 #include "laws/classic_models.h"
 #include "laws/error.h"
@@ -51,14 +53,8 @@ constexpr double kWardDeficitPerAlpha2 = 5.0;
 /// Facet-distribution normalization by 1-D Gauss–Kronrod (tolerance 1e-12 requested).
 constexpr double kNormalizationTol = 1e-9;
 
-CubatureOptions options() {
-  CubatureOptions o;
-  o.abs_tol = kCubatureTol;
-  o.max_evaluations = 5'000'000;
-  return o;
-}
-
-const std::vector<double> kIncidenceCosines{1.0, 0.9, 0.7, 0.5, 0.3, 0.1, 0.03, 0.01, 1e-3};
+CubatureOptions options() { return testing_support::cubature_options(kCubatureTol); }
+using testing_support::kIncidenceCosines;
 
 /// Albedo a(i) for i at the given cosine; must converge.
 double albedo_at(const Model& m, double cos_i, double phi = 0.3) {
