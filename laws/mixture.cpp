@@ -72,6 +72,15 @@ MassHints Mixture::mass_hints(const Vec3& fixed, Varying varying) const {
     if (h.horizon_layer > 0.0)
       all.horizon_layer = all.horizon_layer > 0.0 ? std::min(all.horizon_layer, h.horizon_layer)
                                                   : h.horizon_layer;
+    // One crease frame per integral: lobes creased about the same axis share it (every
+    // cylinder model puts its cylinders along x); a lobe creased about another axis would be
+    // left to plain adaptivity.
+    if (h.crease_axis != Vec3{0.0, 0.0, 0.0} &&
+        (all.crease_axis == Vec3{0.0, 0.0, 0.0} || all.crease_axis == h.crease_axis)) {
+      all.crease_axis = h.crease_axis;
+      all.crease_longitudes.insert(all.crease_longitudes.end(), h.crease_longitudes.begin(),
+                                   h.crease_longitudes.end());
+    }
   }
   return all;
 }

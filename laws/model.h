@@ -49,6 +49,15 @@ struct MassHints {
   /// Thickness in k·n of a layer of mass hugging the horizon (asperity lobes, the
   /// 1/((i+j)·n) factor of perfect backscatter); 0 when there is none.
   double horizon_layer = 0.0;
+  /// Half great circles from -crease_axis to +crease_axis across which the integrand jumps or
+  /// kinks, given by their longitude about crease_axis: phi(k) = atan2(k·u, k·n) with
+  /// u = crease_axis × n, in (-pi/2, pi/2). Poulin–Fournier's cylinder shadowing depends only on
+  /// the angle of k projected on the plane perpendicular to the cylinders, so its jumps lie on
+  /// such circles. The integrator then works in a frame whose meridians are these circles and
+  /// cuts its panels there (integrate/laws_integrals.cpp): the jumps are resolved by splitting,
+  /// not by bisecting towards them. crease_axis must be horizontal (·n = 0); zero means none.
+  Vec3 crease_axis{0.0, 0.0, 0.0};
+  std::vector<double> crease_longitudes;
 };
 
 /// Which argument of f an integral runs over while the other is held fixed.
