@@ -57,7 +57,7 @@ struct MassHints {
   /// cuts its panels there (integrate/laws_integrals.cpp): the jumps are resolved by splitting,
   /// not by bisecting towards them. crease_axis must be horizontal (·n = 0); zero means none.
   Vec3 crease_axis{0.0, 0.0, 0.0};
-  std::vector<double> crease_longitudes;
+  std::vector<double> crease_longitudes{};
 };
 
 /// Which argument of f an integral runs over while the other is held fixed.

@@ -253,5 +253,107 @@ TEST(Integrate, DeterministicWhateverTheThreadCount) {
   for (std::size_t k = 0; k < one.size(); ++k) EXPECT_EQ(one[k], two[k]) << k;  // bitwise
 }
 
+// ---------------------------------------------------------------------------------------------
+// Creased integrands (MassHints::crease_axis): a BRDF that jumps across great circles through
+// the x axis, as Poulin–Fournier's cylinder shadowing does, integrated exactly by the crease
+// frame. The reference is independent of the cubature: Lambert's formula for the cosine-
+// weighted solid angle of a spherical polygon, ∫ (k·n) dk = n · (1/2) Σ θ_e u_e over its edges.
+
+/// f(i, j) = w(i) w(j) with w = A where the longitude about x is below `crease`, B above.
+class CreasedStep final : public Model {
+ public:
+  CreasedStep(double crease, double below, double above, bool hinted)
+      : crease_(crease), below_(below), above_(above), hinted_(hinted) {}
+  static double longitude(const Vec3& k) { return std::atan2(-k.y, k.z); }  // u = x × n = -y
+  double w(const Vec3& k) const { return longitude(k) < crease_ ? below_ : above_; }
+  std::string spec() const override { return "creased-step"; }
+  Traits traits() const override { return {false, true, EnergyClass::not_plausible}; }
+  double f(const Vec3& i, const Vec3& j) const noexcept override {
+    return i.z < 0.0 || j.z < 0.0 ? 0.0 : w(i) * w(j);
+  }
+  MassHints mass_hints(const Vec3&, Varying) const override {
+    MassHints h;
+    if (hinted_) {
+      h.crease_axis = {1.0, 0.0, 0.0};
+      h.crease_longitudes = {crease_};
+    }
+    return h;
+  }
+
+ private:
+  double crease_, below_, above_;
+  bool hinted_;
+};
+
+/// ∫ (k·n) dk over {k·a >= 0} ∩ {k·b >= 0} ∩ {k·c >= 0} (unit a, b, c in general position):
+/// the region's boundary runs along each great circle u·k = 0 (u = a, b, c) for the arc that
+/// meets the other two constraints, an intersection of two half circles; each edge adds
+/// (arc angle) u / 2 to ∫ k dk (Lambert's formula; a lune's two half circles give (pi/2)(a + b)).
+double cosine_over_region(const Vec3& a, const Vec3& b, const Vec3& c) {
+  const std::array<Vec3, 3> planes{a, b, c};
+  Vec3 sum{0.0};
+  for (int e = 0; e < 3; ++e) {
+    const Vec3& u = planes[e];
+    const Vec3 x = glm::normalize(glm::cross(u, std::abs(u.x) < 0.9 ? Vec3{1, 0, 0} : Vec3{0, 1, 0}));
+    const Vec3 y = glm::cross(u, x);
+    // On the circle k = cos s x + sin s y, constraint v keeps the half circle centred at atan2(y·v, x·v).
+    double centre[2];
+    for (int o = 0; o < 2; ++o) {
+      const Vec3& v = planes[(e + 1 + o) % 3];
+      centre[o] = std::atan2(glm::dot(y, v), glm::dot(x, v));
+    }
+    double gap = std::abs(centre[0] - centre[1]);
+    if (gap > pi) gap = 2 * pi - gap;
+    sum += 0.5 * std::max(0.0, pi - gap) * u;
+  }
+  return sum.z;
+}
+
+TEST(Integrate, CreasedIntegrandsAreSplitAtTheirCreasesAndExact) {
+  constexpr double kCreaseTol = 1e-11;   // requested; the jumps must cost nothing in accuracy
+  constexpr double kBudget = 2'000'000;  // evaluations: ample for a piecewise-constant integrand
+  constexpr double kBelow = 0.1, kAbove = 0.3;
+  const Vec3 n{0, 0, 1};
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  int checked = 0;
+  for (int k = 0; k < 60; ++k) {
+    const double crease = (u(rng) - 0.5) * 0.98 * pi;
+    const CreasedStep model(crease, kBelow, kAbove, true);
+    // The crease's half-space {longitude < crease} within the hemisphere is {k·q >= 0}.
+    const Vec3 q{0.0, std::cos(crease), std::sin(crease)};
+    // Sky poles: generic, below the horizon, perpendicular to the crease axis, near it.
+    Vec3 pole = direction_from_cos(2 * u(rng) - 1, 2 * pi * u(rng));
+    if (k % 4 == 1) pole = glm::normalize(Vec3{0.0, pole.y, pole.z});
+    if (k % 4 == 2) pole = glm::normalize(Vec3{1e-7 * (u(rng) - 0.5), pole.y, pole.z});
+    const Vec3 j = direction_from_cos(u(rng), 2 * pi * u(rng));
+    CubatureOptions o = options(kCreaseTol);
+    o.max_evaluations = kBudget;
+    // g: lune of the pole, split by the crease.
+    const double lune_total = pi * (1.0 + pole.z) / 2.0;
+    const double below = cosine_over_region(n, pole, q);
+    const double exact_g = model.w(j) * (kBelow * below + kAbove * (lune_total - below));
+    const Estimate g = vignetting(model, pole, j, o);
+    EXPECT_TRUE(g.converged) << "crease " << crease << " pole " << pole.x << "," << pole.y << "," << pole.z;
+    EXPECT_NEAR(g.value, exact_g, kCreaseTol) << "crease " << crease;
+    EXPECT_LE(std::abs(g.value - exact_g), g.error + 1e-15) << "dishonest estimate, crease " << crease;
+    // h and a: the hemisphere, split by the crease: (pi/2)(1 + sin crease) lies below it.
+    const double half_below = pi / 2 * (1.0 + std::sin(crease));
+    const double exact_h = model.w(j) * (kBelow * half_below + kAbove * (pi - half_below));
+    const Estimate h = darkening(model, j, o);
+    const Estimate a = albedo(model, j, o);
+    EXPECT_NEAR(h.value, exact_h, kCreaseTol);
+    EXPECT_NEAR(a.value, exact_h, kCreaseTol);
+    EXPECT_TRUE(h.converged && a.converged);
+    ++checked;
+  }
+  EXPECT_EQ(checked, 60);
+  // Without the hint the same jump is bisected towards forever: the budget runs out first.
+  const CreasedStep unhinted(0.3, kBelow, kAbove, false);
+  CubatureOptions o = options(kCreaseTol);
+  o.max_evaluations = kBudget;
+  EXPECT_FALSE(vignetting(unhinted, direction_from_cos(0.4, 1.0), direction_from_cos(0.5, 2.0), o).converged);
+}
+
 }  // namespace
 }  // namespace ganzfeld
