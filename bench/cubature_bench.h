@@ -17,9 +17,12 @@
 
 #include <map>
 #include <string>
+#include <array>
 #include <vector>
 
 namespace ganzfeld::bench {
+
+using Vec3Triple = std::array<double, 3>;  // a direction, without pulling GLM into this header
 
 inline constexpr double kReferenceAgreement = 1e-12;
 
@@ -39,6 +42,15 @@ struct Run {  // one competitor at one requested tolerance on one case
   bool capped = false;
 };
 
+/// One of our runs that missed its requested tolerance or whose estimate fell below the actual
+/// error: the case, so that it can be reproduced with `ganzfeld eval`.
+struct Miss {
+  std::string model;
+  Vec3Triple i{}, j{};
+  double tolerance = 0.0, achieved_error = 0.0, estimate = 0.0;
+  long long evaluations = 0;
+};
+
 struct FamilyResult {
   std::string name;
   int cases = 0, skipped = 0;
@@ -48,6 +60,7 @@ struct FamilyResult {
   std::map<std::string, int> capped;          ///< cases where the competitor hit the cap (ratio is a lower bound)
   double mc_error_ratio_equal_time = 0.0;     ///< geometric mean of MC error / our error
   std::vector<Run> runs;                      ///< every run, for the work–precision plot
+  std::vector<Miss> misses;                   ///< our missed or dishonest runs
 };
 
 std::vector<FamilyResult> run_cubature_benchmark(const CubatureBenchOptions& options);

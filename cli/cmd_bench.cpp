@@ -49,6 +49,10 @@ nlohmann::ordered_json cubature_report(const BenchArgs& args) {
     nlohmann::ordered_json ratios, capped;
     for (const auto& [who, r] : f.evals_ratio) ratios[who] = r;
     for (const auto& [who, n] : f.capped) capped[who] = n;
+    nlohmann::ordered_json misses = nlohmann::ordered_json::array();
+    for (const auto& m : f.misses)
+      misses.push_back({{"model", m.model}, {"i", m.i}, {"j", m.j}, {"tolerance", m.tolerance},
+                        {"achieved_error", m.achieved_error}, {"estimate", m.estimate}, {"evaluations", m.evaluations}});
     nlohmann::ordered_json runs = nlohmann::ordered_json::array();
     for (const auto& r : f.runs)
       runs.push_back({r.competitor, r.tolerance, r.achieved_error, r.evaluations, r.seconds, r.capped});
@@ -61,7 +65,8 @@ nlohmann::ordered_json cubature_report(const BenchArgs& args) {
                                {"capped_cases", capped},
                                {"mc_error_ratio_equal_time", f.mc_error_ratio_equal_time},
                                {"runs_columns", {"competitor", "tolerance", "achieved_error", "evaluations", "seconds", "capped"}},
-                               {"runs", runs}});
+                               {"runs", runs},
+                               {"misses", misses}});
   }
   return doc;
 }

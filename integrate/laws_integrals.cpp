@@ -44,6 +44,12 @@ const Vec3 kNormal{0.0, 0.0, 1.0};
 constexpr double kBroadLobe = 0.35;   // wider hints (radians) are left to plain adaptivity
 constexpr double kThinLayer = 0.3;    // thicker horizon layers likewise
 constexpr double kCentreLineOnly = 0.02;  // lobes at least this wide get only a line at their centre
+// Horizon grading (Grading below) for rough horizons and layers thinner than this. Measured on
+// the peers benchmark (40 cases a family, evaluations to reach 1e-10): Minnaert 2.3x, perfect
+// backscatter 2.6x, asperity 1.5x, degenerate geometries 1.5x fewer; asperity alpha=10 with a
+// 0.27 layer cost 17% more graded, so thicker layers are not graded.
+constexpr double kGradedLayer = 0.02;
+constexpr double kNearHorizonEdge = 0.1;  // a sky edge this close to the horizon is graded too
 
 }  // namespace
 
@@ -184,25 +190,73 @@ Estimate integrate_rectangle(const Model& model, const Vec3& fixed, Varying vary
   return adaptive_cubature<2>(integrand, cuts, options);
 }
 
+/// Grading of one axis of the rectangle towards the horizon: x = lo + (hi - lo) psi(u), u the
+/// panel coordinate scaled to [0, 1], with psi' vanishing at a graded end (psi = 3u^2 - 2u^3 at
+/// both ends, u + u^2 - u^3 at the upper one only). An integrand (b - x)^nu at a graded end b
+/// becomes ~ (1 - u)^(2 nu + 1) or (1 - u)^(2 nu + 1) smoother for the Gauss–Kronrod rule (design.md:
+/// "variable transforms at non-smooth edges"). Smooth integrands pay for it (specular alpha=10:
+/// 1.9x more evaluations), so only hinted edges are graded.
+struct Grading {
+  double lo = 0.0, hi = 1.0;
+  bool at_lo = false, at_hi = false;
+
+  static double psi_one_end(double u) { return u + u * u - u * u * u; }  // psi'(1) = 0, psi'(0) = 1
+  double psi(double u) const {
+    if (at_lo && at_hi) return u * u * (3.0 - 2.0 * u);
+    if (at_hi) return psi_one_end(u);
+    if (at_lo) return 1.0 - psi_one_end(1.0 - u);
+    return u;
+  }
+  double dpsi(double u) const {
+    if (at_lo && at_hi) return 6.0 * u * (1.0 - u);
+    if (at_hi) return (1.0 - u) * (1.0 + 3.0 * u);
+    if (at_lo) return u * (4.0 - 3.0 * u);
+    return 1.0;
+  }
+  double x(double s) const { return lo + (hi - lo) * psi((s - lo) / (hi - lo)); }
+  double dx_ds(double s) const { return dpsi((s - lo) / (hi - lo)); }
+  /// The inverse (psi is increasing): where a hint line at x goes on the graded axis.
+  double s_of(double x_value) const {
+    if (!at_lo && !at_hi) return x_value;
+    const double target = (x_value - lo) / (hi - lo);
+    double a = 0.0, b = 1.0;
+    for (int it = 0; it < 60; ++it) (psi(0.5 * (a + b)) < target ? a : b) = 0.5 * (a + b);
+    return lo + (hi - lo) * 0.5 * (a + b);
+  }
+};
+
 /// The lune rectangle's nodes: k = cos t (cos phi n + sin phi u) + sin t e.
-Estimate integrate_on_lune(const Model& model, const Lune& fr, const std::array<std::vector<double>, 2>& cuts,
-                           const Vec3& fixed, Varying varying, const CubatureOptions& options) {
+Estimate integrate_on_lune(const Model& model, const Lune& fr, std::array<std::vector<double>, 2> cuts,
+                           const Vec3& fixed, Varying varying, const CubatureOptions& options, bool graded) {
+  // The horizon: phi = pi/2, the poles t = ±pi/2 of the frame (±e lie on it), and phi = phi_lo
+  // when the sky pole is (nearly) n, where the sky edge runs (next) to the horizon.
+  const Grading gt{-pi / 2, pi / 2, graded, graded};
+  const Grading gp{fr.phi_lo, pi / 2, graded && fr.phi_lo + pi / 2 < kNearHorizonEdge, graded};
+  for (double& c : cuts[0]) c = gt.s_of(c);
+  for (double& c : cuts[1]) c = gp.s_of(c);
+  cuts[0].front() = -pi / 2;  // exact ends, whatever the inverse's rounding
+  cuts[0].back() = pi / 2;
+  cuts[1].front() = fr.phi_lo;
+  cuts[1].back() = pi / 2;
   return integrate_rectangle(model, fixed, varying, cuts, options,
                              [&](const std::array<std::span<const double>, 2>& nodes, PanelDirections& k_dirs,
                                  PanelWeights& weights) {
-    std::array<double, kNodes> cos_t, sin_t, cos_phi, sin_phi;
+    std::array<double, kNodes> cos_t, sin_t, cos_phi, sin_phi, jt, jp;
     for (int m = 0; m < kNodes; ++m) {
-      cos_t[m] = std::cos(nodes[0][m]);
-      sin_t[m] = std::sin(nodes[0][m]);
-      cos_phi[m] = std::cos(nodes[1][m]);
-      sin_phi[m] = std::sin(nodes[1][m]);
+      const double t = gt.x(nodes[0][m]), phi = gp.x(nodes[1][m]);
+      jt[m] = gt.dx_ds(nodes[0][m]);
+      jp[m] = gp.dx_ds(nodes[1][m]);
+      cos_t[m] = std::cos(t);
+      sin_t[m] = std::sin(t);
+      cos_phi[m] = std::cos(phi);
+      sin_phi[m] = std::sin(phi);
     }
     for (int a = 0; a < kNodes; ++a)
       for (int b = 0; b < kNodes; ++b) {
         const int m = a * kNodes + b;
         k_dirs[m] = cos_t[a] * (cos_phi[b] * kNormal + sin_phi[b] * fr.u) + sin_t[a] * fr.e;
-        // (k·n) = cos t cos phi >= 0 on the rectangle; times the Jacobian cos t.
-        weights[m] = cos_t[a] * cos_t[a] * cos_phi[b];
+        // (k·n) = cos t cos phi >= 0 on the rectangle; times the Jacobians cos t and the gradings'.
+        weights[m] = cos_t[a] * cos_t[a] * cos_phi[b] * jt[a] * jp[b];
       }
   });
 }
@@ -254,7 +308,7 @@ Estimate integrate_creased(const Model& model, const Vec3& pole, const Vec3& fix
     if (!(fr.phi_lo < pi / 2)) return {};
     auto cuts = cuts_from_hints(hints, fr);
     add_creases(cuts[1], creases);
-    return integrate_on_lune(model, fr, cuts, fixed, varying, options);
+    return integrate_on_lune(model, fr, cuts, fixed, varying, options, false);
   }
   if (p_e < 0.0) flip();
   Lune fr;  // the hemisphere frame, for placing the hints
@@ -296,7 +350,8 @@ Estimate integrate_lune(const Model& model, const Vec3& pole, const Vec3& fixed,
   if (hints.crease_axis != Vec3{0.0, 0.0, 0.0}) return integrate_creased(model, pole, fixed, varying, hints, options);
   const Lune fr = lune(pole, fixed);
   if (fr.empty) return {};
-  return integrate_on_lune(model, fr, cuts_from_hints(hints, fr), fixed, varying, options);
+  const bool graded = hints.rough_horizon || (hints.horizon_layer > 0.0 && hints.horizon_layer < kGradedLayer);
+  return integrate_on_lune(model, fr, cuts_from_hints(hints, fr), fixed, varying, options, graded);
 }
 
 }  // namespace

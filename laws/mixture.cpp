@@ -72,6 +72,7 @@ MassHints Mixture::mass_hints(const Vec3& fixed, Varying varying) const {
     if (h.horizon_layer > 0.0)
       all.horizon_layer = all.horizon_layer > 0.0 ? std::min(all.horizon_layer, h.horizon_layer)
                                                   : h.horizon_layer;
+    all.rough_horizon = all.rough_horizon || h.rough_horizon;
     // One crease frame per integral: lobes creased about the same axis share it (every
     // cylinder model puts its cylinders along x); a lobe creased about another axis would be
     // left to plain adaptivity.

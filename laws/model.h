@@ -49,6 +49,9 @@ struct MassHints {
   /// Thickness in k·n of a layer of mass hugging the horizon (asperity lobes, the
   /// 1/((i+j)·n) factor of perfect backscatter); 0 when there is none.
   double horizon_layer = 0.0;
+  /// The integrand behaves like (k·n)^nu at the horizon with a non-integer nu < 2 (Minnaert's
+  /// (k·n)^(1+xi)): a weak singularity at the edge of the domain, which the integrator grades.
+  bool rough_horizon = false;
   /// Half great circles from -crease_axis to +crease_axis across which the integrand jumps or
   /// kinks, given by their longitude about crease_axis: phi(k) = atan2(k·u, k·n) with
   /// u = crease_axis × n, in (-pi/2, pi/2). Poulin–Fournier's cylinder shadowing depends only on

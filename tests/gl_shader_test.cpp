@@ -424,7 +424,9 @@ void run_gl_comparison(bool es, lut::Encoding encoding, bool hardware_filter = f
               hardware_filter ? ", hardware filtering" : "", c.compared, c.max_difference,
               c.max_relative, c.max_over_stated, c.coverage_mismatch, c.covered_cpu);
   EXPECT_EQ(c.over_bound, 0);
-  if (!hardware_filter) EXPECT_EQ(c.over_float, 0) << "pixels whose GPU value differs by more than float precision";
+  if (!hardware_filter) {
+    EXPECT_EQ(c.over_float, 0) << "pixels whose GPU value differs by more than float precision";
+  }
   EXPECT_GT(c.compared, camera.width * camera.height / 3);  // the four spheres fill most of the frame
   // The two pictures cover the same spheres: they may differ only on the silhouette (the CPU's
   // coverage is the inscribed 128-gon mesh, the GPU's the exact sphere).

@@ -48,7 +48,9 @@ TEST(MerlAngles, HalfDiffAndDirectionsAreInverse) {
     const merl::HalfDiff b = merl::half_diff(i, j);
     EXPECT_NEAR(b.theta_h, a.theta_h, 1e-9);
     EXPECT_NEAR(b.theta_d, a.theta_d, 1e-9);
-    if (a.theta_d > 1e-3) EXPECT_NEAR(b.phi_d, a.phi_d, 1e-7);
+    if (a.theta_d > 1e-3) {
+      EXPECT_NEAR(b.phi_d, a.phi_d, 1e-7);
+    }
     EXPECT_NEAR(glm::length(i), 1.0, 1e-12);
     EXPECT_NEAR(glm::length(j), 1.0, 1e-12);
   }

@@ -97,8 +97,9 @@ ChiSquare chi_square(const Model& model, const Vec3& j, int samples, unsigned se
   // The bin integrals must account for the whole probability of a successful draw.
   // (success_probability < 0: not known in closed form, e.g. Ward lobe draws reflected below
   // the horizon; the failure bin then carries 1 - the sum.)
-  if (success_probability >= 0.0)
+  if (success_probability >= 0.0) {
     EXPECT_NEAR(out.expected_total, success_probability, 1e-6 + integration_error) << model.spec();
+  }
 
   std::vector<double> observed(expected.size() + 1, 0.0);  // last: failed draws
   std::mt19937_64 rng(seed);
@@ -251,7 +252,9 @@ TEST(SamplingWeights, HvdWeightIsConstantUpToGrazing) {
         ASSERT_NEAR(weight, expected, 1e-9 * expected) << spec << " theta_o " << theta << " i = (" << draw->i.x << ", "
                                                        << draw->i.y << ", " << draw->i.z << ")";
       }
-      if (!fit) EXPECT_EQ(drawn, 20000) << spec << " at " << theta << " deg: the lumps lie on the disk";
+      if (!fit) {
+        EXPECT_EQ(drawn, 20000) << spec << " at " << theta << " deg: the lumps lie on the disk";
+      }
     }
   }
 }
