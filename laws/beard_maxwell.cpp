@@ -62,11 +62,46 @@ FirstSurface FirstSurface::beckmann(double B, double m) {
   return fs;
 }
 
+namespace {
+
+/// Fritsch–Carlson slopes of the monotone piecewise-cubic Hermite interpolant through (x, y):
+/// 0 at local extrema, the weighted harmonic mean of the neighbouring secants elsewhere, and
+/// shape-preserving three-point end slopes (SciPy's PchipInterpolator). Two nodes: the secant.
+std::vector<double> pchip_slopes(const std::vector<double>& x, const std::vector<double>& y) {
+  const std::size_t n = x.size();
+  std::vector<double> d(n, 0.0);
+  if (n < 2) return d;
+  std::vector<double> h(n - 1), delta(n - 1);
+  for (std::size_t k = 0; k + 1 < n; ++k) {
+    h[k] = x[k + 1] - x[k];
+    delta[k] = (y[k + 1] - y[k]) / h[k];
+  }
+  if (n == 2) return {delta[0], delta[0]};
+  for (std::size_t k = 1; k + 1 < n; ++k) {
+    if (delta[k - 1] * delta[k] <= 0.0) continue;
+    const double w1 = 2.0 * h[k] + h[k - 1], w2 = h[k] + 2.0 * h[k - 1];
+    d[k] = (w1 + w2) / (w1 / delta[k - 1] + w2 / delta[k]);
+  }
+  const auto edge = [](double h0, double h1, double m0, double m1) {
+    const double e = ((2.0 * h0 + h1) * m0 - h0 * m1) / (h0 + h1);
+    if (e * m0 <= 0.0) return 0.0;
+    if (m0 * m1 < 0.0 && std::abs(e) > 3.0 * std::abs(m0)) return 3.0 * m0;
+    return e;
+  };
+  d[0] = edge(h[0], h[1], delta[0], delta[1]);
+  d[n - 1] = edge(h[n - 2], h[n - 3], delta[n - 2], delta[n - 3]);
+  return d;
+}
+
+}  // namespace
+
 FirstSurface FirstSurface::table(std::string path, FirstSurfaceTable table) {
   FirstSurface fs;
   fs.path_ = std::move(path);
   for (double& t : table.theta_N) t *= kDeg;
   fs.table_ = std::move(table);
+  fs.slopes_ = pchip_slopes(fs.table_.theta_N, fs.table_.rho_fs);
+  if (fs.table_.theta_N.front() == 0.0) fs.slopes_.front() = 0.0;  // even in theta_N
   // The 1/e half width of rho_fs cos^2 from its value at theta_N = 0, between the nodes.
   const double v0 = fs.rho_fs_cos2(0.0, 1.0);
   fs.width_ = pi / 2;
@@ -107,8 +142,11 @@ double FirstSurface::rho_fs_cos2(double theta_N, double cos_N) const noexcept {
     rho = v.back();
   } else {
     const std::size_t k = static_cast<std::size_t>(std::upper_bound(th.begin(), th.end(), theta_N) - th.begin()) - 1;
-    const double t = (theta_N - th[k]) / (th[k + 1] - th[k]);
-    rho = (1.0 - t) * v[k] + t * v[k + 1];
+    const double h = th[k + 1] - th[k], t = (theta_N - th[k]) / h, u = 1.0 - t;
+    // cubic Hermite basis on [th[k], th[k+1]]
+    rho = (1.0 + 2.0 * t) * u * u * v[k] + t * u * u * h * slopes_[k] + t * t * (3.0 - 2.0 * t) * v[k + 1] -
+          t * t * u * h * slopes_[k + 1];
+    rho = std::max(rho, 0.0);  // monotone between nodes >= 0; guards rounding only
   }
   return rho * c2;
 }

@@ -52,9 +52,9 @@ constexpr double kLawTol = 1e-8;
 constexpr double kCubatureTol = 1e-7;
 constexpr double kAlbedoTol = 10 * kCubatureTol;
 /// A first-surface table sampled every 0.1 deg (h = 1.75e-3 rad) from the built-in lobe
-/// (m = 0.15): linear interpolation of exp(-x^2/m^2) errs by (h^2/8)|v''/v| <= (h^2/8)(4x^2/m^4 +
-/// 2/m^2) = 6e-4 relative out to x = 3m, where f is compared; allow 1e-3 relative on f and 1e-4
-/// absolute on h.
+/// (m = 0.15): even linear interpolation of exp(-x^2/m^2) would err by only (h^2/8)|v''/v| <=
+/// (h^2/8)(4x^2/m^4 + 2/m^2) = 6e-4 relative out to x = 3m, where f is compared (the monotone
+/// cubic does better); allow 1e-3 relative on f and 1e-4 absolute on h.
 constexpr double kTableRel = 1e-3;
 constexpr double kTableLawTol = 1e-4;
 
@@ -441,14 +441,46 @@ TEST(beard_maxwell, FirstSurfaceTableReproducesTheBuiltInLobe) {
   EXPECT_NEAR(builtin->mass_hints(Vec3{0, 0, 1}, Varying::outgoing).peaks[0].width / (std::sqrt(2.0) * lo), 1.0, 0.03);
 }
 
-TEST(beard_maxwell, FirstSurfaceTableInterpolatesLinearlyAndClamps) {
-  const std::string path =
+TEST(beard_maxwell, FirstSurfaceTableInterpolatesMonotoneCubicAndClamps) {
+  // Two nodes: the straight line between them, held at the end values outside.
+  const std::string two =
       write_file("two.txt", "ganzfeld-beard-maxwell-first-surface 1\ntheta_N: 10 30  # degrees\nrho_fs: 2 1\n");
-  const auto m = bm("file=" + path + ",rho_d=0,rho_v=0,n=1.5");
+  const auto m2 = bm("file=" + two + ",rho_d=0,rho_v=0,n=1.5");
   for (double theta_deg : {0.0, 10.0, 20.0, 30.0, 50.0}) {
     const Vec3 i = direction(theta_deg * pi / 180, 0.0);  // monostatic: f = rho_fs(theta)
     const double expected = theta_deg <= 10 ? 2.0 : theta_deg >= 30 ? 1.0 : 2.0 - (theta_deg - 10) / 20;
-    EXPECT_NEAR(m->f(i, i), expected, 1e-13) << theta_deg;
+    EXPECT_NEAR(m2->f(i, i), expected, 1e-13) << theta_deg;
+  }
+  // Several nodes with a plateau and a drop to 0: through the nodes, monotone between them (never
+  // below 0 or above the neighbours), flat at theta_N = 0, and continuous in slope.
+  const std::vector<double> th{0, 2, 5, 10, 20, 40}, v{3, 2.4, 1.1, 0.2, 0.01, 0};
+  std::ostringstream text;
+  text << "ganzfeld-beard-maxwell-first-surface 1\ntheta_N:";
+  for (double t : th) text << " " << t;
+  text << "\nrho_fs:";
+  for (double x : v) text << " " << x;
+  text << "\n";
+  const auto m = bm("file=" + write_file("six.txt", text.str()) + ",rho_d=0,rho_v=0");
+  const auto rho = [&](double deg) {
+    const Vec3 i = direction(deg * pi / 180, 0.0);
+    return m->f(i, i);
+  };
+  for (std::size_t k = 0; k < th.size(); ++k) EXPECT_NEAR(rho(th[k]), v[k], 1e-13) << th[k];
+  for (std::size_t k = 0; k + 1 < th.size(); ++k) {
+    double prev = rho(th[k]);
+    for (int s = 1; s <= 50; ++s) {
+      const double x = rho(th[k] + (th[k + 1] - th[k]) * s / 50.0);
+      EXPECT_LE(x, prev + 1e-15) << th[k] << " + " << s;  // v decreases: so does the interpolant
+      EXPECT_GE(x, 0.0);
+      prev = x;
+    }
+  }
+  EXPECT_NEAR(rho(1e-3) - rho(0.0), 0.0, 1e-6);  // slope 0 at theta_N = 0: O(eps^2)
+  EXPECT_EQ(rho(60.0), 0.0);                       // held at the last value
+  for (double node : {2.0, 5.0, 10.0, 20.0}) {     // C^1: one-sided slopes agree at the nodes
+    const double e = 1e-5;
+    const double left = (rho(node) - rho(node - e)) / e, right = (rho(node + e) - rho(node)) / e;
+    EXPECT_NEAR(left, right, 1e-3 * std::max(1.0, std::abs(left))) << node;
   }
 }
 
