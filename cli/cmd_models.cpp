@@ -18,12 +18,12 @@ void add_models_command(CLI::App& app, Action& action) {
       for (const auto& m : model_catalogue()) {
         nlohmann::ordered_json params = nlohmann::ordered_json::array();
         std::string example = m.name;
-        if (m.make_with_file) {  // measured models: file=PATH comes first and is required
+        if (m.make_with_file) {  // file=PATH comes first; required unless the model has a default
           params.push_back({{"name", "file"},
                             {"type", "path"},
-                            {"required", true},
-                            {"meaning", "the measured data file (no ',', '+' or '*' in the path)"}});
-          example += ":file=DATA";
+                            {"required", !m.file_optional},
+                            {"meaning", m.file_meaning + " (no ',', '+' or '*' in the path)"}});
+          if (!m.file_optional) example += ":file=DATA";
         }
         for (const auto& p : m.parameters) {
           params.push_back({{"name", p.name},
@@ -57,7 +57,9 @@ void add_models_command(CLI::App& app, Action& action) {
                   << m["energy_class"].get<std::string>() << "\n";
         for (const auto& p : m["parameters"]) {
           if (p["type"] == "path") {
-            std::cout << "    " << p["name"].get<std::string>() << " (path, required): " << p["meaning"].get<std::string>() << "\n";
+            std::cout << "    " << p["name"].get<std::string>() << " (path, "
+                      << (p["required"].get<bool>() ? "required" : "optional") << "): " << p["meaning"].get<std::string>()
+                      << "\n";
             continue;
           }
           std::cout << "    " << p["name"].get<std::string>() << " (" << p["type"].get<std::string>() << " in ["

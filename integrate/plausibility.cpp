@@ -103,11 +103,14 @@ std::vector<PlausibilityCase> plausibility_cases() {
       {"oren-nayar:sigma=0.6,rho=1", "roughest allowed facets"},
       {"hapke:rho=1,g=0.6,phase=0", "white Lommel-Seeliger with opposition surge"},
       {"blinn-dusty:w=1,tau=1000,phase=4,g=0.9", "white thick dust, strong backscatter (Henyey-Greenstein)"},
+      {"beard-maxwell:b=0,rho_d=0.3183098861837907,rho_v=0", "first surface off, rho_D = 1/pi: must be white Lambert"},
+      {"beard-maxwell:b=0,rho_d=0,rho_v=0.07957747154594767", "volumetric term alone, rho_V = 1/(4 pi): albedo -> 1 at grazing"},
+      {"beard-maxwell:n=0.2,k=3,b=0.9,m=0.4,tau=5,omega=10,rho_d=0,rho_v=0", "metallic first surface alone, rough"},
   };
   // Every analytic model at its defaults (measured models need a file: not here).
   std::vector<PlausibilityCase> out;
   for (const ModelInfo& info : model_catalogue())
-    if (!info.make_with_file) out.push_back({info.name, "defaults"});
+    if (!info.make_with_file || info.file_optional) out.push_back({info.name, "defaults"});
   out.insert(out.end(), cases.begin(), cases.end());
   // Canonical specs, deduplicated, catalogue order first.
   std::vector<PlausibilityCase> unique;

@@ -4,13 +4,13 @@
 #include <bit>
 #include <cmath>
 #include <cstdint>
-#include <cstring>
 #include <fstream>
 #include <numbers>
 #include <sstream>
 
 #include "laws/error.h"
 #include "laws/registry.h"
+#include "laws/text_data.h"
 
 namespace ganzfeld {
 
@@ -176,52 +176,22 @@ void locate(const std::vector<double>& grid, double x, int& k, double& t) {
 }  // namespace
 
 TabulatedBrdf parse_tabulated(const std::string& text, const std::string& name) {
-  std::istringstream in(text);
-  std::string line;
-  int line_number = 0;
-  auto fail = [&](const std::string& why) {
-    return InputError("tabulated BRDF '" + name + "', line " + std::to_string(line_number) + ": " + why);
-  };
-  auto next_line = [&]() -> bool {
-    while (std::getline(in, line)) {
-      ++line_number;
-      const auto hash = line.find('#');
-      if (hash != std::string::npos) line.erase(hash);
-      if (line.find_first_not_of(" \t\r") != std::string::npos) return true;
-    }
-    return false;
-  };
-  if (!next_line() || line.substr(0, std::strlen(kTabulatedMagic)) != kTabulatedMagic)
-    throw fail(std::string("expected the first line '") + kTabulatedMagic + "'");
+  TextDataReader in(text, "tabulated BRDF '" + name + "'");
+  in.expect_magic(kTabulatedMagic);
   TabulatedBrdf t;
-  auto read_axis = [&](const char* key, double max, std::vector<double>& axis) {
-    if (!next_line()) throw fail(std::string("missing the '") + key + ":' line");
-    std::istringstream ls(line);
-    std::string word;
-    ls >> word;
-    if (word != std::string(key) + ":") throw fail(std::string("expected '") + key + ": VALUES...', got '" + word + "'");
-    double v;
-    while (ls >> v) axis.push_back(v);
-    if (!ls.eof()) throw fail(std::string("a value of ") + key + " is not a number");
-    if (axis.empty()) throw fail(std::string(key) + " has no values");
-    for (std::size_t k = 0; k < axis.size(); ++k) {
-      if (!(axis[k] >= 0.0 && axis[k] <= max))
-        throw fail(std::string(key) + " value " + format_number(axis[k]) + " is outside [0, " + format_number(max) + "] degrees");
-      if (k > 0 && !(axis[k] > axis[k - 1])) throw fail(std::string(key) + " values must increase strictly");
-    }
-  };
-  read_axis("theta_i", 90.0, t.theta_i);
-  read_axis("theta_r", 90.0, t.theta_r);
-  read_axis("phi", 180.0, t.phi);
+  t.theta_i = in.read_values("theta_i", 0.0, 90.0, " degrees", true);
+  t.theta_r = in.read_values("theta_r", 0.0, 90.0, " degrees", true);
+  t.phi = in.read_values("phi", 0.0, 180.0, " degrees", true);
   const std::size_t want = t.theta_i.size() * t.theta_r.size() * t.phi.size();
-  while (next_line()) {
-    std::istringstream ls(line);
+  while (in.next_line()) {
+    std::istringstream ls(in.line());
     std::string word;
     while (ls >> word) {
       char* end = nullptr;
       const double v = std::strtod(word.c_str(), &end);
-      if (end != word.c_str() + word.size()) throw fail("'" + word + "' is not a number");
-      if (!std::isfinite(v) || v < 0.0) throw fail("BRDF value " + word + " is not allowed; values must be finite and >= 0");
+      if (end != word.c_str() + word.size()) throw in.error("'" + word + "' is not a number");
+      if (!std::isfinite(v) || v < 0.0)
+        throw in.error("BRDF value " + word + " is not allowed; values must be finite and >= 0");
       t.values.push_back(v);
     }
   }
@@ -314,11 +284,8 @@ void register_measured_models(std::vector<ModelInfo>& catalogue) {
                      {},
                      nullptr};
   tab_info.make_with_file = [](const std::string& file, const ParamValues& v) -> ModelPtr {
-    std::ifstream in(file);
-    if (!in) throw InputError("cannot read tabulated BRDF '" + file + "'");
-    std::stringstream text;
-    text << in.rdbuf();
-    return std::make_shared<TabulatedModel>(file, parse_tabulated(text.str(), file), static_cast<int>(v.at("lookup")));
+    const std::string text = read_text_file(file, "tabulated BRDF '" + file + "'");
+    return std::make_shared<TabulatedModel>(file, parse_tabulated(text, file), static_cast<int>(v.at("lookup")));
   };
   catalogue.push_back(std::move(tab_info));
 }

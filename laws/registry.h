@@ -37,6 +37,10 @@ struct ModelInfo {
   /// Set instead of `make` for measured models: the spec carries `file=PATH` (required), which
   /// is passed as text; the other parameters as usual.
   std::function<ModelPtr(const std::string& file, const ParamValues&)> make_with_file = nullptr;
+  /// With make_with_file: `file=PATH` may be left out (the model has a built-in default and
+  /// make_with_file receives an empty path); file_meaning says what the file holds.
+  bool file_optional = false;
+  std::string file_meaning = "the measured data file";
 };
 
 /// Model families register themselves here (one function per family, in its own file).
@@ -45,6 +49,7 @@ void register_classic_models(std::vector<ModelInfo>& catalogue);  // laws/classi
 void register_measured_models(std::vector<ModelInfo>& catalogue);  // laws/measured.cpp (MERL, tabulated)
 void register_he_torrance_models(std::vector<ModelInfo>& catalogue);  // laws/he_torrance.cpp
 void register_blinn_dusty_models(std::vector<ModelInfo>& catalogue);  // laws/blinn_dusty.cpp
+void register_beard_maxwell_models(std::vector<ModelInfo>& catalogue);  // laws/beard_maxwell.cpp
 
 /// Every registered model, in presentation order.
 const std::vector<ModelInfo>& model_catalogue();

@@ -57,7 +57,7 @@ ModelPtr parse_single(const std::string& spec_text) {
         throw InputError("malformed model spec '" + spec + "': expected KEY=VALUE, got '" + trim(item) + "'");
       const std::string key = trim(item.substr(0, eq));
       const std::string text = trim(item.substr(eq + 1));
-      if (key == "file" && info.make_with_file) {  // measured models: a path, not a number
+      if (key == "file" && info.make_with_file) {  // a path, not a number
         if (!file.empty()) throw InputError("parameter 'file' given twice in '" + spec + "'");
         if (text.empty()) throw InputError(name + ": file= needs a path");
         file = text;
@@ -83,7 +83,8 @@ ModelPtr parse_single(const std::string& spec_text) {
     }
   }
   if (info.make_with_file) {
-    if (file.empty()) throw InputError(name + " needs file=PATH (the measured data), e.g. " + name + ":file=data.binary");
+    if (file.empty() && !info.file_optional)
+      throw InputError(name + " needs file=PATH (the measured data), e.g. " + name + ":file=data.binary");
     return info.make_with_file(file, values);
   }
   return info.make(values);
