@@ -45,6 +45,7 @@ void register_classic_models(std::vector<ModelInfo>& catalogue);  // laws/classi
 void register_measured_models(std::vector<ModelInfo>& catalogue);  // laws/measured.cpp (MERL, tabulated)
 void register_he_torrance_models(std::vector<ModelInfo>& catalogue);  // laws/he_torrance.cpp
 void register_blinn_dusty_models(std::vector<ModelInfo>& catalogue);  // laws/blinn_dusty.cpp
+void register_poulin_fournier_models(std::vector<ModelInfo>& catalogue);  // laws/poulin_fournier.cpp
 
 /// Every registered model, in presentation order.
 const std::vector<ModelInfo>& model_catalogue();
