@@ -103,6 +103,8 @@ std::vector<PlausibilityCase> plausibility_cases() {
       {"oren-nayar:sigma=0.6,rho=1", "roughest allowed facets"},
       {"hapke:rho=1,g=0.6,phase=0", "white Lommel-Seeliger with opposition surge"},
       {"blinn-dusty:w=1,tau=1000,phase=4,g=0.9", "white thick dust, strong backscatter (Henyey-Greenstein)"},
+      {"poulin-fournier:kd=1,ks=0,d=2,h=0", "white Lambertian half-cylinders: masked light is lost (no interreflection)"},
+      {"poulin-fournier:kd=0,ks=1,n=1,d=1.5,h=0", "overlapping cylinders, all specular, broad lobe"},
   };
   // Every analytic model at its defaults (measured models need a file: not here).
   std::vector<PlausibilityCase> out;

@@ -52,18 +52,22 @@
 //
 // Creases (MassHints::crease_longitudes). f depends on the varying direction k through its
 // projection (s_k, beta_k), i.e. its longitude about +x, phi = atan2(-k_y, k_z) = -theta_k, and
-// smoothly through the halfway vector. f is continuous; its derivative jumps where an end of the
-// intersection of the two fronts switches from one function of beta_k to another:
-//   - beta_k = theta_M: the terminator of k enters the arc (and f_s leaves 0);
+// smoothly through the halfway vector. f is continuous (no jumps: measured); its derivative
+// jumps where an end of the intersection of the two fronts switches from one function of beta_k
+// to another, and only its second derivative where the moving end is a terminator (the integrand
+// sin(u_k) vanishes there) — listed too, as C1 creases (PfCrease::kink = false):
+//   - beta_k = theta_M: the terminator of k enters the arc and its floor shadow starts (C1:
+//     f_s and theta_M - theta_s grow quadratically);
 //   - f_s(beta_k) = w, i.e. theta_s(beta_k) = theta_M: the floor is fully shadowed and the
-//     neighbour's shadow reaches the arc (with a floor only);
-//   - the self limit or the neighbour limit of k meets the fixed direction's arc limits
-//     (beta_k = c or theta_s(beta_k) = c, c = -arc_lo or arc_hi of the fixed front), and the
-//     floor limit of k meets the fixed direction's floor limits (f_s(beta_k) = g).
-// Each equation theta_s(beta) = c or f_s(beta) = g is a sin(beta) + b cos(beta) = 1 (solved in
-// closed form, each root checked against the function itself). The branch 1/cos theta_L < d - 1 is
-// not a crease (theta_s is continuous there and clamped by theta_M anyway), nor is the floor of
-// beta at the horizon. Tested by scanning f along longitudes.
+//     neighbour's shadow reaches the arc (with a floor only; a kink);
+//   - the limits of k meet the fixed direction's: beta_k = c (C1) or theta_s(beta_k) = c (a kink
+//     unless c is the fixed direction's terminator), c = -arc_lo or arc_hi of the fixed front;
+//     f_s(beta_k) = g for the fixed floor limits g (kinks).
+// The first two are listed only when the fixed front reaches the end of the period they act on
+// (else f does not change there). Each equation theta_s(beta) = c or f_s(beta) = g is
+// a sin(beta) + b cos(beta) = 1 (solved in closed form, each root checked against the function).
+// The branch 1/cos theta_L < d - 1 is not a crease (theta_s is continuous there and clamped by
+// theta_M anyway), nor is the floor of beta at the horizon. Tested by scanning f along longitudes.
 #pragma once
 
 #include <string>
