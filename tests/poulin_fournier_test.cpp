@@ -363,7 +363,10 @@ TEST(poulin_fournier, FiniteNonNegativeEverywhereAndZeroBelowTheHorizon) {
   const auto dirs = test_directions(6, 150);
   const Vec3 below{0.3, 0.4, -0.866}, up{0, 0, 1};
   double largest = 0.0;
-  for (Geometry g : kGeometries)
+  std::vector<Geometry> geometries = kGeometries;
+  for (Geometry extreme : {Geometry{100.0, 0.0}, Geometry{1e-12, 0.0}, Geometry{2.0, 1.0 - 1e-15}, Geometry{2.0, 1e-15}})
+    geometries.push_back(extreme);
+  for (Geometry g : geometries)
     for (auto [kd, ks, n] : {std::tuple{1.0, 0.0, 1.0}, std::tuple{0.0, 1.0, 10000.0}, std::tuple{0.5, 0.5, 1.0}}) {
       const PoulinFournier m(kd, ks, n, g.d, g.h);
       for (const Vec3& i : dirs)
