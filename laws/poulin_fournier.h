@@ -67,7 +67,9 @@
 // (else f does not change there). Each equation theta_s(beta) = c or f_s(beta) = g is
 // a sin(beta) + b cos(beta) = 1 (solved in closed form, each root checked against the function).
 // The branch 1/cos theta_L < d - 1 is not a crease (theta_s is continuous there and clamped by
-// theta_M anyway), nor is the floor of beta at the horizon. Tested by scanning f along longitudes.
+// theta_M anyway), nor is the change of side at theta_k = 0 (III.20's "same side of N": there
+// beta = pi/2 >= theta_M and the front is the whole period), nor the floor of beta at the
+// horizon. Tested by scanning f along longitudes.
 #pragma once
 
 #include <string>
