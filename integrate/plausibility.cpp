@@ -106,6 +106,8 @@ std::vector<PlausibilityCase> plausibility_cases() {
       {"beard-maxwell:b=0,rho_d=0.3183098861837907,rho_v=0", "first surface off, rho_D = 1/pi: must be white Lambert"},
       {"beard-maxwell:b=0,rho_d=0,rho_v=0.07957747154594767", "volumetric term alone, rho_V = 1/(4 pi): albedo -> 1 at grazing"},
       {"beard-maxwell:n=0.2,k=3,b=0.9,m=0.4,tau=5,omega=10,rho_d=0,rho_v=0", "metallic first surface alone, rough"},
+      {"poulin-fournier:kd=1,ks=0,d=2,h=0", "white Lambertian half-cylinders: masked light is lost (no interreflection)"},
+      {"poulin-fournier:kd=0,ks=1,n=1,d=1.5,h=0", "overlapping cylinders, all specular, broad lobe"},
   };
   // Every analytic model at its defaults (measured models need a file: not here).
   std::vector<PlausibilityCase> out;

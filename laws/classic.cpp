@@ -339,12 +339,6 @@ MassHints Hapke::mass_hints(const Vec3& fixed, Varying) const {
 }
 
 // ---------------------------------------------------------------------------------------------
-namespace {
-
-const char* kWalker = "Walker 1999, MSc thesis (U. Oregon), ch. III";
-
-/// Plausibility needs the two reflectances to share one unit of energy (Walker: "the sum
-/// rho_s + rho_d should be less than or equal to one"): checked where the model is made.
 void require_sum_at_most_one(const std::string& model, const char* a, double va, const char* b, double vb) {
   if (va + vb > 1.0)
     throw InputError(model + ": " + a + "=" + format_number(va) + " + " + b + "=" + format_number(vb) +
@@ -360,6 +354,10 @@ ParamInfo ks_param(double def) {
 ParamInfo n_param(double def, const char* meaning) {
   return {"n", ParamType::real, 1.0, 10000.0, def, meaning};
 }
+
+namespace {
+
+const char* kWalker = "Walker 1999, MSc thesis (U. Oregon), ch. III";
 
 ModelInfo cook_torrance_info(FacetDistribution d) {
   const bool beckmann = d == FacetDistribution::beckmann;

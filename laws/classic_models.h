@@ -16,11 +16,21 @@
 #include <vector>
 
 #include "laws/model.h"
+#include "laws/registry.h"
 
 namespace ganzfeld {
 
 /// Smallest cosine used in a denominator that vanishes on the horizon (see above).
 inline constexpr double kGrazingCosFloor = 1e-6;
+
+/// Plausibility needs the two reflectances to share one unit of energy (Walker: "the sum
+/// rho_s + rho_d should be less than or equal to one"): checked where a model is made; throws
+/// InputError naming both keys, their values and the rule.
+void require_sum_at_most_one(const std::string& model, const char* a, double va, const char* b, double vb);
+/// The parameter table entries shared by the Phong-type models: kd, ks in [0, 1], n in [1, 10000].
+ParamInfo kd_param(double def);
+ParamInfo ks_param(double def);
+ParamInfo n_param(double def, const char* meaning);
 
 // ---------------------------------------------------------------------------------------------
 /// Exact unpolarized Fresnel reflectance of a smooth interface from air (index 1) into a medium

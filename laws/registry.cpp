@@ -56,6 +56,7 @@ std::vector<ModelInfo> build_catalogue() {
   register_he_torrance_models(c);
   register_blinn_dusty_models(c);
   register_beard_maxwell_models(c);
+  register_poulin_fournier_models(c);
   register_measured_models(c);
   return c;
 }

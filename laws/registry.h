@@ -50,6 +50,7 @@ void register_measured_models(std::vector<ModelInfo>& catalogue);  // laws/measu
 void register_he_torrance_models(std::vector<ModelInfo>& catalogue);  // laws/he_torrance.cpp
 void register_blinn_dusty_models(std::vector<ModelInfo>& catalogue);  // laws/blinn_dusty.cpp
 void register_beard_maxwell_models(std::vector<ModelInfo>& catalogue);  // laws/beard_maxwell.cpp
+void register_poulin_fournier_models(std::vector<ModelInfo>& catalogue);  // laws/poulin_fournier.cpp
 
 /// Every registered model, in presentation order.
 const std::vector<ModelInfo>& model_catalogue();

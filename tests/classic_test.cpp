@@ -340,15 +340,7 @@ TEST(classic, HapkeOppositionSurgeAndPhaseLaws) {
 }
 
 // --- parameter validation ---------------------------------------------------------------------
-void expect_input_error(const std::string& spec, const std::vector<std::string>& fragments) {
-  try {
-    parse_model(spec);
-    ADD_FAILURE() << spec << " was accepted";
-  } catch (const InputError& e) {
-    const std::string what = e.what();
-    for (const auto& f : fragments) EXPECT_NE(what.find(f), std::string::npos) << spec << ": " << what;
-  }
-}
+using testing_support::expect_input_error;
 
 TEST(classic, BadParametersAreRefusedNamingKeyAndRange) {
   expect_input_error("phong:n=0.5", {"phong", "n=0.5", "[1, 10000]"});

@@ -1,9 +1,14 @@
 // Small helpers shared by the model tests.
 #pragma once
 
+#include <string>
 #include <vector>
 
+#include <gtest/gtest.h>
+
 #include "integrate/cubature.h"
+#include "laws/error.h"
+#include "laws/spec.h"
 
 namespace ganzfeld::testing_support {
 
@@ -17,5 +22,18 @@ inline CubatureOptions cubature_options(double abs_tol, long long max_evaluation
 
 /// Incidence cosines from normal to 1e-3 from the horizon, where the energy claims are tested.
 inline const std::vector<double> kIncidenceCosines{1.0, 0.9, 0.7, 0.5, 0.3, 0.1, 0.03, 0.01, 1e-3};
+
+/// Parsing `spec` must fail with a one-line InputError that contains every fragment (the model,
+/// the key=value, the allowed range...).
+inline void expect_input_error(const std::string& spec, const std::vector<std::string>& fragments) {
+  try {
+    parse_model(spec);
+    ADD_FAILURE() << spec << " was accepted";
+  } catch (const InputError& e) {
+    const std::string what = e.what();
+    for (const auto& f : fragments) EXPECT_NE(what.find(f), std::string::npos) << spec << ": " << what;
+    EXPECT_EQ(what.find('\n'), std::string::npos) << spec << ": " << what;
+  }
+}
 
 }  // namespace ganzfeld::testing_support
