@@ -192,10 +192,11 @@ Estimate integrate_rectangle(const Model& model, const Vec3& fixed, Varying vary
 
 /// Grading of one axis of the rectangle towards the horizon: x = lo + (hi - lo) psi(u), u the
 /// panel coordinate scaled to [0, 1], with psi' vanishing at a graded end (psi = 3u^2 - 2u^3 at
-/// both ends, u + u^2 - u^3 at the upper one only). An integrand (b - x)^nu at a graded end b
-/// becomes ~ (1 - u)^(2 nu + 1) or (1 - u)^(2 nu + 1) smoother for the Gauss–Kronrod rule (design.md:
-/// "variable transforms at non-smooth edges"). Smooth integrands pay for it (specular alpha=10:
-/// 1.9x more evaluations), so only hinted edges are graded.
+/// both ends, u + u^2 - u^3 at the upper one only; either way b - x ~ (1 - u)^2 at a graded end
+/// b). An integrand (b - x)^nu there becomes ~ (1 - u)^(2 nu + 1), much smoother for the
+/// Gauss–Kronrod rule (design.md: "variable transforms at non-smooth edges"). Smooth integrands
+/// pay for it (specular alpha=10: 1.9x more evaluations), so only hinted edges are graded; the
+/// crease frame is not graded (no creased model hints a rough horizon).
 struct Grading {
   double lo = 0.0, hi = 1.0;
   bool at_lo = false, at_hi = false;
