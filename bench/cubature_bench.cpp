@@ -18,7 +18,7 @@
 
 #include "integrate/laws.h"
 #include "laws/spec.h"
-#include "lut/plot.h"
+#include "reports/plot.h"
 
 namespace ganzfeld::bench {
 

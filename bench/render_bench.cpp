@@ -1,27 +1,19 @@
 #include "bench/render_bench.h"
 
 #include <algorithm>
-#include <chrono>
 #include <vector>
 
 #include "laws/spec.h"
-#include "lut/bake.h"
-#include "lut/plan.h"
+#include "scene/plan.h"
 #include "rasterizer/shading.h"
+#include "util/timing.h"
 
 namespace ganzfeld::bench {
 
 namespace {
 
 double median_seconds(int repeats, const std::function<void()>& work) {
-  std::vector<double> t;
-  for (int k = 0; k < repeats; ++k) {
-    const auto start = std::chrono::steady_clock::now();
-    work();
-    t.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
-  }
-  std::sort(t.begin(), t.end());
-  return t[t.size() / 2];
+  return util::median(util::time_runs(repeats, work));
 }
 
 raster::RenderScene sphere_scene(int size) {
@@ -49,14 +41,11 @@ RenderBenchResult run_render_benchmark(bool quick) {
   lambert.materials = {{{1.0, {0.8, 0.8, 0.8}, parse_model("lambert"), raster::lambert_laws()}}};
 
   // (b) the mixture under all three lights, from tables at the scene defaults.
+  // Planned as `render` plans a scene, with the scene defaults (scene/plan.h), in memory.
   auto lobe_tables = [&](const char* spec) {
-    const ModelPtr m = parse_model(spec);
-    lut::BakeOptions g, h;
-    g.resolution = {lut::kSceneResG[0], lut::kSceneResG[1], lut::kSceneResG[2]};
-    h.resolution = {lut::kSceneResH};
-    g.tolerance = h.tolerance = lut::kSceneTolerance;
-    return raster::table_laws(std::make_shared<const lut::Table>(lut::bake(*m, Law::g, g)),
-                              std::make_shared<const lut::Table>(lut::bake(*m, Law::h, h)));
+    const scene::ShadingPlan plan =
+        scene::plan_material(scene::material_of(spec), {sky, ambient}, scene::TableOptions{}, scene::TableStore{});
+    return raster::shading_materials(plan, 1e-6).front().front().laws;
   };
   const ModelPtr minnaert = parse_model("minnaert:xi=1"), specular = parse_model("specular:alpha=8");
   raster::RenderScene tables = sphere_scene(out.size);

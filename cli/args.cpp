@@ -11,8 +11,9 @@
 #include <numbers>
 #include <sstream>
 
-#include "laws/error.h"
+#include "util/error.h"
 #include "laws/registry.h"
+#include "util/progress.h"
 
 namespace ganzfeld::cli {
 
@@ -113,40 +114,9 @@ std::string shell_line(const std::vector<std::string>& words) {
   return line;
 }
 
-/// "\rbaking g: 42% (55050/131072), 3 s left" on stderr, redrawn in place.
-namespace {
-class ProgressBar {
- public:
-  explicit ProgressBar(std::string label) : label_(std::move(label)), start_(std::chrono::steady_clock::now()) {}
-  void update(std::uint64_t done, std::uint64_t total) {
-    const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
-    const double fraction = total ? static_cast<double>(done) / total : 1.0;
-    const int percent = static_cast<int>(100.0 * fraction);
-    if (percent == last_percent_ && done != total) return;
-    last_percent_ = percent;
-    constexpr int kWidth = 30;
-    const int filled = static_cast<int>(kWidth * fraction);
-    std::string bar(filled, '#');
-    bar.resize(kWidth, '.');
-    std::fprintf(stderr, "\r%s [%s] %3d%% (%llu/%llu)", label_.c_str(), bar.c_str(), percent,
-                 static_cast<unsigned long long>(done), static_cast<unsigned long long>(total));
-    if (fraction > 0.0 && done != total) std::fprintf(stderr, " %.0f s left  ", elapsed * (1.0 - fraction) / fraction);
-    if (done == total) std::fprintf(stderr, " %.1f s      \n", elapsed);
-    std::fflush(stderr);
-  }
-
- private:
-  std::string label_;
-  std::chrono::steady_clock::time_point start_;
-  int last_percent_ = -1;
-};
-}  // namespace
-
 /// A progress bar for the bake of `law` of `spec` when stderr is a terminal and not --quiet.
-void attach_progress(lut::BakeOptions& options, bool quiet, Law law, const std::string& spec) {
-  if (quiet || !::isatty(STDERR_FILENO)) return;
-  auto bar = std::make_shared<ProgressBar>(std::string("baking ") + to_string(law) + " of " + spec);
-  options.progress = [bar](std::uint64_t done, std::uint64_t total) { bar->update(done, total); };
+void attach_progress(tables::BakeOptions& options, bool quiet, Law law, const std::string& spec) {
+  options.progress = util::progress_bar(std::string("baking ") + to_string(law) + " of " + spec, quiet);
 }
 
 /// Creates the cache directory if its parent exists; refuses a missing parent, a non-directory
@@ -170,46 +140,85 @@ std::string prepare_directory(const std::string& flag, const std::string& text) 
   return dir.string();
 }
 
-lut::CacheResult bake_into_cache(const std::string& dir, const lut::TableRequest& request, const lut::BakeOptions& options,
-                                 bool force) {
-  const std::string path = lut::cache_path(dir, *request.model, request.law, options);
-  // Stamped into the file: the single-table command that reproduces exactly this file.
-  const std::string command = shell_line({"ganzfeld", "bake", "--model", request.spec, "--law", to_string(request.law),
-                                          "--res", lut::resolution_text(options.resolution), "--tol",
-                                          format_number(options.tolerance), "--encoding", lut::to_string(options.encoding),
-                                          "--max-evals", std::to_string(options.max_evaluations), "-o", path});
-  return lut::bake_or_reuse(path, *request.model, request.law, options, command, force);
+void check_max_evaluations(long long n) {
+  if (n < 1000) throw InputError("--max-evals=" + std::to_string(n) + " is too small; allowed: >= 1000");
 }
 
-SceneTables prepare_scene_tables(const Scene& scene, double tol, const std::string& cache, bool quiet) {
-  SceneTables out;
-  for (const lut::TableRequest& request : lut::tables_needed(scene)) {
-    lut::BakeOptions options;
-    options.resolution = request.law == Law::g ? std::vector<int>(lut::kSceneResG, lut::kSceneResG + 3)
-                                               : std::vector<int>{lut::kSceneResH};
-    options.tolerance = tol;
-    attach_progress(options, quiet, request.law, request.spec);
-    lut::Table table;
-    std::string path, status = "baked";
-    if (!cache.empty()) {
-      lut::CacheResult result = bake_into_cache(cache, request, options);
-      path = result.path;
-      status = lut::to_string(result.status);
-      table = std::move(result.table);
-    } else {
-      table = lut::bake(*request.model, request.law, options);
-    }
-    if (table.unconverged > 0)
-      std::cerr << "ganzfeld: warning: " << table.unconverged << " entries of " << to_string(request.law) << " of "
-                << request.spec << " missed tolerance " << format_number(tol) << " (max error "
-                << format_number(table.max_error) << ")\n";
-    nlohmann::ordered_json entry{{"model", request.spec}, {"law", to_string(request.law)}, {"status", status},
-                                 {"max_error", table.max_error}};
-    if (!path.empty()) entry["path"] = path;
-    out.json.push_back(entry);
-    out.tables[{request.spec, request.law}] = std::make_shared<const lut::Table>(std::move(table));
+void TableOptionArgs::add_to(CLI::App& app, const scene::TableOptions& defaults) {
+  app.add_option("--res-g", res_g,
+                 "nodes of every g table, NIxNJxNPHI (default " + tables::resolution_text(defaults.resolution_g) + ")");
+  app.add_option("--res-h", res_h, "nodes of every h table (default " + tables::resolution_text(defaults.resolution_h) + ")");
+  app.add_option("--tol", tol, "absolute tolerance of every table entry's cubature (default " +
+                                   format_number(defaults.tolerance) + ")");
+  app.add_option("--encoding", encoding, "stored precision of the tables: float (default) or half");
+  app.add_option("--max-evals", max_evaluations,
+                 "evaluation budget per table entry; beyond it the entry is kept and counted as unconverged");
+}
+
+namespace {
+/// parse_resolution with its message naming `flag` instead of --res.
+std::vector<int> resolution_for(const std::string& flag, const std::string& text, Law law) {
+  try {
+    return tables::parse_resolution(text, law);
+  } catch (const InputError& e) {
+    std::string what = e.what();
+    if (what.rfind("--res ", 0) == 0) what = flag + what.substr(5);
+    throw InputError(what);
   }
+}
+}  // namespace
+
+scene::TableOptions TableOptionArgs::options(const scene::TableOptions& defaults) const {
+  scene::TableOptions out = defaults;
+  if (!res_g.empty()) out.resolution_g = resolution_for("--res-g", res_g, Law::g);
+  if (!res_h.empty()) out.resolution_h = resolution_for("--res-h", res_h, Law::h);
+  if (tol) out.tolerance = *tol;
+  validate_tolerance(out.tolerance);
+  if (!encoding.empty()) out.encoding = tables::parse_encoding(encoding);
+  if (max_evaluations) out.max_evaluations = *max_evaluations;
+  check_max_evaluations(out.max_evaluations);
   return out;
+}
+
+scene::TableStore table_store(const std::string& cache_dir, bool quiet, bool force) {
+  scene::TableStore store;
+  store.cache_dir = cache_dir;
+  store.force = force;
+  store.command_line = shell_line;
+  store.before_bake = [quiet](scene::TableRequest& request) {
+    attach_progress(request.options, quiet, request.law, request.spec);
+  };
+  return store;
+}
+
+nlohmann::ordered_json table_json(const std::string& path, const tables::Table& table, tables::CacheStatus status,
+                                  double seconds) {
+  return {{"path", path.empty() ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(path)},
+          {"model", table.model},
+          {"law", to_string(table.law)},
+          {"status", to_string(status)},
+          {"entries", table.entries()},
+          {"max_error", table.max_error},
+          {"unconverged", table.unconverged},
+          {"seconds", seconds}};
+}
+
+nlohmann::ordered_json tables_json(const scene::ShadingPlan& plan) {
+  nlohmann::ordered_json out = nlohmann::ordered_json::array();
+  for (const scene::PlannedTable& t : plan.tables) out.push_back(table_json(t.path, *t.table, t.status, t.seconds));
+  return out;
+}
+
+void warn_unconverged(const tables::Table& t, tables::CacheStatus status) {
+  if (status != tables::CacheStatus::baked || t.unconverged == 0) return;
+  std::cerr << "ganzfeld: warning: " << t.unconverged << " of " << t.entries() << " entries of " << to_string(t.law)
+            << " of " << t.model << " did not reach tolerance " << format_number(t.tolerance)
+            << " within the evaluation budget; their achieved error is stored (max error "
+            << format_number(t.max_error) << ")\n";
+}
+
+void warn_unconverged(const scene::ShadingPlan& plan) {
+  for (const scene::PlannedTable& t : plan.tables) warn_unconverged(*t.table, t.status);
 }
 
 }  // namespace ganzfeld::cli

@@ -11,10 +11,10 @@
 #include <nlohmann/json.hpp>
 
 #include "integrate/laws.h"
-#include "lut/bake.h"
-#include "lut/cache.h"
-#include "lut/plan.h"
-#include "lut/scene.h"
+#include "tables/bake.h"
+#include "tables/cache.h"
+#include "scene/plan.h"
+#include "scene/scene.h"
 
 namespace ganzfeld::cli {
 
@@ -40,25 +40,43 @@ void validate_tolerance(double tol);
 std::string shell_line(const std::vector<std::string>& words);
 
 /// A progress bar on stderr for the bake of `law` of `spec`, when stderr is a terminal and not `quiet`.
-void attach_progress(lut::BakeOptions& options, bool quiet, Law law, const std::string& spec);
+void attach_progress(tables::BakeOptions& options, bool quiet, Law law, const std::string& spec);
 
 /// The table cache directory named by `flag` (--out, --cache): created if its parent exists;
 /// a missing parent, a non-directory or an unwritable directory is refused. Returns it.
 std::string prepare_directory(const std::string& flag, const std::string& text);
 
-/// One table of a scene in the cache directory (lut/cache.h), baked or reused, stamped with the
-/// single-table `ganzfeld bake` command that reproduces it: shared by `bake --scene` and `render`.
-lut::CacheResult bake_into_cache(const std::string& dir, const lut::TableRequest& request, const lut::BakeOptions& options,
-                                 bool force = false);
+/// Refuses an evaluation budget below 1000 per entry.
+void check_max_evaluations(long long n);
 
-/// The tables a scene's lights need (lut::tables_needed), with the scene defaults of lut/plan.h
-/// at tolerance `tol`: reused from or baked into `cache` (a prepared directory), or baked in
-/// memory when `cache` is empty. Warns on stderr about entries that missed the tolerance.
-/// Shared by `render` and `export-glsl --scene`.
-struct SceneTables {
-  std::map<std::pair<std::string, Law>, std::shared_ptr<const lut::Table>> tables;
-  nlohmann::ordered_json json = nlohmann::ordered_json::array();  ///< per table: model, law, status, max_error[, path]
+/// The table options of every command that takes a scene (bake --scene, render, export-glsl
+/// --scene) and of figure: --res-g, --res-h, --tol, --encoding, --max-evals. One parser and one
+/// set of defaults (scene::TableOptions), so that the commands reach the same cache entries.
+struct TableOptionArgs {
+  std::string res_g, res_h, encoding;
+  std::optional<double> tol;
+  std::optional<long long> max_evaluations;
+  /// Registers the flags; `defaults` is what --help shows and what unset flags mean.
+  void add_to(CLI::App& app, const scene::TableOptions& defaults);
+  /// The options, validated (one-line InputError naming the flag); unset flags take `defaults`.
+  scene::TableOptions options(const scene::TableOptions& defaults) const;
 };
-SceneTables prepare_scene_tables(const Scene& scene, double tol, const std::string& cache, bool quiet);
+
+/// Where a command's scene tables come from: the cache directory `cache_dir` (already prepared)
+/// or memory when it is empty; progress bars unless `quiet`, each file stamped with the bake
+/// command that reproduces it.
+scene::TableStore table_store(const std::string& cache_dir, bool quiet, bool force = false);
+
+/// One JSON shape for a table everywhere (bake, bake --scene, render, export-glsl):
+/// {path (null in memory), model, law, status, entries, max_error, unconverged, seconds}.
+nlohmann::ordered_json table_json(const std::string& path, const tables::Table& table, tables::CacheStatus status,
+                                  double seconds);
+/// table_json of every table of the plan.
+nlohmann::ordered_json tables_json(const scene::ShadingPlan& plan);
+
+/// Warns on stderr about a freshly baked table with entries that missed the tolerance.
+void warn_unconverged(const tables::Table& table, tables::CacheStatus status);
+/// warn_unconverged for every table of the plan.
+void warn_unconverged(const scene::ShadingPlan& plan);
 
 }  // namespace ganzfeld::cli

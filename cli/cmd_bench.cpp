@@ -9,10 +9,10 @@
 #include "bench/cubature_bench.h"
 #include "bench/render_bench.h"
 #include "cli/commands.h"
-#include "laws/error.h"
+#include "util/error.h"
 #include "laws/spec.h"
-#include "lut/atomic_file.h"
-#include "lut/bake.h"
+#include "util/atomic_file.h"
+#include "tables/bake.h"
 
 namespace ganzfeld::cli {
 
@@ -83,11 +83,11 @@ nlohmann::ordered_json bake_report(const BenchArgs& args) {
     double seconds[3] = {0, 0, 0};
     for (int threads : {1, 2}) {
       tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
-      lut::BakeOptions o;
+      tables::BakeOptions o;
       o.resolution = res;
       o.tolerance = 1e-9;
       const auto start = std::chrono::steady_clock::now();
-      const auto table = lut::bake(*parse_model(spec), Law::g, o);
+      const auto table = tables::bake(*parse_model(spec), Law::g, o);
       seconds[threads] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       row["unconverged"] = table.unconverged;
       row["max_error"] = table.max_error;

@@ -6,7 +6,7 @@
 
 #include "cli/args.h"
 #include "cli/commands.h"
-#include "laws/error.h"
+#include "util/error.h"
 #include "laws/spec.h"
 
 namespace ganzfeld::cli {

@@ -1,13 +1,13 @@
-// ganzfeld export-brdf: any model as measured data (lut/brdf_export.h) — a MERL binary file at
+// ganzfeld export-brdf: any model as measured data (export/brdf_export.h) — a MERL binary file at
 // MERL's 90x90x180 half/difference nodes, or ganzfeld's tabulated text format — so that readers,
 // tables and renders of measured BRDFs can be tested against the analytic model they came from.
 #include <iostream>
 
 #include "cli/commands.h"
-#include "laws/error.h"
+#include "util/error.h"
 #include "laws/spec.h"
-#include "lut/bake.h"
-#include "lut/brdf_export.h"
+#include "tables/bake.h"
+#include "export/brdf_export.h"
 
 namespace ganzfeld::cli {
 
@@ -28,9 +28,9 @@ void add_export_brdf_command(CLI::App& app, Action& action) {
     action = [args] {
       const ModelPtr model = parse_model(args->model);
       if (args->format == "merl") {
-        lut::write_merl(*model, args->output);
+        exporting::write_merl(*model, args->output);
       } else if (args->format == "tabulated") {
-        lut::write_tabulated(*model, lut::parse_resolution(args->res, Law::g), args->output);
+        exporting::write_tabulated(*model, tables::parse_resolution(args->res, Law::g), args->output);
       } else {
         throw InputError("unknown --format '" + args->format + "'; allowed: merl, tabulated");
       }

@@ -1,13 +1,13 @@
-// ganzfeld export-glsl: tables for real-time shaders (lut/glsl.h, lut/texture_file.h,
+// ganzfeld export-glsl: tables for real-time shaders (export/glsl.h, export/texture_file.h,
 // docs/shaders.md).
 //   export-glsl TABLE.exr -o LAW.glsl [--texture ktx2|header|none] [--model SPEC --law L]
 //       the sampling function of one table, and its texture beside it (LAW.ktx2 or LAW.h);
 //       --model/--law state what the shader expects: a table of another model or law is refused.
-//   export-glsl --scene SCENE.json --out DIR [--cache DIR] [--tol T] [--texture ...]
+//   export-glsl --scene SCENE.json --out DIR [--cache DIR] [table options as bake --scene] [--texture ...]
 //       DIR/ganzfeld_scene.glsl (the reference shading of every material), one texture per table
 //       the scene needs (named after its sampler uniform) and DIR/manifest.json binding them.
-// Everything is generated in memory first; each file is written atomically, so a refused input
-// leaves no output.
+// The shader is generated, and every refusal made, before the first file is written; each file is
+// written atomically (a crash between files can leave some of a scene's files, never a partial one).
 #include <filesystem>
 #include <iostream>
 #include <optional>
@@ -16,14 +16,15 @@
 
 #include "cli/args.h"
 #include "cli/commands.h"
-#include "laws/error.h"
+#include "util/error.h"
 #include "laws/registry.h"
 #include "laws/spec.h"
-#include "lut/atomic_file.h"
-#include "lut/exr_io.h"
-#include "lut/glsl.h"
-#include "lut/scene.h"
-#include "lut/texture_file.h"
+#include "util/atomic_file.h"
+#include "tables/exr_io.h"
+#include "export/glsl.h"
+#include "scene/plan.h"
+#include "scene/scene.h"
+#include "export/texture_file.h"
 
 namespace ganzfeld::cli {
 
@@ -31,14 +32,14 @@ namespace {
 
 struct ExportArgs {
   std::string table, output, scene, out_dir, cache, texture = "ktx2", model, law;
-  std::optional<double> tol;
+  TableOptionArgs tables;  // with --scene: the same table options as `bake --scene` and `render`
   bool json = false, quiet = false;
 };
 
-std::optional<lut::TextureFormat> texture_format(const std::string& text) {
+std::optional<exporting::TextureFormat> texture_format(const std::string& text) {
   if (text == "none") return std::nullopt;
   try {
-    return lut::parse_texture_format(text);
+    return exporting::parse_texture_format(text);
   } catch (const InputError&) {
     throw InputError("unknown --texture '" + text + "'; allowed: ktx2, header, none");
   }
@@ -49,25 +50,25 @@ int export_table(const ExportArgs& args) {
   if (std::filesystem::path(args.output).extension() != ".glsl")
     throw InputError("output '" + args.output + "' must end in .glsl");
   const auto format = texture_format(args.texture);
-  const lut::Table table = lut::read_table(args.table);
+  const tables::Table table = tables::read_table(args.table);
   if (!args.model.empty() || !args.law.empty()) {
     if (args.model.empty() || args.law.empty()) throw InputError("--model and --law go together (the table the shader expects)");
     const Law law = parse_law(args.law);
     if (law != Law::g && law != Law::h && law != Law::a)
       throw InputError("--law '" + args.law + "' has no table; allowed: g, h, a");
-    lut::check_table_is(table, parse_model(args.model)->spec(), law);
+    exporting::check_table_is(table, parse_model(args.model)->spec(), law);
   }
-  const std::string glsl = lut::glsl_table_snippet(table);
+  const std::string glsl = exporting::glsl_table_snippet(table);
   std::string texture_path;
   if (format) {
-    texture_path = std::filesystem::path(args.output).replace_extension(lut::texture_extension(*format)).string();
-    lut::write_texture(table, *format, texture_path, lut::glsl_function_name(table.model, table.law));
+    texture_path = std::filesystem::path(args.output).replace_extension(exporting::texture_extension(*format)).string();
+    exporting::write_texture(table, *format, texture_path, exporting::glsl_function_name(table.model, table.law));
   }
   write_text_atomically(args.output, glsl, "shader");
   if (args.json) {
     nlohmann::ordered_json doc{{"glsl", args.output},
-                               {"function", lut::glsl_function_name(table.model, table.law)},
-                               {"sampler", lut::glsl_sampler_type(table.law)},
+                               {"function", exporting::glsl_function_name(table.model, table.law)},
+                               {"sampler", exporting::glsl_sampler_type(table.law)},
                                {"model", table.model},
                                {"law", to_string(table.law)}};
     doc["texture"] = texture_path.empty() ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(texture_path);
@@ -81,30 +82,29 @@ int export_table(const ExportArgs& args) {
 int export_scene(const ExportArgs& args) {
   if (args.out_dir.empty()) throw InputError("export-glsl --scene needs --out DIR");
   const auto format = texture_format(args.texture);
-  const double tol = args.tol.value_or(lut::kSceneTolerance);
-  validate_tolerance(tol);
+  const scene::TableOptions options = args.tables.options(scene::TableOptions{});
   const Scene scene = load_scene(args.scene);
-  lut::check_scene_exportable(scene);  // before any bake
+  exporting::check_scene_exportable(scene);  // before any bake
   const std::string cache = args.cache.empty() ? std::string() : prepare_directory("--cache", args.cache);
-  const SceneTables scene_tables = prepare_scene_tables(scene, tol, cache, args.quiet || args.json);
-  lut::SceneTableMap tables;
-  for (const auto& [key, table] : scene_tables.tables) tables[key] = table.get();
-  const std::string glsl = lut::glsl_scene_shader(scene, tables, args.scene);  // refuses before any file is written
+  const scene::ShadingPlan plan = scene::plan_shading(scene, options, table_store(cache, args.quiet || args.json));
+  warn_unconverged(plan);
+  const std::string glsl = exporting::glsl_scene_shader(scene, plan, args.scene);  // refuses before any file is written
 
   const std::string dir = prepare_directory("--out", args.out_dir);
   nlohmann::ordered_json manifest{{"scene", args.scene}, {"glsl", "ganzfeld_scene.glsl"}};
   nlohmann::ordered_json textures = nlohmann::ordered_json::array();
-  for (const auto& [key, table] : scene_tables.tables) {
-    const std::string sampler = lut::glsl_sampler_name(key.first, key.second);
+  for (const scene::PlannedTable& planned : plan.tables) {
+    const tables::Table* table = planned.table.get();
+    const std::string sampler = exporting::glsl_sampler_name(planned.request.spec, planned.request.law);
     nlohmann::ordered_json entry{{"sampler", sampler},
-                                 {"type", lut::glsl_sampler_type(key.second)},
-                                 {"model", key.first},
-                                 {"law", to_string(key.second)},
+                                 {"type", exporting::glsl_sampler_type(planned.request.law)},
+                                 {"model", planned.request.spec},
+                                 {"law", to_string(planned.request.law)},
                                  {"max_error", table->max_error},
                                  {"interpolation_error", table->interpolation_error}};
     if (format) {
-      const std::string file = sampler + lut::texture_extension(*format);
-      lut::write_texture(*table, *format, (std::filesystem::path(dir) / file).string(), sampler);
+      const std::string file = sampler + exporting::texture_extension(*format);
+      exporting::write_texture(*table, *format, (std::filesystem::path(dir) / file).string(), sampler);
       entry["file"] = file;
     }
     textures.push_back(entry);
@@ -114,7 +114,7 @@ int export_scene(const ExportArgs& args) {
   write_text_atomically((std::filesystem::path(dir) / "ganzfeld_scene.glsl").string(), glsl, "shader");
   if (args.json) {
     manifest["out"] = dir;
-    manifest["tables"] = scene_tables.json;
+    manifest["tables"] = tables_json(plan);
     std::cout << manifest.dump(2) << "\n";
   } else if (!args.quiet) {
     std::cout << "wrote " << dir << "/ganzfeld_scene.glsl, manifest.json and " << textures.size() << " textures\n";
@@ -126,7 +126,7 @@ int export_scene(const ExportArgs& args) {
 
 void add_export_glsl_command(CLI::App& app, Action& action) {
   auto* cmd = app.add_subcommand("export-glsl",
-                                 "GLSL (4.30 core, ES 3.00) that samples a table exactly as lut/ does, plus the table as "
+                                 "GLSL (4.30 core, ES 3.00) that samples a table exactly as tables/ does, plus the table as "
                                  "a texture; or everything a scene's shader needs (docs/shaders.md)");
   auto args = std::make_shared<ExportArgs>();
   cmd->add_option("TABLE", args->table, "a table written by `ganzfeld bake` (omit with --scene)");
@@ -138,7 +138,7 @@ void add_export_glsl_command(CLI::App& app, Action& action) {
   cmd->add_option("--scene", args->scene, "export the reference shader and every table of SCENE.json instead");
   cmd->add_option("--out", args->out_dir, "with --scene: the output directory (created if its parent exists)");
   cmd->add_option("--cache", args->cache, "with --scene: reuse/store the scene's tables in DIR (as `render --cache`)");
-  cmd->add_option("--tol", args->tol, "with --scene: cubature tolerance of the tables (default 1e-8)");
+  args->tables.add_to(*cmd, scene::TableOptions{});  // with --scene: --res-g, --res-h, --tol, --encoding, --max-evals
   cmd->add_flag("--quiet", args->quiet, "no progress and no summary line");
   cmd->add_flag("--json", args->json, "print one JSON document");
   cmd->callback([&action, args] {

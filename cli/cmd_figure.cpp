@@ -1,25 +1,26 @@
 // ganzfeld figure: the Koenderink–Pont 2×2 panel of a model (rasterizer/figure.h), optionally next
 // to a second model's.
-#include <chrono>
 #include <cstdio>
 #include <iostream>
 
 #include <nlohmann/json.hpp>
 
+#include "util/atomic_file.h"
 #include "cli/args.h"
 #include "cli/commands.h"
-#include "laws/error.h"
+#include "util/error.h"
 #include "laws/spec.h"
-#include "lut/exr_io.h"
+#include "tables/exr_io.h"
 #include "rasterizer/figure.h"
+#include "util/timing.h"
 
 namespace ganzfeld::cli {
 
 namespace {
 struct FigureArgs {
-  std::string model, compare, output;
+  std::string model, compare, output, cache;
   int size = raster::FigureOptions{}.size;
-  double tol = raster::FigureOptions{}.tolerance;
+  TableOptionArgs tables;
   bool json = false, quiet = false;
 };
 }  // namespace
@@ -33,26 +34,28 @@ void add_figure_command(CLI::App& app, Action& action) {
       ->required();
   cmd->add_option("--compare", args->compare, "a second model spec, drawn as a second panel on the right");
   cmd->add_option("--size", args->size, "pixels per quadrant side, 16..4096 (default 256)");
-  cmd->add_option("--tol", args->tol, "cubature tolerance of the small tables of g and h (default 1e-6)");
+  args->tables.add_to(*cmd, raster::FigureOptions{}.tables);  // the small tables of g and h
+  cmd->add_option("--cache", args->cache, "reuse the tables from DIR and store new ones there (as `render --cache`)");
   cmd->add_flag("--quiet", args->quiet, "no summary line");
   cmd->add_flag("--json", args->json, "print one JSON document");
   cmd->callback([&action, args] {
     action = [args] {
-      const auto start = std::chrono::steady_clock::now();
+      const util::Stopwatch watch;
       // Refuse bad input before any work.
       parse_model(args->model);
       if (!args->compare.empty()) parse_model(args->compare);
-      validate_tolerance(args->tol);
-      raster::image_format(args->output);
-      lut::check_writable(args->output);
       raster::FigureOptions options;
+      options.tables = args->tables.options(options.tables);
+      raster::image_format(args->output);
+      check_writable(args->output);
       options.size = args->size;
-      options.tolerance = args->tol;
+      const std::string cache = args->cache.empty() ? std::string() : prepare_directory("--cache", args->cache);
+      options.store = table_store(cache, args->quiet || args->json);
       std::vector<raster::Image> panels{raster::koenderink_pont_panel(args->model, options)};
       if (!args->compare.empty()) panels.push_back(raster::koenderink_pont_panel(args->compare, options));
       const raster::Image image = panels.size() == 1 ? panels.front() : raster::side_by_side(panels);
       raster::write_image(image, args->output);
-      const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      const double seconds = watch.seconds();
       if (args->json) {
         nlohmann::ordered_json doc{{"output", args->output}, {"model", args->model}};
         if (!args->compare.empty()) doc["compare"] = args->compare;

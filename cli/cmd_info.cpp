@@ -6,7 +6,7 @@
 
 #include "cli/commands.h"
 #include "laws/registry.h"
-#include "lut/exr_io.h"
+#include "tables/exr_io.h"
 
 namespace ganzfeld::cli {
 
@@ -24,17 +24,17 @@ void add_info_command(CLI::App& app, Action& action) {
   cmd->add_flag("--json", args->json, "print one JSON document");
   cmd->callback([&action, args] {
     action = [args] {
-      const lut::Table table = lut::read_table(args->path);
+      const tables::Table table = tables::read_table(args->path);
       if (args->json) {
         nlohmann::ordered_json axes = nlohmann::ordered_json::array();
-        for (const lut::Axis& a : table.axes)
+        for (const tables::Axis& a : table.axes)
           axes.push_back({{"name", a.name},
                           {"min", a.min},
                           {"max", a.max},
                           {"count", a.count},
-                          {"mapping", lut::to_string(a.mapping)}});
+                          {"mapping", to_string(a.mapping)}});
         nlohmann::ordered_json doc{{"path", args->path},
-                                   {"format_version", lut::kFormatVersion},
+                                   {"format_version", tables::kFormatVersion},
                                    {"model", table.model},
                                    {"law", to_string(table.law)},
                                    {"axes", axes},
@@ -44,19 +44,19 @@ void add_info_command(CLI::App& app, Action& action) {
                                    {"unconverged", table.unconverged},
                                    {"interpolation_error", table.interpolation_error},
                                    {"interpolation_checks", table.interpolation_checks},
-                                   {"encoding", lut::to_string(table.encoding)},
+                                   {"encoding", to_string(table.encoding)},
                                    {"command", table.command},
                                    {"version", table.version}};
         std::cout << doc.dump(2) << "\n";
         return 0;
       }
       std::printf("%s\n  format version %d, ganzfeld %s\n  model        %s\n  law          %s\n", args->path.c_str(),
-                  lut::kFormatVersion, table.version.c_str(), table.model.c_str(), to_string(table.law));
-      for (const lut::Axis& a : table.axes)
+                  tables::kFormatVersion, table.version.c_str(), table.model.c_str(), to_string(table.law));
+      for (const tables::Axis& a : table.axes)
         std::printf("  axis         %-12s [%s, %s] %d nodes, %s\n", a.name.c_str(), format_number(a.min).c_str(),
-                    format_number(a.max).c_str(), a.count, lut::to_string(a.mapping));
+                    format_number(a.max).c_str(), a.count, to_string(a.mapping));
       std::printf("  encoding     %s\n  tolerance    %s\n  max error    %s (at the nodes)\n  interpolation error %s (measured at %lld cell centres)\n  unconverged  %lld of %zu\n  command      %s\n",
-                  lut::to_string(table.encoding), format_number(table.tolerance).c_str(),
+                  to_string(table.encoding), format_number(table.tolerance).c_str(),
                   format_number(table.max_error).c_str(), format_number(table.interpolation_error).c_str(),
                   table.interpolation_checks, table.unconverged, table.entries(), table.command.c_str());
       return 0;

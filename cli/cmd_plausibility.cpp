@@ -8,9 +8,9 @@
 
 #include "cli/args.h"
 #include "cli/commands.h"
-#include "integrate/plausibility.h"
-#include "lut/atomic_file.h"
-#include "lut/exr_io.h"
+#include "reports/plausibility.h"
+#include "util/atomic_file.h"
+#include "tables/exr_io.h"
 #include "laws/registry.h"
 
 namespace ganzfeld::cli {
@@ -33,7 +33,7 @@ void add_plausibility_command(CLI::App& app, Action& action) {
   cmd->callback([&action, args] {
     action = [args] {
       validate_tolerance(args->tol);
-      if (!args->markdown.empty()) lut::check_writable(args->markdown);
+      if (!args->markdown.empty()) check_writable(args->markdown);
       const auto rows = plausibility_report(args->tol);
       if (!args->markdown.empty()) {
         std::string command = "ganzfeld plausibility --markdown " + args->markdown;

@@ -1,4 +1,4 @@
-// ganzfeld sample: a table lookup at given directions (lut/sample.h).
+// ganzfeld sample: a table lookup at given directions (tables/sample.h).
 #include <cstdio>
 #include <iostream>
 
@@ -6,8 +6,8 @@
 
 #include "cli/args.h"
 #include "cli/commands.h"
-#include "lut/exr_io.h"
-#include "lut/sample.h"
+#include "tables/exr_io.h"
+#include "tables/sample.h"
 
 namespace ganzfeld::cli {
 
@@ -28,13 +28,13 @@ void add_sample_command(CLI::App& app, Action& action) {
   cmd->add_flag("--json", args->json, "print one JSON document");
   cmd->callback([&action, args] {
     action = [args] {
-      const lut::Table table = lut::read_table(args->path);
+      const tables::Table table = tables::read_table(args->path);
       const Law law = table.law;
       const bool needs_i = law == Law::g || law == Law::a;
       const bool needs_j = law == Law::g || law == Law::h;
       const Vec3 i = needs_i ? args->directions.incident(law) : Vec3{0, 0, 1};
       const Vec3 j = needs_j ? args->directions.outgoing(law) : Vec3{0, 0, 1};
-      const lut::Sample s = lut::sample(table, i, j);
+      const tables::Sample s = tables::sample(table, i, j);
       if (args->json) {
         // error: the interpolated node errors plus the table's measured interpolation error.
         nlohmann::ordered_json doc{{"value", s.value},

@@ -1,5 +1,5 @@
 // `ganzfeld tradeoff`: the speed/accuracy trade of a law's tables, measured in one run against a
-// dense cubature reference (lut/tradeoff.h says what is measured and how).
+// dense cubature reference (reports/tradeoff.h says what is measured and how).
 #include <cstdio>
 #include <iostream>
 #include <unistd.h>
@@ -7,13 +7,14 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/args.h"
+#include "util/progress.h"
 #include "cli/commands.h"
-#include "lut/atomic_file.h"
-#include "laws/error.h"
+#include "util/atomic_file.h"
+#include "util/error.h"
 #include "laws/spec.h"
-#include "lut/bake.h"
-#include "lut/exr_io.h"
-#include "lut/tradeoff.h"
+#include "tables/bake.h"
+#include "tables/exr_io.h"
+#include "reports/tradeoff.h"
 
 namespace ganzfeld::cli {
 
@@ -31,8 +32,8 @@ constexpr long long kQuickPoints = 300;
 constexpr long long kMaxPoints = 1'000'000;
 
 /// The sweep, narrowed by --res / --mapping when given ("N,N,..." / "M[xMxM],...").
-lut::TradeoffPlan make_plan(Law law, const TradeoffArgs& args) {
-  lut::TradeoffPlan plan = args.quick ? lut::quick_plan(law) : lut::full_plan(law);
+reports::TradeoffPlan make_plan(Law law, const TradeoffArgs& args) {
+  reports::TradeoffPlan plan = args.quick ? reports::quick_plan(law) : reports::full_plan(law);
   auto split = [](const std::string& text) {
     std::vector<std::string> parts;
     std::size_t start = 0;
@@ -46,14 +47,14 @@ lut::TradeoffPlan make_plan(Law law, const TradeoffArgs& args) {
   };
   if (!args.resolutions.empty()) {
     plan.resolutions.clear();
-    for (const std::string& r : split(args.resolutions)) plan.resolutions.push_back(lut::parse_resolution(r, law));
+    for (const std::string& r : split(args.resolutions)) plan.resolutions.push_back(tables::parse_resolution(r, law));
   }
   if (!args.mappings.empty()) {
     plan.mapping_sets.clear();
     for (const std::string& m : split(args.mappings)) {
-      std::vector<lut::Mapping> set = lut::parse_mappings(m, law);
+      std::vector<tables::Mapping> set = tables::parse_mappings(m, law);
       if (set.empty())  // "default"
-        for (const lut::Axis& axis : lut::default_axes(law, plan.resolutions.front())) set.push_back(axis.mapping);
+        for (const tables::Axis& axis : tables::default_axes(law, plan.resolutions.front())) set.push_back(axis.mapping);
       plan.mapping_sets.push_back(set);
     }
   }
@@ -71,14 +72,14 @@ std::string measurement_command(const TradeoffArgs& args, const std::string& spe
   return c;
 }
 
-nlohmann::ordered_json to_json(const lut::TradeoffReport& report, bool quick, const std::string& command) {
+nlohmann::ordered_json to_json(const reports::TradeoffReport& report, bool quick, const std::string& command) {
   nlohmann::ordered_json rows = nlohmann::ordered_json::array();
-  for (const lut::TradeoffRow& r : report.rows) {
+  for (const reports::TradeoffRow& r : report.rows) {
     nlohmann::ordered_json mappings = nlohmann::ordered_json::array();
-    for (lut::Mapping m : r.config.mappings) mappings.push_back(lut::to_string(m));
+    for (tables::Mapping m : r.config.mappings) mappings.push_back(to_string(m));
     rows.push_back({{"resolution", r.config.resolution},
                     {"mappings", mappings},
-                    {"encoding", lut::to_string(r.config.encoding)},
+                    {"encoding", to_string(r.config.encoding)},
                     {"tolerance", r.config.tolerance},
                     {"entries", r.entries},
                     {"bytes", r.bytes},
@@ -92,7 +93,7 @@ nlohmann::ordered_json to_json(const lut::TradeoffReport& report, bool quick, co
                     {"unconverged", r.unconverged},
                     {"worst", {{"i", {r.worst.i.x, r.worst.i.y, r.worst.i.z}}, {"j", {r.worst.j.x, r.worst.j.y, r.worst.j.z}}}}});
   }
-  const lut::Reference& ref = report.reference;
+  const reports::Reference& ref = report.reference;
   return {{"model", report.model},
           {"law", to_string(report.law)},
           {"quick", quick},
@@ -109,15 +110,15 @@ nlohmann::ordered_json to_json(const lut::TradeoffReport& report, bool quick, co
           {"rows", rows}};
 }
 
-void print_text(const lut::TradeoffReport& report) {
+void print_text(const reports::TradeoffReport& report) {
   std::printf("%s law %s: %zu reference points (tolerance %.0e), %.1f s\n", report.model.c_str(),
               to_string(report.law), report.reference.points.size(), report.reference.tolerance, report.seconds);
   std::printf("%-10s %-16s %-5s %-6s %10s %10s %9s %8s %10s %10s %10s\n", "res", "mappings", "enc", "tol", "bytes",
               "file", "bake s", "ns/look", "max err", "rms err", "stored");
-  for (const lut::TradeoffRow& r : report.rows)
+  for (const reports::TradeoffRow& r : report.rows)
     std::printf("%-10s %-16s %-5s %-6.0e %10llu %10llu %9.4f %8.1f %10.3g %10.3g %10.3g\n",
-                lut::resolution_text(r.config.resolution).c_str(), lut::mappings_text(r.config.mappings).c_str(),
-                lut::to_string(r.config.encoding), r.config.tolerance, static_cast<unsigned long long>(r.bytes),
+                tables::resolution_text(r.config.resolution).c_str(), reports::mappings_text(r.config.mappings).c_str(),
+                to_string(r.config.encoding), r.config.tolerance, static_cast<unsigned long long>(r.bytes),
                 static_cast<unsigned long long>(r.file_bytes), r.bake_seconds, r.lookup_ns, r.max_error, r.rms_error,
                 r.max_stored_error);
 }
@@ -151,30 +152,27 @@ void add_tradeoff_command(CLI::App& app, Action& action) {
                          std::to_string(kMaxPoints) + "]");
       if (args->seed < 0)
         throw InputError("--seed=" + std::to_string(args->seed) + " is not allowed; expected an integer >= 0");
-      const lut::TradeoffPlan plan = make_plan(law, *args);
+      const reports::TradeoffPlan plan = make_plan(law, *args);
       // Refuse unwritable outputs before the measurement, not after.
-      if (!args->plot.empty()) lut::check_writable(args->plot);
-      if (!args->markdown.empty()) lut::check_writable(args->markdown);
+      if (!args->plot.empty()) check_writable(args->plot);
+      if (!args->markdown.empty()) check_writable(args->markdown);
 
-      lut::TradeoffOptions options;
+      reports::TradeoffOptions options;
       options.points = static_cast<int>(points);
       options.seed = static_cast<std::uint64_t>(args->seed);
-      if (::isatty(2))
-        options.progress = [](std::size_t done, std::size_t total) {
-          std::fprintf(stderr, "\rtradeoff: %zu/%zu configurations", done, total);
-          if (done == total) std::fprintf(stderr, "\n");
-        };
-      const lut::TradeoffReport report = lut::measure_tradeoff(*model, law, plan, options);
+      if (auto bar = util::progress_bar("tradeoff: configurations"))
+        options.progress = [bar](std::size_t done, std::size_t total) { bar(done, total); };
+      const reports::TradeoffReport report = reports::measure_tradeoff(*model, law, plan, options);
       const std::string command = measurement_command(*args, model->spec(), law);
 
-      if (!args->plot.empty()) lut::write_tradeoff_plot(report, args->plot);
+      if (!args->plot.empty()) reports::write_tradeoff_plot(report, args->plot);
       if (!args->markdown.empty()) {
         std::string plot_link;
         if (!args->plot.empty()) {
           const std::size_t slash = args->plot.find_last_of('/');
           plot_link = slash == std::string::npos ? args->plot : args->plot.substr(slash + 1);
         }
-        write_text_atomically(args->markdown, lut::tradeoff_markdown(report, command, plot_link));
+        write_text_atomically(args->markdown, reports::tradeoff_markdown(report, command, plot_link));
       }
       if (args->json)
         std::cout << to_json(report, args->quick, command).dump(2) << "\n";

@@ -5,8 +5,8 @@
 
 #include "cli/args.h"
 #include "cli/commands.h"
-#include "lut/atomic_file.h"
-#include "integrate/verify.h"
+#include "util/atomic_file.h"
+#include "reports/verify.h"
 
 namespace ganzfeld::cli {
 

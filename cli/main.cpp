@@ -4,7 +4,7 @@
 #include <iostream>
 
 #include "cli/commands.h"
-#include "laws/error.h"
+#include "util/error.h"
 
 int main(int argc, char** argv) {
   using namespace ganzfeld::cli;
@@ -20,7 +20,9 @@ int main(int argc, char** argv) {
   add_info_command(app, action);
   add_sample_command(app, action);
   add_tradeoff_command(app, action);
+#ifdef GANZFELD_HAS_BENCH  // built only with -DGANZFELD_BENCH=ON (the peers are linked there)
   add_bench_command(app, action);
+#endif
   add_render_command(app, action);
   add_figure_command(app, action);
   add_export_glsl_command(app, action);

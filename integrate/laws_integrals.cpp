@@ -6,7 +6,7 @@
 #include <tbb/parallel_for.h>
 
 #include "integrate/laws.h"
-#include "laws/error.h"
+#include "util/error.h"
 
 namespace ganzfeld {
 

@@ -8,7 +8,7 @@
 #include <utility>
 
 #include "laws/classic_models.h"  // fresnel_complex, kGrazingCosFloor
-#include "laws/error.h"
+#include "util/error.h"
 #include "laws/text_data.h"
 
 namespace ganzfeld {

@@ -10,7 +10,7 @@
 #include <boost/math/quadrature/gauss_kronrod.hpp>
 
 #include "laws/classic_models.h"
-#include "laws/error.h"
+#include "util/error.h"
 #include "laws/registry.h"
 
 namespace ganzfeld {

@@ -10,7 +10,7 @@
 #include <boost/math/special_functions/gamma.hpp>
 
 #include "laws/classic_models.h"  // fresnel_complex
-#include "laws/error.h"
+#include "util/error.h"
 
 namespace ganzfeld {
 

@@ -18,7 +18,7 @@
 #include <limits>
 #include <numbers>
 
-#include "laws/error.h"
+#include "util/error.h"
 #include "laws/registry.h"
 
 namespace ganzfeld {

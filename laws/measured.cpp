@@ -8,7 +8,7 @@
 #include <numbers>
 #include <sstream>
 
-#include "laws/error.h"
+#include "util/error.h"
 #include "laws/registry.h"
 #include "laws/text_data.h"
 

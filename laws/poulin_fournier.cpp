@@ -8,7 +8,7 @@
 
 #include <boost/math/special_functions/beta.hpp>
 
-#include "laws/error.h"
+#include "util/error.h"
 
 namespace ganzfeld {
 

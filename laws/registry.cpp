@@ -3,7 +3,7 @@
 #include <charconv>
 #include <cmath>
 
-#include "laws/error.h"
+#include "util/error.h"
 #include "laws/kp_lobes.h"
 
 namespace ganzfeld {

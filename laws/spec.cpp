@@ -4,7 +4,7 @@
 #include <cmath>
 #include <cstdlib>
 
-#include "laws/error.h"
+#include "util/error.h"
 #include "laws/mixture.h"
 #include "laws/registry.h"
 

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "laws/error.h"
+#include "util/error.h"
 
 namespace ganzfeld {
 

@@ -5,9 +5,8 @@
 #include <memory>
 #include <numbers>
 
-#include "laws/error.h"
+#include "util/error.h"
 #include "laws/spec.h"
-#include "lut/bake.h"
 #include "rasterizer/shading.h"
 
 namespace ganzfeld::raster {
@@ -126,32 +125,12 @@ Image indicatrix_quadrant(const Model& model, int size) {
   return render(scene);
 }
 
-/// Sphere quadrants need g (sky) and h (Ganzfeld) of every lobe: closed forms for Lambert,
-/// small tables otherwise (direct cubature for anisotropic models).
+/// Sphere quadrants need g (sky) and h (Ganzfeld) of every lobe, planned as a scene's are.
 ShadingMaterial figure_material(const std::string& spec, const FigureOptions& options) {
-  ShadingMaterial material;
-  for (const Lobe& lobe : parse_lobes(spec)) {
-    ShadingLobe s;
-    s.weight = lobe.weight;
-    s.model = lobe.model;
-    if (is_lambert(*lobe.model)) {
-      s.laws = lambert_laws();
-    } else if (!lobe.model->traits().isotropic) {
-      // Anisotropic: no tables (they would need a fourth axis, lut/plan.h); cubature per pixel.
-      s.laws = direct_laws(lobe.model, options.tolerance);
-    } else {
-      lut::BakeOptions g_options, h_options;
-      g_options.resolution = options.g_resolution;
-      g_options.tolerance = options.tolerance;
-      h_options.resolution = {options.h_resolution};
-      h_options.tolerance = options.tolerance;
-      auto g = std::make_shared<const lut::Table>(lut::bake(*lobe.model, Law::g, g_options));
-      auto h = std::make_shared<const lut::Table>(lut::bake(*lobe.model, Law::h, h_options));
-      s.laws = table_laws(g, h);
-    }
-    material.push_back(std::move(s));
-  }
-  return material;
+  const std::vector<Light> fields{grey_light(Light::Type::hemispherical, {0, 1, 0}, 1.0),
+                                  grey_light(Light::Type::ganzfeld, {0, 1, 0}, 1.0)};
+  const scene::ShadingPlan plan = scene::plan_material(scene::material_of(spec), fields, options.tables, options.store);
+  return shading_materials(plan, options.tables.tolerance).front();
 }
 
 Image sphere_quadrant(const ShadingMaterial& material, const Light& light, int size, double background) {

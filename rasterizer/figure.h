@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "rasterizer/image.h"
+#include "scene/plan.h"
 
 namespace ganzfeld::raster {
 
@@ -23,10 +24,11 @@ inline constexpr double kFieldRadiance = 0.8;
 inline constexpr double kFigureBackground = 0.1;
 
 struct FigureOptions {
-  int size = 256;             ///< pixels per quadrant side
-  double tolerance = 1e-6;    ///< cubature tolerance of the on-the-fly tables
-  std::vector<int> g_resolution{24, 24, 12};
-  int h_resolution = 64;
+  int size = 256;  ///< pixels per quadrant side
+  /// The small tables of g and h each non-Lambert lobe needs (scene/plan.h); anisotropic lobes
+  /// are computed by cubature per pixel at the same tolerance.
+  scene::TableOptions tables{{24, 24, 12}, {64}, 1e-6};
+  scene::TableStore store;  ///< in memory by default; a cache directory with `figure --cache`
 };
 
 /// One 2×2 panel, (2 size + gap) pixels square. Throws InputError for a bad spec or size.

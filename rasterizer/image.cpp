@@ -11,11 +11,11 @@
 #include <OpenEXR/ImfHeader.h>
 #include <OpenEXR/ImfInputFile.h>
 #include <OpenEXR/ImfOutputFile.h>
-#include <png.h>
 
-#include "laws/error.h"
-#include "lut/atomic_file.h"
-#include "lut/exr_io.h"
+#include "util/error.h"
+#include "util/atomic_file.h"
+#include "util/png.h"
+#include "tables/exr_io.h"
 #include "rasterizer/raster.h"
 
 namespace ganzfeld::raster {
@@ -56,19 +56,9 @@ std::string one_line(std::string text) {
 
 
 void write_png(const Image& image, const std::string& file) {
-  std::vector<unsigned char> bytes(image.rgb.size());
+  std::vector<std::uint8_t> bytes(image.rgb.size());
   for (std::size_t k = 0; k < bytes.size(); ++k) bytes[k] = srgb_byte(image.rgb[k]);
-  png_image png;
-  std::memset(&png, 0, sizeof png);
-  png.version = PNG_IMAGE_VERSION;
-  png.width = static_cast<png_uint_32>(image.width);
-  png.height = static_cast<png_uint_32>(image.height);
-  png.format = PNG_FORMAT_RGB;  // 8-bit sRGB
-  if (!png_image_write_to_file(&png, file.c_str(), 0, bytes.data(), 0, nullptr)) {
-    const std::string why = png.message;
-    png_image_free(&png);
-    throw std::runtime_error(why.empty() ? "libpng failed" : why);
-  }
+  util::write_png_rgb8(file, image.width, image.height, bytes.data());
 }
 
 void write_exr(const Image& image, const std::string& file) {
@@ -103,7 +93,7 @@ void write_image(const Image& image, const std::string& path) {
   if (image.width < 1 || image.height < 1 || image.rgb.size() != static_cast<std::size_t>(image.width) * image.height * 3)
     throw InputError("cannot write image '" + path + "': the image is empty (" + std::to_string(image.width) + "x" +
                      std::to_string(image.height) + ")");
-  lut::check_writable(path);
+  check_writable(path);
   write_atomically(
       path,
       [&](const std::string& temp) {
@@ -117,15 +107,9 @@ Image read_image(const std::string& path) {
   const ImageFormat format = image_format(path);
   try {
     if (format == ImageFormat::png) {
-      png_image png;
-      std::memset(&png, 0, sizeof png);
-      png.version = PNG_IMAGE_VERSION;
-      if (!png_image_begin_read_from_file(&png, path.c_str())) throw std::runtime_error(png.message);
-      png.format = PNG_FORMAT_RGB;
-      std::vector<unsigned char> bytes(PNG_IMAGE_SIZE(png));
-      if (!png_image_finish_read(&png, nullptr, bytes.data(), 0, nullptr)) throw std::runtime_error(png.message);
-      Image image(static_cast<int>(png.width), static_cast<int>(png.height));
-      for (std::size_t k = 0; k < bytes.size(); ++k) image.rgb[k] = static_cast<float>(srgb_decode(bytes[k] / 255.0));
+      const util::Rgb8Image png = util::read_png_rgb8(path);
+      Image image(png.width, png.height);
+      for (std::size_t k = 0; k < png.rgb.size(); ++k) image.rgb[k] = static_cast<float>(srgb_decode(png.rgb[k] / 255.0));
       return image;
     }
     Imf::InputFile in(path.c_str());

@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "lut/scene.h"
+#include "scene/scene.h"
 
 namespace ganzfeld::raster {
 

@@ -7,7 +7,7 @@
 #include <sstream>
 #include <utility>
 
-#include "laws/error.h"
+#include "util/error.h"
 
 namespace ganzfeld::raster {
 

@@ -7,7 +7,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
-#include "laws/error.h"
+#include "util/error.h"
 
 namespace ganzfeld::raster {
 

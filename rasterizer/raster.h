@@ -13,7 +13,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "lut/scene.h"
+#include "scene/scene.h"
 #include "rasterizer/mesh.h"
 
 namespace ganzfeld::raster {

@@ -7,7 +7,7 @@
 #include <tbb/parallel_for.h>
 
 #include "laws/kp_lobes.h"
-#include "lut/sample.h"
+#include "tables/sample.h"
 
 namespace ganzfeld::raster {
 
@@ -18,25 +18,23 @@ class LambertLaws final : public LawSource {
   bool has(Law) const override { return true; }
   double g(const Vec3& i, const Vec3&) const override { return lambert::g(i.z); }
   double h(const Vec3&) const override { return 1.0; }
-  std::string describe() const override { return "lambert closed forms"; }
 };
 
 class TableLaws final : public LawSource {
  public:
-  TableLaws(std::shared_ptr<const lut::Table> g, std::shared_ptr<const lut::Table> h) : g_(std::move(g)), h_(std::move(h)) {}
+  TableLaws(std::shared_ptr<const tables::Table> g, std::shared_ptr<const tables::Table> h) : g_(std::move(g)), h_(std::move(h)) {}
   bool has(Law law) const override { return (law == Law::g && g_) || (law == Law::h && h_); }
   double g(const Vec3& i, const Vec3& j) const override {
-    const auto x = lut::coordinates(Law::g, i, j);
-    return lut::sample(*g_, std::span<const double>(x)).value;
+    const auto x = tables::coordinates(Law::g, i, j);
+    return tables::sample(*g_, std::span<const double>(x)).value;
   }
   double h(const Vec3& j) const override {
     const double x[1] = {std::clamp(j.z, 0.0, 1.0)};
-    return lut::sample(*h_, std::span<const double>(x)).value;
+    return tables::sample(*h_, std::span<const double>(x)).value;
   }
-  std::string describe() const override { return "tables"; }
 
  private:
-  std::shared_ptr<const lut::Table> g_, h_;
+  std::shared_ptr<const tables::Table> g_, h_;
 };
 
 class DirectLaws final : public LawSource {
@@ -45,7 +43,6 @@ class DirectLaws final : public LawSource {
   bool has(Law law) const override { return law == Law::g || law == Law::h; }
   double g(const Vec3& i, const Vec3& j) const override { return vignetting(*model_, i, j, options_).value; }
   double h(const Vec3& j) const override { return darkening(*model_, j, options_).value; }
-  std::string describe() const override { return "direct cubature"; }
 
  private:
   ModelPtr model_;
@@ -62,7 +59,7 @@ Vec3 clamp_to_horizon(Vec3 j) {
 }  // namespace
 
 LawSourcePtr lambert_laws() { return std::make_shared<LambertLaws>(); }
-LawSourcePtr table_laws(std::shared_ptr<const lut::Table> g, std::shared_ptr<const lut::Table> h) {
+LawSourcePtr table_laws(std::shared_ptr<const tables::Table> g, std::shared_ptr<const tables::Table> h) {
   return std::make_shared<TableLaws>(std::move(g), std::move(h));
 }
 LawSourcePtr direct_laws(ModelPtr model, double tolerance) {
@@ -103,14 +100,14 @@ Rgb shade(const ShadingMaterial& material, const std::vector<Light>& lights, con
 
 void check_laws_available(const RenderScene& scene) {
   if (scene.mesh_material.size() != scene.meshes.size()) throw std::logic_error("one material index per mesh expected");
-  const LawsNeeded needed = laws_needed(scene.lights);
+  const scene::LightFields needed = scene::light_fields(scene.lights);
   for (std::size_t m : scene.mesh_material) {  // materials no mesh uses are never shaded
     if (m >= scene.materials.size()) throw std::logic_error("mesh material index out of range");
     for (const ShadingLobe& lobe : scene.materials[m]) {
       if (!lobe.model) throw std::logic_error("a shading lobe has no model");
-      if ((needed.g || needed.h) && !lobe.laws) throw std::logic_error("lobe " + lobe.model->spec() + " has no law source");
-      if (needed.g && !lobe.laws->has(Law::g)) throw std::logic_error("lobe " + lobe.model->spec() + " has no g");
-      if (needed.h && !lobe.laws->has(Law::h)) throw std::logic_error("lobe " + lobe.model->spec() + " has no h");
+      if ((needed.sky || needed.ganzfeld) && !lobe.laws) throw std::logic_error("lobe " + lobe.model->spec() + " has no law source");
+      if (needed.sky && !lobe.laws->has(Law::g)) throw std::logic_error("lobe " + lobe.model->spec() + " has no g");
+      if (needed.ganzfeld && !lobe.laws->has(Law::h)) throw std::logic_error("lobe " + lobe.model->spec() + " has no h");
     }
   }
 }
@@ -141,13 +138,35 @@ void add_scene_geometry(const Scene& scene, RenderScene& out) {
   }
 }
 
-LawsNeeded laws_needed(const std::vector<Light>& lights) {
-  LawsNeeded needed;
-  for (const Light& light : lights) {
-    needed.g = needed.g || light.type == Light::Type::hemispherical;
-    needed.h = needed.h || light.type == Light::Type::ganzfeld;
+namespace {
+LawSourcePtr law_source(const scene::PlannedLobe& lobe, double direct_tolerance) {
+  using scene::LawOrigin;
+  const bool direct = lobe.g == LawOrigin::direct || lobe.h == LawOrigin::direct;
+  const bool closed = lobe.g == LawOrigin::closed_form || lobe.h == LawOrigin::closed_form;
+  if (direct) return direct_laws(lobe.model, direct_tolerance);
+  if (closed) return lambert_laws();
+  return table_laws(lobe.g_table, lobe.h_table);
+}
+}  // namespace
+
+std::vector<ShadingMaterial> shading_materials(const scene::ShadingPlan& plan, double direct_tolerance) {
+  std::vector<ShadingMaterial> out;
+  for (const scene::PlannedMaterial& material : plan.materials) {
+    ShadingMaterial shading;
+    for (const scene::PlannedLobe& lobe : material)
+      shading.push_back({lobe.weight, lobe.color, lobe.model, law_source(lobe, direct_tolerance)});
+    out.push_back(std::move(shading));
   }
-  return needed;
+  return out;
+}
+
+RenderScene render_scene(const Scene& scene, const scene::ShadingPlan& plan, double direct_tolerance) {
+  RenderScene out;
+  out.camera = scene.camera;
+  out.lights = scene.lights;
+  add_scene_geometry(scene, out);
+  out.materials = shading_materials(plan, direct_tolerance);
+  return out;
 }
 
 }  // namespace ganzfeld::raster

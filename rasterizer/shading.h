@@ -10,7 +10,7 @@
 // for the sky and the Ganzfeld j is then clamped to the horizon (the limit of the visible side).
 //
 // f is always the model's own closed form. g and h come from a LawSource, one per lobe:
-//   tables  — lut::sample on baked tables (fast; error = table error + interpolation error)
+//   tables  — tables::sample on baked tables (fast; error = table error + interpolation error)
 //   direct  — integrate/laws.h cubature per pixel (slow; the reference, to a tolerance)
 //   lambert — the closed forms g = (1 + i·n)/2, h = 1 (exact)
 #pragma once
@@ -20,8 +20,9 @@
 #include <vector>
 
 #include "integrate/laws.h"
-#include "lut/scene.h"
-#include "lut/table.h"
+#include "scene/plan.h"
+#include "scene/scene.h"
+#include "tables/table.h"
 #include "rasterizer/image.h"
 #include "rasterizer/raster.h"
 
@@ -36,14 +37,13 @@ class LawSource {
   virtual double g(const Vec3& i, const Vec3& j) const = 0;
   /// Law of darkening.
   virtual double h(const Vec3& j) const = 0;
-  virtual std::string describe() const = 0;
 };
 using LawSourcePtr = std::shared_ptr<const LawSource>;
 
 /// g = (1 + i·n)/2, h = 1 (K&P, white Lambertian surface).
 LawSourcePtr lambert_laws();
 /// Tables of one lobe (either may be null when the scene does not need that law).
-LawSourcePtr table_laws(std::shared_ptr<const lut::Table> g, std::shared_ptr<const lut::Table> h);
+LawSourcePtr table_laws(std::shared_ptr<const tables::Table> g, std::shared_ptr<const tables::Table> h);
 /// Cubature per call at absolute tolerance `tolerance` (integrate/laws.h).
 LawSourcePtr direct_laws(ModelPtr model, double tolerance);
 
@@ -93,10 +93,11 @@ Image render(const RenderScene& scene);
 inline constexpr int kSphereSegments = 128;
 void add_scene_geometry(const Scene& scene, RenderScene& out);
 
-/// Which of g and h the scene's lights need (a sky needs g, a Ganzfeld h; collimated light none).
-struct LawsNeeded {
-  bool g = false, h = false;
-};
-LawsNeeded laws_needed(const std::vector<Light>& lights);
+/// The shading materials of a plan (scene/plan.h): closed forms, the plan's tables, or cubature
+/// per pixel at `direct_tolerance` for laws the plan marks direct.
+std::vector<ShadingMaterial> shading_materials(const scene::ShadingPlan& plan, double direct_tolerance);
+
+/// What render() needs for `scene` shaded as `plan` says: camera, lights, geometry, materials.
+RenderScene render_scene(const Scene& scene, const scene::ShadingPlan& plan, double direct_tolerance);
 
 }  // namespace ganzfeld::raster

@@ -25,7 +25,7 @@
 #include "integrate/laws.h"
 #include "laws/beard_maxwell.h"
 #include "laws/classic_models.h"
-#include "laws/error.h"
+#include "util/error.h"
 #include "laws/spec.h"
 
 namespace ganzfeld {

@@ -19,7 +19,7 @@
 #include "integrate/laws.h"
 #include "laws/blinn_dusty.h"
 #include "laws/classic_models.h"
-#include "laws/error.h"
+#include "util/error.h"
 #include "laws/mixture.h"
 #include "laws/registry.h"
 

@@ -12,7 +12,7 @@
 // (normals from a float ray cast, float axis mappings and interpolation weights, float pow in
 // f) against double on the CPU. Both sample the same stored numbers, so in practice the
 // difference is far below the first part, and the test holds every pixel to the float part
-// alone as well: the GPU samples the tables the way lut/ does, not merely within their error.
+// alone as well: the GPU samples the tables the way tables/ does, not merely within their error.
 // Measured on llvmpipe (Mesa 22.3): max |GPU - CPU| 4.9e-6, 3.5e-5 relative; 0.2% of the
 // stated table error.
 #include <EGL/egl.h>
@@ -32,11 +32,11 @@
 #include <optional>
 #include <string>
 
-#include "lut/bake.h"
-#include "lut/glsl.h"
-#include "lut/plan.h"
-#include "lut/scene.h"
-#include "lut/texture_file.h"
+#include "tables/bake.h"
+#include "export/glsl.h"
+#include "scene/plan.h"
+#include "scene/scene.h"
+#include "export/texture_file.h"
 #include "rasterizer/raster.h"
 #include "rasterizer/shading.h"
 #include "tests/temp_dir.h"
@@ -196,20 +196,17 @@ void main() {
 
 struct Baked {
   Scene scene;
-  std::map<std::pair<std::string, Law>, std::shared_ptr<const lut::Table>> tables;
+  scene::ShadingPlan plan;  // the planner's, as render and export-glsl --scene use it
+  std::map<std::pair<std::string, Law>, std::shared_ptr<const tables::Table>> tables;
 };
 
-Baked bake_scene(const std::filesystem::path& dir, lut::Encoding encoding) {
+Baked bake_scene(const std::filesystem::path& dir, tables::Encoding encoding) {
   const auto scene_path = dir / "scene.json";
   std::ofstream(scene_path) << kSceneJson;
-  Baked out{load_scene(scene_path.string()), {}};
-  for (const lut::TableRequest& request : lut::tables_needed(out.scene)) {
-    lut::BakeOptions options;
-    options.resolution = request.law == Law::g ? std::vector<int>{17, 17, 9} : std::vector<int>{33};
-    options.tolerance = 1e-7;
-    options.encoding = encoding;
-    out.tables[{request.spec, request.law}] = std::make_shared<const lut::Table>(lut::bake(*request.model, request.law, options));
-  }
+  Baked out{load_scene(scene_path.string()), {}, {}};
+  const scene::TableOptions options{{17, 17, 9}, {33}, 1e-7, CubatureOptions{}.max_evaluations, encoding};
+  out.plan = scene::plan_shading(out.scene, options, scene::TableStore{});
+  for (const scene::PlannedTable& t : out.plan.tables) out.tables[{t.request.spec, t.request.law}] = t.table;
   return out;
 }
 
@@ -223,26 +220,7 @@ struct CpuPicture {
 CpuPicture cpu_render(const Baked& baked) {
   CpuPicture out;
   raster::RenderScene& rs = out.render_scene;
-  rs.camera = baked.scene.camera;
-  rs.lights = baked.scene.lights;
-  raster::add_scene_geometry(baked.scene, rs);
-  for (const Material& material : baked.scene.materials) {
-    raster::ShadingMaterial shading;
-    for (const MaterialLobe& lobe : material.lobes) {
-      raster::ShadingLobe s{lobe.weight, lobe.color, lobe.model, nullptr};
-      if (raster::is_lambert(*lobe.model)) {
-        s.laws = raster::lambert_laws();
-      } else {
-        auto find = [&](Law law) -> std::shared_ptr<const lut::Table> {
-          const auto it = baked.tables.find({lobe.spec, law});
-          return it == baked.tables.end() ? nullptr : it->second;
-        };
-        s.laws = raster::table_laws(find(Law::g), find(Law::h));
-      }
-      shading.push_back(s);
-    }
-    rs.materials.push_back(shading);
-  }
+  rs = raster::render_scene(baked.scene, baked.plan, 1e-6);
   out.gbuffer = raster::rasterize(rs.camera, rs.meshes);
   out.image = raster::shade_image(rs, out.gbuffer);
   return out;
@@ -275,9 +253,9 @@ struct Comparison {
   double max_difference = 0.0, max_relative = 0.0, max_over_stated = 0.0;
 };
 
-/// hardware_filter: the GPU's own linear filter (lut/glsl.h) instead of texelFetch; it blends
+/// hardware_filter: the GPU's own linear filter (export/glsl.h) instead of texelFetch; it blends
 /// with low-precision weights, so only the stated bound is asserted and the difference reported.
-void run_gl_comparison(bool es, lut::Encoding encoding, bool hardware_filter = false) {
+void run_gl_comparison(bool es, tables::Encoding encoding, bool hardware_filter = false) {
   std::string error;
   auto gl = make_context(es, error);
   ASSERT_TRUE(gl) << error;
@@ -285,15 +263,13 @@ void run_gl_comparison(bool es, lut::Encoding encoding, bool hardware_filter = f
               reinterpret_cast<const char*>(glGetString(GL_VERSION)));
 
   const auto dir = std::filesystem::path(testing_support::temp_dir()) /
-                   (std::string(es ? "es" : "core") + "_" + lut::to_string(encoding));
+                   (std::string(es ? "es" : "core") + "_" + to_string(encoding));
   std::filesystem::create_directories(dir);
   const Baked baked = bake_scene(dir, encoding);
   const CpuPicture cpu = cpu_render(baked);
 
   // Export exactly what a user gets: the scene shader and one KTX2 per table, read back from disk.
-  lut::SceneTableMap tables;
-  for (const auto& [key, table] : baked.tables) tables[key] = table.get();
-  const std::string scene_glsl = lut::glsl_scene_shader(baked.scene, tables, "gl_shader_test scene");
+  const std::string scene_glsl = exporting::glsl_scene_shader(baked.scene, baked.plan, "gl_shader_test scene");
 
   std::string log;
   const GLuint vs = compile(GL_VERTEX_SHADER, es ? kVertexEs : kVertexCore, log);
@@ -312,12 +288,12 @@ void run_gl_comparison(bool es, lut::Encoding encoding, bool hardware_filter = f
   int unit = 0;
   std::vector<GLuint> textures;
   for (const auto& [key, table] : baked.tables) {
-    const std::string sampler = lut::glsl_sampler_name(key.first, key.second);
+    const std::string sampler = exporting::glsl_sampler_name(key.first, key.second);
     const auto file = dir / (sampler + ".ktx2");
-    lut::write_texture(*table, lut::TextureFormat::ktx2, file.string(), sampler);
-    const lut::TextureData data = lut::read_ktx2(file.string());
+    exporting::write_texture(*table, exporting::TextureFormat::ktx2, file.string(), sampler);
+    const exporting::TextureData data = exporting::read_ktx2(file.string());
     ASSERT_EQ(data.key_values.at("ganzfeld.model"), key.first);
-    const GLenum internal = data.vk_format == lut::kVkFormatR16Sfloat ? GL_R16F : GL_R32F;
+    const GLenum internal = data.vk_format == exporting::kVkFormatR16Sfloat ? GL_R16F : GL_R32F;
     GLuint texture = 0;
     glGenTextures(1, &texture);
     textures.push_back(texture);
@@ -330,7 +306,7 @@ void run_gl_comparison(bool es, lut::Encoding encoding, bool hardware_filter = f
                    data.texels.data());
     else
       glTexImage2D(target, 0, internal, data.size.width, data.size.height, 0, GL_RED, GL_FLOAT, data.texels.data());
-    // Complete without mipmaps, so texelFetch reads level 0 (lut/glsl.h).
+    // Complete without mipmaps, so texelFetch reads level 0 (export/glsl.h).
     const GLint filter = hardware_filter ? GL_LINEAR : GL_NEAREST;
     glTexParameteri(target, GL_TEXTURE_MIN_FILTER, filter);
     glTexParameteri(target, GL_TEXTURE_MAG_FILTER, filter);
@@ -420,7 +396,7 @@ void run_gl_comparison(bool es, lut::Encoding encoding, bool hardware_filter = f
     }
   std::printf("%s, %s tables%s: %d pixels compared, max |GPU - CPU| = %.3g (relative %.3g, %.3g of the stated table "
               "error); coverage differs at %d of %d silhouette-ring pixels\n",
-              es ? "GLSL ES 3.00" : "GLSL 4.30 core", lut::to_string(encoding),
+              es ? "GLSL ES 3.00" : "GLSL 4.30 core", to_string(encoding),
               hardware_filter ? ", hardware filtering" : "", c.compared, c.max_difference,
               c.max_relative, c.max_over_stated, c.coverage_mismatch, c.covered_cpu);
   EXPECT_EQ(c.over_bound, 0);
@@ -441,11 +417,11 @@ void run_gl_comparison(bool es, lut::Encoding encoding, bool hardware_filter = f
   glDeleteShader(fs);
 }
 
-TEST(GlShader, Glsl430CoreFloatTablesMatchTheSoftwareRasterizer) { run_gl_comparison(false, lut::Encoding::single); }
-TEST(GlShader, Glsl430CoreHalfTablesMatchTheSoftwareRasterizer) { run_gl_comparison(false, lut::Encoding::half); }
-TEST(GlShader, GlslEs300FloatTablesMatchTheSoftwareRasterizer) { run_gl_comparison(true, lut::Encoding::single); }
+TEST(GlShader, Glsl430CoreFloatTablesMatchTheSoftwareRasterizer) { run_gl_comparison(false, tables::Encoding::single); }
+TEST(GlShader, Glsl430CoreHalfTablesMatchTheSoftwareRasterizer) { run_gl_comparison(false, tables::Encoding::half); }
+TEST(GlShader, GlslEs300FloatTablesMatchTheSoftwareRasterizer) { run_gl_comparison(true, tables::Encoding::single); }
 TEST(GlShader, HardwareFilteringStaysWithinTheStatedTableError) {
-  run_gl_comparison(false, lut::Encoding::single, true);
+  run_gl_comparison(false, tables::Encoding::single, true);
 }
 
 }  // namespace

@@ -1,4 +1,4 @@
-// lut/glsl and lut/texture_file: identifiers, the KTX2 file (round trip, layout, malformed files),
+// export/glsl and export/texture_file: identifiers, the KTX2 file (round trip, layout, malformed files),
 // the C header and the exporter's metadata checks. The shaders themselves are compiled by
 // glsl_export_test.sh and run on a real GL implementation by gl_shader_test.
 #include <cstdint>
@@ -9,14 +9,17 @@
 
 #include <gtest/gtest.h>
 
-#include "laws/error.h"
+#include "util/error.h"
 #include "laws/spec.h"
-#include "lut/bake.h"
-#include "lut/glsl.h"
-#include "lut/texture_file.h"
+#include "tables/bake.h"
+#include "export/glsl.h"
+#include "export/texture_file.h"
 #include "tests/temp_dir.h"
 
-namespace ganzfeld::lut {
+namespace ganzfeld {
+using namespace ganzfeld::tables;
+using namespace ganzfeld::exporting;
+
 namespace {
 
 std::string temp_file(const std::string& name) {
@@ -151,4 +154,4 @@ TEST(GlslExport, TheFunctionCarriesTheTableMetadataAndItsShape) {
 }
 
 }  // namespace
-}  // namespace ganzfeld::lut
+}  // namespace ganzfeld

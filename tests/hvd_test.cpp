@@ -5,7 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "integrate/laws.h"
-#include "laws/error.h"
+#include "util/error.h"
 #include "laws/hvd.h"
 #include "laws/spec.h"
 

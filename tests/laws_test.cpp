@@ -5,7 +5,7 @@
 
 #include <gtest/gtest.h>
 
-#include "laws/error.h"
+#include "util/error.h"
 #include "laws/kp_lobes.h"
 #include "laws/mixture.h"
 #include "laws/registry.h"

@@ -1,5 +1,5 @@
 // Measured BRDFs (laws/measured.h) and the generator that writes any model as measured data
-// (lut/brdf_export.h): the MERL reader round-trips the generator, refuses malformed files, and
+// (export/brdf_export.h): the MERL reader round-trips the generator, refuses malformed files, and
 // our tabulated format round-trips and refuses malformed text.
 #include <cmath>
 #include <cstdint>
@@ -14,10 +14,10 @@
 #include <gtest/gtest.h>
 
 #include "integrate/laws.h"
-#include "laws/error.h"
+#include "util/error.h"
 #include "laws/measured.h"
 #include "laws/spec.h"
-#include "lut/brdf_export.h"
+#include "export/brdf_export.h"
 #include "tests/temp_dir.h"
 
 namespace ganzfeld {
@@ -59,8 +59,8 @@ TEST(MerlAngles, HalfDiffAndDirectionsAreInverse) {
 class MerlRoundTrip : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    lut::write_merl(*parse_model("lambert"), temp_file("lambert.binary"));
-    lut::write_merl(*parse_model("cook-torrance:kd=0.2,ks=0.6,m=0.3"), temp_file("ct.binary"));
+    exporting::write_merl(*parse_model("lambert"), temp_file("lambert.binary"));
+    exporting::write_merl(*parse_model("cook-torrance:kd=0.2,ks=0.6,m=0.3"), temp_file("ct.binary"));
   }
 };
 
@@ -128,7 +128,7 @@ TEST_F(MerlRoundTrip, NodesAreExactAndLookupsConverge) {
 }
 
 TEST(MerlReader, RefusesMalformedFiles) {
-  std::vector<char> bytes = lut::merl_bytes(*parse_model("lambert"));
+  std::vector<char> bytes = exporting::merl_bytes(*parse_model("lambert"));
   auto refused = [&](const std::vector<char>& b, const std::string& name, const std::string& fragment) {
     const std::string path = temp_file(name);
     write_bytes(path, b);
@@ -158,7 +158,7 @@ TEST(MerlReader, RefusesMalformedFiles) {
 
 TEST(MerlReader, InvalidSamplesAreLeftOut) {
   // A file whose nodes are all invalid except one cell reads as 0 outside, never as -1/1500.
-  std::vector<char> bytes = lut::merl_bytes(*parse_model("lambert"));
+  std::vector<char> bytes = exporting::merl_bytes(*parse_model("lambert"));
   const double invalid = -1.0;
   for (std::size_t k = 0; k < 3 * merl::kSamples; k += 2) std::memcpy(bytes.data() + 12 + 8 * k, &invalid, 8);
   write_bytes(temp_file("holes.binary"), bytes);
@@ -173,7 +173,7 @@ TEST(MerlReader, InvalidSamplesAreLeftOut) {
 TEST(Tabulated, RoundTripsAndInterpolates) {
   const ModelPtr model = parse_model("minnaert:xi=0.5");
   const std::string path = temp_file("minnaert.tab");
-  lut::write_tabulated(*model, {31, 31, 19}, path);
+  exporting::write_tabulated(*model, {31, 31, 19}, path);
   const ModelPtr table = parse_model("tabulated:file=" + path);
   const ModelPtr nearest = parse_model("tabulated:file=" + path + ",lookup=0");
   // Nodes are exact (every 3 degrees in theta, 10 in phi).

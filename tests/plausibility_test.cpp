@@ -8,7 +8,7 @@
 
 #include <gtest/gtest.h>
 
-#include "integrate/plausibility.h"
+#include "reports/plausibility.h"
 #include "laws/spec.h"
 
 namespace ganzfeld {

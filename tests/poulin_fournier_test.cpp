@@ -21,7 +21,7 @@
 
 #include "integrate/laws.h"
 #include "laws/classic_models.h"
-#include "laws/error.h"
+#include "util/error.h"
 #include "laws/poulin_fournier.h"
 #include "laws/registry.h"
 #include "laws/spec.h"

@@ -11,9 +11,9 @@
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 
-#include "laws/error.h"
+#include "util/error.h"
 #include "laws/spec.h"
-#include "lut/bake.h"
+#include "tables/bake.h"
 #include "rasterizer/figure.h"
 #include "rasterizer/image.h"
 #include "rasterizer/mesh.h"
@@ -138,10 +138,10 @@ TEST(rasterizer, WhiteLambertSphereFromTableIsInvisibleInGanzfeld) {
   // The same through a baked h table: the bound is N times the table's stored max error (its
   // interpolation error is 0: h_L = 1 is constant) plus float rounding.
   constexpr double N = 0.6;
-  lut::BakeOptions options;
+  tables::BakeOptions options;
   options.resolution = {16};
   options.tolerance = 1e-10;
-  auto h = std::make_shared<const lut::Table>(lut::bake(*parse_model("lambert"), Law::h, options));
+  auto h = std::make_shared<const tables::Table>(tables::bake(*parse_model("lambert"), Law::h, options));
   const RenderScene scene =
       sphere_scene(one_lobe("lambert", table_laws(nullptr, h)), {grey_light(Light::Type::ganzfeld, {0, 1, 0}, N)}, N);
   expect_sphere_pixels(scene, [](const Vec3&, const Vec3&) { return N; }, N * h->max_error + kFloatRounding);
@@ -156,11 +156,11 @@ TEST(rasterizer, WhiteHvdEmpiricalSphereIsInvisibleInGanzfeld) {
   // cell, j·n < 6e-5, where the specular lump degenerates to a delta (h(horizon) = 1 - F = 0) —
   // which no pixel of this sphere reaches (checked).
   constexpr double N = 0.6;
-  lut::BakeOptions options;
+  tables::BakeOptions options;
   options.resolution = {128};
   options.tolerance = 1e-8;
   const ModelPtr model = parse_model("hvd-empirical:cd=1,f0=0.04,k=0.3,ns=100,nr=10");
-  auto h = std::make_shared<const lut::Table>(lut::bake(*model, Law::h, options));
+  auto h = std::make_shared<const tables::Table>(tables::bake(*model, Law::h, options));
   // Node 1 sits at j·n = 6.2e-5 (89.996°), where the specular lump is an arc 1e-4 by 1e-8 rad:
   // the engine may report it not converged within its budget (it used to return 0.96 ± 1e-8
   // there, before horizon grading; its estimate is not honest yet: 3.7e-8 off against 1.2e-8).
@@ -207,10 +207,10 @@ TEST(rasterizer, MinnaertSphereFromTableWithinInterpolationBound) {
   // interpolation of h = mu between nodes Δu = 1/63 apart errs by at most Δu^2/8 max|d²h/du²|
   // = Δu^2/4. Plus the stored error and float rounding.
   const ModelPtr model = parse_model("minnaert:xi=1");
-  lut::BakeOptions options;
+  tables::BakeOptions options;
   options.resolution = {64};
   options.tolerance = 1e-10;
-  auto h = std::make_shared<const lut::Table>(lut::bake(*model, Law::h, options));
+  auto h = std::make_shared<const tables::Table>(tables::bake(*model, Law::h, options));
   const double du = 1.0 / 63;
   const RenderScene scene = sphere_scene(one_lobe("minnaert:xi=1", table_laws(nullptr, h)),
                                          {grey_light(Light::Type::ganzfeld, {0, 1, 0}, 1.0)}, 0.0);
@@ -248,7 +248,7 @@ TEST(rasterizer, TangentFrameIsOrthonormal) {
 /// difference of neighbouring nodes (exact for quadratics). Multilinear interpolation is linear
 /// interpolation along each axis in turn, each a convex combination, so the errors add over
 /// the axes. kSafety covers f'' varying within a cell beyond what the second difference sees.
-double interpolation_bound(const lut::Table& t) {
+double interpolation_bound(const tables::Table& t) {
   constexpr double kSafety = 2.0;
   const std::size_t dims = t.axes.size();
   std::vector<std::size_t> stride(dims, 1);
@@ -273,13 +273,13 @@ TEST(rasterizer, TablesAgreeWithDirectWithinTableErrorPlusInterpolation) {
   const std::string spec = "specular:alpha=8";
   const ModelPtr model = parse_model(spec);
   constexpr double kTableTol = 1e-7, kDirectTol = 1e-8, Ns = 0.7, Ng = 0.5;
-  lut::BakeOptions g_options, h_options;
+  tables::BakeOptions g_options, h_options;
   g_options.resolution = {24, 24, 16};
   g_options.tolerance = kTableTol;
   h_options.resolution = {64};
   h_options.tolerance = kTableTol;
-  auto g = std::make_shared<const lut::Table>(lut::bake(*model, Law::g, g_options));
-  auto h = std::make_shared<const lut::Table>(lut::bake(*model, Law::h, h_options));
+  auto g = std::make_shared<const tables::Table>(tables::bake(*model, Law::g, g_options));
+  auto h = std::make_shared<const tables::Table>(tables::bake(*model, Law::h, h_options));
   const double bound = Ns * (g->max_error + interpolation_bound(*g)) + Ng * (h->max_error + interpolation_bound(*h)) +
                        (Ns + Ng) * kDirectTol + kFloatRounding;
   const std::vector<Light> lights{grey_light(Light::Type::hemispherical, glm::normalize(Vec3{0.2, 1, 0.3}), Ns),

@@ -1,4 +1,4 @@
-// Scenes (lut/scene.h), the tables they need (lut/plan.h) and the table cache (lut/cache.h):
+// Scenes (scene/scene.h), the tables they need (scene/plan.h) and the table cache (tables/cache.h):
 // parsing with defaults, every refusal of a bad scene, the plan per light field, reuse of a
 // cached table and re-baking of a corrupt or mismatching one.
 #include <cmath>
@@ -11,15 +11,18 @@
 
 #include "tests/temp_dir.h"
 
-#include "laws/error.h"
+#include "util/error.h"
 #include "laws/spec.h"
-#include "lut/cache.h"
-#include "lut/exr_io.h"
-#include "lut/plan.h"
-#include "lut/scene.h"
+#include "tables/cache.h"
+#include "tables/exr_io.h"
+#include "scene/plan.h"
+#include "scene/scene.h"
 
 // Suite names start with lower-case "scene" so that `ctest -R scene` selects exactly these.
-namespace ganzfeld::lut {
+namespace ganzfeld {
+using namespace ganzfeld::tables;
+using namespace ganzfeld::scene;
+
 namespace {
 
 namespace fs = std::filesystem;
@@ -243,7 +246,7 @@ TEST(scene, SkyAndGanzfeldNeedGAndHOfEachLobeDeduplicated) {
 }
 
 TEST(scene, AnisotropicLobesNeedNoTable) {
-  // Their g would need a fourth axis; renders compute them directly instead (lut/plan.h).
+  // Their g would need a fourth axis; renders compute them directly instead (scene/plan.h).
   const Scene s = scene_from(sphere_scene(R"({"model": "0.5*ward-aniso + 0.5*specular:alpha=8"})",
                                           R"([{"type": "ganzfeld"}, {"type": "hemispherical"}])"));
   const std::vector<std::pair<std::string, Law>> want = {{"specular:alpha=8", Law::g}, {"specular:alpha=8", Law::h}};
@@ -301,20 +304,20 @@ TEST(scene, CacheKeyAndFileName) {
 TEST(scene, CacheReusesAMatchingTable) {
   const std::string dir = fresh_dir("reuse");
   const ModelPtr m = parse_model("specular:alpha=8");
-  const CacheResult first = lookup_or_bake(dir, *m, Law::g, tiny(Law::g), "test");
+  const CacheResult first = bake_or_reuse(cache_path(dir, *m, Law::g, tiny(Law::g)), *m, Law::g, tiny(Law::g), "test");
   EXPECT_EQ(first.status, CacheStatus::baked);
   EXPECT_TRUE(fs::exists(first.path));
   const auto written = fs::last_write_time(first.path);
-  const CacheResult second = lookup_or_bake(dir, *m, Law::g, tiny(Law::g), "test");
+  const CacheResult second = bake_or_reuse(cache_path(dir, *m, Law::g, tiny(Law::g)), *m, Law::g, tiny(Law::g), "test");
   EXPECT_EQ(second.status, CacheStatus::reused);
   EXPECT_EQ(second.path, first.path);
   EXPECT_EQ(second.table.value, first.table.value);
   EXPECT_EQ(fs::last_write_time(first.path), written);
-  EXPECT_EQ(lookup_or_bake(dir, *m, Law::g, tiny(Law::g), "test", /*force=*/true).status, CacheStatus::baked);
+  EXPECT_EQ(bake_or_reuse(cache_path(dir, *m, Law::g, tiny(Law::g)), *m, Law::g, tiny(Law::g), "test", /*force=*/true).status, CacheStatus::baked);
   // A different key is a different file.
   BakeOptions o = tiny(Law::g);
   o.encoding = Encoding::half;
-  const CacheResult half = lookup_or_bake(dir, *m, Law::g, o, "test");
+  const CacheResult half = bake_or_reuse(cache_path(dir, *m, Law::g, o), *m, Law::g, o, "test");
   EXPECT_EQ(half.status, CacheStatus::baked);
   EXPECT_NE(half.path, first.path);
   EXPECT_EQ(std::distance(fs::directory_iterator(dir), fs::directory_iterator{}), 2);  // no temporaries left
@@ -325,16 +328,16 @@ TEST(scene, CacheRebakesACorruptFile) {
   const ModelPtr m = parse_model("asperity:alpha=4");
   const std::string path = cache_path(dir, *m, Law::h, tiny(Law::h));
   // Truncated: half of a valid table.
-  const CacheResult good = lookup_or_bake(dir, *m, Law::h, tiny(Law::h), "test");
+  const CacheResult good = bake_or_reuse(cache_path(dir, *m, Law::h, tiny(Law::h)), *m, Law::h, tiny(Law::h), "test");
   const auto size = fs::file_size(path);
   fs::resize_file(path, size / 2);
-  const CacheResult truncated = lookup_or_bake(dir, *m, Law::h, tiny(Law::h), "test");
+  const CacheResult truncated = bake_or_reuse(cache_path(dir, *m, Law::h, tiny(Law::h)), *m, Law::h, tiny(Law::h), "test");
   EXPECT_EQ(truncated.status, CacheStatus::baked);
   EXPECT_EQ(read_table(path).value, good.table.value);
   // Not an EXR at all.
   std::ofstream(path, std::ios::trunc) << "garbage";
-  EXPECT_EQ(lookup_or_bake(dir, *m, Law::h, tiny(Law::h), "test").status, CacheStatus::baked);
-  EXPECT_EQ(lookup_or_bake(dir, *m, Law::h, tiny(Law::h), "test").status, CacheStatus::reused);
+  EXPECT_EQ(bake_or_reuse(cache_path(dir, *m, Law::h, tiny(Law::h)), *m, Law::h, tiny(Law::h), "test").status, CacheStatus::baked);
+  EXPECT_EQ(bake_or_reuse(cache_path(dir, *m, Law::h, tiny(Law::h)), *m, Law::h, tiny(Law::h), "test").status, CacheStatus::reused);
 }
 
 TEST(scene, CacheRebakesAMismatchingFile) {
@@ -346,15 +349,15 @@ TEST(scene, CacheRebakesAMismatchingFile) {
   other.tolerance = 1e-5;
   EXPECT_EQ(bake_or_reuse(path, *m, Law::h, other, "test").status, CacheStatus::baked);
   EXPECT_EQ(read_table(path).tolerance, 1e-5);
-  const CacheResult r = lookup_or_bake(dir, *m, Law::h, tiny(Law::h), "test");
+  const CacheResult r = bake_or_reuse(cache_path(dir, *m, Law::h, tiny(Law::h)), *m, Law::h, tiny(Law::h), "test");
   EXPECT_EQ(r.status, CacheStatus::baked);
   EXPECT_EQ(read_table(path).tolerance, kTinyTol);
   // And another model, same law and axes.
   EXPECT_EQ(bake_or_reuse(path, *parse_model("specular:alpha=9"), Law::h, tiny(Law::h), "test").status,
             CacheStatus::baked);
-  EXPECT_EQ(lookup_or_bake(dir, *m, Law::h, tiny(Law::h), "test").status, CacheStatus::baked);
+  EXPECT_EQ(bake_or_reuse(cache_path(dir, *m, Law::h, tiny(Law::h)), *m, Law::h, tiny(Law::h), "test").status, CacheStatus::baked);
   EXPECT_EQ(read_table(path).model, "specular:alpha=8");
 }
 
 }  // namespace
-}  // namespace ganzfeld::lut
+}  // namespace ganzfeld

@@ -7,7 +7,7 @@
 #include <gtest/gtest.h>
 
 #include "integrate/cubature.h"
-#include "laws/error.h"
+#include "util/error.h"
 #include "laws/spec.h"
 
 namespace ganzfeld::testing_support {

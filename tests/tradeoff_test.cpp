@@ -1,4 +1,4 @@
-// The tradeoff measurement (lut/tradeoff.h): errors fall with resolution, half rounding shows and
+// The tradeoff measurement (reports/tradeoff.h): errors fall with resolution, half rounding shows and
 // float rounding does not, bytes follow the resolution, the stated max error is what a user gets
 // at the reference points (and, within a measured margin, at fresh points) through the file and
 // the lookup that `ganzfeld sample` uses, and docs/tradeoff.md is not stale.
@@ -15,14 +15,17 @@
 #include <gtest/gtest.h>
 
 #include "integrate/laws.h"
-#include "laws/error.h"
+#include "util/error.h"
 #include "laws/spec.h"
-#include "lut/bake.h"
-#include "lut/exr_io.h"
-#include "lut/sample.h"
-#include "lut/tradeoff.h"
+#include "tables/bake.h"
+#include "tables/exr_io.h"
+#include "tables/sample.h"
+#include "reports/tradeoff.h"
 
-namespace ganzfeld::lut {
+namespace ganzfeld {
+using namespace ganzfeld::tables;
+using namespace ganzfeld::reports;
+
 namespace {
 
 namespace fs = std::filesystem;
@@ -35,7 +38,7 @@ constexpr const char* kModel = "specular:alpha=8";
 // the same seed; the point list is prefix-stable, so these are a subset of the docs' points.
 constexpr int kQuickPoints = 300;
 constexpr std::uint64_t kDocsSeed = 1;  // the CLI's default --seed, used by scripts/gen-tradeoff-docs
-// The tightest tolerance swept (lut/tradeoff.h): the stored error is then rounding only.
+// The tightest tolerance swept (reports/tradeoff.h): the stored error is then rounding only.
 constexpr double kTolerance = 1e-9;
 // Half stores 11 significant bits: rounding to nearest errs by up to 2^-12 relative (4.9e-4
 // for values in [1, 2), 2.4e-4 in [0.5, 1)); g of specular:alpha=8 reaches ~0.9, so a half
@@ -175,7 +178,7 @@ TEST(tradeoff, ReferencePointsArePrefixStable) {
 }
 
 TEST(tradeoff, StatedMaxErrorHoldsThroughTheFile) {
-  // What `ganzfeld sample` does (read the file, lut::sample on directions) against the
+  // What `ganzfeld sample` does (read the file, tables::sample on directions) against the
   // reference cubature: the max over the reference points is exactly the stated max_error.
   const TradeoffReport& report = quick_report();
   for (const TradeoffRow& row : report.rows) {
@@ -270,4 +273,4 @@ TEST(tradeoff, MappingOverrideIsBakedAndStored) {
 }
 
 }  // namespace
-}  // namespace ganzfeld::lut
+}  // namespace ganzfeld

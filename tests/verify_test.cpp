@@ -9,7 +9,7 @@
 #include <gtest/gtest.h>
 
 #include "integrate/laws.h"
-#include "integrate/verify.h"
+#include "reports/verify.h"
 #include "laws/kp_lobes.h"
 
 namespace ganzfeld {

@@ -1,0 +1,414 @@
+#include "export/glsl.h"
+
+#include <cctype>
+#include <cmath>
+#include <cstdio>
+#include <set>
+#include <sstream>
+
+#include "util/error.h"
+#include "laws/kp_lobes.h"
+#include "scene/plan.h"
+
+namespace ganzfeld::exporting {
+
+using namespace ganzfeld::tables;
+
+namespace {
+
+/// A GLSL float literal that reads back as the float nearest to x (9 significant digits).
+std::string literal(double x) {
+  if (!std::isfinite(x)) throw InputError("cannot write the non-finite number " + std::to_string(x) + " into GLSL");
+  char buffer[40];
+  std::snprintf(buffer, sizeof buffer, "%.9g", x);
+  std::string text = buffer;
+  if (text.find_first_of(".e") == std::string::npos) text += ".0";
+  return text;
+}
+
+/// A comment line-safe copy of text (no newlines; no "*/" since we use // comments anyway).
+std::string comment_text(const std::string& text) {
+  std::string out;
+  for (char c : text) out += (c == '\n' || c == '\r') ? ' ' : c;
+  return out;
+}
+
+std::string index_call(const Axis& axis, const std::string& x) {
+  return "gz_index_" + std::string(to_string(axis.mapping)) + "(" + x + ", " + literal(axis.min) + ", " +
+         literal(axis.max) + ")";
+}
+
+}  // namespace
+
+std::string glsl_identifier(const std::string& text) {
+  std::string out = "gz_";
+  bool pending = false;
+  for (unsigned char c : text) {
+    if (std::isalnum(c)) {
+      if (pending && out.back() != '_') out += '_';
+      pending = false;
+      out += static_cast<char>(c);
+    } else {
+      pending = true;
+    }
+  }
+  if (pending && out.back() != '_') out += '_';
+  if (out.back() == '_' && out.size() > 3) out.pop_back();
+  return out;
+}
+
+std::string glsl_function_name(const std::string& spec, Law law) {
+  return glsl_identifier(spec + "_" + to_string(law));
+}
+
+std::string glsl_sampler_name(const std::string& spec, Law law) {
+  return "gz_tex" + glsl_identifier(spec + "_" + to_string(law)).substr(2);
+}
+
+const char* glsl_sampler_type(Law law) { return law == Law::g ? "sampler3D" : "sampler2D"; }
+
+std::string glsl_common() {
+  // The formulas are those of tables/table.cpp (Axis::index_coordinate) and tables/sample.cpp; the cos
+  // mapping u = acos(1 - 2t)/pi is evaluated as (2/pi) asin(sqrt(t)), and from the far end for
+  // t > 1/2, because acos(1 - 2t) loses all of t below 1e-8 in float. GLSL's own asin/atan are
+  // not used (their accuracy is implementation-defined): see gz_asin_sqrt.
+  return R"(#ifndef GANZFELD_COMMON_GLSL
+#define GANZFELD_COMMON_GLSL 1
+// ganzfeld shared helpers: the axis mappings and the multilinear lookup of tables/sample.h.
+// GLSL 4.30 core and GLSL ES 3.00. Textures must be complete without mipmaps (set
+// GL_TEXTURE_MIN_FILTER to GL_NEAREST or GL_LINEAR, or GL_TEXTURE_MAX_LEVEL to 0), or texelFetch
+// returns 0.
+precision highp float;
+precision highp int;
+precision highp sampler2D;
+precision highp sampler3D;
+
+// Inverse trigonometry to float precision. GLSL leaves the accuracy of asin and atan to the
+// implementation, and real ones are coarse (Mesa's polynomial asin is off by ~1e-4), which moved
+// lookups by up to 2e-3 relative; these are Cephes' single-precision kernels (S. Moshier,
+// asinf.c and atanf.c: relative error ~2e-7 on their reduced ranges) using only +, *, / and sqrt.
+// asin(sqrt(t)) for t in [0, 1/2]:
+float gz_asin_sqrt(float t) {
+  bool reduce = t > 0.25;               // asin(a) = pi/2 - 2 asin(sqrt((1 - a)/2)) for a > 1/2
+  float a = sqrt(t);
+  float z = reduce ? 0.5 * (1.0 - a) : t;
+  float x = reduce ? sqrt(z) : a;
+  float p = ((((4.2163199048e-2 * z + 2.4181311049e-2) * z + 4.5470025998e-2) * z + 7.4953002686e-2) * z
+             + 1.6666752422e-1) * z * x + x;
+  return reduce ? 1.5707963268 - 2.0 * p : p;
+}
+// atan(r) for r in [0, 1].
+float gz_atan01(float r) {
+  bool reduce = r > 0.4142135624;       // atan(r) = pi/4 + atan((r - 1)/(r + 1))
+  float x = reduce ? (r - 1.0) / (r + 1.0) : r;
+  float z = x * x;
+  float p = (((8.05374449538e-2 * z - 1.38776856032e-1) * z + 1.99777106478e-1) * z - 3.33329491539e-1) * z * x + x;
+  return reduce ? 0.7853981634 + p : p;
+}
+// |atan2(s, c)| in [0, pi] (not both zero).
+float gz_abs_angle(float s, float c) {
+  float a = abs(s), b = abs(c);
+  float angle = a <= b ? gz_atan01(a / b) : 1.5707963268 - gz_atan01(b / a);
+  return c < 0.0 ? 3.1415926536 - angle : angle;
+}
+
+// Normalized coordinate t in [0, 1] of x on the axis [lo, hi], clamped at the ends.
+float gz_unit(float x, float lo, float hi) { return clamp((x - lo) / (hi - lo), 0.0, 1.0); }
+// Index coordinate u in [0, 1] (node k at u = k / (count - 1)) for each mapping (docs/lut-format.md).
+float gz_index_linear(float x, float lo, float hi) { return gz_unit(x, lo, hi); }
+float gz_index_sqrt(float x, float lo, float hi) { return sqrt(gz_unit(x, lo, hi)); }
+float gz_index_cos(float x, float lo, float hi) {
+  float t = gz_unit(x, lo, hi);
+  if (t <= 0.5) return 0.636619772 * gz_asin_sqrt(t);
+  return 1.0 - 0.636619772 * gz_asin_sqrt(gz_unit(hi - x, 0.0, hi - lo));
+}
+
+// cos of the angle between v and the unit normal n (1 for v = 0), as tables::coordinates.
+float gz_cos_theta(vec3 v, vec3 n) {
+  float len = length(v);
+  return len > 0.0 ? clamp(dot(v, n) / len, -1.0, 1.0) : 1.0;
+}
+// Angle between the tangential parts of i and j, in [0, pi]; 0 when either lies along n.
+float gz_relative_azimuth(vec3 i, vec3 j, vec3 n) {
+  vec3 it = i - dot(i, n) * n;
+  vec3 jt = j - dot(j, n) * n;
+  if (length(it) <= 0.0 || length(jt) <= 0.0) return 0.0;
+  return gz_abs_angle(dot(cross(it, jt), n), dot(it, jt));
+}
+// j moved onto the horizon when it is below it (interpolated normals at silhouettes), as the
+// rasterizer does for the sky and the Ganzfeld (rasterizer/shading.h).
+vec3 gz_clamp_to_horizon(vec3 j, vec3 n) {
+  float c = dot(j, n);
+  if (c >= 0.0) return j;
+  vec3 t = j - c * n;
+  float r = length(t);
+  if (r > 0.0) return t / r;
+  vec3 a = abs(n.x) < 0.9 ? vec3(1.0, 0.0, 0.0) : vec3(0.0, 1.0, 0.0);
+  return normalize(a - dot(a, n) * n);
+}
+
+// The cell of index coordinate u on an axis of `count` nodes: lower node k and fraction t.
+void gz_cell(float u, int count, out int k, out float t) {
+  float s = u * float(count - 1);
+  k = min(int(floor(s)), count - 2);
+  t = s - float(k);
+}
+// Linear interpolation of a 1-D table stored as a count x 1 texture.
+float gz_lookup1(highp sampler2D table, float u, int count) {
+#ifdef GANZFELD_HARDWARE_FILTER
+  return texture(table, vec2((u * float(count - 1) + 0.5) / float(count), 0.5)).r;
+#else
+  int k; float t;
+  gz_cell(u, count, k, t);
+  return mix(texelFetch(table, ivec2(k, 0), 0).r, texelFetch(table, ivec2(k + 1, 0), 0).r, t);
+#endif
+}
+// Trilinear interpolation of a 3-D table; u and count are slowest axis first (texture z, y, x).
+float gz_lookup3(highp sampler3D table, vec3 u, ivec3 count) {
+#ifdef GANZFELD_HARDWARE_FILTER
+  vec3 s = (u * vec3(count - 1) + 0.5) / vec3(count);
+  return texture(table, s.zyx).r;
+#else
+  int k0, k1, k2;
+  float t0, t1, t2;
+  gz_cell(u.x, count.x, k0, t0);
+  gz_cell(u.y, count.y, k1, t1);
+  gz_cell(u.z, count.z, k2, t2);
+  float c00 = mix(texelFetch(table, ivec3(k2, k1, k0), 0).r, texelFetch(table, ivec3(k2 + 1, k1, k0), 0).r, t2);
+  float c01 = mix(texelFetch(table, ivec3(k2, k1 + 1, k0), 0).r, texelFetch(table, ivec3(k2 + 1, k1 + 1, k0), 0).r, t2);
+  float c10 = mix(texelFetch(table, ivec3(k2, k1, k0 + 1), 0).r, texelFetch(table, ivec3(k2 + 1, k1, k0 + 1), 0).r, t2);
+  float c11 = mix(texelFetch(table, ivec3(k2, k1 + 1, k0 + 1), 0).r,
+                  texelFetch(table, ivec3(k2 + 1, k1 + 1, k0 + 1), 0).r, t2);
+  return mix(mix(c00, c01, t1), mix(c10, c11, t1), t0);
+#endif
+}
+#endif  // GANZFELD_COMMON_GLSL
+)";
+}
+
+std::string glsl_table_function(const Table& table) {
+  check_table(table);
+  const std::string name = glsl_function_name(table.model, table.law);
+  std::ostringstream s;
+  s << "// ---------------------------------------------------------------------------------------------\n"
+    << "// ganzfeld table: law " << to_string(table.law) << " of " << comment_text(table.model) << "\n"
+    << "// made by: " << comment_text(table.command) << "\n"
+    << "// ganzfeld " << comment_text(table.version) << ", format version " << kFormatVersion << ", encoding "
+    << to_string(table.encoding) << ", cubature tolerance " << literal(table.tolerance) << "\n"
+    << "// error: nodes <= " << literal(table.max_error);
+  if (table.interpolation_checks > 0)
+    s << ", between nodes (measured at " << table.interpolation_checks << " cell centres) <= "
+      << literal(table.interpolation_error);
+  s << "\n// axes, slowest first:\n";
+  for (const Axis& axis : table.axes)
+    s << "//   " << axis.name << " in [" << literal(axis.min) << ", " << literal(axis.max) << "], " << axis.count
+      << " nodes, " << to_string(axis.mapping) << " mapping\n";
+  if (table.law == Law::g) {
+    s << "// texture: " << glsl_sampler_type(table.law) << ", one channel (R32F or R16F), width " << table.axes[2].count
+      << " (" << table.axes[2].name << "), height " << table.axes[1].count << " (" << table.axes[1].name << "), depth "
+      << table.axes[0].count << " (" << table.axes[0].name << ")\n"
+      << "// i: the sky's pole, j: towards the viewer, n: unit normal (any common frame)\n"
+      << "float " << name << "(highp sampler3D table, vec3 i, vec3 j, vec3 n) {\n"
+      << "  vec3 u = vec3(" << index_call(table.axes[0], "gz_cos_theta(i, n)") << ",\n"
+      << "                " << index_call(table.axes[1], "gz_cos_theta(j, n)") << ",\n"
+      << "                " << index_call(table.axes[2], "gz_relative_azimuth(i, j, n)") << ");\n"
+      << "  return gz_lookup3(table, u, ivec3(" << table.axes[0].count << ", " << table.axes[1].count << ", "
+      << table.axes[2].count << "));\n}\n";
+  } else {
+    const bool h = table.law == Law::h;
+    s << "// texture: " << glsl_sampler_type(table.law) << ", one channel (R32F or R16F), width "
+      << table.axes[0].count << ", height 1\n"
+      << "float " << name << "(highp sampler2D table, vec3 " << (h ? "j" : "i") << ", vec3 n) {\n"
+      << "  return gz_lookup1(table, " << index_call(table.axes[0], h ? "gz_cos_theta(j, n)" : "gz_cos_theta(i, n)")
+      << ", " << table.axes[0].count << ");\n}\n";
+  }
+  return s.str();
+}
+
+std::string glsl_table_snippet(const Table& table) {
+  const std::string function = glsl_table_function(table);  // checks the table first
+  return glsl_common() + "\n" + function;
+}
+
+void check_table_is(const Table& table, const std::string& spec, Law law) {
+  if (table.model != spec || table.law != law)
+    throw InputError("table holds law " + std::string(to_string(table.law)) + " of '" + table.model +
+                     "' but the shader needs law " + to_string(law) + " of '" + spec + "'");
+  check_table(table);
+}
+
+std::string glsl_model_f(const Model& model) {
+  const std::string name = glsl_identifier("f_" + model.spec());
+  std::ostringstream s;
+  s << "// f of " << comment_text(model.spec()) << " (laws/kp_lobes.h); i, j, n unit.\n"
+    << "float " << name << "(vec3 i, vec3 j, vec3 n) {\n"
+    << "  float mi = dot(i, n), mj = dot(j, n);\n"
+    << "  if (mi < 0.0 || mj < 0.0) return 0.0;\n";
+  if (dynamic_cast<const Lambert*>(&model)) {
+    s << "  return " << literal(std::numbers::inv_pi) << ";\n";
+  } else if (const auto* m = dynamic_cast<const Minnaert*>(&model)) {
+    // K&P "Bulk scattering": f_d = C_d ((i.n)(j.n))^xi
+    s << "  return " << literal(minnaert::C_d(m->xi())) << " * "
+      << (m->xi() == 0.0 ? std::string("1.0") : "pow(mi * mj, " + literal(m->xi()) + ")") << ";\n";
+  } else if (const auto* sp = dynamic_cast<const Specular*>(&model)) {
+    // K&P "Specular reflection": f_s = C_s ((1 + k.j)/2)^alpha, k = 2(i.n)n - i, so k.j = 2 mi mj - i.j
+    s << "  float x = clamp(0.5 * (1.0 + 2.0 * mi * mj - dot(i, j)), 0.0, 1.0);\n"
+      << "  return " << literal(sp->C_s()) << " * pow(x, " << literal(sp->alpha()) << ");\n";
+  } else if (const auto* b = dynamic_cast<const Backscatter*>(&model)) {
+    // K&P "Backscattering": f_b = C_b ((1 + i.j)/2)^alpha
+    s << "  float x = clamp(0.5 * (1.0 + dot(i, j)), 0.0, 1.0);\n"
+      << "  return " << literal(b->C_b()) << " * pow(x, " << literal(b->alpha()) << ");\n";
+  } else if (const auto* pb = dynamic_cast<const PerfectBackscatter*>(&model)) {
+    // K&P: f_pb = C_pb (1 + i.j)^alpha / ((i + j).n) = (C_pb 2^alpha) ((1 + i.j)/2)^alpha / ((i + j).n)
+    s << "  float d = mi + mj;\n"
+      << "  if (d <= 0.0) return 0.0;\n"
+      << "  float x = clamp(0.5 * (1.0 + dot(i, j)), 0.0, 1.0);\n"
+      << "  return " << literal(pb->C_pb_times_2_pow_alpha()) << " * pow(x, " << literal(pb->alpha()) << ") / d;\n";
+  } else if (const auto* a = dynamic_cast<const Asperity*>(&model)) {
+    // K&P "Asperity scattering": f_a = (1/pi) (1 - (i.n)(j.n))^alpha
+    s << "  return " << literal(std::numbers::inv_pi) << " * pow(max(1.0 - mi * mj, 0.0), " << literal(a->alpha())
+      << ");\n";
+  } else {
+    throw InputError("no GLSL form of f for model '" + model.spec() +
+                     "' (a collimated light needs f); available: lambert, minnaert, specular, backscatter, "
+                     "perfect-backscatter, asperity");
+  }
+  s << "}\n";
+  return s.str();
+}
+
+void check_scene_exportable(const Scene& scene) {
+  bool collimated = false, extended = false;
+  for (const Light& light : scene.lights) {
+    collimated = collimated || light.type == Light::Type::collimated;
+    extended = extended || light.type != Light::Type::collimated;
+  }
+  for (const SceneObject& object : scene.objects)
+    for (const MaterialLobe& lobe : scene.materials.at(object.material).lobes) {
+      if (collimated) glsl_model_f(*lobe.model);
+      if (extended && !lobe.model->traits().isotropic)
+        throw InputError("model '" + lobe.spec + "' is anisotropic: its sky and Ganzfeld terms have no tables (a fourth "
+                         "axis would be needed), so no GLSL; allowed: isotropic models under extended lights");
+    }
+}
+
+namespace {
+/// The GLSL expression of law g or h of a planned lobe: its closed form or its table function.
+std::string law_expression(const scene::PlannedLobe& lobe, Law law) {
+  const bool g = law == Law::g;
+  if ((g ? lobe.g : lobe.h) == scene::LawOrigin::closed_form) return g ? "0.5 * (1.0 + dot(i, n))" : "1.0";
+  return glsl_function_name(lobe.spec, law) + "(" + glsl_sampler_name(lobe.spec, law) + (g ? ", i, jc, n)" : ", jc, n)");
+}
+}  // namespace
+
+std::string glsl_scene_shader(const Scene& scene, const scene::ShadingPlan& plan, const std::string& source) {
+  const scene::LightFields& fields = plan.fields;
+  const std::vector<bool>& used = plan.material_used;
+
+  std::ostringstream uniforms, functions, fs, materials;
+  std::set<std::string> done;
+  auto table_function = [&](const scene::PlannedLobe& lobe, Law law) {
+    const scene::LawOrigin origin = law == Law::g ? lobe.g : lobe.h;
+    if (origin == scene::LawOrigin::none || origin == scene::LawOrigin::closed_form) return;
+    const tables::Table* table = (law == Law::g ? lobe.g_table : lobe.h_table).get();
+    if (origin != scene::LawOrigin::table || table == nullptr)
+      throw InputError("no table of law " + std::string(to_string(law)) + " of '" + lobe.spec + "' for the scene shader");
+    check_table_is(*table, lobe.spec, law);
+    if (done.insert(glsl_function_name(lobe.spec, law)).second) {
+      uniforms << "uniform highp " << glsl_sampler_type(law) << " " << glsl_sampler_name(lobe.spec, law) << ";\n";
+      functions << glsl_table_function(*table);
+    }
+  };
+  for (std::size_t m = 0; m < plan.materials.size(); ++m) {
+    if (!used[m]) continue;
+    for (const scene::PlannedLobe& lobe : plan.materials[m]) {
+      if (fields.collimated && done.insert(glsl_identifier("f_" + lobe.spec)).second) fs << glsl_model_f(*lobe.model);
+      table_function(lobe, Law::g);
+      table_function(lobe, Law::h);
+    }
+  }
+
+  auto vec3_literal = [](const auto& v) {
+    return "vec3(" + literal(v[0]) + ", " + literal(v[1]) + ", " + literal(v[2]) + ")";
+  };
+  std::ostringstream lights;
+  for (std::size_t k = 0; k < scene.lights.size(); ++k) {
+    const Light& light = scene.lights[k];
+    const Vec3 d = glm::normalize(light.direction);
+    lights << "const vec3 GZ_LIGHT" << k << "_INTENSITY = " << vec3_literal(light.intensity) << ";";
+    if (light.type != Light::Type::ganzfeld) lights << "  const vec3 GZ_LIGHT" << k << "_DIRECTION = " << vec3_literal(d) << ";";
+    lights << "  // " << (light.type == Light::Type::collimated      ? "collimated: irradiance H0, towards the source"
+                          : light.type == Light::Type::hemispherical ? "hemispherical sky: radiance N, its pole"
+                                                                     : "Ganzfeld: radiance N")
+           << "\n";
+  }
+
+  std::ostringstream dispatch;
+  for (std::size_t m = 0; m < scene.materials.size(); ++m) {
+    if (!used[m]) continue;
+    const Material& material = scene.materials[m];
+    const std::string fname = glsl_identifier("material_" + std::to_string(m) + "_" + material.name);
+    materials << "// material " << m << " '" << comment_text(material.name) << "'\n"
+              << "vec3 " << fname << "(vec3 n, vec3 j) {\n"
+              << "  vec3 jc = gz_clamp_to_horizon(j, n);\n"
+              << "  vec3 radiance = vec3(0.0);\n";
+    for (std::size_t k = 0; k < scene.lights.size(); ++k) {
+      const Light& light = scene.lights[k];
+      const std::string L = "GZ_LIGHT" + std::to_string(k);
+      std::vector<std::string> terms;
+      for (const scene::PlannedLobe& lobe : plan.materials[m]) {
+        std::string law;
+        switch (light.type) {
+          case Light::Type::collimated: law = glsl_identifier("f_" + lobe.spec) + "(i, j, n)"; break;
+          case Light::Type::hemispherical: law = law_expression(lobe, Law::g); break;
+          case Light::Type::ganzfeld: law = law_expression(lobe, Law::h); break;
+        }
+        Rgb weighted{};
+        for (int c = 0; c < 3; ++c) weighted[c] = lobe.weight * lobe.color[c];
+        terms.push_back(vec3_literal(weighted) + " * " + law);
+      }
+      std::string sum;
+      for (std::size_t t = 0; t < terms.size(); ++t) sum += (t ? "\n        + " : "") + terms[t];
+      switch (light.type) {
+        case Light::Type::collimated:
+          materials << "  {  // light " << k << ": collimated, H0 (i.n) f(i, j); nothing in body shadow\n"
+                    << "    vec3 i = " << L << "_DIRECTION;\n"
+                    << "    float mi = dot(i, n);\n"
+                    << "    if (mi > 0.0 && dot(j, n) > 0.0)\n"
+                    << "      radiance += " << L << "_INTENSITY * mi * (" << sum << ");\n  }\n";
+          break;
+        case Light::Type::hemispherical:
+          materials << "  {  // light " << k << ": hemispherical sky, N g(i, j, n)\n"
+                    << "    vec3 i = " << L << "_DIRECTION;\n"
+                    << "    radiance += " << L << "_INTENSITY * (" << sum << ");\n  }\n";
+          break;
+        case Light::Type::ganzfeld:
+          materials << "  // light " << k << ": Ganzfeld, N h(j, n)\n"
+                    << "  radiance += " << L << "_INTENSITY * (" << sum << ");\n";
+          break;
+      }
+    }
+    materials << "  return radiance;\n}\n\n";
+    dispatch << "  if (material == " << m << ") return " << fname << "(n, j);\n";
+  }
+
+  std::ostringstream out;
+  out << "// ganzfeld scene shader for " << comment_text(source) << " (generated; docs/shaders.md).\n"
+      << "// Radiance towards the viewer, as the software rasterizer computes it (rasterizer/shading.h):\n"
+      << "//   collimated  H0 (i.n) f(i, j)   hemispherical sky  N g(i, j, n)   Ganzfeld  N h(j, n)\n"
+      << "// summed over lights and lobes (weight x colour). Bind every gz_tex_* sampler below to its table.\n"
+      << "// Include after #version (430 core or 300 es).\n\n"
+      << glsl_common() << "\n"
+      << uniforms.str() << "\n"
+      << functions.str() << "\n"
+      << fs.str() << "\n"
+      << "// Lights (world space; directions unit, towards the source), from the scene file.\n"
+      << lights.str() << "\n"
+      << materials.str()
+      << "// Radiance of material `material` (its index in the scene file) at unit normal n, towards unit j.\n"
+      << "vec3 gz_scene_radiance(int material, vec3 n, vec3 j) {\n"
+      << dispatch.str() << "  return vec3(0.0);\n}\n";
+  return out.str();
+}
+
+}  // namespace ganzfeld::exporting

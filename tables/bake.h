@@ -1,0 +1,57 @@
+// Baking: every node of a law's table computed by cubature (integrate/laws.h), in parallel,
+// deterministically (each entry is an independent integral, so the bits do not depend on the
+// thread count or the order of work).
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "integrate/cubature.h"
+#include "laws/model.h"
+#include "tables/table.h"
+
+namespace ganzfeld::tables {
+
+/// Tables larger than this are refused before anything is allocated (value + error, 4 bytes
+/// each, as held in memory).
+inline constexpr std::uint64_t kMaxTableBytes = std::uint64_t{2} << 30;  // 2 GiB
+inline constexpr std::uint64_t kBytesPerEntry = 2 * sizeof(float);
+
+struct BakeOptions {
+  std::vector<int> resolution;  ///< nodes per axis (g: 3 counts; h, a: 1)
+  /// Mapping per axis (same count as `resolution`); empty = the law's defaults (default_axes).
+  std::vector<Mapping> mappings;
+  double tolerance = 1e-9;      ///< absolute tolerance of every entry's cubature
+  long long max_evaluations = CubatureOptions{}.max_evaluations;  ///< per entry
+  Encoding encoding = Encoding::single;
+  /// Called with (entries done, total) at most ~kProgressSteps times, serialized (never two at
+  /// once) and with increasing `done`, from whichever worker thread finished the entry.
+  std::function<void(std::uint64_t done, std::uint64_t total)> progress;
+};
+inline constexpr int kProgressSteps = 1000;
+/// The interpolation check after baking (Table::interpolation_error): at least this many cell
+/// centres (all cells when there are fewer), with a fixed seed so bakes are reproducible.
+inline constexpr std::uint64_t kMinInterpolationChecks = 512;
+inline constexpr std::uint64_t kInterpolationSeed = 20190117;
+
+/// Parses "N", "NxN" or "NxNxN" into node counts; a single N stands for every axis of the law
+/// (g: N x N x N). Throws InputError naming the text and the expected form.
+std::vector<int> parse_resolution(const std::string& text, Law law);
+
+/// "64x64x32": node counts joined by x.
+std::string resolution_text(const std::vector<int>& resolution);
+
+/// Memory the table would need, in bytes (entries x kBytesPerEntry), saturating at UINT64_MAX.
+std::uint64_t table_bytes(const std::vector<int>& resolution) noexcept;
+
+/// Bakes law g, h or a of an isotropic model (axes: make_axes(law, resolution, mappings): the
+/// default mappings unless overridden). Refuses (InputError) other
+/// laws, anisotropic models, counts < 2 and tables above kMaxTableBytes before allocating, and
+/// values outside the half range when encoding = half. Entries that miss the tolerance are
+/// kept with their (larger) error estimate and counted in Table::unconverged.
+/// Table::command is left empty for the caller; Table::version is this build's.
+Table bake(const Model& model, Law law, const BakeOptions& options);
+
+}  // namespace ganzfeld::tables

@@ -1,0 +1,114 @@
+#include "util/atomic_file.h"
+#include "tables/cache.h"
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+
+#include "util/error.h"
+#include "laws/registry.h"
+#include "tables/exr_io.h"
+
+namespace ganzfeld::tables {
+
+namespace {
+
+/// Longest spec prefix kept in a file name (the hash keeps names unique).
+constexpr std::size_t kMaxNameSpec = 80;
+
+}  // namespace
+
+TableKey table_key(const Model& model, Law law, const BakeOptions& options) {
+  TableKey key;
+  key.model = model.spec();
+  key.law = law;
+  key.axes = make_axes(law, options.resolution, options.mappings);
+  key.tolerance = options.tolerance;
+  key.encoding = options.encoding;
+  return key;
+}
+
+TableKey table_key(const Table& table) {
+  return {table.model, table.law, table.axes, table.tolerance, table.encoding, kFormatVersion};
+}
+
+std::string key_text(const TableKey& key) {
+  std::string text = "ganzfeld-table format=" + std::to_string(key.format_version) + " model=" + key.model +
+                     " law=" + to_string(key.law) + " axes=";
+  for (std::size_t d = 0; d < key.axes.size(); ++d) {
+    const Axis& a = key.axes[d];
+    text += (d ? ";" : "") + a.name + ":" + format_number(a.min) + ":" + format_number(a.max) + ":" +
+            std::to_string(a.count) + ":" + to_string(a.mapping);
+  }
+  text += std::string(" tolerance=") + format_number(key.tolerance) + " encoding=" + to_string(key.encoding);
+  return text;
+}
+
+std::uint64_t fnv1a_64(std::string_view bytes) noexcept {
+  std::uint64_t hash = 0xcbf29ce484222325ull;  // FNV-1a 64-bit offset basis and prime
+  for (unsigned char c : bytes) {
+    hash ^= c;
+    hash *= 0x100000001b3ull;
+  }
+  return hash;
+}
+
+std::string cache_file_name(const TableKey& key) {
+  std::string name;
+  for (char c : key.model.substr(0, kMaxNameSpec)) {
+    const bool keep = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '=' ||
+                      c == '.' || c == '-';
+    name += keep ? c : '_';
+  }
+  char hash[17];
+  std::snprintf(hash, sizeof hash, "%016llx", static_cast<unsigned long long>(fnv1a_64(key_text(key))));
+  return name + "." + to_string(key.law) + "." + hash + ".exr";
+}
+
+bool same_key(const TableKey& a, const TableKey& b) noexcept {
+  if (a.model != b.model || a.law != b.law || a.tolerance != b.tolerance || a.encoding != b.encoding ||
+      a.format_version != b.format_version || a.axes.size() != b.axes.size())
+    return false;
+  for (std::size_t d = 0; d < a.axes.size(); ++d) {
+    const Axis &x = a.axes[d], &y = b.axes[d];
+    if (x.name != y.name || x.min != y.min || x.max != y.max || x.count != y.count || x.mapping != y.mapping)
+      return false;
+  }
+  return true;
+}
+
+const char* to_string(CacheStatus status) { return status == CacheStatus::reused ? "reused" : "baked"; }
+
+std::optional<Table> read_if_matching(const std::string& path, const TableKey& key) {
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec)) return std::nullopt;
+  try {
+    Table table = read_table(path);
+    if (same_key(table_key(table), key)) return table;
+  } catch (const InputError&) {
+    // corrupt, truncated or not a table: re-baked by the caller
+  }
+  return std::nullopt;
+}
+
+CacheResult bake_or_reuse(const std::string& path, const Model& model, Law law, const BakeOptions& options,
+                          const std::string& command, bool force) {
+  const TableKey key = table_key(model, law, options);
+  if (!force) {
+    if (std::optional<Table> table = read_if_matching(path, key))
+      return {path, CacheStatus::reused, std::move(*table), 0.0};
+  }
+  check_writable(path);
+  const auto start = std::chrono::steady_clock::now();
+  Table table = bake(model, law, options);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  table.command = command;
+  write_table(table, path);
+  return {path, CacheStatus::baked, std::move(table), seconds};
+}
+
+std::string cache_path(const std::string& directory, const Model& model, Law law, const BakeOptions& options) {
+  return (std::filesystem::path(directory) / cache_file_name(table_key(model, law, options))).string();
+}
+
+}  // namespace ganzfeld::tables

@@ -1,0 +1,72 @@
+// A cache of baked tables (design.md, tables/): a table is identified by everything that
+// determines its numbers and layout — canonical spec, law, axes (names, ranges, counts,
+// mappings), tolerance, encoding and format version. The key is hashed (64-bit FNV-1a) into a
+// readable file name; a file is reused only when it reads cleanly (read_table) and its own
+// metadata equals the key exactly, so a corrupt, truncated, stale or colliding file is re-baked
+// and atomically replaced (write_table renames a complete temporary file over it).
+//
+// Not in the key: the evaluation budget per entry (BakeOptions::max_evaluations, not stored
+// in the file), the command line and the ganzfeld version that made the table.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "tables/bake.h"
+#include "tables/table.h"
+
+namespace ganzfeld::tables {
+
+struct TableKey {
+  std::string model;  ///< canonical spec
+  Law law = Law::g;
+  std::vector<Axis> axes;
+  double tolerance = 0.0;
+  Encoding encoding = Encoding::single;
+  int format_version = kFormatVersion;
+};
+
+/// The key of the table bake(model, law, options) would make (axes: make_axes). Throws
+/// InputError for what bake would refuse about the axes (law, counts, mappings).
+TableKey table_key(const Model& model, Law law, const BakeOptions& options);
+/// The key a table read from a file carries.
+TableKey table_key(const Table& table);
+
+/// Every field of the key as one line of text, doubles as shortest round-trip text.
+std::string key_text(const TableKey& key);
+/// 64-bit FNV-1a of the bytes.
+std::uint64_t fnv1a_64(std::string_view bytes) noexcept;
+/// "SANITIZED-SPEC.LAW.HASH16.exr", e.g. "specular_alpha=8.h.0123456789abcdef.exr": the spec
+/// with characters outside [A-Za-z0-9=.-] replaced by '_' (shortened if long), the law, and
+/// the 16 hex digits of fnv1a_64(key_text(key)).
+std::string cache_file_name(const TableKey& key);
+
+/// Exact equality of every field (axes: name, min, max, count, mapping).
+bool same_key(const TableKey& a, const TableKey& b) noexcept;
+
+enum class CacheStatus { baked, reused };
+const char* to_string(CacheStatus status);  ///< "baked" or "reused"
+
+struct CacheResult {
+  std::string path;
+  CacheStatus status = CacheStatus::baked;
+  Table table;        ///< the table now at `path`
+  double seconds = 0.0;  ///< baking time (0 when reused)
+};
+
+/// The table at `path` when it exists, reads cleanly and carries exactly `key`; otherwise
+/// nothing (no exception for a corrupt or mismatching file).
+std::optional<Table> read_if_matching(const std::string& path, const TableKey& key);
+
+/// Reuses the table at `path` if read_if_matching accepts it (and not `force`); otherwise bakes
+/// it, stamps `command` into it and writes it atomically over `path`.
+CacheResult bake_or_reuse(const std::string& path, const Model& model, Law law, const BakeOptions& options,
+                          const std::string& command, bool force = false);
+
+/// The path of this table in the cache `directory`: directory/cache_file_name(key).
+std::string cache_path(const std::string& directory, const Model& model, Law law, const BakeOptions& options);
+
+}  // namespace ganzfeld::tables

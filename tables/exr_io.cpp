@@ -1,0 +1,314 @@
+#include "tables/exr_io.h"
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <set>
+
+#include <Imath/half.h>
+#include <OpenEXR/ImfChannelList.h>
+#include <OpenEXR/ImfFrameBuffer.h>
+#include <OpenEXR/ImfHeader.h>
+#include <OpenEXR/ImfInputFile.h>
+#include <OpenEXR/ImfOutputFile.h>
+#include <OpenEXR/ImfStdIO.h>
+#include <OpenEXR/ImfStringAttribute.h>
+#include <OpenEXR/ImfTestFile.h>
+#include <nlohmann/json.hpp>
+
+#include "util/error.h"
+#include "util/atomic_file.h"
+#include "laws/registry.h"
+#include "laws/spec.h"
+
+namespace ganzfeld::tables {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr const char* kValueChannel = "value";
+constexpr const char* kErrorChannel = "error";
+
+// Attribute names (docs/lut-format.md, "Header attributes").
+constexpr const char* kAttrVersion = "ganzfeld.format_version";
+constexpr const char* kAttrModel = "ganzfeld.model";
+constexpr const char* kAttrLaw = "ganzfeld.law";
+constexpr const char* kAttrAxes = "ganzfeld.axes";
+constexpr const char* kAttrTolerance = "ganzfeld.tolerance";
+constexpr const char* kAttrMaxError = "ganzfeld.max_error";
+constexpr const char* kAttrUnconverged = "ganzfeld.unconverged";
+constexpr const char* kAttrInterpolationError = "ganzfeld.interpolation_error";    // optional on read
+constexpr const char* kAttrInterpolationChecks = "ganzfeld.interpolation_checks";  // optional on read
+constexpr const char* kAttrCommand = "ganzfeld.command";
+constexpr const char* kAttrGanzfeldVersion = "ganzfeld.version";
+constexpr const char* kAttrEncoding = "ganzfeld.encoding";
+
+/// OpenEXR messages may span lines; ours may not.
+std::string one_line(std::string text) {
+  for (char& c : text)
+    if (c == '\n' || c == '\r') c = ' ';
+  return text;
+}
+
+/// Image shape: width = count of the last axis, height = product of the others (1 for 1-D).
+std::pair<int, int> image_shape(const Table& table) {
+  const int width = table.axes.back().count;
+  std::uint64_t height = 1;
+  for (std::size_t d = 0; d + 1 < table.axes.size(); ++d) height *= static_cast<std::uint64_t>(table.axes[d].count);
+  return {width, static_cast<int>(height)};
+}
+
+nlohmann::ordered_json axes_json(const Table& table) {
+  nlohmann::ordered_json axes = nlohmann::ordered_json::array();
+  for (const Axis& axis : table.axes)
+    axes.push_back({{"name", axis.name},
+                    {"min", axis.min},
+                    {"max", axis.max},
+                    {"count", axis.count},
+                    {"mapping", to_string(axis.mapping)},
+                    {"grid", "node"}});
+  return axes;
+}
+
+
+}  // namespace
+
+void write_table(const Table& table, const std::string& path) {
+  check_table(table);  // never write what read_table would refuse
+  const auto [width, height] = image_shape(table);
+  const bool half = table.encoding == Encoding::half;
+  const Imf::PixelType type = half ? Imf::HALF : Imf::FLOAT;
+
+  Imf::Header header(width, height);
+  header.compression() = Imf::ZIP_COMPRESSION;  // lossless
+  header.channels().insert(kValueChannel, Imf::Channel(type));
+  header.channels().insert(kErrorChannel, Imf::Channel(type));
+  auto attr = [&](const char* name, const std::string& v) { header.insert(name, Imf::StringAttribute(v)); };
+  attr(kAttrVersion, std::to_string(kFormatVersion));
+  attr(kAttrModel, table.model);
+  attr(kAttrLaw, to_string(table.law));
+  attr(kAttrAxes, axes_json(table).dump());
+  attr(kAttrTolerance, format_number(table.tolerance));
+  attr(kAttrMaxError, format_number(table.max_error));
+  attr(kAttrUnconverged, std::to_string(table.unconverged));
+  attr(kAttrInterpolationError, format_number(table.interpolation_error));
+  attr(kAttrInterpolationChecks, std::to_string(table.interpolation_checks));
+  attr(kAttrCommand, table.command);
+  attr(kAttrGanzfeldVersion, table.version);
+  attr(kAttrEncoding, to_string(table.encoding));
+
+  // Half data are exact in float, so the conversion below loses nothing.
+  std::vector<Imath::half> value_half, error_half;
+  Imf::FrameBuffer frame;
+  const std::size_t stride = half ? sizeof(Imath::half) : sizeof(float);
+  if (half) {
+    value_half.assign(table.value.begin(), table.value.end());
+    error_half.assign(table.error.begin(), table.error.end());
+    frame.insert(kValueChannel, Imf::Slice(type, reinterpret_cast<char*>(value_half.data()), stride, stride * width));
+    frame.insert(kErrorChannel, Imf::Slice(type, reinterpret_cast<char*>(error_half.data()), stride, stride * width));
+  } else {
+    // OpenEXR's Slice takes a non-const pointer but only reads from it when writing.
+    frame.insert(kValueChannel,
+                 Imf::Slice(type, reinterpret_cast<char*>(const_cast<float*>(table.value.data())), stride, stride * width));
+    frame.insert(kErrorChannel,
+                 Imf::Slice(type, reinterpret_cast<char*>(const_cast<float*>(table.error.data())), stride, stride * width));
+  }
+
+  write_atomically(path, [&](const std::string& temp) {
+    std::ofstream os(temp, std::ios::binary | std::ios::trunc);
+    if (!os) throw std::runtime_error("cannot create a file in its directory (missing or not writable)");
+    {
+      Imf::StdOFStream stream(os, temp.c_str());
+      Imf::OutputFile file(stream, header);
+      file.setFrameBuffer(frame);
+      file.writePixels(height);
+    }  // the destructor writes the line-offset table
+    os.close();
+    if (!os) throw std::runtime_error("the write failed (disk full?)");
+  });
+}
+
+namespace {
+
+struct Reader {
+  std::string path;
+
+  [[noreturn]] void refuse(const std::string& why) const { throw InputError("table '" + path + "': " + one_line(why)); }
+
+  std::string attribute(const Imf::Header& header, const char* name) const {
+    const auto* a = header.findTypedAttribute<Imf::StringAttribute>(name);
+    if (!a) refuse(std::string("missing string attribute ") + name + "; not a ganzfeld table of format version " +
+                   std::to_string(kFormatVersion));
+    return a->value();
+  }
+
+  double number(const Imf::Header& header, const char* name) const {
+    const std::string text = attribute(header, name);
+    char* end = nullptr;
+    const double x = std::strtod(text.c_str(), &end);
+    if (text.empty() || *end != '\0' || !std::isfinite(x) || x < 0.0)
+      refuse(std::string(name) + " '" + text + "' is not a finite number >= 0");
+    return x;
+  }
+
+  std::vector<Axis> axes(const std::string& text) const {
+    nlohmann::json doc;
+    try {
+      doc = nlohmann::json::parse(text);
+    } catch (const nlohmann::json::exception&) {
+      refuse(std::string(kAttrAxes) + " is not valid JSON");
+    }
+    if (!doc.is_array()) refuse(std::string(kAttrAxes) + " is not a JSON array of axes");
+    std::vector<Axis> out;
+    for (const auto& a : doc) {
+      const bool ok = a.is_object() && a.contains("name") && a["name"].is_string() && a.contains("min") &&
+                      a["min"].is_number() && a.contains("max") && a["max"].is_number() && a.contains("count") &&
+                      a["count"].is_number_integer() && a.contains("mapping") && a["mapping"].is_string();
+      if (!ok) refuse(std::string(kAttrAxes) + ": each axis needs name, min, max, count (integer), mapping");
+      if (a.contains("grid") && a["grid"] != "node")
+        refuse("axis grid '" + a["grid"].dump() + "' is not supported; allowed: node");
+      const long long count = a["count"].get<long long>();
+      if (count < 2 || count > std::numeric_limits<int>::max())
+        refuse("axis " + a["name"].get<std::string>() + " has count " + std::to_string(count) +
+               "; allowed: 2 to 2^31-1");
+      Axis axis;
+      axis.name = a["name"].get<std::string>();
+      axis.min = a["min"].get<double>();
+      axis.max = a["max"].get<double>();
+      axis.count = static_cast<int>(count);
+      try {
+        axis.mapping = parse_mapping(a["mapping"].get<std::string>());
+      } catch (const InputError& e) {
+        refuse(e.what());
+      }
+      out.push_back(axis);
+    }
+    return out;
+  }
+
+  Table read() const {
+    std::error_code ec;
+    if (!fs::is_regular_file(path, ec)) refuse("no such file");
+    if (!Imf::isOpenExrFile(path.c_str())) refuse("not an OpenEXR file");
+    try {
+      Imf::InputFile file(path.c_str());
+      const Imf::Header& header = file.header();
+      Table table;
+
+      // Metadata, version first: a newer format is refused before anything else is judged.
+      const std::string version = attribute(header, kAttrVersion);
+      if (version != std::to_string(kFormatVersion))
+        refuse("format version '" + version + "' is not supported; this ganzfeld reads version " +
+               std::to_string(kFormatVersion));
+      try {
+        table.law = parse_law(attribute(header, kAttrLaw));
+        table.model = attribute(header, kAttrModel);
+        parse_model(table.model);  // a model this build knows, with valid parameters
+        table.encoding = parse_encoding(attribute(header, kAttrEncoding));
+      } catch (const InputError& e) {
+        refuse(std::string(e.what()));
+      }
+      table.axes = axes(attribute(header, kAttrAxes));
+      table.tolerance = number(header, kAttrTolerance);
+      table.max_error = number(header, kAttrMaxError);
+      const double unconverged = number(header, kAttrUnconverged);
+      if (unconverged != std::floor(unconverged) || unconverged > 9e18)
+        refuse(std::string(kAttrUnconverged) + " is not a count");
+      table.unconverged = static_cast<long long>(unconverged);
+      if (header.findTypedAttribute<Imf::StringAttribute>(kAttrInterpolationChecks)) {
+        const double checks = number(header, kAttrInterpolationChecks);
+        table.interpolation_error = number(header, kAttrInterpolationError);
+        if (checks != std::floor(checks) || checks < 0 || checks > 9e18 || !(table.interpolation_error >= 0))
+          refuse(std::string(kAttrInterpolationChecks) + " / " + kAttrInterpolationError + " are not a count and an error");
+        table.interpolation_checks = static_cast<long long>(checks);
+      }
+      table.command = attribute(header, kAttrCommand);
+      table.version = attribute(header, kAttrGanzfeldVersion);
+      if (table.axes.size() != (table.law == Law::g ? 3u : 1u))
+        refuse(std::string("law ") + to_string(table.law) + " needs " + (table.law == Law::g ? "3 axes" : "1 axis") +
+               " but " + kAttrAxes + " lists " + std::to_string(table.axes.size()));
+
+      // Channels: exactly "value" and "error", both of the encoding's pixel type.
+      const Imf::PixelType type = table.encoding == Encoding::half ? Imf::HALF : Imf::FLOAT;
+      std::set<std::string> names;
+      for (auto it = header.channels().begin(); it != header.channels().end(); ++it) {
+        names.insert(it.name());
+        if (it.channel().type != type)
+          refuse(std::string("channel '") + it.name() + "' is not " +
+                 (type == Imf::HALF ? "HALF" : "FLOAT") + " as ganzfeld.encoding=" + to_string(table.encoding) +
+                 " says");
+        if (it.channel().xSampling != 1 || it.channel().ySampling != 1)
+          refuse(std::string("channel '") + it.name() + "' is subsampled");
+      }
+      if (names != std::set<std::string>{kValueChannel, kErrorChannel}) {
+        std::string list;
+        for (const auto& n : names) list += (list.empty() ? "" : ", ") + n;
+        refuse("channels are {" + list + "}; expected exactly {error, value}");
+      }
+
+      // Shape: width = last axis, height = product of the others.
+      const Imath::Box2i window = header.dataWindow();
+      const long long width = static_cast<long long>(window.max.x) - window.min.x + 1;
+      const long long height = static_cast<long long>(window.max.y) - window.min.y + 1;
+      long long want_height = 1;
+      for (std::size_t d = 0; d + 1 < table.axes.size(); ++d) {
+        want_height *= table.axes[d].count;
+        if (want_height > std::numeric_limits<int>::max()) refuse("the axes describe an absurdly large table");
+      }
+      if (window.min.x != 0 || window.min.y != 0)
+        refuse("data window starts at (" + std::to_string(window.min.x) + ", " + std::to_string(window.min.y) +
+               "); expected (0, 0)");
+      if (width != table.axes.back().count || height != want_height)
+        refuse("image is " + std::to_string(width) + "x" + std::to_string(height) + " but the axes need " +
+               std::to_string(table.axes.back().count) + "x" + std::to_string(want_height) +
+               " (width = count of the last axis, height = product of the others)");
+      if (!file.isComplete()) refuse("truncated file (not all scanlines are present)");
+
+      const std::size_t n = static_cast<std::size_t>(width * height);
+      table.value.resize(n);
+      table.error.resize(n);
+      const std::size_t w = static_cast<std::size_t>(width);
+      Imf::FrameBuffer frame;
+      std::vector<Imath::half> value_half, error_half;
+      if (type == Imf::HALF) {
+        value_half.resize(n);
+        error_half.resize(n);
+        frame.insert(kValueChannel, Imf::Slice(Imf::HALF, reinterpret_cast<char*>(value_half.data()),
+                                               sizeof(Imath::half), sizeof(Imath::half) * w));
+        frame.insert(kErrorChannel, Imf::Slice(Imf::HALF, reinterpret_cast<char*>(error_half.data()),
+                                               sizeof(Imath::half), sizeof(Imath::half) * w));
+      } else {
+        frame.insert(kValueChannel, Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(table.value.data()),
+                                               sizeof(float), sizeof(float) * w));
+        frame.insert(kErrorChannel, Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(table.error.data()),
+                                               sizeof(float), sizeof(float) * w));
+      }
+      file.setFrameBuffer(frame);
+      file.readPixels(window.min.y, window.max.y);
+      if (type == Imf::HALF) {
+        for (std::size_t m = 0; m < n; ++m) {
+          table.value[m] = value_half[m];
+          table.error[m] = error_half[m];
+        }
+      }
+      try {
+        check_table(table);
+      } catch (const InputError& e) {
+        refuse(e.what());
+      }
+      return table;
+    } catch (const InputError&) {
+      throw;
+    } catch (const std::exception& e) {  // Iex::BaseExc derives from std::exception
+      refuse("unreadable or truncated OpenEXR file: " + std::string(e.what()));
+    }
+  }
+};
+
+}  // namespace
+
+Table read_table(const std::string& path) { return Reader{path}.read(); }
+
+}  // namespace ganzfeld::tables

@@ -1,0 +1,178 @@
+#include "tables/table.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "util/error.h"
+#include "laws/registry.h"
+
+namespace ganzfeld::tables {
+
+using std::numbers::pi;
+
+const char* to_string(Mapping mapping) {
+  switch (mapping) {
+    case Mapping::linear: return "linear";
+    case Mapping::sqrt: return "sqrt";
+    case Mapping::cos: return "cos";
+  }
+  return "?";
+}
+
+Mapping parse_mapping(const std::string& text) {
+  for (Mapping m : {Mapping::linear, Mapping::sqrt, Mapping::cos})
+    if (text == to_string(m)) return m;
+  throw InputError("unknown axis mapping '" + text + "'; allowed: linear, sqrt, cos");
+}
+
+const char* to_string(Encoding encoding) { return encoding == Encoding::half ? "half" : "float"; }
+
+Encoding parse_encoding(const std::string& text) {
+  if (text == "half") return Encoding::half;
+  if (text == "float") return Encoding::single;
+  throw InputError("unknown encoding '" + text + "'; allowed: half, float");
+}
+
+double Axis::coordinate(double u) const noexcept {
+  u = std::clamp(u, 0.0, 1.0);
+  double t = u;
+  switch (mapping) {
+    case Mapping::linear: t = u; break;
+    case Mapping::sqrt: t = u * u; break;
+    case Mapping::cos: t = 0.5 * (1.0 - std::cos(pi * u)); break;
+  }
+  return min + (max - min) * t;
+}
+
+double Axis::index_coordinate(double x) const noexcept {
+  if (!(max > min)) return 0.0;
+  const double t = std::clamp((x - min) / (max - min), 0.0, 1.0);  // NaN -> clamp keeps NaN; caught below
+  if (!(t >= 0.0)) return 0.0;
+  switch (mapping) {
+    case Mapping::linear: return t;
+    case Mapping::sqrt: return std::sqrt(t);
+    case Mapping::cos: return std::acos(1.0 - 2.0 * t) / pi;
+  }
+  return t;
+}
+
+double Axis::node(int k) const noexcept {
+  if (k <= 0) return min;
+  if (k >= count - 1) return max;
+  return coordinate(static_cast<double>(k) / (count - 1));
+}
+
+std::vector<Axis> default_axes(Law law, std::span<const int> counts) {
+  std::vector<Axis> axes;
+  switch (law) {
+    case Law::g:
+      axes = {{kAxisCosThetaI, -1.0, 1.0, 0, Mapping::cos},
+              {kAxisCosThetaJ, 0.0, 1.0, 0, Mapping::cos},
+              {kAxisPhi, 0.0, pi, 0, Mapping::linear}};
+      break;
+    case Law::h: axes = {{kAxisCosThetaJ, 0.0, 1.0, 0, Mapping::sqrt}}; break;
+    case Law::a: axes = {{kAxisCosThetaI, 0.0, 1.0, 0, Mapping::sqrt}}; break;
+    default:
+      throw InputError(std::string("law ") + to_string(law) + " cannot be tabulated; allowed: g, h, a");
+  }
+  if (counts.size() != axes.size())
+    throw InputError(std::string("law ") + to_string(law) + " has " + std::to_string(axes.size()) + " axes but " +
+                     std::to_string(counts.size()) + " node counts were given");
+  for (std::size_t d = 0; d < axes.size(); ++d) {
+    if (counts[d] < 2)
+      throw InputError("resolution " + std::to_string(counts[d]) + " on axis " + axes[d].name +
+                       " is not allowed; each axis needs at least 2 nodes");
+    axes[d].count = counts[d];
+  }
+  return axes;
+}
+
+std::vector<Axis> make_axes(Law law, std::span<const int> counts, std::span<const Mapping> mappings) {
+  std::vector<Axis> axes = default_axes(law, counts);
+  if (mappings.empty()) return axes;
+  if (mappings.size() != axes.size())
+    throw InputError(std::string("law ") + to_string(law) + " has " + std::to_string(axes.size()) + " axes but " +
+                     std::to_string(mappings.size()) + " mappings were given");
+  for (std::size_t d = 0; d < axes.size(); ++d) axes[d].mapping = mappings[d];
+  return axes;
+}
+
+std::vector<Mapping> parse_mappings(const std::string& text, Law law) {
+  const std::size_t count = law == Law::g ? 3 : 1;
+  if (text == "default") return {};
+  const std::string bad = "mapping '" + text + "' is not valid for law " + to_string(law) + "; expected default, M" +
+                          (law == Law::g ? " or MxMxM" : "") + " with M one of linear, sqrt, cos";
+  std::vector<Mapping> mappings;
+  std::size_t start = 0;
+  while (true) {
+    const std::size_t x = text.find('x', start);
+    const std::string part = text.substr(start, x == std::string::npos ? std::string::npos : x - start);
+    if (part != "linear" && part != "sqrt" && part != "cos") throw InputError(bad);
+    mappings.push_back(parse_mapping(part));
+    if (x == std::string::npos) break;
+    start = x + 1;
+  }
+  if (mappings.size() == 1) mappings.assign(count, mappings[0]);
+  if (mappings.size() != count) throw InputError(bad);
+  return mappings;
+}
+
+std::size_t Table::entries() const noexcept { return static_cast<std::size_t>(entry_count(axes)); }
+
+std::uint64_t entry_count(std::span<const Axis> axes) noexcept {
+  if (axes.empty()) return 0;
+  std::uint64_t n = 1;
+  for (const Axis& axis : axes) {
+    if (axis.count <= 0) return 0;
+    n *= static_cast<std::uint64_t>(axis.count);  // counts are validated < 2^31 by the reader and baker
+  }
+  return n;
+}
+
+void check_table(const Table& table) {
+  const char* law = to_string(table.law);
+  if (table.law != Law::g && table.law != Law::h && table.law != Law::a)
+    throw InputError(std::string("law '") + law + "' cannot be tabulated; allowed: g, h, a");
+  std::vector<int> counts;
+  for (const Axis& axis : table.axes) counts.push_back(axis.count);
+  const std::size_t want = table.law == Law::g ? 3 : 1;
+  if (table.axes.size() != want)
+    throw InputError(std::string("law ") + law + " needs " + std::to_string(want) + " axes, the metadata lists " +
+                     std::to_string(table.axes.size()));
+  const std::vector<Axis> expected = default_axes(table.law, counts);  // checks counts >= 2
+  for (std::size_t d = 0; d < want; ++d) {
+    const Axis& a = table.axes[d];
+    const Axis& e = expected[d];
+    if (a.name != e.name)
+      throw InputError(std::string("axis ") + std::to_string(d) + " of law " + law + " is '" + a.name +
+                       "'; expected '" + e.name + "'");
+    if (a.min != e.min || a.max != e.max)
+      throw InputError("axis " + a.name + " spans [" + format_number(a.min) + ", " + format_number(a.max) +
+                       "]; expected [" + format_number(e.min) + ", " + format_number(e.max) + "]");
+  }
+  const std::uint64_t n = entry_count(table.axes);
+  if (table.value.size() != n || table.error.size() != n)
+    throw InputError("the data holds " + std::to_string(table.value.size()) + " entries but the axes need " +
+                     std::to_string(n));
+  if (!std::isfinite(table.tolerance) || !(table.tolerance > 0.0))
+    throw InputError("tolerance " + format_number(table.tolerance) + " is not a positive finite number");
+  if (table.unconverged < 0 || static_cast<std::uint64_t>(table.unconverged) > n)
+    throw InputError("unconverged count " + std::to_string(table.unconverged) + " is outside [0, " +
+                     std::to_string(n) + "]");
+  double max_error = 0.0;
+  for (std::size_t m = 0; m < n; ++m) {
+    if (!std::isfinite(table.value[m]))
+      throw InputError("entry " + std::to_string(m) + " has value " + format_number(table.value[m]) +
+                       "; every value must be finite");
+    if (!std::isfinite(table.error[m]) || table.error[m] < 0.0f)
+      throw InputError("entry " + std::to_string(m) + " has error " + format_number(table.error[m]) +
+                       "; every error must be finite and >= 0");
+    max_error = std::max(max_error, static_cast<double>(table.error[m]));
+  }
+  if (table.max_error != max_error)
+    throw InputError("max_error " + format_number(table.max_error) + " disagrees with the error data (max " +
+                     format_number(max_error) + ")");
+}
+
+}  // namespace ganzfeld::tables

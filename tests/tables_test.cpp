@@ -1,0 +1,503 @@
+// Tables (tables/): bake -> write -> read -> sample against closed forms and the integrator, the
+// storage encodings, and every refusal of the reader and the baker.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <numbers>
+#include <random>
+#include <string>
+#include <unistd.h>
+
+#include <gtest/gtest.h>
+
+#include "util/atomic_file.h"
+#include "tests/temp_dir.h"
+#include <tbb/task_arena.h>
+
+#include <OpenEXR/ImfChannelList.h>
+#include <OpenEXR/ImfFrameBuffer.h>
+#include <OpenEXR/ImfHeader.h>
+#include <OpenEXR/ImfInputFile.h>
+#include <OpenEXR/ImfOutputFile.h>
+#include <OpenEXR/ImfStringAttribute.h>
+
+#include "integrate/laws.h"
+#include "util/error.h"
+#include "laws/spec.h"
+#include "tables/bake.h"
+#include "tables/exr_io.h"
+#include "tables/sample.h"
+#include "tables/table.h"
+
+// Suite names start with lower-case "lut" so that `ctest -R lut` selects exactly these tests.
+namespace ganzfeld {
+using namespace ganzfeld::tables;
+
+namespace {
+
+namespace fs = std::filesystem;
+using std::numbers::pi;
+
+// --- Tolerances -----------------------------------------------------------------------------
+// Cubature tolerance of the test bakes: the integrator's default (integrate/cubature.h).
+constexpr double kBakeTol = 1e-9;
+// Mapping round trip u -> x -> u: a few ulps of acos/sqrt near the ends, where d u/d x is
+// largest (acos'(1 - 2t) ~ 1/sqrt(t) amplifies the rounding of t ~ 1e-16 to ~1e-8).
+constexpr double kMappingRoundTrip = 1e-7;
+// Linear interpolation error of a C^2 function F(u) on a grid of spacing du is at most
+// max|F''| du^2 / 8 (standard bound). The bounds below instantiate it per law and mapping.
+double interpolation_bound(double max_second_derivative, int count) {
+  const double du = 1.0 / (count - 1);
+  return max_second_derivative * du * du / 8.0;
+}
+// specular:alpha=8 g at 25x25x13 sampled between nodes: there is no closed form for the
+// interpolation error, so this is measured: 5.6e-3 max over the 200 seeded points below (the test
+// prints it), with a margin of ~1.6x. A regression in the mapping or the interpolation shows up as errors of the
+// order of g itself (~0.1-1).
+constexpr double kSpecularInterpolation = 9e-3;
+// Sampling exactly at a node must return the node: only the index arithmetic intervenes
+// (frac = s - floor(s) with s = u (count - 1) computed through the mapping's inverse).
+constexpr double kAtNode = 1e-6;
+
+constexpr std::uint64_t kSeed = 20240601;
+
+using testing_support::temp_dir;
+std::string temp_file(const std::string& name) { return (fs::path(temp_dir()) / name).string(); }
+
+
+Table bake_table(const std::string& spec, Law law, std::vector<int> res, Encoding enc = Encoding::single) {
+  BakeOptions options;
+  options.resolution = std::move(res);
+  options.tolerance = kBakeTol;
+  options.encoding = enc;
+  Table t = bake(*parse_model(spec), law, options);
+  t.command = "lut_test";
+  return t;
+}
+
+Table round_trip(const Table& table, const std::string& name) {
+  const std::string path = temp_file(name);
+  write_table(table, path);
+  return read_table(path);
+}
+
+Vec3 from_cos(double c, double phi = 0.0) {
+  const double s = std::sqrt(std::max(0.0, 1.0 - c * c));
+  return {s * std::cos(phi), s * std::sin(phi), c};
+}
+
+// --- Axes and mappings ----------------------------------------------------------------------
+
+TEST(lut, MappingsRoundTripAndEndsAreExact) {
+  for (Mapping m : {Mapping::linear, Mapping::sqrt, Mapping::cos}) {
+    const Axis axis{"x", -1.0, 1.0, 17, m};
+    EXPECT_EQ(axis.node(0), -1.0) << to_string(m);
+    EXPECT_EQ(axis.node(16), 1.0) << to_string(m);
+    for (int k = 0; k <= 100; ++k) {
+      const double u = k / 100.0;
+      EXPECT_NEAR(axis.index_coordinate(axis.coordinate(u)), u, kMappingRoundTrip) << to_string(m) << " u=" << u;
+    }
+    // Clamping: outside the axis the index coordinate is the end's.
+    EXPECT_EQ(axis.index_coordinate(-5.0), 0.0);
+    EXPECT_EQ(axis.index_coordinate(5.0), 1.0);
+  }
+  // The documented formulas (docs/lut-format.md), at one point each.
+  const Axis sq{"x", 0.0, 1.0, 5, Mapping::sqrt};
+  EXPECT_DOUBLE_EQ(sq.node(1), 1.0 / 16.0);  // u = 1/4, x = u^2
+  const Axis cs{"x", -1.0, 1.0, 5, Mapping::cos};
+  EXPECT_DOUBLE_EQ(cs.node(1), -std::cos(pi / 4));  // on [-1, 1]: x = -cos(pi u), uniform in angle
+}
+
+TEST(lut, ResolutionParsing) {
+  EXPECT_EQ(parse_resolution("8", Law::g), (std::vector<int>{8, 8, 8}));
+  EXPECT_EQ(parse_resolution("64x32x16", Law::g), (std::vector<int>{64, 32, 16}));
+  EXPECT_EQ(parse_resolution("100", Law::h), (std::vector<int>{100}));
+  for (const char* bad : {"0", "1", "8x8", "8x8x8x8", "x", "8x", "-8", "abc", "8.5", "9999999999"})
+    EXPECT_THROW(parse_resolution(bad, Law::g), InputError) << bad;
+  EXPECT_THROW(parse_resolution("8x8x8", Law::h), InputError);
+}
+
+// --- Bake, write, read, sample ----------------------------------------------------------------
+
+// minnaert:xi=1: h = (j·n)^xi = j·n (K&P closed form). Axis cos_theta_j, sqrt mapping: F(u) =
+// u^2, F'' = 2.
+TEST(lut, MinnaertDarkeningRoundTrip) {
+  constexpr int kCount = 50;  // not 2^k + 1: sqrt-mapped nodes k^2/49^2 are not exact in float
+  const Table baked = bake_table("minnaert:xi=1", Law::h, {kCount});
+  const Table table = round_trip(baked, "minnaert_h.exr");
+  ASSERT_EQ(table.value, baked.value);  // bit-exact round trip
+  ASSERT_EQ(table.error, baked.error);
+  EXPECT_EQ(table.model, "minnaert:xi=1");
+  EXPECT_EQ(table.command, "lut_test");
+  EXPECT_EQ(table.unconverged, 0);
+  // At the nodes the stored error bounds the true error (cubature + float rounding).
+  for (int k = 0; k < kCount; ++k) {
+    const double x = table.axes[0].node(k);
+    EXPECT_LE(std::abs(table.value[k] - x), table.error[k]) << "node " << k;
+  }
+  const double bound = interpolation_bound(2.0, kCount);
+  std::mt19937_64 rng(kSeed);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  for (int n = 0; n < 200; ++n) {
+    const double c = unit(rng);
+    const Sample s = sample(table, Vec3{0, 0, 1}, from_cos(c));
+    EXPECT_NEAR(s.value, c, bound + s.error) << "j·n=" << c;
+  }
+}
+
+// lambert: g = (1 + i·n)/2 (K&P). Axis cos_theta_i uses the cos mapping x = -cos(pi u):
+// F(u) = (1 - cos(pi u))/2, |F''| <= pi^2/2; g does not depend on the other axes.
+TEST(lut, LambertVignettingRoundTrip) {
+  constexpr int kCount = 33;
+  const Table table = round_trip(bake_table("lambert", Law::g, {kCount, 5, 5}), "lambert_g.exr");
+  const double bound = interpolation_bound(pi * pi / 2, kCount);
+  std::mt19937_64 rng(kSeed);
+  std::uniform_real_distribution<double> ci(-1.0, 1.0), cj(0.0, 1.0), phi(-pi, pi);
+  for (int n = 0; n < 200; ++n) {
+    const double c = ci(rng);
+    const Sample s = sample(table, from_cos(c), from_cos(cj(rng), phi(rng)));
+    EXPECT_NEAR(s.value, 0.5 * (1.0 + c), bound + s.error) << "i·n=" << c;
+  }
+  // At the nodes: exact up to the stored error.
+  const Sample top = sample(table, Vec3{0, 0, 1}, Vec3{0, 0, 1});
+  EXPECT_LE(std::abs(top.value - 1.0), top.error);
+  const Sample bottom = sample(table, Vec3{0, 0, -1}, Vec3{0, 0, 1});
+  EXPECT_LE(std::abs(bottom.value - 0.0), bottom.error);
+}
+
+// specular:alpha=8 g: nodes against the integrator directly, random points against it within
+// the measured interpolation tolerance.
+TEST(lut, SpecularVignettingAgreesWithIntegrator) {
+  const Table table = round_trip(bake_table("specular:alpha=8", Law::g, {25, 25, 13}), "specular_g.exr");
+  const ModelPtr model = parse_model("specular:alpha=8");
+  CubatureOptions options;
+  options.abs_tol = kBakeTol;
+  std::mt19937_64 rng(kSeed);
+  std::uniform_real_distribution<double> ci(-1.0, 1.0), cj(0.0, 1.0), phi(0.0, pi);
+  std::uniform_int_distribution<int> k25(0, 24), k13(0, 12);
+  for (int n = 0; n < 50; ++n) {  // at nodes
+    const int a = k25(rng), b = k25(rng), c = k13(rng);
+    const double x[3] = {table.axes[0].node(a), table.axes[1].node(b), table.axes[2].node(c)};
+    const Estimate ref = vignetting(*model, from_cos(x[0]), from_cos(x[1], x[2]), options);
+    const Sample s = sample(table, x);
+    EXPECT_NEAR(s.value, ref.value, s.error + ref.error + kAtNode) << a << "," << b << "," << c;
+  }
+  double worst = 0.0;
+  for (int n = 0; n < 200; ++n) {  // between nodes
+    const Vec3 i = from_cos(ci(rng)), j = from_cos(cj(rng), phi(rng));
+    const Estimate ref = vignetting(*model, i, j, options);
+    const Sample s = sample(table, i, j);
+    worst = std::max(worst, std::abs(s.value - ref.value));
+    EXPECT_NEAR(s.value, ref.value, kSpecularInterpolation) << "i·n=" << i.z << " j·n=" << j.z;
+  }
+  std::printf("specular:alpha=8 g 25x25x13: max |table - integrator| between nodes = %.3g (tolerance %.3g)\n", worst,
+              kSpecularInterpolation);
+}
+
+// The relative azimuth is folded into [0, pi] and is the same for both signs.
+TEST(lut, RelativeAzimuthIsFoldedAndRotationInvariant) {
+  const auto a = coordinates(Law::g, direction(0.7, 0.3), direction(0.4, 0.3 + 2.0));
+  const auto b = coordinates(Law::g, direction(0.7, 1.3), direction(0.4, 1.3 - 2.0));
+  EXPECT_NEAR(a[2], 2.0, 1e-12);
+  EXPECT_NEAR(b[2], 2.0, 1e-12);
+  const auto c = coordinates(Law::g, direction(0.7, 0.0), direction(0.4, 2 * pi - 0.5));
+  EXPECT_NEAR(c[2], 0.5, 1e-12);
+}
+
+TEST(lut, HalfEncodingRoundsValuesAndBoundsTheirError) {
+  // 30 nodes: with 2^k + 1 nodes the sqrt mapping puts every node on k^2/2^(2k), exact in half.
+  const Table single = bake_table("minnaert:xi=1", Law::a, {30});
+  const Table half = round_trip(bake_table("minnaert:xi=1", Law::a, {30}, Encoding::half), "minnaert_a_half.exr");
+  EXPECT_EQ(half.encoding, Encoding::half);
+  // Half keeps 11 significant bits: relative rounding 2^-11 of values in [0, 1].
+  constexpr double kHalfRounding = 1.0 / 2048;
+  bool any_different = false;
+  for (std::size_t m = 0; m < half.value.size(); ++m) {
+    const double exact = half.axes[0].node(static_cast<int>(m));  // a = i·n for minnaert:xi=1
+    EXPECT_NEAR(half.value[m], single.value[m], kHalfRounding * std::abs(single.value[m]) + 1e-7);
+    EXPECT_LE(std::abs(half.value[m] - exact), half.error[m]) << "entry " << m;
+    any_different = any_different || half.value[m] != single.value[m];
+  }
+  EXPECT_TRUE(any_different) << "half encoding did not round anything";
+  EXPECT_GT(half.max_error, single.max_error);
+  EXPECT_LT(single.max_error, 1e-6);  // float: cubature + 2^-24 relative
+}
+
+TEST(lut, BakeIsDeterministicAcrossThreadCounts) {
+  const Table parallel = bake_table("specular:alpha=8", Law::g, {9, 9, 5});
+  Table serial;
+  tbb::task_arena one(1);
+  one.execute([&] { serial = bake_table("specular:alpha=8", Law::g, {9, 9, 5}); });
+  EXPECT_EQ(parallel.value, serial.value);
+  EXPECT_EQ(parallel.error, serial.error);
+}
+
+TEST(lut, UnconvergedEntriesAreCounted) {
+  BakeOptions options;
+  options.resolution = {5};
+  options.tolerance = 1e-15;       // beyond double precision for these integrals ...
+  options.max_evaluations = 1000;  // ... and a budget far too small to try
+  const Table t = bake(*parse_model("specular:alpha=1000"), Law::h, options);
+  EXPECT_GT(t.unconverged, 0);
+  EXPECT_GT(t.max_error, options.tolerance);
+}
+
+// --- Refusals --------------------------------------------------------------------------------
+
+TEST(lut, BakeRefusesBadSizesBeforeAllocating) {
+  const ModelPtr model = parse_model("lambert");
+  BakeOptions options;
+  options.resolution = {0};
+  EXPECT_THROW(bake(*model, Law::h, options), InputError);
+  options.resolution = {1};
+  EXPECT_THROW(bake(*model, Law::h, options), InputError);
+  options.resolution = {100000, 100000, 100000};  // 8e15 bytes: would throw bad_alloc if tried
+  try {
+    bake(*model, Law::g, options);
+    FAIL() << "absurd resolution accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("8000000000000000 bytes"), std::string::npos) << e.what();
+  }
+  options.resolution = {8, 8};  // wrong number of axes for g
+  EXPECT_THROW(bake(*model, Law::g, options), InputError);
+  options.resolution = {8};
+  EXPECT_THROW(bake(*model, Law::r, options), InputError);
+}
+
+/// An EXR's pixels and header, to write variants of a valid table that the reader must refuse.
+struct RawExr {
+  int width = 0, height = 0;
+  Imf::Header header;
+  std::map<std::string, std::vector<float>> channels;
+
+  static RawExr load(const std::string& path) {
+    Imf::InputFile in(path.c_str());
+    RawExr raw;
+    raw.header = in.header();
+    const auto window = raw.header.dataWindow();
+    raw.width = window.max.x + 1;
+    raw.height = window.max.y + 1;
+    Imf::FrameBuffer frame;
+    for (const char* name : {"value", "error"}) {
+      auto& data = raw.channels[name];
+      data.resize(static_cast<std::size_t>(raw.width) * raw.height);
+      frame.insert(name, Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(data.data()), sizeof(float),
+                                    sizeof(float) * raw.width));
+    }
+    in.setFrameBuffer(frame);
+    in.readPixels(0, raw.height - 1);
+    return raw;
+  }
+
+  void save(const std::string& path) {
+    Imf::Header h(width, height);
+    for (auto it = header.begin(); it != header.end(); ++it)
+      if (std::string(it.name()).rfind("ganzfeld.", 0) == 0) h.insert(it.name(), it.attribute());
+    Imf::FrameBuffer frame;
+    for (auto& [name, data] : channels) {
+      h.channels().insert(name, Imf::Channel(Imf::FLOAT));
+      frame.insert(name, Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(data.data()), sizeof(float),
+                                    sizeof(float) * width));
+    }
+    Imf::OutputFile out(path.c_str(), h);
+    out.setFrameBuffer(frame);
+    out.writePixels(height);
+  }
+
+  void set(const char* name, const std::string& value) { header.insert(name, Imf::StringAttribute(value)); }
+};
+
+class lutRefusal : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    valid_ = new std::string(temp_file("valid_h.exr"));
+    write_table(bake_table("minnaert:xi=1", Law::h, {9}), *valid_);
+  }
+  static void TearDownTestSuite() { delete valid_; }
+
+  /// read_table(path) must throw an InputError whose one-line message names the file and
+  /// contains `reason`.
+  static void expect_refused(const std::string& path, const std::string& reason) {
+    try {
+      read_table(path);
+      ADD_FAILURE() << path << " was accepted; expected a refusal mentioning '" << reason << "'";
+    } catch (const InputError& e) {
+      const std::string message = e.what();
+      EXPECT_NE(message.find(path), std::string::npos) << message;
+      EXPECT_NE(message.find(reason), std::string::npos) << message;
+      EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+    }
+  }
+
+  static RawExr valid() { return RawExr::load(*valid_); }
+  static std::string* valid_;
+};
+std::string* lutRefusal::valid_ = nullptr;
+
+TEST_F(lutRefusal, ValidFileIsAccepted) { EXPECT_NO_THROW(read_table(*valid_)); }
+
+TEST_F(lutRefusal, MissingFile) { expect_refused(temp_file("does_not_exist.exr"), "no such file"); }
+
+TEST_F(lutRefusal, NotExr) {
+  const std::string path = temp_file("text.exr");
+  std::ofstream(path) << "this is not an image\n";
+  expect_refused(path, "not an OpenEXR file");
+}
+
+TEST_F(lutRefusal, Truncated) {
+  const std::string path = temp_file("truncated.exr");
+  std::ifstream in(*valid_, std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  for (std::size_t keep : {bytes.size() - 8, bytes.size() / 2, std::size_t{600}}) {
+    std::ofstream(path, std::ios::binary | std::ios::trunc) << bytes.substr(0, keep);
+    expect_refused(path, "truncated");
+  }
+}
+
+TEST_F(lutRefusal, MissingVersion) {
+  RawExr raw = valid();
+  raw.header.erase("ganzfeld.format_version");
+  const std::string path = temp_file("no_version.exr");
+  raw.save(path);
+  expect_refused(path, "missing string attribute ganzfeld.format_version");
+}
+
+TEST_F(lutRefusal, UnknownVersion) {
+  RawExr raw = valid();
+  raw.set("ganzfeld.format_version", "2");
+  const std::string path = temp_file("version2.exr");
+  raw.save(path);
+  expect_refused(path, "format version '2' is not supported");
+}
+
+TEST_F(lutRefusal, WrongShape) {
+  RawExr raw = valid();  // 9 x 1 image for a 9-node axis
+  raw.width = 8;
+  for (auto& [name, data] : raw.channels) data.resize(8);
+  const std::string path = temp_file("wrong_shape.exr");
+  raw.save(path);
+  expect_refused(path, "image is 8x1 but the axes need 9x1");
+}
+
+TEST_F(lutRefusal, WrongChannels) {
+  RawExr raw = valid();
+  raw.channels.erase("error");
+  const std::string path = temp_file("one_channel.exr");
+  raw.save(path);
+  expect_refused(path, "expected exactly {error, value}");
+}
+
+TEST_F(lutRefusal, LawInconsistentWithAxes) {
+  RawExr raw = valid();
+  raw.set("ganzfeld.law", "g");  // g needs 3 axes, the file has 1
+  const std::string path = temp_file("g_one_axis.exr");
+  raw.save(path);
+  expect_refused(path, "law g needs 3 axes");
+}
+
+TEST_F(lutRefusal, NaNInData) {
+  RawExr raw = valid();
+  raw.channels["value"][3] = std::nanf("");
+  const std::string path = temp_file("nan.exr");
+  raw.save(path);
+  expect_refused(path, "every value must be finite");
+}
+
+TEST_F(lutRefusal, MaxErrorDisagreesWithData) {
+  RawExr raw = valid();
+  raw.set("ganzfeld.max_error", "0");
+  const std::string path = temp_file("max_error.exr");
+  raw.save(path);
+  expect_refused(path, "disagrees with the error data");
+}
+
+// --- Atomic writes ----------------------------------------------------------------------------
+
+std::vector<std::string> listing(const std::string& dir) {
+  std::vector<std::string> names;
+  for (const auto& e : fs::directory_iterator(dir)) names.push_back(e.path().filename().string());
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+TEST(lut, FailedWriteLeavesNoFile) {
+  const Table table = bake_table("lambert", Law::h, {5});
+  // A directory that does not exist.
+  const std::string missing = temp_file("no/such/dir/t.exr");
+  EXPECT_THROW(write_table(table, missing), InputError);
+  EXPECT_FALSE(fs::exists(missing));
+  EXPECT_THROW(check_writable(missing), InputError);
+
+  // The rename fails after the temporary file was written (target is a non-empty directory):
+  // the temporary must be gone and nothing else created.
+  const fs::path dir = fs::path(temp_dir()) / "atomic";
+  fs::create_directories(dir / "target.exr" / "occupied");
+  const auto before = listing(dir.string());
+  EXPECT_THROW(write_table(table, (dir / "target.exr").string()), InputError);
+  EXPECT_EQ(listing(dir.string()), before);
+  EXPECT_TRUE(fs::is_directory(dir / "target.exr"));
+
+  // A read-only directory (only meaningful when not root: root ignores permission bits).
+  if (::geteuid() != 0) {
+    const fs::path ro = fs::path(temp_dir()) / "readonly";
+    fs::create_directories(ro);
+    fs::permissions(ro, fs::perms::owner_read | fs::perms::owner_exec);
+    EXPECT_THROW(write_table(table, (ro / "t.exr").string()), InputError);
+    EXPECT_TRUE(fs::is_empty(ro));
+    fs::permissions(ro, fs::perms::owner_all);
+  }
+
+  // Success replaces an existing file atomically and leaves no temporary behind.
+  const fs::path ok = dir / "ok.exr";
+  write_table(table, ok.string());
+  write_table(table, ok.string());
+  EXPECT_NO_THROW(read_table(ok.string()));
+  auto after = listing(dir.string());
+  EXPECT_EQ(after.size(), before.size() + 1) << "a temporary file was left behind";
+}
+
+// The error a lookup reports (interpolated node errors + the table's measured interpolation
+// error) must cover |lookup - cubature| between nodes, where interpolation dominates. The
+// interpolation error is measured at cell centres, not bounded, so we allow a small fraction
+// of misses at fresh random points.
+constexpr double kAllowedMissFraction = 0.01;  // measured, not a bound: see tables/table.h
+TEST(lut, ReportedErrorCoversInterpolationBetweenNodes) {
+  struct Case {
+    const char* spec;
+    Law law;
+    std::vector<int> res;
+  };
+  for (const Case& c : {Case{"specular:alpha=8", Law::g, {12, 12, 7}}, Case{"minnaert:xi=0.3", Law::h, {17}},
+                        Case{"asperity:alpha=4", Law::a, {9}}}) {
+    const ModelPtr model = parse_model(c.spec);
+    BakeOptions options;
+    options.resolution = c.res;
+    options.tolerance = 1e-9;
+    const Table baked = bake(*model, c.law, options);
+    const Table table = round_trip(baked, "interpolation.exr");
+    EXPECT_EQ(table.interpolation_error, baked.interpolation_error) << c.spec;  // survives the file
+    EXPECT_EQ(table.interpolation_checks, baked.interpolation_checks) << c.spec;
+    ASSERT_GT(table.interpolation_checks, 0) << c.spec;
+    ASSERT_GT(table.interpolation_error, table.max_error) << c.spec;  // interpolation dominates here
+    std::mt19937_64 rng(99);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    CubatureOptions exact;
+    exact.abs_tol = 1e-11;
+    int misses = 0;
+    constexpr int kPoints = 300;
+    for (int k = 0; k < kPoints; ++k) {
+      const Vec3 i = direction_from_cos(c.law == Law::g ? 2 * u(rng) - 1 : u(rng));
+      const Vec3 j = direction_from_cos(u(rng), std::numbers::pi * u(rng));
+      const Sample s = sample(table, i, j);
+      const double truth = evaluate_law(*model, c.law, i, j, exact).value;
+      if (std::abs(s.value - truth) > s.error + table.interpolation_error) ++misses;
+    }
+    EXPECT_LE(misses, kAllowedMissFraction * kPoints) << c.spec;
+  }
+}
+
+}  // namespace
+}  // namespace ganzfeld

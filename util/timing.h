@@ -1,0 +1,42 @@
+// The one way ganzfeld measures time: a steady-clock stopwatch, and the median of repeated runs
+// (published timings are medians with their spread; docs/performance.md).
+#pragma once
+
+#include <algorithm>
+#include <chrono>
+#include <functional>
+#include <vector>
+
+namespace ganzfeld::util {
+
+class Stopwatch {
+ public:
+  Stopwatch() : start_(std::chrono::steady_clock::now()) {}
+  /// Seconds since construction or the last restart().
+  double seconds() const { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count(); }
+  void restart() { start_ = std::chrono::steady_clock::now(); }
+
+ private:
+  std::chrono::steady_clock::time_point start_;
+};
+
+/// Wall seconds of each of `repeats` (>= 1) runs of `run`, in run order.
+inline std::vector<double> time_runs(int repeats, const std::function<void()>& run) {
+  std::vector<double> seconds;
+  for (int r = 0; r < std::max(1, repeats); ++r) {
+    const Stopwatch watch;
+    run();
+    seconds.push_back(watch.seconds());
+  }
+  return seconds;
+}
+
+/// The median of `values` (the mean of the middle two for an even count); 0 for none.
+inline double median(std::vector<double> values) {
+  if (values.empty()) return 0.0;
+  std::sort(values.begin(), values.end());
+  const std::size_t n = values.size();
+  return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
+}
+
+}  // namespace ganzfeld::util
