@@ -14,6 +14,12 @@ G="$1"
 [ "$(json_field "$tmp/models.json" "len(d['models'])")" -ge 6 ] && ok || fail "models count"
 [ "$(json_field "$tmp/models.json" "[m['reciprocal'] for m in d['models'] if m['name']=='specular'][0]")" = "True" ] && ok || fail "models traits"
 
+# docs/model-parameters.md is generated from the registry and kept current
+"$G" models --markdown "$tmp/model-parameters.md" && ok || fail "models --markdown"
+cmp -s "$tmp/model-parameters.md" "$(dirname "$0")/../docs/model-parameters.md" && ok \
+  || fail "docs/model-parameters.md is stale: run ganzfeld models --markdown docs/model-parameters.md"
+expect_bad "cannot write" models --markdown "$tmp/no/such/dir/p.md"
+
 # --- eval: the Core acceptance command
 "$G" eval --model specular:alpha=1000 --law g --theta-i 60 --theta-j 30 --phi 180 --tol 1e-10 --json >"$tmp/eval.json" 2>"$tmp/err" \
   && ok || fail "eval acceptance"
@@ -83,6 +89,27 @@ expect_bad "does not exist" bake --scene "$scene" --out "$tmp/no/such/cache" "${
 [ ! -e "$tmp/no" ] && ok || fail "--out under a missing parent created something"
 expect_bad "mutually exclusive" bake --scene "$scene" --model lambert --out "$tmp/cache"
 expect_bad "no such file" bake --scene "$tmp/none.json" --out "$tmp/cache"
+
+# --- one planner: a cache baked with non-default table options is what render and export-glsl
+# reach with the same options (nothing baked again), and tables from the cache shade exactly as
+# tables baked in memory
+opts=(--res-g 5x5x3 --res-h 9 --tol 1e-6 --encoding half --max-evals 200000)
+"$G" bake --scene "$scene" --out "$tmp/plan_cache" "${opts[@]}" --json >"$tmp/plan_bake.json" && ok || fail "planned bake"
+[ "$(json_field "$tmp/plan_bake.json" "len(d['tables'])==6 and all(t['status']=='baked' for t in d['tables'])")" = "True" ] \
+  && ok || fail "planned bake JSON: $(cat "$tmp/plan_bake.json")"
+"$G" render --scene "$scene" --cache "$tmp/plan_cache" "${opts[@]}" -o "$tmp/cached.exr" --json >"$tmp/plan_render.json" \
+  && ok || fail "render from the cache"
+[ "$(json_field "$tmp/plan_render.json" "len(d['tables'])==6 and all(t['status']=='reused' for t in d['tables'])")" = "True" ] \
+  && ok || fail "render baked again: $(cat "$tmp/plan_render.json")"
+"$G" export-glsl --scene "$scene" --cache "$tmp/plan_cache" "${opts[@]}" --out "$tmp/plan_glsl" --json >"$tmp/plan_glsl.json" \
+  && ok || fail "export-glsl from the cache"
+[ "$(json_field "$tmp/plan_glsl.json" "len(d['tables'])==6 and all(t['status']=='reused' for t in d['tables'])")" = "True" ] \
+  && ok || fail "export-glsl baked again: $(cat "$tmp/plan_glsl.json")"
+[ "$(ls "$tmp/plan_cache" | wc -l)" -eq 6 ] && ok || fail "the cache grew: $(ls "$tmp/plan_cache")"
+"$G" render --scene "$scene" "${opts[@]}" -o "$tmp/memory.exr" --quiet && ok || fail "render in memory"
+cmp -s "$tmp/cached.exr" "$tmp/memory.exr" && ok || fail "cached and in-memory tables shade differently"
+[ "$(json_field "$tmp/plan_glsl.json" "sorted((t['model'], t['law'], t['max_error']) for t in d['textures']) == sorted((t['model'], t['law'], t['max_error']) for t in $(cat "$tmp/plan_bake.json")['tables'])")" = "True" ] \
+  && ok || fail "export-glsl's tables are not the baked ones"
 
 echo "cli: $passed passed, $failed failed"
 [ "$failed" -eq 0 ]
