@@ -1,7 +1,6 @@
 #include "bench/cubature_bench.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <functional>
 #include <limits>
@@ -19,18 +18,15 @@
 #include "integrate/laws.h"
 #include "laws/spec.h"
 #include "reports/plot.h"
+#include "util/timing.h"
 
 namespace ganzfeld::bench {
 
 namespace {
 
 using std::numbers::pi;
-using Clock = std::chrono::steady_clock;
 constexpr double kErrorFloor = 1e-16;  // achieved errors below double rounding count as this
 
-double seconds_since(Clock::time_point start) {
-  return std::chrono::duration<double>(Clock::now() - start).count();
-}
 
 struct Case {
   ModelPtr model;
@@ -179,14 +175,14 @@ Run run_libcubature(const Case& c, const Lune& lune, double tol, long long cap, 
   const double lo_lune[2] = {-pi / 2, lune.phi_lo}, hi_lune[2] = {pi / 2, pi / 2};
   const double lo_hemi[2] = {0.0, 0.0}, hi_hemi[2] = {pi / 2, 2 * pi};
   double value = 0.0, error = 0.0;
-  const auto start = Clock::now();
+  const util::Stopwatch start;
   auto fn = p_adaptive ? pcubature : hcubature;
   fn(1, cubature_callback, &data, 2, naive ? lo_hemi : lo_lune, naive ? hi_hemi : hi_lune, static_cast<size_t>(cap), tol, 0.0,
      ERROR_INDIVIDUAL, &value, &error);
   Run r;
   r.competitor = naive ? "hcubature_naive" : (p_adaptive ? "pcubature_lune" : "hcubature_lune");
   r.tolerance = tol;
-  r.seconds = seconds_since(start);
+  r.seconds = start.seconds();
   r.evaluations = in.count;
   r.estimate = error;
   r.achieved_error = std::max(std::abs(value - ref), kErrorFloor);
@@ -200,7 +196,7 @@ Run run_boost(const std::string& name, const Case& c, const Lune& lune, double t
   Run r;
   r.competitor = name;
   r.tolerance = tol;
-  const auto start = Clock::now();
+  const util::Stopwatch start;
   try {
     const double value = nested(in, tol);
     r.achieved_error = std::max(std::abs(value - ref), kErrorFloor);
@@ -210,7 +206,7 @@ Run run_boost(const std::string& name, const Case& c, const Lune& lune, double t
   } catch (const std::exception&) {  // e.g. tanh_sinh refusing a non-finite value
     r.achieved_error = std::numeric_limits<double>::infinity();
   }
-  r.seconds = seconds_since(start);
+  r.seconds = start.seconds();
   r.evaluations = in.count;
   return r;
 }
@@ -260,7 +256,7 @@ Run run_oracle(const Case& c, const Lune& lune, const BreakPoints& cuts, double 
   Run r;
   r.competitor = "oracle";
   r.tolerance = target;
-  const auto start = Clock::now();
+  const util::Stopwatch start;
   for (int n : {2, 3, 4, 5, 6, 7, 8, 10, 12, 14, 16, 20, 24, 28, 32, 40, 48, 64, 80, 96, 128, 160, 192, 256}) {
     const GaussLegendre& gl = gauss_legendre(n);
     Integrand in{&c, lune, 0, std::numeric_limits<long long>::max(), false};
@@ -278,7 +274,7 @@ Run run_oracle(const Case& c, const Lune& lune, const BreakPoints& cuts, double 
     if (r.achieved_error <= target) break;
   }
   r.capped = r.achieved_error > target;
-  r.seconds = seconds_since(start);
+  r.seconds = start.seconds();
   return r;
 }
 
@@ -293,17 +289,17 @@ Run run_monte_carlo(const Case& c, double budget_seconds, double ref, std::uint6
     return glm::dot(k, c.i) > 0.0 ? pi * c.model->f(k, c.j) : 0.0;
   };
   // Calibrate the cost per sample, then spend the same wall time as ours.
-  const auto start = Clock::now();
+  const util::Stopwatch start;
   long long n = 0;
   double sum = 0.0;
   do {
     for (int k = 0; k < 1000; ++k) sum += sample();
     n += 1000;
-  } while (seconds_since(start) < budget_seconds && n < 100'000'000);
+  } while (start.seconds() < budget_seconds && n < 100'000'000);
   Run r;
   r.competitor = "mc";
   r.evaluations = n;
-  r.seconds = seconds_since(start);
+  r.seconds = start.seconds();
   r.achieved_error = std::max(std::abs(sum / n - ref), kErrorFloor);
   return r;
 }
@@ -364,9 +360,9 @@ std::vector<FamilyResult> run_cubature_benchmark(const CubatureBenchOptions& opt
       for (double tol : options.tolerances) {
         CubatureOptions o;
         o.abs_tol = tol;
-        const auto start = Clock::now();
+        const util::Stopwatch start;
         const Estimate e = vignetting(*c.model, c.i, c.j, o);
-        Run r{"ours", tol, std::max(std::abs(e.value - ref), kErrorFloor), e.error, seconds_since(start), e.evaluations, false};
+        Run r{"ours", tol, std::max(std::abs(e.value - ref), kErrorFloor), e.error, start.seconds(), e.evaluations, false};
         out.runs.push_back(r);
         ++out.ours;
         const bool missed = r.achieved_error > tol, dishonest = r.achieved_error > r.estimate + kErrorFloor;

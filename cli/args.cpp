@@ -1,6 +1,5 @@
 #include "cli/args.h"
 
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>

@@ -1,4 +1,3 @@
-#include <chrono>
 #include <filesystem>
 #include <cstdio>
 #include <iostream>
@@ -13,6 +12,7 @@
 #include "laws/spec.h"
 #include "util/atomic_file.h"
 #include "tables/bake.h"
+#include "util/timing.h"
 
 namespace ganzfeld::cli {
 
@@ -86,9 +86,9 @@ nlohmann::ordered_json bake_report(const BenchArgs& args) {
       tables::BakeOptions o;
       o.resolution = res;
       o.tolerance = 1e-9;
-      const auto start = std::chrono::steady_clock::now();
+      const util::Stopwatch watch;
       const auto table = tables::bake(*parse_model(spec), Law::g, o);
-      seconds[threads] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      seconds[threads] = watch.seconds();
       row["unconverged"] = table.unconverged;
       row["max_error"] = table.max_error;
     }

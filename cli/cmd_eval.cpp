@@ -1,4 +1,3 @@
-#include <chrono>
 #include <cstdio>
 #include <iostream>
 
@@ -8,6 +7,7 @@
 #include "cli/commands.h"
 #include "util/error.h"
 #include "laws/spec.h"
+#include "util/timing.h"
 
 namespace ganzfeld::cli {
 
@@ -44,9 +44,9 @@ void add_eval_command(CLI::App& app, Action& action) {
       CubatureOptions options;
       options.abs_tol = args->tol;
       options.max_evaluations = args->max_evaluations;
-      const auto start = std::chrono::steady_clock::now();
+      const util::Stopwatch watch;
       const Estimate e = evaluate_law(*model, law, i, j, options);
-      const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      const double seconds = watch.seconds();
       if (args->json) {
         nlohmann::ordered_json doc{{"model", model->spec()}, {"law", to_string(law)}, {"value", e.value},
                                    {"error", e.error},       {"evaluations", e.evaluations},

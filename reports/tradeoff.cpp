@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cctype>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -23,6 +22,7 @@
 #include "tables/exr_io.h"
 #include "reports/plot.h"
 #include "tables/sample.h"
+#include "util/timing.h"
 
 namespace ganzfeld::reports {
 
@@ -139,16 +139,13 @@ std::vector<Direction> reference_directions(Law law, int random_points, std::uin
 
 namespace {
 int extreme_count(Law law) { return law == Law::g ? 45 : 5; }
-double seconds_since(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
 }  // namespace
 
 Reference compute_reference(const Model& model, Law law, int random_points, std::uint64_t seed, double tolerance) {
   require_tabulated(law);
   if (random_points < 1)
     throw InputError("--points=" + std::to_string(random_points) + " is not allowed; expected an integer >= 1");
-  const auto start = std::chrono::steady_clock::now();
+  const util::Stopwatch start;
   Reference ref;
   ref.seed = seed;
   ref.tolerance = tolerance;
@@ -167,7 +164,7 @@ Reference compute_reference(const Model& model, Law law, int random_points, std:
     ref.max_error = std::max(ref.max_error, p.error);
     if (!p.converged) ++ref.unconverged;
   }
-  ref.seconds = seconds_since(start);
+  ref.seconds = start.seconds();
   return ref;
 }
 
@@ -204,13 +201,13 @@ double time_lookups(const Table& table, const std::vector<double>& coords) {
   if (n == 0) return 0.0;
   std::uint64_t lookups = 0;
   double sum = 0.0;
-  const auto start = std::chrono::steady_clock::now();
+  const util::Stopwatch start;
   double elapsed = 0.0;
   do {
     for (std::size_t p = 0; p < n; ++p)
       sum += sample(table, std::span<const double>(coords.data() + p * dims, dims)).value;
     lookups += n;
-    elapsed = seconds_since(start);
+    elapsed = start.seconds();
   } while (lookups < kMinLookups || elapsed < kMinLookupSeconds);
   g_lookup_sink = sum;
   return elapsed * 1e9 / static_cast<double>(lookups);
@@ -237,7 +234,7 @@ TradeoffReport measure_tradeoff(const Model& model, Law law, const TradeoffPlan&
   require_tabulated(law);
   if (!model.traits().isotropic)
     throw InputError("model '" + model.spec() + "' is anisotropic; tables exist only for isotropic models");
-  const auto start = std::chrono::steady_clock::now();
+  const util::Stopwatch start;
   TradeoffReport report;
   report.model = model.spec();
   report.law = law;
@@ -253,10 +250,10 @@ TradeoffReport measure_tradeoff(const Model& model, Law law, const TradeoffPlan&
     bake_options.mappings = config.mappings;
     bake_options.encoding = config.encoding;
     bake_options.tolerance = config.tolerance;
-    const auto bake_start = std::chrono::steady_clock::now();
+    const util::Stopwatch bake_start;
     Table table = bake(model, law, bake_options);
     TradeoffRow row;
-    row.bake_seconds = seconds_since(bake_start);
+    row.bake_seconds = bake_start.seconds();
     row.config = config;
     row.config.mappings.clear();
     for (const Axis& axis : table.axes) row.config.mappings.push_back(axis.mapping);
@@ -285,7 +282,7 @@ TradeoffReport measure_tradeoff(const Model& model, Law law, const TradeoffPlan&
     report.rows.push_back(std::move(row));
     if (options.progress) options.progress(c + 1, configs.size());
   }
-  report.seconds = seconds_since(start);
+  report.seconds = start.seconds();
   return report;
 }
 

@@ -1,13 +1,13 @@
 #include "util/atomic_file.h"
 #include "tables/cache.h"
 
-#include <chrono>
 #include <cstdio>
 #include <filesystem>
 
 #include "util/error.h"
 #include "laws/registry.h"
 #include "tables/exr_io.h"
+#include "util/timing.h"
 
 namespace ganzfeld::tables {
 
@@ -99,9 +99,9 @@ CacheResult bake_or_reuse(const std::string& path, const Model& model, Law law, 
       return {path, CacheStatus::reused, std::move(*table), 0.0};
   }
   check_writable(path);
-  const auto start = std::chrono::steady_clock::now();
+  const util::Stopwatch watch;
   Table table = bake(model, law, options);
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const double seconds = watch.seconds();
   table.command = command;
   write_table(table, path);
   return {path, CacheStatus::baked, std::move(table), seconds};
