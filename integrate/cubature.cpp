@@ -137,6 +137,137 @@ class Engine {
   long long evaluations_ = 0;
 };
 
+/// Steps 1 and 3 of the algorithm (cubature.h): the panels still open to bisection, kept as a
+/// max-heap on their error, and those too small to bisect.
+template <int D>
+class Refinement {
+ public:
+  Refinement(const PanelIntegrand<D>& integrand, const CubatureOptions& options)
+      : engine_(integrand), options_(options) {}
+
+  /// Step 1: one panel per cell of the caller's grid.
+  void seed(const std::array<std::vector<double>, D>& cuts) {
+    std::size_t total = 1;
+    for (int d = 0; d < D; ++d) total *= cuts[d].size() - 1;
+    for (std::size_t flat = 0; flat < total; ++flat) {
+      Panel<D> p;
+      if (!grid_cell(cuts, flat, p)) continue;
+      p.id = next_id_++;
+      engine_.evaluate(p);
+      heap_.push_back(p);
+    }
+    std::make_heap(heap_.begin(), heap_.end(), ByError<D>());
+    error_ = open_error();
+  }
+
+  /// Step 3: bisect the worst panel until the tolerance is met or the budget is spent.
+  void refine() {
+    const long long cost = 2LL * panel_nodes(D);
+    while (!heap_.empty() && error_ + frozen_error_ > options_.abs_tol &&
+           engine_.evaluations() + cost <= options_.max_evaluations) {
+      const Panel<D> worst = pop_worst();
+      if (splittable(worst))
+        bisect(worst);
+      else
+        freeze(worst);
+    }
+  }
+
+  Estimate result() const {
+    CompensatedSum value, err;
+    for (const auto* set : {&heap_, &frozen_})
+      for (const auto& p : *set) {
+        value.add(p.value);
+        err.add(p.error);
+      }
+    Estimate out;
+    out.value = value.value();
+    out.error = err.value();
+    out.evaluations = engine_.evaluations();
+    out.converged = std::isfinite(out.error) && out.error <= options_.abs_tol;
+    if (!std::isfinite(out.value)) {
+      out.value = 0.0;
+      out.converged = false;
+    }
+    return out;
+  }
+
+ private:
+  /// Cell `flat` of the grid, the last axis running fastest; false for an empty cell (a
+  /// repeated cut), which has nothing to integrate and would only waste a rule.
+  static bool grid_cell(const std::array<std::vector<double>, D>& cuts, std::size_t flat, Panel<D>& p) {
+    for (int d = D - 1; d >= 0; --d) {
+      const std::size_t count = cuts[d].size() - 1;
+      const std::size_t index = flat % count;
+      flat /= count;
+      p.lo[d] = cuts[d][index];
+      p.hi[d] = cuts[d][index + 1];
+    }
+    for (int d = 0; d < D; ++d)
+      if (!(p.hi[d] > p.lo[d])) return false;
+    return true;
+  }
+
+  /// Below ~1e-15 of its position a bisection no longer shrinks the panel (resolution of doubles).
+  static bool splittable(const Panel<D>& p) {
+    const int axis = p.split_axis;
+    const double mid = 0.5 * (p.lo[axis] + p.hi[axis]);
+    return mid > p.lo[axis] && mid < p.hi[axis] &&
+           !(p.hi[axis] - p.lo[axis] < 1e-15 * std::max(1.0, std::abs(mid)));
+  }
+
+  Panel<D> pop_worst() {
+    std::pop_heap(heap_.begin(), heap_.end(), ByError<D>());
+    const Panel<D> worst = heap_.back();
+    heap_.pop_back();
+    return worst;
+  }
+
+  void push(const Panel<D>& p) {
+    heap_.push_back(p);
+    std::push_heap(heap_.begin(), heap_.end(), ByError<D>());
+  }
+
+  /// The panel's error stays in the total but no longer drives the refinement.
+  void freeze(const Panel<D>& p) {
+    frozen_error_ += p.error;
+    frozen_.push_back(p);
+    error_ -= p.error;
+  }
+
+  void bisect(const Panel<D>& worst) {
+    const int axis = worst.split_axis;
+    const double mid = 0.5 * (worst.lo[axis] + worst.hi[axis]);
+    Panel<D> left = worst, right = worst;
+    left.hi[axis] = mid;
+    right.lo[axis] = mid;
+    left.id = next_id_++;
+    right.id = next_id_++;
+    engine_.evaluate(left);
+    engine_.evaluate(right);
+    push(left);
+    push(right);
+    error_ += left.error + right.error - worst.error;
+    // The running sum drifts by rounding; recompute it exactly now and then and before stopping.
+    if (++iterations_ % 256 == 0 || error_ + frozen_error_ <= options_.abs_tol) error_ = open_error();
+  }
+
+  /// The open panels' summed error, exactly (the running error_ is an incremental update of it).
+  double open_error() const {
+    CompensatedSum s;
+    for (const auto& p : heap_) s.add(p.error);
+    return s.value();
+  }
+
+  Engine<D> engine_;
+  const CubatureOptions& options_;
+  std::vector<Panel<D>> heap_;    // open panels, a max-heap by ByError
+  std::vector<Panel<D>> frozen_;  // too small to bisect further
+  double error_ = 0.0;            // summed error of heap_, kept up to date incrementally
+  double frozen_error_ = 0.0;     // summed error of frozen_
+  long long next_id_ = 0, iterations_ = 0;
+};
+
 }  // namespace
 
 std::vector<double> tidy_cuts(std::vector<double> lines, double lo, double hi, double min_gap) {
@@ -155,93 +286,10 @@ template <int D>
 Estimate adaptive_cubature(const PanelIntegrand<D>& integrand,
                            const std::array<std::vector<double>, D>& cuts,
                            const CubatureOptions& options) {
-  Engine<D> engine(integrand);
-  std::vector<Panel<D>> heap;
-  long long next_id = 0;
-
-  // Step 1: the initial grid.
-  std::array<std::size_t, D> counts;
-  std::size_t total = 1;
-  for (int d = 0; d < D; ++d) {
-    counts[d] = cuts[d].size() - 1;
-    total *= counts[d];
-  }
-  for (std::size_t flat = 0; flat < total; ++flat) {
-    Panel<D> p;
-    std::size_t rest = flat;
-    for (int d = D - 1; d >= 0; --d) {
-      const std::size_t index = rest % counts[d];
-      rest /= counts[d];
-      p.lo[d] = cuts[d][index];
-      p.hi[d] = cuts[d][index + 1];
-    }
-    bool empty = false;
-    for (int d = 0; d < D; ++d) empty = empty || !(p.hi[d] > p.lo[d]);
-    if (empty) continue;
-    p.id = next_id++;
-    engine.evaluate(p);
-    heap.push_back(p);
-  }
-  std::make_heap(heap.begin(), heap.end(), ByError<D>());
-
-  auto summed_error = [&] {
-    CompensatedSum s;
-    for (const auto& p : heap) s.add(p.error);
-    return s.value();
-  };
-
-  // Step 3: bisect the worst panel until the tolerance is met or the budget is spent.
-  std::vector<Panel<D>> frozen;  // too small to split further (resolution limit of doubles)
-  double frozen_error = 0.0;
-  double error = summed_error();
-  long long iterations = 0;
-  const long long cost = 2LL * panel_nodes(D);
-  while (!heap.empty() && error + frozen_error > options.abs_tol &&
-         engine.evaluations() + cost <= options.max_evaluations) {
-    std::pop_heap(heap.begin(), heap.end(), ByError<D>());
-    Panel<D> worst = heap.back();
-    heap.pop_back();
-    const int axis = worst.split_axis;
-    const double mid = 0.5 * (worst.lo[axis] + worst.hi[axis]);
-    if (!(mid > worst.lo[axis] && mid < worst.hi[axis]) ||
-        worst.hi[axis] - worst.lo[axis] < 1e-15 * std::max(1.0, std::abs(mid))) {
-      frozen_error += worst.error;
-      frozen.push_back(worst);
-      error -= worst.error;
-      continue;
-    }
-    Panel<D> left = worst, right = worst;
-    left.hi[axis] = mid;
-    right.lo[axis] = mid;
-    left.id = next_id++;
-    right.id = next_id++;
-    engine.evaluate(left);
-    engine.evaluate(right);
-    heap.push_back(left);
-    std::push_heap(heap.begin(), heap.end(), ByError<D>());
-    heap.push_back(right);
-    std::push_heap(heap.begin(), heap.end(), ByError<D>());
-    error += left.error + right.error - worst.error;
-    // The running sum drifts by rounding; recompute it exactly now and then and before stopping.
-    if (++iterations % 256 == 0 || error + frozen_error <= options.abs_tol) error = summed_error();
-  }
-
-  CompensatedSum value, err;
-  for (const auto* set : {&heap, &frozen})
-    for (const auto& p : *set) {
-      value.add(p.value);
-      err.add(p.error);
-    }
-  Estimate out;
-  out.value = value.value();
-  out.error = err.value();
-  out.evaluations = engine.evaluations();
-  out.converged = std::isfinite(out.error) && out.error <= options.abs_tol;
-  if (!std::isfinite(out.value)) {
-    out.value = 0.0;
-    out.converged = false;
-  }
-  return out;
+  Refinement<D> refinement(integrand, options);
+  refinement.seed(cuts);
+  refinement.refine();
+  return refinement.result();
 }
 
 template Estimate adaptive_cubature<1>(const PanelIntegrand<1>&, const std::array<std::vector<double>, 1>&,
