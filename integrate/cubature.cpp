@@ -59,10 +59,22 @@ struct Panel {
   long long id = 0;  // creation order: a deterministic tie-break
 };
 
+/// A panel on which the rule met a NaN or an infinity (or overflowed) has no estimate at all; it
+/// carries value 0 and an infinite error, so that it is bisected first and blocks convergence.
+template <int D>
+bool unresolved(const Panel<D>& p) {
+  return std::isinf(p.error);
+}
+
 template <int D>
 struct ByError {
   bool operator()(const Panel<D>& a, const Panel<D>& b) const {
-    return a.error != b.error ? a.error < b.error : a.id > b.id;
+    if (a.error != b.error) return a.error < b.error;
+    // Unresolved panels newest first: depth-first, a region where the integrand is non-finite is
+    // bisected down to the resolution limit (and gives up) in ~50 steps per axis; breadth-first
+    // it would double its panels at every level and only stop when the budget is spent.
+    if (unresolved(a)) return a.id < b.id;
+    return a.id > b.id;
   }
 };
 
@@ -123,18 +135,191 @@ class Engine {
       }
     }
     if (!(std::isfinite(panel.value) && std::isfinite(panel.error))) {
-      // A non-finite integrand value poisons nothing downstream: flag it as unresolvable.
+      // Bisecting moves every node, so a point or line where the integrand is non-finite that a
+      // node happened to hit usually lies off the nodes of the halves (a midpoint is on an edge).
       panel.value = 0.0;
       panel.error = std::numeric_limits<double>::infinity();
+      panel.split_axis = widest_axis(panel);
     }
   }
 
   long long evaluations() const { return evaluations_; }
 
  private:
+  /// The per-axis differences are meaningless when non-finite. Bisecting the widest axis
+  /// (relative to its position, as splittable() measures it) means that an unresolved panel is
+  /// frozen, and the refinement given up, only once it is tiny in every axis.
+  static int widest_axis(const Panel<D>& p) {
+    int widest = 0;
+    double best = -1.0;
+    for (int d = 0; d < D; ++d) {
+      const double width = (p.hi[d] - p.lo[d]) / std::max(1.0, std::abs(0.5 * (p.lo[d] + p.hi[d])));
+      if (width > best) {
+        best = width;
+        widest = d;
+      }
+    }
+    return widest;
+  }
+
   const PanelIntegrand<D>& integrand_;
   std::array<double, panel_nodes(D)> values_{};
   long long evaluations_ = 0;
+};
+
+/// Steps 1 and 3 of the algorithm (cubature.h): the panels still open to bisection, kept as a
+/// max-heap on their error, and those too small to bisect. Unresolved panels (infinite error)
+/// are counted apart from the summed error, which stays finite so that it can still be updated.
+template <int D>
+class Refinement {
+ public:
+  Refinement(const PanelIntegrand<D>& integrand, const CubatureOptions& options)
+      : engine_(integrand), options_(options) {}
+
+  /// Step 1: one panel per cell of the caller's grid.
+  void seed(const std::array<std::vector<double>, D>& cuts) {
+    std::size_t total = 1;
+    for (int d = 0; d < D; ++d) total *= cuts[d].size() - 1;
+    for (std::size_t flat = 0; flat < total; ++flat) {
+      Panel<D> p;
+      if (!grid_cell(cuts, flat, p)) continue;
+      p.id = next_id_++;
+      engine_.evaluate(p);
+      heap_.push_back(p);
+      if (unresolved(p)) ++unresolved_;
+    }
+    std::make_heap(heap_.begin(), heap_.end(), ByError<D>());
+    error_ = open_error();
+  }
+
+  /// Step 3: bisect the worst panel until the tolerance is met, the budget is spent or an
+  /// unresolved panel is too small to bisect (then no budget can make the result converge).
+  void refine() {
+    const long long cost = 2LL * panel_nodes(D);
+    while (!heap_.empty() && !gave_up_ && (unresolved_ > 0 || error_ + frozen_error_ > options_.abs_tol) &&
+           engine_.evaluations() + cost <= options_.max_evaluations) {
+      const Panel<D> worst = pop_worst();
+      if (splittable(worst))
+        bisect(worst);
+      else
+        freeze(worst);
+    }
+  }
+
+  /// The value omits the unresolved panels; their infinite error (added apart: an infinity would
+  /// turn the compensated sum into NaN) makes the result not converged.
+  Estimate result() const {
+    CompensatedSum value, err;
+    bool any_unresolved = false;
+    for (const auto* set : {&heap_, &frozen_})
+      for (const auto& p : *set) {
+        if (unresolved(p)) {
+          any_unresolved = true;
+          continue;
+        }
+        value.add(p.value);
+        err.add(p.error);
+      }
+    Estimate out;
+    out.value = value.value();
+    out.error = any_unresolved ? std::numeric_limits<double>::infinity() : err.value();
+    out.evaluations = engine_.evaluations();
+    out.converged = std::isfinite(out.error) && out.error <= options_.abs_tol;
+    if (!std::isfinite(out.value)) {
+      out.value = 0.0;
+      out.converged = false;
+    }
+    return out;
+  }
+
+ private:
+  /// Cell `flat` of the grid, the last axis running fastest; false for an empty cell (a
+  /// repeated cut), which has nothing to integrate and would only waste a rule.
+  static bool grid_cell(const std::array<std::vector<double>, D>& cuts, std::size_t flat, Panel<D>& p) {
+    for (int d = D - 1; d >= 0; --d) {
+      const std::size_t count = cuts[d].size() - 1;
+      const std::size_t index = flat % count;
+      flat /= count;
+      p.lo[d] = cuts[d][index];
+      p.hi[d] = cuts[d][index + 1];
+    }
+    for (int d = 0; d < D; ++d)
+      if (!(p.hi[d] > p.lo[d])) return false;
+    return true;
+  }
+
+  /// Below ~1e-15 of its position a bisection no longer shrinks the panel (resolution of doubles).
+  static bool splittable(const Panel<D>& p) {
+    const int axis = p.split_axis;
+    const double mid = 0.5 * (p.lo[axis] + p.hi[axis]);
+    return mid > p.lo[axis] && mid < p.hi[axis] &&
+           !(p.hi[axis] - p.lo[axis] < 1e-15 * std::max(1.0, std::abs(mid)));
+  }
+
+  Panel<D> pop_worst() {
+    std::pop_heap(heap_.begin(), heap_.end(), ByError<D>());
+    const Panel<D> worst = heap_.back();
+    heap_.pop_back();
+    return worst;
+  }
+
+  void push(const Panel<D>& p) {
+    heap_.push_back(p);
+    std::push_heap(heap_.begin(), heap_.end(), ByError<D>());
+    if (unresolved(p)) ++unresolved_;
+  }
+
+  /// The panel's error stays in the total but no longer drives the refinement.
+  void freeze(const Panel<D>& p) {
+    frozen_.push_back(p);
+    if (unresolved(p)) {
+      --unresolved_;
+      gave_up_ = true;
+      return;
+    }
+    frozen_error_ += p.error;
+    error_ -= p.error;
+  }
+
+  void bisect(const Panel<D>& worst) {
+    const int axis = worst.split_axis;
+    const double mid = 0.5 * (worst.lo[axis] + worst.hi[axis]);
+    Panel<D> left = worst, right = worst;
+    left.hi[axis] = mid;
+    right.lo[axis] = mid;
+    left.id = next_id_++;
+    right.id = next_id_++;
+    engine_.evaluate(left);
+    engine_.evaluate(right);
+    if (unresolved(worst)) --unresolved_;
+    push(left);
+    push(right);
+    error_ += finite_error(left) + finite_error(right) - finite_error(worst);
+    // The running sum drifts by rounding; recompute it exactly now and then and before stopping.
+    if (++iterations_ % 256 == 0 || (unresolved_ == 0 && error_ + frozen_error_ <= options_.abs_tol))
+      error_ = open_error();
+  }
+
+  /// Unresolved panels are counted in unresolved_ instead: inf - inf would make the sum NaN.
+  static double finite_error(const Panel<D>& p) { return unresolved(p) ? 0.0 : p.error; }
+
+  /// The open panels' summed finite error, exactly (error_ is an incremental update of it).
+  double open_error() const {
+    CompensatedSum s;
+    for (const auto& p : heap_)
+      if (!unresolved(p)) s.add(p.error);
+    return s.value();
+  }
+
+  Engine<D> engine_;
+  const CubatureOptions& options_;
+  std::vector<Panel<D>> heap_;    // open panels, a max-heap by ByError
+  std::vector<Panel<D>> frozen_;  // too small to bisect further
+  double error_ = 0.0;            // summed error of heap_, kept up to date incrementally
+  double frozen_error_ = 0.0;     // summed error of frozen_
+  int unresolved_ = 0;            // unresolved panels in heap_
+  bool gave_up_ = false;          // an unresolved panel was frozen
+  long long next_id_ = 0, iterations_ = 0;
 };
 
 }  // namespace
@@ -155,93 +340,10 @@ template <int D>
 Estimate adaptive_cubature(const PanelIntegrand<D>& integrand,
                            const std::array<std::vector<double>, D>& cuts,
                            const CubatureOptions& options) {
-  Engine<D> engine(integrand);
-  std::vector<Panel<D>> heap;
-  long long next_id = 0;
-
-  // Step 1: the initial grid.
-  std::array<std::size_t, D> counts;
-  std::size_t total = 1;
-  for (int d = 0; d < D; ++d) {
-    counts[d] = cuts[d].size() - 1;
-    total *= counts[d];
-  }
-  for (std::size_t flat = 0; flat < total; ++flat) {
-    Panel<D> p;
-    std::size_t rest = flat;
-    for (int d = D - 1; d >= 0; --d) {
-      const std::size_t index = rest % counts[d];
-      rest /= counts[d];
-      p.lo[d] = cuts[d][index];
-      p.hi[d] = cuts[d][index + 1];
-    }
-    bool empty = false;
-    for (int d = 0; d < D; ++d) empty = empty || !(p.hi[d] > p.lo[d]);
-    if (empty) continue;
-    p.id = next_id++;
-    engine.evaluate(p);
-    heap.push_back(p);
-  }
-  std::make_heap(heap.begin(), heap.end(), ByError<D>());
-
-  auto summed_error = [&] {
-    CompensatedSum s;
-    for (const auto& p : heap) s.add(p.error);
-    return s.value();
-  };
-
-  // Step 3: bisect the worst panel until the tolerance is met or the budget is spent.
-  std::vector<Panel<D>> frozen;  // too small to split further (resolution limit of doubles)
-  double frozen_error = 0.0;
-  double error = summed_error();
-  long long iterations = 0;
-  const long long cost = 2LL * panel_nodes(D);
-  while (!heap.empty() && error + frozen_error > options.abs_tol &&
-         engine.evaluations() + cost <= options.max_evaluations) {
-    std::pop_heap(heap.begin(), heap.end(), ByError<D>());
-    Panel<D> worst = heap.back();
-    heap.pop_back();
-    const int axis = worst.split_axis;
-    const double mid = 0.5 * (worst.lo[axis] + worst.hi[axis]);
-    if (!(mid > worst.lo[axis] && mid < worst.hi[axis]) ||
-        worst.hi[axis] - worst.lo[axis] < 1e-15 * std::max(1.0, std::abs(mid))) {
-      frozen_error += worst.error;
-      frozen.push_back(worst);
-      error -= worst.error;
-      continue;
-    }
-    Panel<D> left = worst, right = worst;
-    left.hi[axis] = mid;
-    right.lo[axis] = mid;
-    left.id = next_id++;
-    right.id = next_id++;
-    engine.evaluate(left);
-    engine.evaluate(right);
-    heap.push_back(left);
-    std::push_heap(heap.begin(), heap.end(), ByError<D>());
-    heap.push_back(right);
-    std::push_heap(heap.begin(), heap.end(), ByError<D>());
-    error += left.error + right.error - worst.error;
-    // The running sum drifts by rounding; recompute it exactly now and then and before stopping.
-    if (++iterations % 256 == 0 || error + frozen_error <= options.abs_tol) error = summed_error();
-  }
-
-  CompensatedSum value, err;
-  for (const auto* set : {&heap, &frozen})
-    for (const auto& p : *set) {
-      value.add(p.value);
-      err.add(p.error);
-    }
-  Estimate out;
-  out.value = value.value();
-  out.error = err.value();
-  out.evaluations = engine.evaluations();
-  out.converged = std::isfinite(out.error) && out.error <= options.abs_tol;
-  if (!std::isfinite(out.value)) {
-    out.value = 0.0;
-    out.converged = false;
-  }
-  return out;
+  Refinement<D> refinement(integrand, options);
+  refinement.seed(cuts);
+  refinement.refine();
+  return refinement.result();
 }
 
 template Estimate adaptive_cubature<1>(const PanelIntegrand<1>&, const std::array<std::vector<double>, 1>&,

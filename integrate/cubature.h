@@ -12,6 +12,10 @@
 //  3. Repeatedly bisect the panel with the largest error along its worst axis until the summed
 //     error is below the absolute tolerance or the evaluation budget is spent. Not converging is
 //     a result (converged = false), never an exception and never a silent wrong value.
+//     A panel whose nodes meet a NaN or an infinity has no estimate: it is bisected first, which
+//     usually moves an isolated non-finite point or line off the nodes. While such a panel
+//     remains (budget spent, or bisected to the resolution of doubles: a non-finite region) the
+//     result is not converged, with an infinite error and a value that omits those panels.
 // Deterministic: panels are processed sequentially in a fixed order and summed with Neumaier's
 // compensated sum, so the same input gives the same bits whatever runs around it.
 #pragma once

@@ -2,8 +2,10 @@
 // of the error estimate, the extremes of the Core issue, determinism, reported non-convergence.
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <random>
+#include <span>
 
 #include <boost/math/quadrature/gauss_kronrod.hpp>
 #include <gtest/gtest.h>
@@ -232,6 +234,81 @@ TEST(Integrate, NonConvergenceIsReportedNotHidden) {
   EXPECT_TRUE(std::isfinite(e.value));
   EXPECT_GT(e.error, tight.abs_tol);
   EXPECT_LE(e.evaluations, tight.max_evaluations);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Integrands that are NaN or +Inf somewhere. Where the bad set has measure zero the integral is
+// still defined and refinement must find it honestly; where it has area no value can be trusted.
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+template <class F>
+PanelIntegrand<1> panel_1d(F f) {
+  return [f](const std::array<std::span<const double>, 1>& nodes, std::span<double> values) {
+    for (int a = 0; a < kRuleNodes; ++a) values[a] = f(nodes[0][a]);
+  };
+}
+
+template <class F>
+PanelIntegrand<2> panel_2d(F f) {
+  return [f](const std::array<std::span<const double>, 2>& nodes, std::span<double> values) {
+    for (int a = 0; a < kRuleNodes; ++a)
+      for (int b = 0; b < kRuleNodes; ++b) values[a * kRuleNodes + b] = f(nodes[0][a], nodes[1][b]);
+  };
+}
+
+/// x is a multiple of 1/n: the midpoints of the first bisections of [0, 1], which panels' centre
+/// nodes hit until the refinement passes them.
+bool on_grid(double x, double n) { return std::floor(n * x) == n * x; }
+
+/// Runge's function: needs real refinement after the bad points are passed. ∫_0^1 = atan(5)/5.
+double runge(double x) { return 1.0 / (1.0 + 25.0 * x * x); }
+const double kRungeIntegral = std::atan(5.0) / 5.0;
+
+TEST(Integrate, NonFinitePointsAreBisectedPastIn1D) {
+  const std::vector<double> unit{0.0, 1.0};
+  const Estimate nan_at = adaptive_cubature<1>(panel_1d([](double x) { return on_grid(x, 8) ? kNaN : runge(x); }), {unit}, options(1e-12));
+  const Estimate inf_at = adaptive_cubature<1>(panel_1d([](double x) { return on_grid(x, 8) ? kInf : runge(x); }), {unit}, options(1e-12));
+  for (const Estimate& e : {nan_at, inf_at}) {
+    EXPECT_TRUE(e.converged);
+    EXPECT_LE(e.error, 1e-12);
+    EXPECT_LE(std::abs(e.value - kRungeIntegral), e.error + 1e-15) << "dishonest estimate";
+  }
+}
+
+TEST(Integrate, NonFinitePointsAndLinesAreBisectedPastIn2D) {
+  const std::vector<double> unit{0.0, 1.0};
+  // NaN on the lines x = k/4 and y = k/4 (a line in y is only passed by bisecting y), +Inf on
+  // the points (k/8, l/8).
+  const Estimate nan_on = adaptive_cubature<2>(
+      panel_2d([](double x, double y) { return on_grid(x, 4) || on_grid(y, 4) ? kNaN : runge(x) * runge(y); }),
+      {unit, unit}, options(1e-12));
+  const Estimate inf_at = adaptive_cubature<2>(
+      panel_2d([](double x, double y) { return on_grid(x, 8) && on_grid(y, 8) ? kInf : runge(x) * runge(y); }),
+      {unit, unit}, options(1e-12));
+  for (const Estimate& e : {nan_on, inf_at}) {
+    EXPECT_TRUE(e.converged);
+    EXPECT_LE(e.error, 1e-12);
+    EXPECT_LE(std::abs(e.value - kRungeIntegral * kRungeIntegral), e.error + 1e-15) << "dishonest estimate";
+  }
+}
+
+TEST(Integrate, NonFiniteRegionsAreReportedNotConverged) {
+  const std::vector<double> unit{0.0, 1.0};
+  CubatureOptions o = options(1e-12);
+  o.max_evaluations = 1'000'000;
+  const Estimate nan_1d = adaptive_cubature<1>(panel_1d([](double x) { return x > 0.25 && x < 0.5 ? kNaN : 1.0; }), {unit}, o);
+  const Estimate inf_1d = adaptive_cubature<1>(panel_1d([](double x) { return x > 0.25 && x < 0.5 ? kInf : 1.0; }), {unit}, o);
+  const Estimate nan_2d = adaptive_cubature<2>(
+      panel_2d([](double x, double y) { return x > 0.2 && x < 0.3 && y > 0.6 && y < 0.7 ? kNaN : x * y; }), {unit, unit}, o);
+  for (const Estimate& e : {nan_1d, inf_1d, nan_2d}) {
+    EXPECT_FALSE(e.converged);
+    EXPECT_EQ(e.error, kInf);  // not NaN: an error estimate stays comparable
+    EXPECT_TRUE(std::isfinite(e.value));
+    // Given up at the resolution limit of doubles, not by spending the budget.
+    EXPECT_LT(e.evaluations, o.max_evaluations / 10);
+  }
 }
 
 // Same input, same bits: sequential, one thread and two threads.
