@@ -47,9 +47,7 @@ int bake_one(const BakeArgs& args) {
   if (args.law.empty()) throw InputError("bake --model needs --law g|h|a");
   if (args.res.empty()) throw InputError("bake --model needs --res N[xN[xN]]");
   if (args.output.empty()) throw InputError("bake --model needs -o FILE.exr");
-  const Law law = parse_law(args.law);
-  if (law != Law::g && law != Law::h && law != Law::a)
-    throw InputError("--law " + args.law + " cannot be tabulated; allowed: g, h, a");
+  const Law law = tables::parse_tabulated_law("--law", args.law);
   const ModelPtr model = parse_model(args.model);
   scene::TableOptions defaults;
   defaults.tolerance = kModelTol;

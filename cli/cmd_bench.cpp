@@ -7,6 +7,7 @@
 
 #include "bench/cubature_bench.h"
 #include "bench/render_bench.h"
+#include "cli/args.h"
 #include "cli/commands.h"
 #include "util/error.h"
 #include "laws/spec.h"
@@ -31,11 +32,12 @@ nlohmann::ordered_json cubature_report(const BenchArgs& args) {
   const auto families = bench::run_cubature_benchmark(options);
   if (!args.plot.empty()) bench::write_work_precision_plot(families, args.plot);
   if (!args.markdown.empty()) {
-    std::string command = "ganzfeld bench cubature";
-    if (args.quick) command += " --quick";
-    if (args.cases > 0) command += " --cases " + std::to_string(args.cases);
-    command += " --markdown " + args.markdown;
-    if (!args.plot.empty()) command += " --plot " + args.plot;
+    std::vector<std::string> words{"ganzfeld", "bench", "cubature"};
+    if (args.quick) words.push_back("--quick");
+    if (args.cases > 0) words.insert(words.end(), {"--cases", std::to_string(args.cases)});
+    words.insert(words.end(), {"--markdown", args.markdown});
+    if (!args.plot.empty()) words.insert(words.end(), {"--plot", args.plot});
+    const std::string command = shell_line(words);
     const std::string plot_file = args.plot.empty() ? "" : std::filesystem::path(args.plot).filename().string();
     write_text_atomically(args.markdown, bench::performance_markdown(families, options, command, plot_file));
   }

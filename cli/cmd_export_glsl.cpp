@@ -53,9 +53,7 @@ int export_table(const ExportArgs& args) {
   const tables::Table table = tables::read_table(args.table);
   if (!args.model.empty() || !args.law.empty()) {
     if (args.model.empty() || args.law.empty()) throw InputError("--model and --law go together (the table the shader expects)");
-    const Law law = parse_law(args.law);
-    if (law != Law::g && law != Law::h && law != Law::a)
-      throw InputError("--law '" + args.law + "' has no table; allowed: g, h, a");
+    const Law law = tables::parse_tabulated_law("--law", args.law);
     exporting::check_table_is(table, parse_model(args.model)->spec(), law);
   }
   const std::string glsl = exporting::glsl_table_snippet(table);

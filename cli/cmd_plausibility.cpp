@@ -36,8 +36,9 @@ void add_plausibility_command(CLI::App& app, Action& action) {
       if (!args->markdown.empty()) check_writable(args->markdown);
       const auto rows = plausibility_report(args->tol);
       if (!args->markdown.empty()) {
-        std::string command = "ganzfeld plausibility --markdown " + args->markdown;
-        if (args->tol != 1e-6) command += " --tol " + format_number(args->tol);
+        std::vector<std::string> words{"ganzfeld", "plausibility", "--markdown", args->markdown};
+        if (args->tol != 1e-6) words.insert(words.end(), {"--tol", format_number(args->tol)});
+        const std::string command = shell_line(words);
         write_text_atomically(args->markdown, plausibility_markdown(rows, args->tol, command), "report");
       }
       if (args->json) {

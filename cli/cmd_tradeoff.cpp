@@ -63,13 +63,13 @@ reports::TradeoffPlan make_plan(Law law, const TradeoffArgs& args) {
 
 /// The command that reproduces the measurement (outputs omitted), with the model in canonical form.
 std::string measurement_command(const TradeoffArgs& args, const std::string& spec, Law law) {
-  std::string c = "ganzfeld tradeoff --model '" + spec + "' --law " + to_string(law);
-  if (args.quick) c += " --quick";
-  if (args.points >= 0) c += " --points " + std::to_string(args.points);
-  if (args.seed != 1) c += " --seed " + std::to_string(args.seed);
-  if (!args.resolutions.empty()) c += " --res " + args.resolutions;
-  if (!args.mappings.empty()) c += " --mapping " + args.mappings;
-  return c;
+  std::vector<std::string> words{"ganzfeld", "tradeoff", "--model", spec, "--law", to_string(law)};
+  if (args.quick) words.push_back("--quick");
+  if (args.points >= 0) words.insert(words.end(), {"--points", std::to_string(args.points)});
+  if (args.seed != 1) words.insert(words.end(), {"--seed", std::to_string(args.seed)});
+  if (!args.resolutions.empty()) words.insert(words.end(), {"--res", args.resolutions});
+  if (!args.mappings.empty()) words.insert(words.end(), {"--mapping", args.mappings});
+  return shell_line(words);
 }
 
 nlohmann::ordered_json to_json(const reports::TradeoffReport& report, bool quick, const std::string& command) {
@@ -142,9 +142,7 @@ void add_tradeoff_command(CLI::App& app, Action& action) {
                   "only these mapping sets, comma-separated, each default or M[xMxM] with M = linear, sqrt, cos");
   cmd->callback([&action, args] {
     action = [args] {
-      const Law law = parse_law(args->law);
-      if (law != Law::g && law != Law::h && law != Law::a)
-        throw InputError("--law " + args->law + " has no table; allowed: g, h, a");
+      const Law law = tables::parse_tabulated_law("--law", args->law);
       const ModelPtr model = parse_model(args->model);
       const long long points = args->points < 0 ? (args->quick ? kQuickPoints : kDefaultPoints) : args->points;
       if (points < 1 || points > kMaxPoints)

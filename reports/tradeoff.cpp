@@ -59,10 +59,6 @@ std::vector<std::vector<int>> one_d(std::initializer_list<int> counts) {
   return out;
 }
 
-void require_tabulated(Law law) {
-  if (law != Law::g && law != Law::h && law != Law::a)
-    throw InputError(std::string("law '") + to_string(law) + "' has no table; allowed: g, h, a");
-}
 
 }  // namespace
 

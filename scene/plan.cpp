@@ -94,7 +94,11 @@ ShadingPlan plan(const std::vector<Material>& materials, std::vector<bool> used,
   for (const Material& material : materials) {
     PlannedMaterial planned;
     for (const MaterialLobe& lobe : material.lobes) {
-      PlannedLobe p{lobe.weight, lobe.color, lobe.spec, lobe.model};
+      PlannedLobe p;
+      p.weight = lobe.weight;
+      p.color = lobe.color;
+      p.spec = lobe.spec;
+      p.model = lobe.model;
       p.g = law_origin(*lobe.model, Law::g, out.fields);
       p.h = law_origin(*lobe.model, Law::h, out.fields);
       if (direct && p.g == LawOrigin::table) p.g = LawOrigin::direct;

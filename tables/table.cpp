@@ -9,6 +9,18 @@
 
 namespace ganzfeld::tables {
 
+void require_tabulated(Law law) {
+  if (law != Law::g && law != Law::h && law != Law::a)
+    throw InputError(std::string("law '") + to_string(law) + "' has no table; allowed: g, h, a");
+}
+
+Law parse_tabulated_law(const std::string& flag, const std::string& text) {
+  const Law law = parse_law(text);
+  if (law != Law::g && law != Law::h && law != Law::a)
+    throw InputError(flag + " '" + text + "' has no table; allowed: g, h, a");
+  return law;
+}
+
 using std::numbers::pi;
 
 const char* to_string(Mapping mapping) {
@@ -73,8 +85,7 @@ std::vector<Axis> default_axes(Law law, std::span<const int> counts) {
       break;
     case Law::h: axes = {{kAxisCosThetaJ, 0.0, 1.0, 0, Mapping::sqrt}}; break;
     case Law::a: axes = {{kAxisCosThetaI, 0.0, 1.0, 0, Mapping::sqrt}}; break;
-    default:
-      throw InputError(std::string("law ") + to_string(law) + " cannot be tabulated; allowed: g, h, a");
+    default: require_tabulated(law);
   }
   if (counts.size() != axes.size())
     throw InputError(std::string("law ") + to_string(law) + " has " + std::to_string(axes.size()) + " axes but " +
@@ -132,8 +143,7 @@ std::uint64_t entry_count(std::span<const Axis> axes) noexcept {
 
 void check_table(const Table& table) {
   const char* law = to_string(table.law);
-  if (table.law != Law::g && table.law != Law::h && table.law != Law::a)
-    throw InputError(std::string("law '") + law + "' cannot be tabulated; allowed: g, h, a");
+  require_tabulated(table.law);
   std::vector<int> counts;
   for (const Axis& axis : table.axes) counts.push_back(axis.count);
   const std::size_t want = table.law == Law::g ? 3 : 1;

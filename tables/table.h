@@ -12,6 +12,11 @@
 
 namespace ganzfeld::tables {
 
+/// Throws InputError unless `law` has tables (g, h, a): "law 'f' has no table; allowed: g, h, a".
+void require_tabulated(Law law);
+/// parse_law for a flag that names a tabulated law; refusals name `flag` and the text.
+Law parse_tabulated_law(const std::string& flag, const std::string& text);
+
 /// The version of docs/lut-format.md this code writes and the only one it reads.
 inline constexpr int kFormatVersion = 1;
 
