@@ -323,107 +323,126 @@ CubatureBenchOptions quick_options() {
   return o;
 }
 
+namespace {
+
+/// The peers whose evaluations are compared with ours (ratio = theirs / ours).
+const std::vector<std::string> kPeers{"oracle", "hcubature_lune", "hcubature_naive", "pcubature_lune",
+                                      "boost_gauss_kronrod", "boost_tanh_sinh"};
+
+/// Everything measured on one case: every competitor's runs, the evaluation ratios at the ratio
+/// tolerance, Monte Carlo at our wall time, and our missed/dishonest runs.
+struct CaseResult {
+  bool skipped = false;
+  std::vector<Run> runs;
+  std::map<std::string, std::pair<double, bool>> ratio;  // (ratio, capped)
+  double mc_ratio = 0.0;
+  int missed = 0, dishonest = 0, ours = 0;
+  std::vector<Miss> misses;
+};
+
+/// Our run at `tol` against the reference `ref`, counted as missed and/or dishonest.
+void run_ours(const Case& c, double tol, double ref, CaseResult& out) {
+  CubatureOptions o;
+  o.abs_tol = tol;
+  const util::Stopwatch start;
+  const Estimate e = vignetting(*c.model, c.i, c.j, o);
+  Run r{"ours", tol, std::max(std::abs(e.value - ref), kErrorFloor), e.error, start.seconds(), e.evaluations, false};
+  out.runs.push_back(r);
+  ++out.ours;
+  const bool missed = r.achieved_error > tol, dishonest = r.achieved_error > r.estimate + kErrorFloor;
+  out.missed += missed;
+  out.dishonest += dishonest;
+  if (missed || dishonest)
+    out.misses.push_back({c.model->spec(), {c.i.x, c.i.y, c.i.z}, {c.j.x, c.j.y, c.j.z}, tol, r.achieved_error,
+                          r.estimate, r.evaluations});
+}
+
+CaseResult run_case(const Case& c, const CubatureBenchOptions& options, std::uint64_t mc_seed) {
+  CaseResult out;
+  const Lune lu = lune(c.i, c.j);
+  if (lu.empty) {
+    out.skipped = true;
+    return out;
+  }
+  CubatureOptions ref_options;
+  ref_options.abs_tol = 1e-13;
+  ref_options.max_evaluations = 500'000'000;
+  const double ref = vignetting(*c.model, c.i, c.j, ref_options).value;
+  if (std::abs(ref - boost_reference(c, lu)) > kReferenceAgreement) {
+    out.skipped = true;
+    return out;
+  }
+  const long long cap = options.competitor_cap;
+  for (double tol : options.tolerances) {
+    run_ours(c, tol, ref, out);
+    out.runs.push_back(run_libcubature(c, lu, tol, cap, false, false, ref));
+    out.runs.push_back(run_libcubature(c, lu, tol, cap, true, false, ref));
+    out.runs.push_back(run_libcubature(c, lu, tol, cap, false, true, ref));
+    out.runs.push_back(run_boost("boost_gauss_kronrod", c, lu, tol, cap, ref, nested_gauss_kronrod));
+    out.runs.push_back(run_boost("boost_tanh_sinh", c, lu, tol, cap, ref, nested_tanh_sinh));
+  }
+  const double target = options.ratio_tolerance;
+  const double ours_cost = cost_to_reach(out.runs, "ours", target, cap).first;
+  out.runs.push_back(run_oracle(c, lu, lune_cuts(*c.model, lu, c.j, Varying::incident), target, ref));
+  for (const auto& who : kPeers) {
+    const auto [cost, capped] = cost_to_reach(out.runs, who, target, cap);
+    out.ratio[who] = {cost / ours_cost, capped};
+  }
+  // Monte Carlo with our wall time at the ratio tolerance.
+  for (const Run& r : std::vector<Run>(out.runs))
+    if (r.competitor == "ours" && r.tolerance == target) {
+      const Run mc = run_monte_carlo(c, std::max(r.seconds, 1e-4), ref, mc_seed);
+      out.runs.push_back(mc);
+      out.mc_ratio = mc.achieved_error / r.achieved_error;
+    }
+  return out;
+}
+
+/// A family's figures from its cases: geometric-mean ratios, capped counts, our miss rates.
+FamilyResult summarize(const std::string& name, const std::vector<CaseResult>& per_case) {
+  FamilyResult fr;
+  fr.name = name;
+  std::map<std::string, double> log_sum;
+  double mc_log_sum = 0.0;
+  int total_ours = 0, missed = 0, dishonest = 0;
+  for (const CaseResult& cr : per_case) {
+    if (cr.skipped) {
+      ++fr.skipped;
+      continue;
+    }
+    ++fr.cases;
+    total_ours += cr.ours;
+    missed += cr.missed;
+    dishonest += cr.dishonest;
+    for (const auto& [who, rc] : cr.ratio) {
+      log_sum[who] += std::log(rc.first);
+      if (rc.second) ++fr.capped[who];
+    }
+    mc_log_sum += std::log(std::max(cr.mc_ratio, 1e-300));
+    fr.runs.insert(fr.runs.end(), cr.runs.begin(), cr.runs.end());
+    fr.misses.insert(fr.misses.end(), cr.misses.begin(), cr.misses.end());
+  }
+  if (fr.cases > 0) {
+    for (const auto& [who, s] : log_sum) fr.evals_ratio[who] = std::exp(s / fr.cases);
+    fr.mc_error_ratio_equal_time = std::exp(mc_log_sum / fr.cases);
+    fr.missed_rate = double(missed) / total_ours;
+    fr.dishonest_rate = double(dishonest) / total_ours;
+  }
+  return fr;
+}
+
+}  // namespace
+
 std::vector<FamilyResult> run_cubature_benchmark(const CubatureBenchOptions& options) {
-  const std::vector<std::string> competitors{"oracle", "hcubature_lune", "hcubature_naive", "pcubature_lune",
-                                             "boost_gauss_kronrod", "boost_tanh_sinh"};
   std::vector<FamilyResult> results;
   for (const Family& family : families()) {
     std::mt19937_64 rng(options.seed);
     std::vector<Case> cases;
     for (int k = 0; k < options.cases_per_family; ++k) cases.push_back(family.make(rng, k));
-
-    struct CaseResult {
-      bool skipped = false;
-      std::vector<Run> runs;
-      std::map<std::string, std::pair<double, bool>> ratio;  // (ratio, capped)
-      double mc_ratio = 0.0;
-      int missed = 0, dishonest = 0, ours = 0;
-      std::vector<Miss> misses;
-    };
     std::vector<CaseResult> per_case(cases.size());
-    tbb::parallel_for(std::size_t{0}, cases.size(), [&](std::size_t k) {
-      const Case& c = cases[k];
-      CaseResult& out = per_case[k];
-      const Lune lu = lune(c.i, c.j);
-      if (lu.empty) {
-        out.skipped = true;
-        return;
-      }
-      CubatureOptions ref_options;
-      ref_options.abs_tol = 1e-13;
-      ref_options.max_evaluations = 500'000'000;
-      const double ref = vignetting(*c.model, c.i, c.j, ref_options).value;
-      if (std::abs(ref - boost_reference(c, lu)) > kReferenceAgreement) {
-        out.skipped = true;
-        return;
-      }
-      for (double tol : options.tolerances) {
-        CubatureOptions o;
-        o.abs_tol = tol;
-        const util::Stopwatch start;
-        const Estimate e = vignetting(*c.model, c.i, c.j, o);
-        Run r{"ours", tol, std::max(std::abs(e.value - ref), kErrorFloor), e.error, start.seconds(), e.evaluations, false};
-        out.runs.push_back(r);
-        ++out.ours;
-        const bool missed = r.achieved_error > tol, dishonest = r.achieved_error > r.estimate + kErrorFloor;
-        out.missed += missed;
-        out.dishonest += dishonest;
-        if (missed || dishonest)
-          out.misses.push_back({c.model->spec(), {c.i.x, c.i.y, c.i.z}, {c.j.x, c.j.y, c.j.z}, tol, r.achieved_error,
-                                r.estimate, r.evaluations});
-        const long long cap = options.competitor_cap;
-        out.runs.push_back(run_libcubature(c, lu, tol, cap, false, false, ref));
-        out.runs.push_back(run_libcubature(c, lu, tol, cap, true, false, ref));
-        out.runs.push_back(run_libcubature(c, lu, tol, cap, false, true, ref));
-        out.runs.push_back(run_boost("boost_gauss_kronrod", c, lu, tol, cap, ref, nested_gauss_kronrod));
-        out.runs.push_back(run_boost("boost_tanh_sinh", c, lu, tol, cap, ref, nested_tanh_sinh));
-      }
-      const double target = options.ratio_tolerance;
-      const auto [ours_cost, ours_missed] = cost_to_reach(out.runs, "ours", target, options.competitor_cap);
-      out.runs.push_back(run_oracle(c, lu, lune_cuts(*c.model, lu, c.j, Varying::incident), target, ref));
-      for (const auto& who : competitors) {
-        const auto [cost, capped] = cost_to_reach(out.runs, who, target, options.competitor_cap);
-        out.ratio[who] = {cost / ours_cost, capped};
-      }
-      // Monte Carlo with our wall time at the ratio tolerance.
-      for (const Run& r : out.runs)
-        if (r.competitor == "ours" && r.tolerance == target) {
-          const Run mc = run_monte_carlo(c, std::max(r.seconds, 1e-4), ref, options.seed + k);
-          out.runs.push_back(mc);
-          out.mc_ratio = mc.achieved_error / r.achieved_error;
-        }
-      (void)ours_missed;
-    });
-
-    FamilyResult fr;
-    fr.name = family.name;
-    std::map<std::string, double> log_sum;
-    double mc_log_sum = 0.0;
-    int total_ours = 0, missed = 0, dishonest = 0;
-    for (const CaseResult& cr : per_case) {
-      if (cr.skipped) {
-        ++fr.skipped;
-        continue;
-      }
-      ++fr.cases;
-      total_ours += cr.ours;
-      missed += cr.missed;
-      dishonest += cr.dishonest;
-      for (const auto& [who, rc] : cr.ratio) {
-        log_sum[who] += std::log(rc.first);
-        if (rc.second) ++fr.capped[who];
-      }
-      mc_log_sum += std::log(std::max(cr.mc_ratio, 1e-300));
-      fr.runs.insert(fr.runs.end(), cr.runs.begin(), cr.runs.end());
-      fr.misses.insert(fr.misses.end(), cr.misses.begin(), cr.misses.end());
-    }
-    if (fr.cases > 0) {
-      for (const auto& [who, s] : log_sum) fr.evals_ratio[who] = std::exp(s / fr.cases);
-      fr.mc_error_ratio_equal_time = std::exp(mc_log_sum / fr.cases);
-      fr.missed_rate = double(missed) / total_ours;
-      fr.dishonest_rate = double(dishonest) / total_ours;
-    }
-    results.push_back(std::move(fr));
+    tbb::parallel_for(std::size_t{0}, cases.size(),
+                      [&](std::size_t k) { per_case[k] = run_case(cases[k], options, options.seed + k); });
+    results.push_back(summarize(family.name, per_case));
   }
   return results;
 }

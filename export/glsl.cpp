@@ -293,105 +293,119 @@ void check_scene_exportable(const Scene& scene) {
 }
 
 namespace {
+
 /// The GLSL expression of law g or h of a planned lobe: its closed form or its table function.
 std::string law_expression(const scene::PlannedLobe& lobe, Law law) {
   const bool g = law == Law::g;
   if ((g ? lobe.g : lobe.h) == scene::LawOrigin::closed_form) return g ? "0.5 * (1.0 + dot(i, n))" : "1.0";
   return glsl_function_name(lobe.spec, law) + "(" + glsl_sampler_name(lobe.spec, law) + (g ? ", i, jc, n)" : ", jc, n)");
 }
-}  // namespace
 
-std::string glsl_scene_shader(const Scene& scene, const scene::ShadingPlan& plan, const std::string& source) {
-  const scene::LightFields& fields = plan.fields;
-  const std::vector<bool>& used = plan.material_used;
+std::string vec3_literal(const Vec3& v) { return "vec3(" + literal(v[0]) + ", " + literal(v[1]) + ", " + literal(v[2]) + ")"; }
+std::string vec3_literal(const Rgb& v) { return "vec3(" + literal(v[0]) + ", " + literal(v[1]) + ", " + literal(v[2]) + ")"; }
 
-  std::ostringstream uniforms, functions, fs, materials;
+/// The GLSL a scene shader needs once per lobe and law: sampler uniforms, table functions, and f
+/// of the lobes lit by a collimated light; each emitted once however many materials share it.
+struct LobeCode {
+  std::ostringstream uniforms, tables, fs;
   std::set<std::string> done;
-  auto table_function = [&](const scene::PlannedLobe& lobe, Law law) {
+
+  void add_table(const scene::PlannedLobe& lobe, Law law) {
     const scene::LawOrigin origin = law == Law::g ? lobe.g : lobe.h;
     if (origin == scene::LawOrigin::none || origin == scene::LawOrigin::closed_form) return;
     const tables::Table* table = (law == Law::g ? lobe.g_table : lobe.h_table).get();
     if (origin != scene::LawOrigin::table || table == nullptr)
       throw InputError("no table of law " + std::string(to_string(law)) + " of '" + lobe.spec + "' for the scene shader");
     check_table_is(*table, lobe.spec, law);
-    if (done.insert(glsl_function_name(lobe.spec, law)).second) {
-      uniforms << "uniform highp " << glsl_sampler_type(law) << " " << glsl_sampler_name(lobe.spec, law) << ";\n";
-      functions << glsl_table_function(*table);
-    }
-  };
+    if (!done.insert(glsl_function_name(lobe.spec, law)).second) return;
+    uniforms << "uniform highp " << glsl_sampler_type(law) << " " << glsl_sampler_name(lobe.spec, law) << ";\n";
+    tables << glsl_table_function(*table);
+  }
+  void add_f(const scene::PlannedLobe& lobe) {
+    if (done.insert(glsl_identifier("f_" + lobe.spec)).second) fs << glsl_model_f(*lobe.model);
+  }
+};
+
+/// The lights as constants: GZ_LIGHTk_INTENSITY and, but for a Ganzfeld, GZ_LIGHTk_DIRECTION.
+std::string light_constants(const std::vector<Light>& lights) {
+  std::ostringstream out;
+  for (std::size_t k = 0; k < lights.size(); ++k) {
+    const Light& light = lights[k];
+    out << "const vec3 GZ_LIGHT" << k << "_INTENSITY = " << vec3_literal(light.intensity) << ";";
+    if (light.type != Light::Type::ganzfeld)
+      out << "  const vec3 GZ_LIGHT" << k << "_DIRECTION = " << vec3_literal(glm::normalize(light.direction)) << ";";
+    out << "  // " << (light.type == Light::Type::collimated      ? "collimated: irradiance H0, towards the source"
+                       : light.type == Light::Type::hemispherical ? "hemispherical sky: radiance N, its pole"
+                                                                  : "Ganzfeld: radiance N")
+        << "\n";
+  }
+  return out.str();
+}
+
+/// Light k's contribution to a material: the sum over its lobes (weight x colour x law), in the
+/// light field's own form (rasterizer/shading.h).
+std::string light_term(const Light& light, std::size_t k, const scene::PlannedMaterial& lobes) {
+  const std::string L = "GZ_LIGHT" + std::to_string(k);
+  std::string sum;
+  for (const scene::PlannedLobe& lobe : lobes) {
+    const std::string law = light.type == Light::Type::collimated      ? glsl_identifier("f_" + lobe.spec) + "(i, j, n)"
+                            : light.type == Light::Type::hemispherical ? law_expression(lobe, Law::g)
+                                                                       : law_expression(lobe, Law::h);
+    Rgb weighted{};
+    for (int c = 0; c < 3; ++c) weighted[c] = lobe.weight * lobe.color[c];
+    sum += (sum.empty() ? "" : "\n        + ") + vec3_literal(weighted) + " * " + law;
+  }
+  std::ostringstream out;
+  switch (light.type) {
+    case Light::Type::collimated:
+      out << "  {  // light " << k << ": collimated, H0 (i.n) f(i, j); nothing in body shadow\n"
+          << "    vec3 i = " << L << "_DIRECTION;\n"
+          << "    float mi = dot(i, n);\n"
+          << "    if (mi > 0.0 && dot(j, n) > 0.0)\n"
+          << "      radiance += " << L << "_INTENSITY * mi * (" << sum << ");\n  }\n";
+      break;
+    case Light::Type::hemispherical:
+      out << "  {  // light " << k << ": hemispherical sky, N g(i, j, n)\n"
+          << "    vec3 i = " << L << "_DIRECTION;\n"
+          << "    radiance += " << L << "_INTENSITY * (" << sum << ");\n  }\n";
+      break;
+    case Light::Type::ganzfeld:
+      out << "  // light " << k << ": Ganzfeld, N h(j, n)\n"
+          << "  radiance += " << L << "_INTENSITY * (" << sum << ");\n";
+      break;
+  }
+  return out.str();
+}
+
+/// The function of material m: radiance towards j at normal n, summed over the lights.
+std::string material_function(const std::string& name, std::size_t m, const std::string& material_name,
+                              const std::vector<Light>& lights, const scene::PlannedMaterial& lobes) {
+  std::ostringstream out;
+  out << "// material " << m << " '" << comment_text(material_name) << "'\n"
+      << "vec3 " << name << "(vec3 n, vec3 j) {\n"
+      << "  vec3 jc = gz_clamp_to_horizon(j, n);\n"
+      << "  vec3 radiance = vec3(0.0);\n";
+  for (std::size_t k = 0; k < lights.size(); ++k) out << light_term(lights[k], k, lobes);
+  out << "  return radiance;\n}\n\n";
+  return out.str();
+}
+
+}  // namespace
+
+std::string glsl_scene_shader(const Scene& scene, const scene::ShadingPlan& plan, const std::string& source) {
+  LobeCode code;
+  std::ostringstream materials, dispatch;
   for (std::size_t m = 0; m < plan.materials.size(); ++m) {
-    if (!used[m]) continue;
+    if (!plan.material_used[m]) continue;
     for (const scene::PlannedLobe& lobe : plan.materials[m]) {
-      if (fields.collimated && done.insert(glsl_identifier("f_" + lobe.spec)).second) fs << glsl_model_f(*lobe.model);
-      table_function(lobe, Law::g);
-      table_function(lobe, Law::h);
+      if (plan.fields.collimated) code.add_f(lobe);
+      code.add_table(lobe, Law::g);
+      code.add_table(lobe, Law::h);
     }
+    const std::string name = glsl_identifier("material_" + std::to_string(m) + "_" + scene.materials[m].name);
+    materials << material_function(name, m, scene.materials[m].name, scene.lights, plan.materials[m]);
+    dispatch << "  if (material == " << m << ") return " << name << "(n, j);\n";
   }
-
-  auto vec3_literal = [](const auto& v) {
-    return "vec3(" + literal(v[0]) + ", " + literal(v[1]) + ", " + literal(v[2]) + ")";
-  };
-  std::ostringstream lights;
-  for (std::size_t k = 0; k < scene.lights.size(); ++k) {
-    const Light& light = scene.lights[k];
-    const Vec3 d = glm::normalize(light.direction);
-    lights << "const vec3 GZ_LIGHT" << k << "_INTENSITY = " << vec3_literal(light.intensity) << ";";
-    if (light.type != Light::Type::ganzfeld) lights << "  const vec3 GZ_LIGHT" << k << "_DIRECTION = " << vec3_literal(d) << ";";
-    lights << "  // " << (light.type == Light::Type::collimated      ? "collimated: irradiance H0, towards the source"
-                          : light.type == Light::Type::hemispherical ? "hemispherical sky: radiance N, its pole"
-                                                                     : "Ganzfeld: radiance N")
-           << "\n";
-  }
-
-  std::ostringstream dispatch;
-  for (std::size_t m = 0; m < scene.materials.size(); ++m) {
-    if (!used[m]) continue;
-    const Material& material = scene.materials[m];
-    const std::string fname = glsl_identifier("material_" + std::to_string(m) + "_" + material.name);
-    materials << "// material " << m << " '" << comment_text(material.name) << "'\n"
-              << "vec3 " << fname << "(vec3 n, vec3 j) {\n"
-              << "  vec3 jc = gz_clamp_to_horizon(j, n);\n"
-              << "  vec3 radiance = vec3(0.0);\n";
-    for (std::size_t k = 0; k < scene.lights.size(); ++k) {
-      const Light& light = scene.lights[k];
-      const std::string L = "GZ_LIGHT" + std::to_string(k);
-      std::vector<std::string> terms;
-      for (const scene::PlannedLobe& lobe : plan.materials[m]) {
-        std::string law;
-        switch (light.type) {
-          case Light::Type::collimated: law = glsl_identifier("f_" + lobe.spec) + "(i, j, n)"; break;
-          case Light::Type::hemispherical: law = law_expression(lobe, Law::g); break;
-          case Light::Type::ganzfeld: law = law_expression(lobe, Law::h); break;
-        }
-        Rgb weighted{};
-        for (int c = 0; c < 3; ++c) weighted[c] = lobe.weight * lobe.color[c];
-        terms.push_back(vec3_literal(weighted) + " * " + law);
-      }
-      std::string sum;
-      for (std::size_t t = 0; t < terms.size(); ++t) sum += (t ? "\n        + " : "") + terms[t];
-      switch (light.type) {
-        case Light::Type::collimated:
-          materials << "  {  // light " << k << ": collimated, H0 (i.n) f(i, j); nothing in body shadow\n"
-                    << "    vec3 i = " << L << "_DIRECTION;\n"
-                    << "    float mi = dot(i, n);\n"
-                    << "    if (mi > 0.0 && dot(j, n) > 0.0)\n"
-                    << "      radiance += " << L << "_INTENSITY * mi * (" << sum << ");\n  }\n";
-          break;
-        case Light::Type::hemispherical:
-          materials << "  {  // light " << k << ": hemispherical sky, N g(i, j, n)\n"
-                    << "    vec3 i = " << L << "_DIRECTION;\n"
-                    << "    radiance += " << L << "_INTENSITY * (" << sum << ");\n  }\n";
-          break;
-        case Light::Type::ganzfeld:
-          materials << "  // light " << k << ": Ganzfeld, N h(j, n)\n"
-                    << "  radiance += " << L << "_INTENSITY * (" << sum << ");\n";
-          break;
-      }
-    }
-    materials << "  return radiance;\n}\n\n";
-    dispatch << "  if (material == " << m << ") return " << fname << "(n, j);\n";
-  }
-
   std::ostringstream out;
   out << "// ganzfeld scene shader for " << comment_text(source) << " (generated; docs/shaders.md).\n"
       << "// Radiance towards the viewer, as the software rasterizer computes it (rasterizer/shading.h):\n"
@@ -399,11 +413,11 @@ std::string glsl_scene_shader(const Scene& scene, const scene::ShadingPlan& plan
       << "// summed over lights and lobes (weight x colour). Bind every gz_tex_* sampler below to its table.\n"
       << "// Include after #version (430 core or 300 es).\n\n"
       << glsl_common() << "\n"
-      << uniforms.str() << "\n"
-      << functions.str() << "\n"
-      << fs.str() << "\n"
+      << code.uniforms.str() << "\n"
+      << code.tables.str() << "\n"
+      << code.fs.str() << "\n"
       << "// Lights (world space; directions unit, towards the source), from the scene file.\n"
-      << lights.str() << "\n"
+      << light_constants(scene.lights) << "\n"
       << materials.str()
       << "// Radiance of material `material` (its index in the scene file) at unit normal n, towards unit j.\n"
       << "vec3 gz_scene_radiance(int material, vec3 n, vec3 j) {\n"
