@@ -1,4 +1,5 @@
-// Shared command-line plumbing: direction flags and tolerances.
+// Shared command-line plumbing: direction flags, tolerances, the table options every scene command
+// takes, table stores, JSON shapes of tables, stamped command lines and progress.
 #pragma once
 
 #include <map>

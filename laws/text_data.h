@@ -23,7 +23,6 @@ class TextDataReader {
   /// Advances to the next line with content (comments stripped); false at the end.
   bool next_line();
   const std::string& line() const { return line_; }
-  int line_number() const { return line_number_; }
   /// An InputError "WHAT, line N: why".
   InputError error(const std::string& why) const;
 
