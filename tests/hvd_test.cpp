@@ -93,8 +93,10 @@ TEST(Hvd, EmpiricalIsNotReciprocal) {
   const ModelPtr m = parse_model("hvd-empirical:cd=1,f0=0.5,k=0.3,ns=20,nr=10");
   const Estimate a = albedo(*m, dir(0.0), options()), h = darkening(*m, dir(0.0), options());
   EXPECT_GT(std::abs(a.value - h.value), kAlbedoGap);
+  // Not a rounding difference: swapping i and j changes f by a large fraction (the verify report
+  // measures up to 0.99 of the larger value over 1008 pairs).
   const Vec3 i = dir(20.0), j = dir(70.0, 180.0);
-  EXPECT_GT(std::abs(m->f(i, j) - m->f(j, i)), 0.0);
+  EXPECT_GT(std::abs(m->f(i, j) - m->f(j, i)), 0.1 * std::max(m->f(i, j), m->f(j, i)));
 }
 
 TEST(Hvd, FitLosesEnergyWhenLumpsLeaveTheDisk) {

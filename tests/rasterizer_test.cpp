@@ -126,12 +126,13 @@ void expect_sphere_pixels(const RenderScene& scene, Expected expected, double bo
 
 TEST(rasterizer, WhiteLambertSphereIsInvisibleInGanzfeld) {
   // K&P: h_L = 1, so a white Lambertian sphere in a Ganzfeld of radiance N has radiance N
-  // everywhere, which is the radiance of the Ganzfeld seen behind it. The pixel is
-  // weight (1) * colour (1) * N * h (1): products with 1.0 are exact, so the bound is 0.
-  constexpr double N = 0.6;
-  const RenderScene scene =
-      sphere_scene(one_lobe("lambert", lambert_laws()), {grey_light(Light::Type::ganzfeld, {0, 1, 0}, N)}, N);
-  expect_sphere_pixels(scene, [](const Vec3&, const Vec3&) { return static_cast<float>(N); }, 0.0);
+  // everywhere, which is the radiance of the Ganzfeld seen behind it. h is integrated per pixel
+  // (not the closed form h = 1, which would only test that N x 1 = N): the bound is N times the
+  // cubature tolerance plus float rounding.
+  constexpr double N = 0.6, kTol = 1e-10;
+  const RenderScene scene = sphere_scene(one_lobe("lambert", direct_laws(parse_model("lambert"), kTol)),
+                                         {grey_light(Light::Type::ganzfeld, {0, 1, 0}, N)}, N);
+  expect_sphere_pixels(scene, [](const Vec3&, const Vec3&) { return N; }, N * kTol + kFloatRounding);
 }
 
 TEST(rasterizer, WhiteLambertSphereFromTableIsInvisibleInGanzfeld) {

@@ -1,4 +1,4 @@
-// integrate/verify: every id of the Core issue is checked, every matching or corrected form
+// reports/verify: every id of the Core issue is checked, every matching or corrected form
 // agrees with cubature, and the committed docs/errata.md is what `ganzfeld verify` generates.
 #include <cmath>
 #include <fstream>
@@ -35,20 +35,38 @@ TEST(Verify, ChecksEveryIdOfTheCoreIssue) {
   for (const auto& id : required) EXPECT_TRUE(seen.count(id)) << "missing " << id;
 }
 
-TEST(Verify, EveryMatchingOrCorrectedFormAgrees) {
+// Rounding of a closed form evaluated in double (a few ulps of values of order 1..10).
+constexpr double kClosedFormRounding = 1e-13;
+
+// A matching (or corrected) form agrees with cubature to the reference's own stated error plus
+// rounding: ~1e-11, not the classification threshold kAgreement (1e-9), which would pass a form
+// that is wrong in its tenth digit.
+TEST(Verify, EveryMatchingOrCorrectedFormAgreesToTheReferenceError) {
   for (const auto& c : report()) {
     EXPECT_TRUE(c.references_converged) << c.id;
     EXPECT_LE(c.max_reference_error, 10 * kReferenceTolerance) << c.id;
+    const double allowed = c.max_reference_error + kClosedFormRounding;
     if (c.erratum) {
       ASSERT_TRUE(c.corrected_max_abs_error.has_value()) << c.id << " has no corrected form";
-      EXPECT_LE(*c.corrected_max_abs_error, kAgreement) << c.id;
+      EXPECT_LE(*c.corrected_max_abs_error, allowed) << c.id;
       EXPECT_FALSE(c.corrected.empty()) << c.id;
       EXPECT_FALSE(c.explanation.empty()) << c.id;
     } else {
-      EXPECT_LE(c.max_abs_error, kAgreement) << c.id;
+      EXPECT_LE(c.max_abs_error, allowed) << c.id;
     }
   }
   EXPECT_TRUE(verification_passed(report()));
+}
+
+// Which printed forms are wrong is a finding (docs/errata.md), not something the report may
+// decide for itself: exactly these five, every other check matches.
+TEST(Verify, TheErrataAreExactlyTheFiveFound) {
+  const std::set<std::string> errata{"minnaert.g.hyp2f1", "minnaert.g.betainc", "backscatter.g.alpha1",
+                                     "backscatter.norm", "asperity.g.alpha1"};
+  std::set<std::string> found;
+  for (const auto& c : report())
+    if (c.erratum) found.insert(c.id);
+  EXPECT_EQ(found, errata);
 }
 
 // The erratum's explanation claims the printed "alpha = 1" g_a is the alpha = 2 result: check it.
