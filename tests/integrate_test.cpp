@@ -393,7 +393,6 @@ TEST(Integrate, CreasedIntegrandsAreSplitAtTheirCreasesAndExact) {
   const Vec3 n{0, 0, 1};
   std::mt19937_64 rng(5);
   std::uniform_real_distribution<double> u(0.0, 1.0);
-  int checked = 0;
   for (int k = 0; k < 60; ++k) {
     const double crease = (u(rng) - 0.5) * 0.98 * pi;
     const CreasedStep model(crease, kBelow, kAbove, true);
@@ -422,9 +421,7 @@ TEST(Integrate, CreasedIntegrandsAreSplitAtTheirCreasesAndExact) {
     EXPECT_NEAR(h.value, exact_h, kCreaseTol);
     EXPECT_NEAR(a.value, exact_h, kCreaseTol);
     EXPECT_TRUE(h.converged && a.converged);
-    ++checked;
   }
-  EXPECT_EQ(checked, 60);
   // Without the hint the same jump is bisected towards forever: the budget runs out first.
   const CreasedStep unhinted(0.3, kBelow, kAbove, false);
   CubatureOptions o = options(kCreaseTol);
