@@ -195,6 +195,23 @@ const PlausibilityRow* find_row(const std::vector<PlausibilityRow>& rows, const 
     if (r.spec.rfind(prefix, 0) == 0) return &r;
   return nullptr;
 }
+/// Every row whose albedo exceeds 1: such a surface reflects more light than it receives at that
+/// incidence (energy creation), which a reader must see at once, not find in a table cell.
+std::string energy_creation_section(const std::vector<PlausibilityRow>& rows) {
+  std::ostringstream s;
+  s << "## Energy created: albedo above 1\n\n";
+  int count = 0;
+  for (const auto& r : rows) {
+    if (r.conserves()) continue;
+    ++count;
+    s << "- **`" << r.spec << "` creates energy**: a = " << sci(r.max_albedo) << " ± " << sci(r.max_albedo_error)
+      << " at θ_i = " << sci(r.max_albedo_theta_i) << "°, i.e. it reflects " << sci(100.0 * (r.max_albedo - 1.0))
+      << "% more than it receives there (declared " << to_string(r.declared.energy) << ").\n";
+  }
+  if (count == 0) s << "No row: every measured albedo is at most 1.\n";
+  s << "\n";
+  return s.str();
+}
 }  // namespace
 
 std::string plausibility_markdown(const std::vector<PlausibilityRow>& rows, double tolerance, const std::string& command) {
@@ -228,6 +245,7 @@ std::string plausibility_markdown(const std::vector<PlausibilityRow>& rows, doub
       << (r.traits_consistent() ? "✓" : "✗") << (r.converged ? "" : " (not converged)") << " |\n";
   }
   s << "\n" << rows.size() << " rows; declared traits contradicted by the measurements: " << inconsistent << ".\n\n";
+  s << energy_creation_section(rows);
 
   const PlausibilityRow* phong = find_row(rows, "phong:kd=0.2");
   const PlausibilityRow* lewis = find_row(rows, "phong-lewis:kd=0,");
