@@ -22,6 +22,12 @@ int main(int argc, char** argv) {
   add_tradeoff_command(app, action);
 #ifdef GANZFELD_HAS_BENCH  // built only with -DGANZFELD_BENCH=ON (the peers are linked there)
   add_bench_command(app, action);
+#else
+  app.add_subcommand("bench", "not built (configure with -DGANZFELD_BENCH=ON)")->allow_extras()->callback([&action] {
+    action = []() -> int {
+      throw ganzfeld::InputError("this ganzfeld was built without the benchmark; configure with -DGANZFELD_BENCH=ON");
+    };
+  });
 #endif
   add_render_command(app, action);
   add_figure_command(app, action);
