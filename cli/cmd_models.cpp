@@ -7,6 +7,25 @@
 
 namespace ganzfeld::cli {
 
+namespace {
+
+const char* type_name(ParamType t) {
+  switch (t) {
+    case ParamType::real: return "real";
+    case ParamType::integer: return "integer";
+    case ParamType::choice: return "choice";
+  }
+  return "?";
+}
+
+/// A default as a spec would write it: the name of a choice, else the number.
+std::string default_text(const ParamInfo& p) {
+  if (p.type == ParamType::choice) return p.choices.at(static_cast<std::size_t>(p.default_value));
+  return format_number(p.default_value);
+}
+
+}  // namespace
+
 void add_models_command(CLI::App& app, Action& action) {
   auto* cmd = app.add_subcommand("models", "list every model: parameters, traits, closed forms");
   auto json = std::make_shared<bool>(false);
@@ -26,13 +45,21 @@ void add_models_command(CLI::App& app, Action& action) {
           if (!m.file_optional) example += ":file=DATA";
         }
         for (const auto& p : m.parameters) {
-          params.push_back({{"name", p.name},
-                            {"type", p.type == ParamType::integer ? "integer" : "real"},
-                            {"min", p.min},
-                            {"max", p.max},
-                            {"default", p.default_value},
-                            {"meaning", p.meaning}});
-          example += (example == m.name ? ":" : ",") + p.name + "=" + format_number(p.default_value);
+          nlohmann::ordered_json param{{"name", p.name},
+                                       {"type", type_name(p.type)},
+                                       {"min", p.min},
+                                       {"max", p.max},
+                                       {"default", p.default_value},
+                                       {"meaning", p.meaning}};
+          if (p.type == ParamType::choice) {
+            param["choices"] = p.choices;
+            param["default"] = default_text(p);  // the name, as a spec gives it
+          }
+          if (p.min_exclusive) param["min_exclusive"] = true;
+          if (p.optional) param["optional"] = true;
+          param["allowed"] = allowed_values(p);
+          params.push_back(param);
+          if (!p.optional) example += (example == m.name ? ":" : ",") + p.name + "=" + default_text(p);
         }
         doc["models"].push_back({{"name", m.name},
                                  {"summary", m.summary},
@@ -62,9 +89,12 @@ void add_models_command(CLI::App& app, Action& action) {
                       << "\n";
             continue;
           }
-          std::cout << "    " << p["name"].get<std::string>() << " (" << p["type"].get<std::string>() << " in ["
-                    << format_number(p["min"]) << ", " << format_number(p["max"]) << "], default "
-                    << format_number(p["default"]) << "): " << p["meaning"].get<std::string>() << "\n";
+          std::cout << "    " << p["name"].get<std::string>() << " (" << p["allowed"].get<std::string>()
+                    << (p.contains("optional") ? std::string(", optional")
+                                                : ", default " + (p["default"].is_string()
+                                                                      ? p["default"].get<std::string>()
+                                                                      : format_number(p["default"].get<double>())))
+                    << "): " << p["meaning"].get<std::string>() << "\n";
         }
       }
       std::cout << "mixtures: " << doc["mixtures"].get<std::string>() << "\n";
