@@ -57,6 +57,8 @@ std::vector<ModelInfo> build_catalogue() {
   register_blinn_dusty_models(c);
   register_beard_maxwell_models(c);
   register_poulin_fournier_models(c);
+  register_ggx_models(c);
+  register_charlie_models(c);
   register_measured_models(c);
   return c;
 }

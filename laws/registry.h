@@ -58,6 +58,8 @@ void register_he_torrance_models(std::vector<ModelInfo>& catalogue);  // laws/he
 void register_blinn_dusty_models(std::vector<ModelInfo>& catalogue);  // laws/blinn_dusty.cpp
 void register_beard_maxwell_models(std::vector<ModelInfo>& catalogue);  // laws/beard_maxwell.cpp
 void register_poulin_fournier_models(std::vector<ModelInfo>& catalogue);  // laws/poulin_fournier.cpp
+void register_ggx_models(std::vector<ModelInfo>& catalogue);      // laws/ggx.cpp (microfacets, Smith G2)
+void register_charlie_models(std::vector<ModelInfo>& catalogue);  // laws/charlie.cpp (sheen)
 
 /// Every registered model, in presentation order.
 const std::vector<ModelInfo>& model_catalogue();
