@@ -10,10 +10,31 @@ namespace ganzfeld::cli {
 
 namespace {
 
-std::string markdown_cell(std::string text) {
+const char* type_name(ParamType t) {
+  switch (t) {
+    case ParamType::real: return "real";
+    case ParamType::integer: return "integer";
+    case ParamType::choice: return "choice";
+  }
+  return "?";
+}
+
+/// A default as a spec would write it: the name of a choice, else the number.
+std::string default_text(const ParamInfo& p) {
+  if (p.type == ParamType::choice) return p.choices.at(static_cast<std::size_t>(p.default_value));
+  return format_number(p.default_value);
+}
+
+std::string markdown_cell(const std::string& text) {
   std::string out;
   for (char c : text) out += c == '|' ? std::string("\\|") : std::string(1, c);
   return out;
+}
+
+/// A parameter's default as the JSON holds it: a choice's name, a number, or "optional".
+std::string default_cell(const nlohmann::ordered_json& p) {
+  if (p.contains("optional")) return "optional";
+  return p["default"].is_string() ? p["default"].get<std::string>() : format_number(p["default"].get<double>());
 }
 
 /// docs/model-parameters.md: every model's parameter table, generated from the registry (the
@@ -30,14 +51,13 @@ std::string models_markdown(const nlohmann::ordered_json& doc) {
           (m["reciprocal"].get<bool>() ? "reciprocal" : "not reciprocal") + ", energy: " +
           m["energy_class"].get<std::string>() + ".\n";
     if (m["parameters"].empty()) continue;
-    md += "\n| param | type | range | default | meaning |\n|---|---|---|---|---|\n";
+    md += "\n| param | allowed | default | meaning |\n|---|---|---|---|\n";
     for (const auto& p : m["parameters"]) {
       const bool path = p["type"] == "path";
-      md += "| " + p["name"].get<std::string>() + " | " + p["type"].get<std::string>() + " | " +
-            (path ? std::string("") : "[" + format_number(p["min"]) + ", " + format_number(p["max"]) + "]") + " | " +
-            (path ? std::string(p["required"].get<bool>() ? "required" : "optional")
-                  : format_number(p["default"])) +
-            " | " + markdown_cell(p["meaning"].get<std::string>()) + " |\n";
+      md += "| " + p["name"].get<std::string>() + " | " +
+            markdown_cell(path ? std::string("a file path") : p["allowed"].get<std::string>()) + " | " +
+            (path ? std::string(p["required"].get<bool>() ? "required" : "optional") : default_cell(p)) + " | " +
+            markdown_cell(p["meaning"].get<std::string>()) + " |\n";
     }
   }
   return md;
@@ -67,13 +87,21 @@ void add_models_command(CLI::App& app, Action& action) {
           if (!m.file_optional) example += ":file=DATA";
         }
         for (const auto& p : m.parameters) {
-          params.push_back({{"name", p.name},
-                            {"type", p.type == ParamType::integer ? "integer" : "real"},
-                            {"min", p.min},
-                            {"max", p.max},
-                            {"default", p.default_value},
-                            {"meaning", p.meaning}});
-          example += (example == m.name ? ":" : ",") + p.name + "=" + format_number(p.default_value);
+          nlohmann::ordered_json param{{"name", p.name},
+                                       {"type", type_name(p.type)},
+                                       {"min", p.min},
+                                       {"max", p.max},
+                                       {"default", p.default_value},
+                                       {"meaning", p.meaning}};
+          if (p.type == ParamType::choice) {
+            param["choices"] = p.choices;
+            param["default"] = default_text(p);  // the name, as a spec gives it
+          }
+          if (p.min_exclusive) param["min_exclusive"] = true;
+          if (p.optional) param["optional"] = true;
+          param["allowed"] = allowed_values(p);
+          params.push_back(param);
+          if (!p.optional) example += (example == m.name ? ":" : ",") + p.name + "=" + default_text(p);
         }
         doc["models"].push_back({{"name", m.name},
                                  {"summary", m.summary},
@@ -105,9 +133,9 @@ void add_models_command(CLI::App& app, Action& action) {
                       << "\n";
             continue;
           }
-          std::cout << "    " << p["name"].get<std::string>() << " (" << p["type"].get<std::string>() << " in ["
-                    << format_number(p["min"]) << ", " << format_number(p["max"]) << "], default "
-                    << format_number(p["default"]) << "): " << p["meaning"].get<std::string>() << "\n";
+          std::cout << "    " << p["name"].get<std::string>() << " (" << p["allowed"].get<std::string>()
+                    << (p.contains("optional") ? std::string(", optional") : ", default " + default_cell(p)) << "): "
+                    << p["meaning"].get<std::string>() << "\n";
         }
       }
       std::cout << "mixtures: " << doc["mixtures"].get<std::string>() << "\n";

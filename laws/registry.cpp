@@ -57,6 +57,8 @@ std::vector<ModelInfo> build_catalogue() {
   register_blinn_dusty_models(c);
   register_beard_maxwell_models(c);
   register_poulin_fournier_models(c);
+  register_ggx_models(c);
+  register_charlie_models(c);
   register_measured_models(c);
   return c;
 }
@@ -95,16 +97,31 @@ std::string format_number(double value) {
   return std::string(buf, result.ptr);
 }
 
+std::string allowed_values(const ParamInfo& param) {
+  if (param.type == ParamType::choice) {
+    std::string names;
+    for (const auto& c : param.choices) names += (names.empty() ? "" : ", ") + c;
+    return "one of " + names;
+  }
+  return std::string(param.type == ParamType::integer ? "an integer" : "a real number") + " in " +
+         (param.min_exclusive ? "(" : "[") + format_number(param.min) + ", " + format_number(param.max) + "]";
+}
+
 void validate_param(const ModelInfo& model, const ParamInfo& param, double value) {
-  const std::string allowed =
-      std::string(param.type == ParamType::integer ? "an integer" : "a real number") + " in [" +
-      format_number(param.min) + ", " + format_number(param.max) + "]";
+  const std::string allowed = allowed_values(param);
   const std::string where = model.name + ": " + param.name + "=" + format_number(value);
   if (!std::isfinite(value)) throw InputError(where + " is not finite; allowed: " + allowed);
-  if (value < param.min || value > param.max)
+  if (value < param.min || value > param.max || (param.min_exclusive && value == param.min))
     throw InputError(where + " is out of range; allowed: " + allowed);
-  if (param.type == ParamType::integer && value != std::floor(value))
+  if (param.type != ParamType::real && value != std::floor(value))
     throw InputError(where + " is not an integer; allowed: " + allowed);
+}
+
+double parse_choice(const ModelInfo& model, const ParamInfo& param, const std::string& text) {
+  for (std::size_t k = 0; k < param.choices.size(); ++k)
+    if (param.choices[k] == text) return static_cast<double>(k);
+  throw InputError(model.name + ": " + param.name + "='" + text + "' is not allowed; allowed: " +
+                   allowed_values(param));
 }
 
 }  // namespace ganzfeld

@@ -13,15 +13,22 @@
 
 namespace ganzfeld {
 
-enum class ParamType { real, integer };
+/// choice: the spec gives one of ParamInfo::choices by name; the value is its index.
+enum class ParamType { real, integer, choice };
 
 struct ParamInfo {
   std::string name;
   ParamType type = ParamType::real;
-  double min = 0.0;  ///< inclusive
+  double min = 0.0;  ///< inclusive (exclusive with min_exclusive)
   double max = 0.0;  ///< inclusive
   double default_value = 0.0;
   std::string meaning;
+  std::vector<std::string> choices{};  ///< the names of a choice parameter, by index
+  /// Left out of ParamValues unless the spec gives it, so a factory can tell alternatives
+  /// apart (ggx's alpha and roughness); default_value is then what the factory uses when none
+  /// of the alternatives is given.
+  bool optional = false;
+  bool min_exclusive = false;  ///< the range is (min, max]: e.g. a roughness that must be > 0
 };
 
 using ParamValues = std::map<std::string, double>;
@@ -51,6 +58,8 @@ void register_he_torrance_models(std::vector<ModelInfo>& catalogue);  // laws/he
 void register_blinn_dusty_models(std::vector<ModelInfo>& catalogue);  // laws/blinn_dusty.cpp
 void register_beard_maxwell_models(std::vector<ModelInfo>& catalogue);  // laws/beard_maxwell.cpp
 void register_poulin_fournier_models(std::vector<ModelInfo>& catalogue);  // laws/poulin_fournier.cpp
+void register_ggx_models(std::vector<ModelInfo>& catalogue);      // laws/ggx.cpp (microfacets, Smith G2)
+void register_charlie_models(std::vector<ModelInfo>& catalogue);  // laws/charlie.cpp (sheen)
 
 /// Every registered model, in presentation order.
 const std::vector<ModelInfo>& model_catalogue();
@@ -60,6 +69,11 @@ const ModelInfo& find_model(const std::string& name);
 /// Validates one value against its ParamInfo; throws InputError naming model, key, value and
 /// the allowed range.
 void validate_param(const ModelInfo& model, const ParamInfo& param, double value);
+/// What a parameter allows, as validate_param says it: "a real number in (0, 1]", "one of a, b".
+std::string allowed_values(const ParamInfo& param);
+/// The index of `text` among a choice parameter's names; throws InputError naming model, key,
+/// the text and the allowed names.
+double parse_choice(const ModelInfo& model, const ParamInfo& param, const std::string& text);
 
 /// Shortest text that round-trips the double (used in canonical spec strings).
 std::string format_number(double value);

@@ -47,7 +47,8 @@ ModelPtr parse_single(const std::string& spec_text) {
   const ModelInfo& info = find_model(name);
 
   ParamValues values;
-  for (const auto& p : info.parameters) values[p.name] = p.default_value;
+  for (const auto& p : info.parameters)
+    if (!p.optional) values[p.name] = p.default_value;
   std::string file;
   if (colon != std::string::npos) {
     std::vector<std::string> seen;
@@ -76,7 +77,9 @@ ModelPtr parse_single(const std::string& spec_text) {
         if (s == key) throw InputError("parameter '" + key + "' given twice in '" + spec + "'");
       seen.push_back(key);
       double value;
-      if (!parse_double(text, value))
+      if (param->type == ParamType::choice)
+        value = parse_choice(info, *param, text);
+      else if (!parse_double(text, value))
         throw InputError(name + ": " + key + "='" + text + "' is not a number");
       validate_param(info, *param, value);
       values[key] = value;

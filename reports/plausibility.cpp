@@ -108,6 +108,9 @@ std::vector<PlausibilityCase> plausibility_cases() {
       {"beard-maxwell:n=0.2,k=3,b=0.9,m=0.4,tau=5,omega=10,rho_d=0,rho_v=0", "metallic first surface alone, rough"},
       {"poulin-fournier:kd=1,ks=0,d=2,h=0", "white Lambertian half-cylinders: masked light is lost (no interreflection)"},
       {"poulin-fournier:kd=0,ks=1,n=1,d=1.5,h=0", "overlapping cylinders, all specular, broad lobe"},
+      {"ggx:alpha=0.01", "sharp GGX, F = 1: single scattering loses energy only at grazing"},
+      {"ggx:alpha_x=0.05,alpha_y=0.5,g2=separable", "anisotropic GGX, separable G2"},
+      {"charlie:alpha=0.05", "sharp sheen: the visibility term lets the albedo exceed 1 at grazing"},
   };
   // Every analytic model at its defaults (measured models need a file: not here).
   std::vector<PlausibilityCase> out;

@@ -445,6 +445,7 @@ std::vector<CheckResult> run_verification() {
   all.push_back(reciprocity_check());
   all.push_back(mixture_check());
   for (auto&& check : hvd_checks()) all.push_back(std::move(check));
+  for (auto&& check : ggx_checks()) all.push_back(std::move(check));
   return all;
 }
 

@@ -36,6 +36,9 @@ std::vector<CheckResult> run_verification();
 /// Checks of the halfway-vector-disk models (Edwards et al.; integrate/verify_hvd.cpp), appended
 /// to run_verification() after the Koenderink–Pont checks.
 std::vector<CheckResult> hvd_checks();
+/// Checks of the microfacet models (GGX, Charlie sheen; integrate/verify_ggx.cpp), appended after
+/// the halfway-vector-disk checks.
+std::vector<CheckResult> ggx_checks();
 
 /// True when every matching or corrected form agrees to kAgreement and all references converged.
 bool verification_passed(const std::vector<CheckResult>& checks);

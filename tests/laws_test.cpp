@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include "tests/test_support.h"
+
 #include "util/error.h"
 #include "laws/kp_lobes.h"
 #include "laws/mixture.h"
@@ -41,17 +43,7 @@ std::vector<Vec3> test_directions() {
 
 TEST(Laws, EveryModelIsFiniteNonNegativeAndReciprocal) {
   const auto dirs = test_directions();
-  for (const auto& spec : kSpecs) {
-    const ModelPtr m = parse_model(spec);
-    for (const Vec3& i : dirs)
-      for (const Vec3& j : dirs) {
-        const double f = m->f(i, j);
-        ASSERT_TRUE(std::isfinite(f)) << spec;
-        ASSERT_GE(f, 0.0) << spec;
-        // Reciprocity must hold to the last bit: our formulas are symmetric expressions.
-        ASSERT_EQ(f, m->f(j, i)) << spec;
-      }
-  }
+  for (const auto& spec : kSpecs) testing_support::expect_finite_non_negative_reciprocal(*parse_model(spec), dirs, spec);
 }
 
 TEST(Laws, BelowTheHorizonIsZero) {

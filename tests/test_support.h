@@ -1,6 +1,7 @@
 // Small helpers shared by the model tests.
 #pragma once
 
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -22,6 +23,19 @@ inline CubatureOptions cubature_options(double abs_tol, long long max_evaluation
 
 /// Incidence cosines from normal to 1e-3 from the horizon, where the energy claims are tested.
 inline const std::vector<double> kIncidenceCosines{1.0, 0.9, 0.7, 0.5, 0.3, 0.1, 0.03, 0.01, 1e-3};
+
+/// f is finite, non-negative and reciprocal to the last bit (the formulas are symmetric
+/// expressions) for every pair of `dirs`.
+inline void expect_finite_non_negative_reciprocal(const Model& m, const std::vector<Vec3>& dirs,
+                                                  const std::string& label) {
+  for (const Vec3& i : dirs)
+    for (const Vec3& j : dirs) {
+      const double f = m.f(i, j);
+      ASSERT_TRUE(std::isfinite(f)) << label;
+      ASSERT_GE(f, 0.0) << label;
+      ASSERT_EQ(f, m.f(j, i)) << label;
+    }
+}
 
 /// Parsing `spec` must fail with a one-line InputError that contains every fragment (the model,
 /// the key=value, the allowed range...).
