@@ -20,7 +20,6 @@
 #include "util/error.h"
 #include "util/atomic_file.h"
 #include "laws/registry.h"
-#include "laws/spec.h"
 
 namespace ganzfeld::tables {
 
@@ -204,8 +203,9 @@ struct Reader {
                std::to_string(kFormatVersion));
       try {
         table.law = parse_law(attribute(header, kAttrLaw));
+        // Kept as text, never parsed: a table must read without its model's code or data files
+        // (a measured model's file may have moved); check_table below checks the text's form.
         table.model = attribute(header, kAttrModel);
-        parse_model(table.model);  // a model this build knows, with valid parameters
         table.encoding = parse_encoding(attribute(header, kAttrEncoding));
       } catch (const InputError& e) {
         refuse(std::string(e.what()));

@@ -130,7 +130,27 @@ std::uint64_t entry_count(std::span<const Axis> axes) noexcept {
   return n;
 }
 
+namespace {
+
+/// The model spec is opaque to a table (read_table never parses it), but it must be something a
+/// header line and a one-line message can hold.
+void check_model_text(const std::string& spec) {
+  const bool blank = spec.find_first_not_of(" \t") == std::string::npos;
+  std::string shown = spec;
+  bool control = false;
+  for (char& c : shown)
+    if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) {
+      control = true;
+      c = '?';  // keeps the message on one line
+    }
+  if (blank || control)
+    throw InputError("model spec '" + shown + "' is not allowed; expected one non-empty line of printable text");
+}
+
+}  // namespace
+
 void check_table(const Table& table) {
+  check_model_text(table.model);
   const char* law = to_string(table.law);
   if (table.law != Law::g && table.law != Law::h && table.law != Law::a)
     throw InputError(std::string("law '") + law + "' cannot be tabulated; allowed: g, h, a");

@@ -84,5 +84,13 @@ expect_bad "does not exist" bake --scene "$scene" --out "$tmp/no/such/cache" "${
 expect_bad "mutually exclusive" bake --scene "$scene" --model lambert --out "$tmp/cache"
 expect_bad "no such file" bake --scene "$tmp/none.json" --out "$tmp/cache"
 
+# --- a table is self-describing: it reads without its model's data file (issue #19)
+"$G" export-brdf --model minnaert:xi=0.5 --format tabulated --res 7x7x5 -o "$tmp/m.tab" >/dev/null && ok || fail "export-brdf"
+"$G" bake --model "tabulated:file=$tmp/m.tab" --law h --res 5 --tol 1e-4 -o "$tmp/m.h.exr" >/dev/null && ok || fail "bake tabulated"
+mv "$tmp/m.tab" "$tmp/m-moved.tab"
+"$G" info "$tmp/m.h.exr" >/dev/null && ok || fail "info after the data file moved"
+"$G" sample "$tmp/m.h.exr" --theta-j 30 >/dev/null && ok || fail "sample after the data file moved"
+"$G" export-glsl "$tmp/m.h.exr" -o "$tmp/m.h.glsl" >/dev/null && ok || fail "export-glsl after the data file moved"
+
 echo "cli: $passed passed, $failed failed"
 [ "$failed" -eq 0 ]

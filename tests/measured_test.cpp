@@ -17,6 +17,9 @@
 #include "util/error.h"
 #include "laws/measured.h"
 #include "laws/spec.h"
+#include "tables/bake.h"
+#include "tables/exr_io.h"
+#include "tables/sample.h"
 #include "export/brdf_export.h"
 #include "tests/temp_dir.h"
 
@@ -209,6 +212,29 @@ TEST(Tabulated, RefusesMalformedText) {
   refused("ganzfeld-tabulated-brdf 1\ntheta_i: 0 90\ntheta_r: 0 90\nphi: 0 180\n1 1 1 1 1 1 1\n", "needs 8");
   refused("ganzfeld-tabulated-brdf 1\ntheta_i: 0 90\ntheta_r: 0 90\nphi: 0 180\n1 1 1 -1 1 1 1 1\n", ">= 0");
   refused("ganzfeld-tabulated-brdf 1\ntheta_i: 0 90\ntheta_r: 0 90\nphi: 0 180\n1 1 x 1 1 1 1 1\n", "not a number");
+}
+
+// A table is self-describing (issue #19): once baked it reads and samples without its model,
+// so a measured model's data file may move or vanish.
+TEST(MeasuredTable, ReadsAfterTheDataFileIsGone) {
+  const std::string tab = temp_file("gone.tab"), merl = temp_file("gone.binary");
+  exporting::write_tabulated(*parse_model("minnaert:xi=0.5"), {7, 7, 5}, tab);
+  exporting::write_merl(*parse_model("lambert"), merl);
+  for (const std::string& spec : {"tabulated:file=" + tab, "merl:file=" + merl}) {
+    tables::BakeOptions options;
+    options.resolution = {5};
+    options.tolerance = 1e-4;  // measured data are no better than ~1e-4 (docs/measured.md)
+    const tables::Table baked = tables::bake(*parse_model(spec), Law::h, options);
+    const std::string exr = temp_file("gone.h.exr");
+    tables::write_table(baked, exr);
+    std::filesystem::remove(spec.substr(spec.find('=') + 1));
+    ASSERT_THROW(parse_model(spec), InputError);  // the model itself cannot be made any more
+    const tables::Table read = tables::read_table(exr);
+    EXPECT_EQ(read.model, baked.model);
+    EXPECT_EQ(read.value, baked.value);
+    const Vec3 j{std::sqrt(0.75), 0.0, 0.5};
+    EXPECT_EQ(tables::sample(read, Vec3{0, 0, 1}, j).value, tables::sample(baked, Vec3{0, 0, 1}, j).value);
+  }
 }
 
 }  // namespace

@@ -414,6 +414,26 @@ TEST_F(lutRefusal, MaxErrorDisagreesWithData) {
   expect_refused(path, "disagrees with the error data");
 }
 
+// The model spec is kept as text: a model this build does not know (or whose data file is gone,
+// tests/measured_test.cpp) still reads; only a spec no header line should hold is refused.
+TEST_F(lutRefusal, ModelSpecIsNotParsed) {
+  RawExr raw = valid();
+  raw.set("ganzfeld.model", "some-future-model:x=1");
+  const std::string path = temp_file("future_model.exr");
+  raw.save(path);
+  EXPECT_EQ(read_table(path).model, "some-future-model:x=1");
+}
+
+TEST_F(lutRefusal, ModelSpecBlankOrMultiLine) {
+  for (const char* spec : {"", " ", "minnaert:xi=1\nlambert"}) {
+    RawExr raw = valid();
+    raw.set("ganzfeld.model", spec);
+    const std::string path = temp_file("bad_model.exr");
+    raw.save(path);
+    expect_refused(path, "expected one non-empty line of printable text");
+  }
+}
+
 // --- Atomic writes ----------------------------------------------------------------------------
 
 std::vector<std::string> listing(const std::string& dir) {
