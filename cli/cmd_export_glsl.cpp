@@ -56,7 +56,7 @@ int export_table(const ExportArgs& args) {
     const Law law = parse_law(args.law);
     if (law != Law::g && law != Law::h && law != Law::a)
       throw InputError("--law '" + args.law + "' has no table; allowed: g, h, a");
-    exporting::check_table_is(table, parse_model(args.model)->spec(), law);
+    exporting::check_table_is(table, *parse_model(args.model), law);
   }
   const std::string glsl = exporting::glsl_table_snippet(table);
   std::string texture_path;

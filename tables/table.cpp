@@ -6,6 +6,7 @@
 
 #include "util/error.h"
 #include "laws/registry.h"
+#include "util/hash.h"
 
 namespace ganzfeld::tables {
 
@@ -147,10 +148,17 @@ void check_model_text(const std::string& spec) {
     throw InputError("model spec '" + shown + "' is not allowed; expected one non-empty line of printable text");
 }
 
+void check_model_content(const std::string& digest) {
+  if (!digest.empty() && !util::is_content_digest(digest))
+    throw InputError("model content '" + digest +
+                     "' is not allowed; expected fnv1a64: and 16 lower-case hex digits, or nothing");
+}
+
 }  // namespace
 
 void check_table(const Table& table) {
   check_model_text(table.model);
+  check_model_content(table.model_content);
   const char* law = to_string(table.law);
   if (table.law != Law::g && table.law != Law::h && table.law != Law::a)
     throw InputError(std::string("law '") + law + "' cannot be tabulated; allowed: g, h, a");
