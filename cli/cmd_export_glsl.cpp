@@ -54,7 +54,7 @@ int export_table(const ExportArgs& args) {
   if (!args.model.empty() || !args.law.empty()) {
     if (args.model.empty() || args.law.empty()) throw InputError("--model and --law go together (the table the shader expects)");
     const Law law = tables::parse_tabulated_law("--law", args.law);
-    exporting::check_table_is(table, parse_model(args.model)->spec(), law);
+    exporting::check_table_is(table, *parse_model(args.model), law);
   }
   const std::string glsl = exporting::glsl_table_snippet(table);
   std::string texture_path;

@@ -36,6 +36,7 @@ void add_info_command(CLI::App& app, Action& action) {
         nlohmann::ordered_json doc{{"path", args->path},
                                    {"format_version", tables::kFormatVersion},
                                    {"model", table.model},
+                                   {"model_content", table.model_content},
                                    {"law", to_string(table.law)},
                                    {"axes", axes},
                                    {"entries", table.entries()},
@@ -52,6 +53,7 @@ void add_info_command(CLI::App& app, Action& action) {
       }
       std::printf("%s\n  format version %d, ganzfeld %s\n  model        %s\n  law          %s\n", args->path.c_str(),
                   tables::kFormatVersion, table.version.c_str(), table.model.c_str(), to_string(table.law));
+      if (!table.model_content.empty()) std::printf("  model data   %s\n", table.model_content.c_str());
       for (const tables::Axis& a : table.axes)
         std::printf("  axis         %-12s [%s, %s] %d nodes, %s\n", a.name.c_str(), format_number(a.min).c_str(),
                     format_number(a.max).c_str(), a.count, to_string(a.mapping));

@@ -9,6 +9,7 @@
 #include "util/error.h"
 #include "laws/kp_lobes.h"
 #include "scene/plan.h"
+#include "tables/cache.h"
 
 namespace ganzfeld::exporting {
 
@@ -230,10 +231,14 @@ std::string glsl_table_snippet(const Table& table) {
   return glsl_common() + "\n" + function;
 }
 
-void check_table_is(const Table& table, const std::string& spec, Law law) {
-  if (table.model != spec || table.law != law)
-    throw InputError("table holds law " + std::string(to_string(table.law)) + " of '" + table.model +
-                     "' but the shader needs law " + to_string(law) + " of '" + spec + "'");
+void check_table_is(const Table& table, const Model& model, Law law) {
+  auto named = [](const std::string& spec, const std::string& content) {
+    return "'" + spec + "'" + (content.empty() ? "" : " (data " + content + ")");
+  };
+  if (!tables::same_model(table, model) || table.law != law)
+    throw InputError("table holds law " + std::string(to_string(table.law)) + " of " +
+                     named(table.model, table.model_content) + " but the shader needs law " + to_string(law) + " of " +
+                     named(model.spec(), model.content_digest()));
   check_table(table);
 }
 
@@ -316,7 +321,7 @@ struct LobeCode {
     const tables::Table* table = (law == Law::g ? lobe.g_table : lobe.h_table).get();
     if (origin != scene::LawOrigin::table || table == nullptr)
       throw InputError("no table of law " + std::string(to_string(law)) + " of '" + lobe.spec + "' for the scene shader");
-    check_table_is(*table, lobe.spec, law);
+    check_table_is(*table, *lobe.model, law);
     if (!done.insert(glsl_function_name(lobe.spec, law)).second) return;
     uniforms << "uniform highp " << glsl_sampler_type(law) << " " << glsl_sampler_name(lobe.spec, law) << ";\n";
     tables << glsl_table_function(*table);

@@ -53,9 +53,10 @@ std::string glsl_table_function(const tables::Table& table);
 /// glsl_common() + glsl_table_function(table): one self-contained snippet per table file.
 std::string glsl_table_snippet(const tables::Table& table);
 
-/// Throws InputError unless `table` is law `law` of the model `spec` (canonical): the check the
-/// exporter makes before it binds a table file to a shader function.
-void check_table_is(const tables::Table& table, const std::string& spec, Law law);
+/// Throws InputError unless `table` is law `law` of `model` (tables::same_model: the spec apart
+/// from file paths, and the same data): the check the exporter makes before it binds a table
+/// file to a shader function.
+void check_table_is(const tables::Table& table, const Model& model, Law law);
 
 /// f of a single (non-mixture) model as GLSL, `float NAME(vec3 i, vec3 j, vec3 n)`, NAME =
 /// gz_f_<spec>, for models with a closed form we emit: the Koenderink–Pont lobes. Throws

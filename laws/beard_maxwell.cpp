@@ -10,6 +10,7 @@
 #include "laws/classic_models.h"  // fresnel_complex, kGrazingCosFloor
 #include "util/error.h"
 #include "laws/text_data.h"
+#include "util/hash.h"
 
 namespace ganzfeld {
 
@@ -95,9 +96,10 @@ std::vector<double> pchip_slopes(const std::vector<double>& x, const std::vector
 
 }  // namespace
 
-FirstSurface FirstSurface::table(std::string path, FirstSurfaceTable table) {
+FirstSurface FirstSurface::table(std::string path, FirstSurfaceTable table, std::string digest) {
   FirstSurface fs;
   fs.path_ = std::move(path);
+  fs.digest_ = std::move(digest);
   for (double& t : table.theta_N) t *= kDeg;
   fs.table_ = std::move(table);
   fs.slopes_ = pchip_slopes(fs.table_.theta_N, fs.table_.rho_fs);
@@ -250,8 +252,8 @@ void register_beard_maxwell_models(std::vector<ModelInfo>& c) {
           throw InputError("beard-maxwell: " + std::string(key) + "=" + format_number(p.at(key)) +
                            " has no effect with file=" + file +
                            " (the table replaces the built-in first surface); allowed: leave b and m out");
-      fs = FirstSurface::table(file, parse_first_surface_table(
-                                         read_text_file(file, "Beard-Maxwell first-surface table '" + file + "'"), file));
+      const std::string text = read_text_file(file, "Beard-Maxwell first-surface table '" + file + "'");
+      fs = FirstSurface::table(file, parse_first_surface_table(text, file), util::content_digest_of(text));
     }
     return std::make_shared<BeardMaxwell>(n, k, std::move(fs), p.at("tau"), p.at("omega"), p.at("rho_d"),
                                           p.at("rho_v"));

@@ -68,7 +68,8 @@ class FirstSurface {
  public:
   /// B D(theta_N)/(4 cos^2 theta_N) with the Beckmann D of RMS slope m.
   static FirstSurface beckmann(double B, double m);
-  static FirstSurface table(std::string path, FirstSurfaceTable table);
+  /// `digest`: util::content_digest of the table file's bytes.
+  static FirstSurface table(std::string path, FirstSurfaceTable table, std::string digest);
 
   /// rho_fs(theta_N) cos^2 theta_N (1/sr), for theta_N in radians with its cosine; 0 for
   /// cos_N <= 0. (The product is what the BRDF needs, and is finite for the Beckmann form.)
@@ -80,13 +81,14 @@ class FirstSurface {
 
   bool is_table() const { return !path_.empty(); }
   const std::string& path() const { return path_; }
+  const std::string& digest() const { return digest_; }  ///< "" for the built-in lobe
   double B() const { return B_; }
   double m() const { return m_; }
 
  private:
   FirstSurface() = default;
   double B_ = 0.0, m_ = 1.0;
-  std::string path_;
+  std::string path_, digest_;
   FirstSurfaceTable table_;  // theta_N converted to radians
   std::vector<double> slopes_;  // d rho_fs/d theta_N at the nodes (monotone Hermite)
   double width_ = 0.0;
@@ -99,6 +101,7 @@ class BeardMaxwell final : public Model {
                double rho_V);
 
   std::string spec() const override;
+  std::string content_digest() const override { return fs_.digest(); }
   /// Isotropic; reciprocal (every factor is symmetric in i, j: measured bit-exact); not
   /// plausible: the first-surface term has no shadowing that vanishes at the horizon, so its
   /// albedo grows like 1/cos theta_i at grazing incidence (and rho_D, rho_V are unbounded fits).

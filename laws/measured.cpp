@@ -11,6 +11,7 @@
 #include "util/error.h"
 #include "laws/registry.h"
 #include "laws/text_data.h"
+#include "util/hash.h"
 
 namespace ganzfeld {
 
@@ -76,6 +77,10 @@ std::shared_ptr<const MerlData> read_merl(const std::string& path) {
   for (std::size_t k = 0; k < data->values.size(); ++k)
     if (!std::isfinite(data->values[k]))
       throw InputError("MERL file '" + path + "' holds a non-finite value at sample " + std::to_string(k));
+  // The header and the samples as read are the file's bytes in order (the size was checked).
+  const std::uint64_t hash = util::fnv1a_64({reinterpret_cast<const char*>(dims), sizeof dims});
+  data->digest = util::content_digest(util::fnv1a_64(
+      {reinterpret_cast<const char*>(data->values.data()), data->values.size() * sizeof(double)}, hash));
   return data;
 }
 
@@ -217,8 +222,8 @@ std::string format_tabulated(const TabulatedBrdf& table, const std::string& comm
   return s.str();
 }
 
-TabulatedModel::TabulatedModel(std::string path, TabulatedBrdf table, int lookup)
-    : path_(std::move(path)), table_(std::move(table)), lookup_(lookup) {}
+TabulatedModel::TabulatedModel(std::string path, TabulatedBrdf table, int lookup, std::string digest)
+    : path_(std::move(path)), table_(std::move(table)), lookup_(lookup), digest_(std::move(digest)) {}
 
 std::string TabulatedModel::spec() const { return "tabulated:file=" + path_ + ",lookup=" + std::to_string(lookup_); }
 
@@ -285,7 +290,8 @@ void register_measured_models(std::vector<ModelInfo>& catalogue) {
                      nullptr};
   tab_info.make_with_file = [](const std::string& file, const ParamValues& v) -> ModelPtr {
     const std::string text = read_text_file(file, "tabulated BRDF '" + file + "'");
-    return std::make_shared<TabulatedModel>(file, parse_tabulated(text, file), static_cast<int>(v.at("lookup")));
+    return std::make_shared<TabulatedModel>(file, parse_tabulated(text, file), static_cast<int>(v.at("lookup")),
+                                            util::content_digest_of(text));
   };
   catalogue.push_back(std::move(tab_info));
 }

@@ -52,6 +52,7 @@ HalfDiff node_angles(int kh, int kd, int kp) noexcept;
 /// A MERL file's three channels, unscaled (as stored).
 struct MerlData {
   std::vector<double> values;  ///< 3 * kSamples: R, then G, then B
+  std::string digest;          ///< util::content_digest of the file's bytes
 };
 /// Reads and validates a MERL file: size exactly kFileBytes, dimensions 90 x 90 x 180, no NaN or
 /// Inf. Throws InputError naming the file and the problem.
@@ -61,6 +62,7 @@ class MerlModel final : public Model {
  public:
   MerlModel(std::string path, std::shared_ptr<const MerlData> data, int channel, int lookup);
   std::string spec() const override;
+  std::string content_digest() const override { return data_->digest; }
   Traits traits() const override;
   double f(const Vec3& i, const Vec3& j) const noexcept override;
   MassHints mass_hints(const Vec3& fixed, Varying varying) const override;
@@ -86,8 +88,10 @@ std::string format_tabulated(const TabulatedBrdf& table, const std::string& comm
 
 class TabulatedModel final : public Model {
  public:
-  TabulatedModel(std::string path, TabulatedBrdf table, int lookup);
+  /// `digest`: util::content_digest of the file's bytes.
+  TabulatedModel(std::string path, TabulatedBrdf table, int lookup, std::string digest);
   std::string spec() const override;
+  std::string content_digest() const override { return digest_; }
   Traits traits() const override;
   double f(const Vec3& i, const Vec3& j) const noexcept override;
 
@@ -95,6 +99,7 @@ class TabulatedModel final : public Model {
   std::string path_;
   TabulatedBrdf table_;
   int lookup_;
+  std::string digest_;
 };
 
 }  // namespace ganzfeld

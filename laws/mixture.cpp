@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "laws/registry.h"
+#include "util/hash.h"
 
 namespace ganzfeld {
 
@@ -20,6 +21,17 @@ std::string Mixture::spec() const {
     out += format_number(lobe.weight) + "*" + lobe.model->spec();
   }
   return out;
+}
+
+std::string Mixture::content_digest() const {
+  std::string joined;  // '+' keeps the lobe boundaries: ("", d) and (d, "") differ
+  bool any = false;
+  for (const auto& lobe : lobes_) {
+    const std::string digest = lobe.model->content_digest();
+    any = any || !digest.empty();
+    joined += digest + "+";
+  }
+  return any ? util::content_digest_of(joined) : std::string();
 }
 
 Traits Mixture::traits() const {

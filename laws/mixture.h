@@ -13,6 +13,8 @@ class Mixture final : public Model {
   /// Weights must be positive; they are normalized here.
   explicit Mixture(std::vector<Lobe> lobes);
   std::string spec() const override;
+  /// One digest of the lobes' digests in spec order; "" when no lobe has a data file.
+  std::string content_digest() const override;
   Traits traits() const override;
   double f(const Vec3& i, const Vec3& j) const noexcept override;
   MassHints mass_hints(const Vec3& fixed, Varying varying) const override;

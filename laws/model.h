@@ -81,6 +81,10 @@ class Model {
 
   /// Canonical spec string (all parameters, normalized weights): the material's identity.
   virtual std::string spec() const = 0;
+  /// What the model's data files hold: util::content_digest of their bytes, "" for a model that
+  /// its spec alone defines. A spec names a data file by its path, which says nothing about the
+  /// bytes there now, so tables and the cache key measured models by this (tables/cache.h).
+  virtual std::string content_digest() const { return {}; }
   virtual Traits traits() const = 0;
 
   /// The BRDF for unit i, j in the local frame. 0 when either is strictly below the horizon;

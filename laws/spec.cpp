@@ -134,6 +134,22 @@ std::vector<Lobe> parse_lobes(const std::string& spec) {
   return lobes;
 }
 
+std::string spec_without_paths(const std::string& spec) {
+  std::string out;
+  const std::vector<std::string> terms = split_terms(spec);
+  for (std::size_t t = 0; t < terms.size(); ++t) {
+    const std::string& term = terms[t];
+    const auto colon = term.find(':');  // a path never holds ',' or '+', but may hold ':' after this one
+    std::string kept = term.substr(0, colon);
+    std::string items;
+    if (colon != std::string::npos)
+      for (const std::string& item : split(term.substr(colon + 1), ','))
+        if (trim(item.substr(0, item.find('='))) != "file") items += (items.empty() ? "" : ",") + item;
+    out += (t ? "+" : "") + kept + (items.empty() ? "" : ":" + items);
+  }
+  return out;
+}
+
 ModelPtr parse_model(const std::string& spec) {
   auto lobes = parse_lobes(spec);
   if (lobes.size() == 1) return lobes.front().model;

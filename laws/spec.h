@@ -20,4 +20,9 @@ struct Lobe {
 /// The lobes of a spec (a plain model is one lobe of weight 1). Tables are baked per lobe.
 std::vector<Lobe> parse_lobes(const std::string& spec);
 
+/// The spec with every `file=PATH` item removed, as text (nothing is parsed or read): what
+/// identifies a measured model apart from where its data file lies; Model::content_digest
+/// identifies the data. "merl:file=a.binary,channel=3,lookup=1" -> "merl:channel=3,lookup=1".
+std::string spec_without_paths(const std::string& spec);
+
 }  // namespace ganzfeld

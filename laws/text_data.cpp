@@ -8,7 +8,7 @@
 namespace ganzfeld {
 
 std::string read_text_file(const std::string& path, const std::string& what) {
-  std::ifstream in(path);
+  std::ifstream in(path, std::ios::binary);  // the bytes as they are: models hash them (content_digest)
   if (!in) throw InputError("cannot read " + what);
   std::stringstream text;
   text << in.rdbuf();

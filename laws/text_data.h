@@ -12,7 +12,7 @@
 
 namespace ganzfeld {
 
-/// The whole file as text; throws InputError "cannot read WHAT" when it cannot be opened.
+/// The whole file, byte for byte; throws InputError "cannot read WHAT" when it cannot be opened.
 std::string read_text_file(const std::string& path, const std::string& what);
 
 class TextDataReader {

@@ -104,6 +104,7 @@ Table bake(const Model& model, Law law, const BakeOptions& options) {
   const std::uint64_t n = entry_count(table.axes);
   table.law = law;
   table.model = model.spec();
+  table.model_content = model.content_digest();
   table.tolerance = options.tolerance;
   table.encoding = options.encoding;
   table.version = GANZFELD_VERSION;

@@ -6,6 +6,8 @@
 
 #include "util/error.h"
 #include "laws/registry.h"
+#include "laws/spec.h"
+#include "util/hash.h"
 #include "tables/exr_io.h"
 #include "util/timing.h"
 
@@ -20,7 +22,8 @@ constexpr std::size_t kMaxNameSpec = 80;
 
 TableKey table_key(const Model& model, Law law, const BakeOptions& options) {
   TableKey key;
-  key.model = model.spec();
+  key.model = spec_without_paths(model.spec());
+  key.content = model.content_digest();
   key.law = law;
   key.axes = make_axes(law, options.resolution, options.mappings);
   key.tolerance = options.tolerance;
@@ -29,12 +32,14 @@ TableKey table_key(const Model& model, Law law, const BakeOptions& options) {
 }
 
 TableKey table_key(const Table& table) {
-  return {table.model, table.law, table.axes, table.tolerance, table.encoding, kFormatVersion};
+  return {spec_without_paths(table.model), table.model_content, table.law, table.axes, table.tolerance,
+          table.encoding, kFormatVersion};
 }
 
 std::string key_text(const TableKey& key) {
-  std::string text = "ganzfeld-table format=" + std::to_string(key.format_version) + " model=" + key.model +
-                     " law=" + to_string(key.law) + " axes=";
+  std::string text = "ganzfeld-table format=" + std::to_string(key.format_version) + " model=" + key.model;
+  if (!key.content.empty()) text += " content=" + key.content;
+  text += std::string(" law=") + to_string(key.law) + " axes=";
   for (std::size_t d = 0; d < key.axes.size(); ++d) {
     const Axis& a = key.axes[d];
     text += (d ? ";" : "") + a.name + ":" + format_number(a.min) + ":" + format_number(a.max) + ":" +
@@ -44,15 +49,6 @@ std::string key_text(const TableKey& key) {
   return text;
 }
 
-std::uint64_t fnv1a_64(std::string_view bytes) noexcept {
-  std::uint64_t hash = 0xcbf29ce484222325ull;  // FNV-1a 64-bit offset basis and prime
-  for (unsigned char c : bytes) {
-    hash ^= c;
-    hash *= 0x100000001b3ull;
-  }
-  return hash;
-}
-
 std::string cache_file_name(const TableKey& key) {
   std::string name;
   for (char c : key.model.substr(0, kMaxNameSpec)) {
@@ -60,13 +56,11 @@ std::string cache_file_name(const TableKey& key) {
                       c == '.' || c == '-';
     name += keep ? c : '_';
   }
-  char hash[17];
-  std::snprintf(hash, sizeof hash, "%016llx", static_cast<unsigned long long>(fnv1a_64(key_text(key))));
-  return name + "." + to_string(key.law) + "." + hash + ".exr";
+  return name + "." + to_string(key.law) + "." + util::hex16(util::fnv1a_64(key_text(key))) + ".exr";
 }
 
 bool same_key(const TableKey& a, const TableKey& b) noexcept {
-  if (a.model != b.model || a.law != b.law || a.tolerance != b.tolerance || a.encoding != b.encoding ||
+  if (a.model != b.model || a.content != b.content || a.law != b.law || a.tolerance != b.tolerance || a.encoding != b.encoding ||
       a.format_version != b.format_version || a.axes.size() != b.axes.size())
     return false;
   for (std::size_t d = 0; d < a.axes.size(); ++d) {
@@ -75,6 +69,11 @@ bool same_key(const TableKey& a, const TableKey& b) noexcept {
       return false;
   }
   return true;
+}
+
+bool same_model(const Table& table, const Model& model) {
+  return spec_without_paths(table.model) == spec_without_paths(model.spec()) &&
+         table.model_content == model.content_digest();
 }
 
 const char* to_string(CacheStatus status) { return status == CacheStatus::reused ? "reused" : "baked"; }

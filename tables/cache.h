@@ -1,18 +1,21 @@
 // A cache of baked tables (design.md, tables/): a table is identified by everything that
-// determines its numbers and layout — canonical spec, law, axes (names, ranges, counts,
-// mappings), tolerance, encoding and format version. The key is hashed (64-bit FNV-1a) into a
+// determines its numbers and layout — the model, law, axes (names, ranges, counts, mappings),
+// tolerance, encoding and format version. The model is its canonical spec without file paths
+// (spec_without_paths) plus the digest of its data files' bytes (Model::content_digest,
+// ganzfeld.model_content): a measured model is keyed by what its file holds, not where it lies,
+// so new bytes at the same path re-bake, and the same bytes at another path reuse the table
+// (which keeps naming the path it was baked from). The key is hashed (64-bit FNV-1a) into a
 // readable file name; a file is reused only when it reads cleanly (read_table) and its own
 // metadata equals the key exactly, so a corrupt, truncated, stale or colliding file is re-baked
 // and atomically replaced (write_table renames a complete temporary file over it).
 //
-// Not in the key: the evaluation budget per entry (BakeOptions::max_evaluations, not stored
-// in the file), the command line and the ganzfeld version that made the table.
+// Not in the key: data file paths, the evaluation budget per entry
+// (BakeOptions::max_evaluations, not stored in the file), the command line and the ganzfeld
+// version that made the table.
 #pragma once
 
-#include <cstdint>
 #include <optional>
 #include <string>
-#include <string_view>
 #include <vector>
 
 #include "tables/bake.h"
@@ -21,7 +24,8 @@
 namespace ganzfeld::tables {
 
 struct TableKey {
-  std::string model;  ///< canonical spec
+  std::string model;    ///< canonical spec without file paths: spec_without_paths(Model::spec())
+  std::string content;  ///< Model::content_digest(): "" for analytic models
   Law law = Law::g;
   std::vector<Axis> axes;
   double tolerance = 0.0;
@@ -35,17 +39,20 @@ TableKey table_key(const Model& model, Law law, const BakeOptions& options);
 /// The key a table read from a file carries.
 TableKey table_key(const Table& table);
 
-/// Every field of the key as one line of text, doubles as shortest round-trip text.
+/// Every field of the key as one line of text, doubles as shortest round-trip text; the content
+/// only when there is one, so analytic keys (and their file names) are those of earlier versions.
 std::string key_text(const TableKey& key);
-/// 64-bit FNV-1a of the bytes.
-std::uint64_t fnv1a_64(std::string_view bytes) noexcept;
-/// "SANITIZED-SPEC.LAW.HASH16.exr", e.g. "specular_alpha=8.h.0123456789abcdef.exr": the spec
+/// "SANITIZED-SPEC.LAW.HASH16.exr", e.g. "specular_alpha=8.h.0123456789abcdef.exr": key.model
 /// with characters outside [A-Za-z0-9=.-] replaced by '_' (shortened if long), the law, and
-/// the 16 hex digits of fnv1a_64(key_text(key)).
+/// the 16 hex digits of util::fnv1a_64(key_text(key)).
 std::string cache_file_name(const TableKey& key);
 
 /// Exact equality of every field (axes: name, min, max, count, mapping).
 bool same_key(const TableKey& a, const TableKey& b) noexcept;
+
+/// Whether `table` holds `model` as the cache's key sees it: the same spec apart from file paths,
+/// and data files of the same bytes.
+bool same_model(const Table& table, const Model& model);
 
 enum class CacheStatus { baked, reused };
 const char* to_string(CacheStatus status);  ///< "baked" or "reused"

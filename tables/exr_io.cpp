@@ -20,7 +20,6 @@
 #include "util/error.h"
 #include "util/atomic_file.h"
 #include "laws/registry.h"
-#include "laws/spec.h"
 
 namespace ganzfeld::tables {
 
@@ -34,6 +33,7 @@ constexpr const char* kErrorChannel = "error";
 // Attribute names (docs/lut-format.md, "Header attributes").
 constexpr const char* kAttrVersion = "ganzfeld.format_version";
 constexpr const char* kAttrModel = "ganzfeld.model";
+constexpr const char* kAttrModelContent = "ganzfeld.model_content";  // optional on read: "" when missing
 constexpr const char* kAttrLaw = "ganzfeld.law";
 constexpr const char* kAttrAxes = "ganzfeld.axes";
 constexpr const char* kAttrTolerance = "ganzfeld.tolerance";
@@ -88,6 +88,7 @@ void write_table(const Table& table, const std::string& path) {
   auto attr = [&](const char* name, const std::string& v) { header.insert(name, Imf::StringAttribute(v)); };
   attr(kAttrVersion, std::to_string(kFormatVersion));
   attr(kAttrModel, table.model);
+  attr(kAttrModelContent, table.model_content);
   attr(kAttrLaw, to_string(table.law));
   attr(kAttrAxes, axes_json(table).dump());
   attr(kAttrTolerance, format_number(table.tolerance));
@@ -204,8 +205,12 @@ struct Reader {
                std::to_string(kFormatVersion));
       try {
         table.law = parse_law(attribute(header, kAttrLaw));
+        // Kept as text, never parsed: a table must read without its model's code or data files
+        // (a measured model's file may have moved); check_table below checks the text's form.
         table.model = attribute(header, kAttrModel);
-        parse_model(table.model);  // a model this build knows, with valid parameters
+        // Tables written before the digest existed have none: they read as analytic ones.
+        if (header.findTypedAttribute<Imf::StringAttribute>(kAttrModelContent))
+          table.model_content = attribute(header, kAttrModelContent);
         table.encoding = parse_encoding(attribute(header, kAttrEncoding));
       } catch (const InputError& e) {
         refuse(std::string(e.what()));

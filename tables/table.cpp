@@ -6,6 +6,7 @@
 
 #include "util/error.h"
 #include "laws/registry.h"
+#include "util/hash.h"
 
 namespace ganzfeld::tables {
 
@@ -141,7 +142,34 @@ std::uint64_t entry_count(std::span<const Axis> axes) noexcept {
   return n;
 }
 
+namespace {
+
+/// The model spec is opaque to a table (read_table never parses it), but it must be something a
+/// header line and a one-line message can hold.
+void check_model_text(const std::string& spec) {
+  const bool blank = spec.find_first_not_of(" \t") == std::string::npos;
+  std::string shown = spec;
+  bool control = false;
+  for (char& c : shown)
+    if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) {
+      control = true;
+      c = '?';  // keeps the message on one line
+    }
+  if (blank || control)
+    throw InputError("model spec '" + shown + "' is not allowed; expected one non-empty line of printable text");
+}
+
+void check_model_content(const std::string& digest) {
+  if (!digest.empty() && !util::is_content_digest(digest))
+    throw InputError("model content '" + digest +
+                     "' is not allowed; expected fnv1a64: and 16 lower-case hex digits, or nothing");
+}
+
+}  // namespace
+
 void check_table(const Table& table) {
+  check_model_text(table.model);
+  check_model_content(table.model_content);
   const char* law = to_string(table.law);
   require_tabulated(table.law);
   std::vector<int> counts;

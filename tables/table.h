@@ -78,6 +78,10 @@ std::vector<Mapping> parse_mappings(const std::string& text, Law law);
 struct Table {
   Law law = Law::g;
   std::string model;           ///< canonical spec, Model::spec()
+  /// Model::content_digest() of the model baked: the bytes of a measured model's data file, whose
+  /// path alone (in `model`) does not say what was baked. "" for analytic models, and for tables
+  /// written before the attribute existed.
+  std::string model_content;
   std::vector<Axis> axes;      ///< slowest first: entry index = ((k0 * n1) + k1) * n2 + k2
   std::vector<float> value;    ///< exactly the stored numbers (half-encoded values are exact floats)
   std::vector<float> error;    ///< per-entry bound: cubature estimate + storage rounding, rounded up
@@ -99,9 +103,10 @@ struct Table {
 /// Product of the counts; 0 for no axes.
 std::uint64_t entry_count(std::span<const Axis> axes) noexcept;
 
-/// Checks the metadata of a table against format version 1 (axes of the law, counts, finite
-/// numbers, data sizes, finite values, non-negative errors, max_error): throws InputError with
-/// a one-line description of the first problem.
+/// Checks the metadata of a table against format version 1 (the model spec one printable line,
+/// the content digest empty or well-formed, axes of the law, counts, finite numbers, data sizes,
+/// finite values, non-negative errors, max_error): throws InputError with a one-line
+/// description of the first problem.
 void check_table(const Table& table);
 
 }  // namespace ganzfeld::tables

@@ -111,5 +111,25 @@ cmp -s "$tmp/cached.exr" "$tmp/memory.exr" && ok || fail "cached and in-memory t
 [ "$(json_field "$tmp/plan_glsl.json" "sorted((t['model'], t['law'], t['max_error']) for t in d['textures']) == sorted((t['model'], t['law'], t['max_error']) for t in $(cat "$tmp/plan_bake.json")['tables'])")" = "True" ] \
   && ok || fail "export-glsl's tables are not the baked ones"
 
+# --- a table is self-describing: it reads without its model's data file (issue #19)
+"$G" export-brdf --model minnaert:xi=0.5 --format tabulated --res 7x7x5 -o "$tmp/m.tab" >/dev/null && ok || fail "export-brdf"
+"$G" bake --model "tabulated:file=$tmp/m.tab" --law h --res 5 --tol 1e-4 -o "$tmp/m.h.exr" >/dev/null && ok || fail "bake tabulated"
+mv "$tmp/m.tab" "$tmp/m-moved.tab"
+"$G" info "$tmp/m.h.exr" >/dev/null && ok || fail "info after the data file moved"
+"$G" sample "$tmp/m.h.exr" --theta-j 30 >/dev/null && ok || fail "sample after the data file moved"
+"$G" export-glsl "$tmp/m.h.exr" -o "$tmp/m.h.glsl" >/dev/null && ok || fail "export-glsl after the data file moved"
+
+# --- a measured model is keyed by its file's bytes, not its path (issue #19)
+bake_status() { json_field <("$G" bake --model "tabulated:file=$1" --law h --res 5 --tol 1e-4 -o "$tmp/k.h.exr" --json) "d['tables'][0]['status']"; }
+"$G" export-brdf --model minnaert:xi=0.5 --format tabulated --res 7x7x5 -o "$tmp/k.tab" >/dev/null && ok || fail "export-brdf k.tab"
+[ "$(bake_status "$tmp/k.tab")" = "baked" ] && ok || fail "first bake of k.tab"
+[ "$(bake_status "$tmp/k.tab")" = "reused" ] && ok || fail "unchanged k.tab not reused"
+[ "$(json_field <("$G" info "$tmp/k.h.exr" --json) "d['model_content'].startswith('fnv1a64:')")" = "True" ] \
+  && ok || fail "info --json lacks model_content"
+"$G" export-brdf --model minnaert:xi=1 --format tabulated --res 7x7x5 -o "$tmp/k.tab" >/dev/null && ok || fail "export-brdf over k.tab"
+[ "$(bake_status "$tmp/k.tab")" = "baked" ] && ok || fail "new bytes in k.tab reused a stale table"
+cp "$tmp/k.tab" "$tmp/k-copy.tab"
+[ "$(bake_status "$tmp/k-copy.tab")" = "reused" ] && ok || fail "the same bytes at another path not reused"
+
 echo "cli: $passed passed, $failed failed"
 [ "$failed" -eq 0 ]

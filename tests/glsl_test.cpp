@@ -127,13 +127,26 @@ TEST(CHeader, HoldsEveryTexelWithItsDimensions) {
 
 TEST(GlslExport, MismatchedTablesAreRefused) {
   const Table table = small_table("asperity:alpha=2", Law::h, Encoding::single);
-  EXPECT_NO_THROW(check_table_is(table, "asperity:alpha=2", Law::h));
-  EXPECT_THROW(check_table_is(table, "asperity:alpha=2", Law::g), InputError);
-  EXPECT_THROW(check_table_is(table, "asperity:alpha=3", Law::h), InputError);
+  EXPECT_NO_THROW(check_table_is(table, *parse_model("asperity:alpha=2"), Law::h));
+  EXPECT_THROW(check_table_is(table, *parse_model("asperity:alpha=2"), Law::g), InputError);
+  EXPECT_THROW(check_table_is(table, *parse_model("asperity:alpha=3"), Law::h), InputError);
   Table broken = table;
   broken.value[2] = std::numeric_limits<float>::quiet_NaN();
-  EXPECT_THROW(check_table_is(broken, "asperity:alpha=2", Law::h), InputError);
+  EXPECT_THROW(check_table_is(broken, *parse_model("asperity:alpha=2"), Law::h), InputError);
   EXPECT_THROW(glsl_table_function(broken), InputError);
+}
+
+// A measured model's table binds by content (tables::same_model), as the cache reuses it:
+// the same bytes at another path are the same model, other bytes at the same path are not.
+TEST(GlslExport, MeasuredTablesBindByContent) {
+  const std::string a = temp_file("a.tab"), b = temp_file("b.tab");
+  const std::string grid = "ganzfeld-tabulated-brdf 1\ntheta_i: 0 90\ntheta_r: 0 90\nphi: 0 180\n";
+  std::ofstream(a) << grid << "0.3 0.3 0.3 0.3 0.3 0.3 0.3 0.3\n";
+  std::filesystem::copy_file(a, b);
+  const Table table = small_table("tabulated:file=" + a, Law::h, Encoding::single);
+  EXPECT_NO_THROW(check_table_is(table, *parse_model("tabulated:file=" + b), Law::h));
+  std::ofstream(a, std::ios::trunc) << grid << "0.2 0.2 0.2 0.2 0.2 0.2 0.2 0.2\n";
+  EXPECT_THROW(check_table_is(table, *parse_model("tabulated:file=" + a), Law::h), InputError);
 }
 
 TEST(GlslExport, FOfModelsWithoutAGlslFormIsRefused) {

@@ -15,8 +15,12 @@
 
 #include "integrate/laws.h"
 #include "util/error.h"
+#include "util/hash.h"
 #include "laws/measured.h"
 #include "laws/spec.h"
+#include "tables/bake.h"
+#include "tables/exr_io.h"
+#include "tables/sample.h"
 #include "export/brdf_export.h"
 #include "tests/temp_dir.h"
 
@@ -209,6 +213,64 @@ TEST(Tabulated, RefusesMalformedText) {
   refused("ganzfeld-tabulated-brdf 1\ntheta_i: 0 90\ntheta_r: 0 90\nphi: 0 180\n1 1 1 1 1 1 1\n", "needs 8");
   refused("ganzfeld-tabulated-brdf 1\ntheta_i: 0 90\ntheta_r: 0 90\nphi: 0 180\n1 1 1 -1 1 1 1 1\n", ">= 0");
   refused("ganzfeld-tabulated-brdf 1\ntheta_i: 0 90\ntheta_r: 0 90\nphi: 0 180\n1 1 x 1 1 1 1 1\n", "not a number");
+}
+
+std::string file_bytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+// Issue #19: measured models name their data by its bytes (the cache keys them by it).
+TEST(MeasuredContent, DigestIsTheFileBytes) {
+  const std::string merl = temp_file("digest.binary"), tab = temp_file("digest.tab"), bm = temp_file("digest.fs");
+  exporting::write_merl(*parse_model("lambert"), merl);
+  exporting::write_tabulated(*parse_model("lambert"), {3, 3, 3}, tab);
+  std::ofstream(bm) << "ganzfeld-beard-maxwell-first-surface 1\ntheta_N: 0 30\nrho_fs: 2 1\n";
+  for (const std::string& spec : {"merl:file=" + merl, "tabulated:file=" + tab, "beard-maxwell:file=" + bm}) {
+    EXPECT_EQ(parse_model(spec)->content_digest(), util::content_digest_of(file_bytes(spec.substr(spec.find('=') + 1))))
+        << spec;
+  }
+  EXPECT_EQ(parse_model("lambert")->content_digest(), "");
+  EXPECT_EQ(parse_model("beard-maxwell")->content_digest(), "");  // the built-in first surface
+  EXPECT_EQ(parse_model("0.5*lambert + 0.5*specular:alpha=8")->content_digest(), "");
+  // A mixture's digest depends on every lobe's data and on which lobe holds it.
+  const std::string with = parse_model("0.5*lambert + 0.5*tabulated:file=" + tab)->content_digest();
+  EXPECT_TRUE(util::is_content_digest(with)) << with;
+  EXPECT_NE(with, parse_model("0.5*tabulated:file=" + tab + " + 0.5*lambert")->content_digest());
+}
+
+TEST(MeasuredContent, SpecWithoutPaths) {
+  EXPECT_EQ(spec_without_paths("merl:file=/a:b/c.binary,channel=3,lookup=1"), "merl:channel=3,lookup=1");
+  EXPECT_EQ(spec_without_paths("tabulated:lookup=1,file=x.tab"), "tabulated:lookup=1");
+  EXPECT_EQ(spec_without_paths("specular:alpha=8"), "specular:alpha=8");
+  EXPECT_EQ(spec_without_paths("lambert"), "lambert");
+  EXPECT_EQ(spec_without_paths("0.5*lambert + 0.5*tabulated:file=m.tab,lookup=1 + 1e+0*specular:alpha=8"),
+            "0.5*lambert + 0.5*tabulated:lookup=1 + 1e+0*specular:alpha=8");
+}
+
+// A table is self-describing (issue #19): once baked it reads and samples without its model,
+// so a measured model's data file may move or vanish.
+TEST(MeasuredTable, ReadsAfterTheDataFileIsGone) {
+  const std::string tab = temp_file("gone.tab"), merl = temp_file("gone.binary");
+  exporting::write_tabulated(*parse_model("minnaert:xi=0.5"), {7, 7, 5}, tab);
+  exporting::write_merl(*parse_model("lambert"), merl);
+  for (const std::string& spec : {"tabulated:file=" + tab, "merl:file=" + merl}) {
+    tables::BakeOptions options;
+    options.resolution = {5};
+    options.tolerance = 1e-4;  // measured data are no better than ~1e-4 (docs/measured.md)
+    const tables::Table baked = tables::bake(*parse_model(spec), Law::h, options);
+    const std::string exr = temp_file("gone.h.exr");
+    tables::write_table(baked, exr);
+    std::filesystem::remove(spec.substr(spec.find('=') + 1));
+    ASSERT_THROW(parse_model(spec), InputError);  // the model itself cannot be made any more
+    const tables::Table read = tables::read_table(exr);
+    EXPECT_EQ(read.model, baked.model);
+    EXPECT_EQ(read.model_content, baked.model_content);
+    EXPECT_TRUE(util::is_content_digest(read.model_content)) << read.model_content;
+    EXPECT_EQ(read.value, baked.value);
+    const Vec3 j{std::sqrt(0.75), 0.0, 0.5};
+    EXPECT_EQ(tables::sample(read, Vec3{0, 0, 1}, j).value, tables::sample(baked, Vec3{0, 0, 1}, j).value);
+  }
 }
 
 }  // namespace

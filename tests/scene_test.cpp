@@ -12,6 +12,7 @@
 #include "tests/temp_dir.h"
 
 #include "util/error.h"
+#include "util/hash.h"
 #include "laws/spec.h"
 #include "tables/cache.h"
 #include "tables/exr_io.h"
@@ -297,8 +298,13 @@ TEST(scene, CacheKeyAndFileName) {
   EXPECT_NE(cache_file_name(table_key(*m, Law::h, o)), name);
   EXPECT_NE(cache_file_name(table_key(*m, Law::a, tiny(Law::a))), name);
   EXPECT_NE(cache_file_name(table_key(*parse_model("specular:alpha=9"), Law::h, tiny(Law::h))), name);
-  EXPECT_EQ(fnv1a_64(""), 0xcbf29ce484222325ull);  // the FNV-1a offset basis
-  EXPECT_EQ(fnv1a_64("a"), 0xaf63dc4c8601ec8cull);  // published test vector
+  EXPECT_EQ(util::fnv1a_64(""), 0xcbf29ce484222325ull);  // the FNV-1a offset basis
+  EXPECT_EQ(util::fnv1a_64("a"), 0xaf63dc4c8601ec8cull);  // published test vector
+  EXPECT_EQ(util::fnv1a_64("b", util::fnv1a_64("a")), util::fnv1a_64("ab"));  // in pieces
+  EXPECT_EQ(util::content_digest_of("a"), "fnv1a64:af63dc4c8601ec8c");
+  EXPECT_TRUE(util::is_content_digest("fnv1a64:af63dc4c8601ec8c"));
+  EXPECT_FALSE(util::is_content_digest("fnv1a64:AF63DC4C8601EC8C"));
+  EXPECT_FALSE(util::is_content_digest("fnv1a64:af63dc4c8601ec8"));
 }
 
 TEST(scene, CacheReusesAMatchingTable) {
@@ -357,6 +363,59 @@ TEST(scene, CacheRebakesAMismatchingFile) {
             CacheStatus::baked);
   EXPECT_EQ(bake_or_reuse(cache_path(dir, *m, Law::h, tiny(Law::h)), *m, Law::h, tiny(Law::h), "test").status, CacheStatus::baked);
   EXPECT_EQ(read_table(path).model, "specular:alpha=8");
+}
+
+// A tabulated BRDF of constant f (ganzfeld-tabulated-brdf 1 on a 2x2x2 grid) at `path`.
+void write_constant_brdf(const std::string& path, const char* f) {
+  std::ofstream out(path, std::ios::trunc);
+  out << "ganzfeld-tabulated-brdf 1\ntheta_i: 0 90\ntheta_r: 0 90\nphi: 0 180\n";
+  for (int k = 0; k < 8; ++k) out << f << " ";
+}
+
+// Issue #19: a measured model is keyed by its file's bytes, not by its path.
+TEST(scene, CacheKeysMeasuredModelsByContent) {
+  const std::string dir = fresh_dir("content"), data = (fs::path(dir) / "m.tab").string();
+  write_constant_brdf(data, "0.3");
+  auto bake_at = [&](const std::string& path, const ModelPtr& m) {
+    return bake_or_reuse(path, *m, Law::h, tiny(Law::h), "test").status;
+  };
+  const ModelPtr first = parse_model("tabulated:file=" + data);
+  const std::string path = cache_path(dir, *first, Law::h, tiny(Law::h));
+  EXPECT_EQ(bake_at(path, first), CacheStatus::baked);
+  EXPECT_EQ(bake_at(path, parse_model("tabulated:file=" + data)), CacheStatus::reused);  // unchanged bytes
+  EXPECT_EQ(read_table(path).model_content, first->content_digest());
+
+  // New bytes at the same path: another key, so another cache file, and a fixed file is re-baked.
+  write_constant_brdf(data, "0.2");
+  const ModelPtr changed = parse_model("tabulated:file=" + data);
+  EXPECT_EQ(changed->spec(), first->spec());
+  const std::string changed_path = cache_path(dir, *changed, Law::h, tiny(Law::h));
+  EXPECT_NE(changed_path, path);
+  EXPECT_EQ(bake_at(changed_path, changed), CacheStatus::baked);
+  EXPECT_EQ(bake_at(path, changed), CacheStatus::baked);
+  EXPECT_NEAR(read_table(path).value.back(), 0.2 * 3.141592653589793, 1e-5);  // h = pi f
+
+  // The same bytes at another path: the same key; the table keeps naming the path it was baked from.
+  const std::string moved = (fs::path(dir) / "moved.tab").string();
+  fs::rename(data, moved);
+  const ModelPtr elsewhere = parse_model("tabulated:file=" + moved);
+  EXPECT_EQ(cache_path(dir, *elsewhere, Law::h, tiny(Law::h)), changed_path);
+  EXPECT_EQ(bake_at(changed_path, elsewhere), CacheStatus::reused);
+  EXPECT_EQ(read_table(changed_path).model, changed->spec());
+}
+
+TEST(scene, CacheRebakesAMeasuredTableWithoutContent) {
+  // A table written before ganzfeld.model_content existed reads with an empty digest: analytic
+  // ones stay valid, a measured one is baked again (what its file held then is unknown).
+  const std::string dir = fresh_dir("no_content"), data = (fs::path(dir) / "m.tab").string();
+  write_constant_brdf(data, "0.3");
+  const ModelPtr m = parse_model("tabulated:file=" + data);
+  const std::string path = cache_path(dir, *m, Law::h, tiny(Law::h));
+  Table old = bake(*m, Law::h, tiny(Law::h));
+  old.model_content.clear();
+  write_table(old, path);
+  EXPECT_EQ(bake_or_reuse(path, *m, Law::h, tiny(Law::h), "test").status, CacheStatus::baked);
+  EXPECT_EQ(bake_or_reuse(path, *m, Law::h, tiny(Law::h), "test").status, CacheStatus::reused);
 }
 
 }  // namespace

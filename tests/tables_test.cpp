@@ -333,6 +333,14 @@ class lutRefusal : public ::testing::Test {
   }
 
   static RawExr valid() { return RawExr::load(*valid_); }
+  /// The valid table with attribute `name` set to `value`, saved as `file`; its path.
+  static std::string valid_with(const char* name, const std::string& value, const std::string& file) {
+    RawExr raw = valid();
+    raw.set(name, value);
+    const std::string path = temp_file(file);
+    raw.save(path);
+    return path;
+  }
   static std::string* valid_;
 };
 std::string* lutRefusal::valid_ = nullptr;
@@ -412,6 +420,34 @@ TEST_F(lutRefusal, MaxErrorDisagreesWithData) {
   const std::string path = temp_file("max_error.exr");
   raw.save(path);
   expect_refused(path, "disagrees with the error data");
+}
+
+// The model spec is kept as text: a model this build does not know (or whose data file is gone,
+// tests/measured_test.cpp) still reads; only a spec no header line should hold is refused.
+TEST_F(lutRefusal, ModelSpecIsNotParsed) {
+  EXPECT_EQ(read_table(valid_with("ganzfeld.model", "future-model:x=1", "future_model.exr")).model, "future-model:x=1");
+}
+
+TEST_F(lutRefusal, ModelSpecBlankOrMultiLine) {
+  for (const char* spec : {"", " ", "minnaert:xi=1\nlambert"})
+    expect_refused(valid_with("ganzfeld.model", spec, "bad_model.exr"), "expected one non-empty line of printable text");
+}
+
+// ganzfeld.model_content (issue #19): optional, so tables written before it existed still read.
+TEST_F(lutRefusal, ModelContentMissingReadsAsNone) {
+  RawExr raw = valid();
+  raw.header.erase("ganzfeld.model_content");
+  const std::string path = temp_file("no_content.exr");
+  raw.save(path);
+  EXPECT_EQ(read_table(path).model_content, "");
+  const std::string digest = "fnv1a64:0123456789abcdef";
+  EXPECT_EQ(read_table(valid_with("ganzfeld.model_content", digest, "content.exr")).model_content, digest);
+}
+
+TEST_F(lutRefusal, ModelContentMalformed) {
+  for (const char* digest : {"0123456789abcdef", "fnv1a64:0123", "sha256:0123456789abcdef"})
+    expect_refused(valid_with("ganzfeld.model_content", digest, "bad_content.exr"),
+                   std::string("model content '") + digest + "' is not allowed");
 }
 
 // --- Atomic writes ----------------------------------------------------------------------------
