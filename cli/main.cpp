@@ -1,5 +1,6 @@
 // ganzfeld: extended-source shading tables from BRDFs. main catches once and maps to the exit
 // codes of cli-contract.md: 0 ok, 2 bad input (one line on stderr), 1 internal failure.
+#include <csignal>
 #include <exception>
 #include <iostream>
 
@@ -8,6 +9,10 @@
 
 int main(int argc, char** argv) {
   using namespace ganzfeld::cli;
+  // Past a file-size limit (ulimit -f) the kernel's default is to kill the process with SIGXFSZ,
+  // leaving a temporary file behind; ignored, the write fails with EFBIG instead and the atomic
+  // writer removes the temporary file and reports one line (exit 2).
+  std::signal(SIGXFSZ, SIG_IGN);
   CLI::App app{"ganzfeld " GANZFELD_VERSION
                " - laws of shading, vignetting and darkening (Koenderink & Pont) for any BRDF"};
   app.set_version_flag("--version", GANZFELD_VERSION);
