@@ -22,24 +22,31 @@ namespace {
 struct BenchArgs {
   std::string what;
   bool json = false, quick = false;
-  int cases = 0;
+  int cases = 0, repeats = 0;
   std::string markdown, plot;
 };
+
+/// Bake timings are repeated (median and spread): 5 runs by default, 1 with --quick.
+int bake_repeats(const BenchArgs& args) { return args.repeats > 0 ? args.repeats : (args.quick ? 1 : 5); }
 
 nlohmann::ordered_json cubature_report(const BenchArgs& args) {
   bench::CubatureBenchOptions options = args.quick ? bench::quick_options() : bench::CubatureBenchOptions{};
   if (args.cases > 0) options.cases_per_family = args.cases;
   const auto families = bench::run_cubature_benchmark(options);
+  // The report includes the bake throughput, measured in the same run (no appended sections).
+  const std::vector<bench::BakeTiming> bakes =
+      args.markdown.empty() ? std::vector<bench::BakeTiming>{} : bench::run_bake_benchmark(args.quick, bake_repeats(args));
   if (!args.plot.empty()) bench::write_work_precision_plot(families, args.plot);
   if (!args.markdown.empty()) {
     std::vector<std::string> words{"ganzfeld", "bench", "cubature"};
     if (args.quick) words.push_back("--quick");
     if (args.cases > 0) words.insert(words.end(), {"--cases", std::to_string(args.cases)});
+    if (args.repeats > 0) words.insert(words.end(), {"--repeats", std::to_string(args.repeats)});
     words.insert(words.end(), {"--markdown", args.markdown});
     if (!args.plot.empty()) words.insert(words.end(), {"--plot", args.plot});
     const std::string command = shell_line(words);
     const std::string plot_file = args.plot.empty() ? "" : std::filesystem::path(args.plot).filename().string();
-    write_text_atomically(args.markdown, bench::performance_markdown(families, options, command, plot_file));
+    write_text_atomically(args.markdown, bench::performance_markdown(families, options, bakes, command, plot_file));
   }
   nlohmann::ordered_json doc;
   doc["benchmark"] = "cubature";
@@ -57,7 +64,15 @@ nlohmann::ordered_json cubature_report(const BenchArgs& args) {
                         {"achieved_error", m.achieved_error}, {"estimate", m.estimate}, {"evaluations", m.evaluations}});
     nlohmann::ordered_json runs = nlohmann::ordered_json::array();
     for (const auto& r : f.runs)
-      runs.push_back({r.competitor, r.tolerance, r.achieved_error, r.evaluations, r.seconds, r.capped});
+      runs.push_back({r.competitor, r.tolerance, r.achieved_error, r.evaluations, r.seconds, r.capped, r.claimed});
+    nlohmann::ordered_json failures;
+    for (const auto& [who, x] : f.failures)
+      failures[who] = {{"runs", x.runs}, {"silently_wrong", x.silently_wrong}, {"not_converged", x.not_converged},
+                       {"over_cap", x.over_cap}};
+    nlohmann::ordered_json disagreements = nlohmann::ordered_json::array();
+    for (const auto& d : f.disagreements)
+      disagreements.push_back({{"model", d.model}, {"i", d.i}, {"j", d.j}, {"boost_reference", d.boost_reference},
+                               {"ours_reference", d.ours_reference}});
     doc["families"].push_back({{"name", f.name},
                                {"cases", f.cases},
                                {"skipped", f.skipped},
@@ -66,7 +81,9 @@ nlohmann::ordered_json cubature_report(const BenchArgs& args) {
                                {"evals_ratio", ratios},
                                {"capped_cases", capped},
                                {"mc_error_ratio_equal_time", f.mc_error_ratio_equal_time},
-                               {"runs_columns", {"competitor", "tolerance", "achieved_error", "evaluations", "seconds", "capped"}},
+                               {"failures", failures},
+                               {"reference_disagreements", disagreements},
+                               {"runs_columns", {"competitor", "tolerance", "achieved_error", "evaluations", "seconds", "capped", "claimed"}},
                                {"runs", runs},
                                {"misses", misses}});
   }
@@ -74,30 +91,16 @@ nlohmann::ordered_json cubature_report(const BenchArgs& args) {
 }
 
 /// Bake throughput (issue 8): a 64x64x32 g table at 1e-9 for specular alpha = 8 and 1000, with
-/// 1 and 2 threads.
+/// 1 and 2 threads, repeated (bench/bake_bench.cpp).
 nlohmann::ordered_json bake_report(const BenchArgs& args) {
-  nlohmann::ordered_json doc;
-  doc["benchmark"] = "bake";
+  nlohmann::ordered_json doc{{"benchmark", "bake"}, {"machine", bench::machine_description()}};
   doc["tables"] = nlohmann::ordered_json::array();
-  const std::vector<int> res = args.quick ? std::vector<int>{16, 16, 8} : std::vector<int>{64, 64, 32};
-  for (const char* spec : {"specular:alpha=8", "specular:alpha=1000"}) {
-    nlohmann::ordered_json row{{"model", spec}, {"law", "g"}, {"resolution", res}, {"tolerance", 1e-9}};
-    double seconds[3] = {0, 0, 0};
-    for (int threads : {1, 2}) {
-      tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
-      tables::BakeOptions o;
-      o.resolution = res;
-      o.tolerance = 1e-9;
-      const util::Stopwatch watch;
-      const auto table = tables::bake(*parse_model(spec), Law::g, o);
-      seconds[threads] = watch.seconds();
-      row["unconverged"] = table.unconverged;
-      row["max_error"] = table.max_error;
-    }
-    row["seconds_1_thread"] = seconds[1];
-    row["seconds_2_threads"] = seconds[2];
-    row["speedup_2_threads"] = seconds[1] / seconds[2];
-    doc["tables"].push_back(row);
+  for (const bench::BakeTiming& b : bench::run_bake_benchmark(args.quick, bake_repeats(args))) {
+    const double one = util::median(b.seconds_1), two = util::median(b.seconds_2);
+    doc["tables"].push_back({{"model", b.model}, {"law", "g"}, {"resolution", b.resolution}, {"tolerance", 1e-9},
+                             {"unconverged", b.unconverged}, {"max_error", b.max_error},
+                             {"seconds_1_thread_runs", b.seconds_1}, {"seconds_2_threads_runs", b.seconds_2},
+                             {"seconds_1_thread", one}, {"seconds_2_threads", two}, {"speedup_2_threads", one / two}});
   }
   return doc;
 }
@@ -120,6 +123,7 @@ void add_bench_command(CLI::App& app, Action& action) {
   cmd->add_flag("--json", args->json, "print one JSON document");
   cmd->add_flag("--quick", args->quick, "a small sample (CI); the full run takes minutes");
   cmd->add_option("--cases", args->cases, "cases per integrand family (cubature; default 200, quick 4)");
+  cmd->add_option("--repeats", args->repeats, "runs of each bake timing (default 5, quick 1); medians and spread");
   cmd->add_option("--markdown", args->markdown, "cubature: also write the report (docs/performance.md) to FILE");
   cmd->add_option("--plot", args->plot, "cubature: also write the work-precision plot (PNG) to FILE");
   cmd->callback([&action, args] {
@@ -154,7 +158,7 @@ void add_bench_command(CLI::App& app, Action& action) {
                     doc["ratios"]["direct_vs_tables"].get<double>());
       } else {
         for (const auto& t : doc["tables"])
-          std::printf("%-22s g %s tol 1e-9: %.2f s (1 thread), %.2f s (2 threads), speed-up %.2f, unconverged %lld\n",
+          std::printf("%-22s g %s tol 1e-9: median %.2f s (1 thread), %.2f s (2 threads), speed-up %.2f, unconverged %lld\n",
                       t["model"].get<std::string>().c_str(), t["resolution"].dump().c_str(), t["seconds_1_thread"].get<double>(),
                       t["seconds_2_threads"].get<double>(), t["speedup_2_threads"].get<double>(), t["unconverged"].get<long long>());
       }

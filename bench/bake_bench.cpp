@@ -1,0 +1,48 @@
+// Bake throughput, repeated (issue 8's bake targets; issue 18: timings are medians of repeated
+// runs with their spread, and the machine is read from the machine).
+#include <fstream>
+#include <thread>
+
+#include <tbb/global_control.h>
+
+#include "bench/cubature_bench.h"
+#include "laws/spec.h"
+#include "tables/bake.h"
+#include "util/timing.h"
+
+namespace ganzfeld::bench {
+
+std::vector<BakeTiming> run_bake_benchmark(bool quick, int repeats) {
+  std::vector<BakeTiming> out;
+  const std::vector<int> res = quick ? std::vector<int>{16, 16, 8} : std::vector<int>{64, 64, 32};
+  for (const char* spec : {"specular:alpha=8", "specular:alpha=1000"}) {
+    BakeTiming timing{spec, res, {}, {}, 0, 0.0};
+    const ModelPtr model = parse_model(spec);
+    tables::BakeOptions options;
+    options.resolution = res;
+    options.tolerance = 1e-9;
+    for (int threads : {1, 2}) {
+      const tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+      (threads == 1 ? timing.seconds_1 : timing.seconds_2) = util::time_runs(repeats, [&] {
+        const tables::Table table = tables::bake(*model, Law::g, options);
+        timing.unconverged = table.unconverged;
+        timing.max_error = table.max_error;
+      });
+    }
+    out.push_back(std::move(timing));
+  }
+  return out;
+}
+
+std::string machine_description() {
+  std::ifstream cpuinfo("/proc/cpuinfo");
+  std::string line, model = "unknown CPU";
+  while (std::getline(cpuinfo, line))
+    if (line.rfind("model name", 0) == 0) {
+      model = line.substr(line.find(':') + 2);
+      break;
+    }
+  return model + ", " + std::to_string(std::thread::hardware_concurrency()) + " hardware threads";
+}
+
+}  // namespace ganzfeld::bench
