@@ -152,6 +152,12 @@ void TableOptionArgs::add_to(CLI::App& app, const scene::TableOptions& defaults)
   app.add_option("--encoding", encoding, "stored precision of the tables: float (default) or half");
   app.add_option("--max-evals", max_evaluations,
                  "evaluation budget per table entry; beyond it the entry is kept and counted as unconverged");
+  app.add_option("--max-error", max_error,
+                 "bake every table to this validated lookup error: the baker chooses resolution, axes, interpolation "
+                 "and tolerance (excludes --res, --res-g, --res-h, --tol)");
+  app.add_option("--max-bytes", max_bytes,
+                 "with --max-error: cap of each table's value bytes (default " +
+                     std::to_string(tables::kDefaultMaxValueBytes) + "); refused when the error cannot be met within it");
 }
 
 namespace {
@@ -176,6 +182,15 @@ scene::TableOptions TableOptionArgs::options(const scene::TableOptions& defaults
   if (!encoding.empty()) out.encoding = tables::parse_encoding(encoding);
   if (max_evaluations) out.max_evaluations = *max_evaluations;
   check_max_evaluations(out.max_evaluations);
+  if (max_bytes && !max_error) throw InputError("--max-bytes needs --max-error (it caps the table --max-error sizes)");
+  if (max_error) {
+    if (!res_g.empty() || !res_h.empty() || tol)
+      throw InputError(std::string("--max-error chooses the resolution and the tolerance itself; drop ") +
+                       (!res_g.empty() ? "--res-g" : !res_h.empty() ? "--res-h" : "--tol") + " or --max-error");
+    tables::check_error_target(*max_error, max_bytes.value_or(0), Law::g, out.encoding);
+    out.max_error = *max_error;
+    out.max_bytes = max_bytes.value_or(0);
+  }
   return out;
 }
 
@@ -197,7 +212,9 @@ nlohmann::ordered_json table_json(const std::string& path, const tables::Table& 
           {"law", to_string(table.law)},
           {"status", to_string(status)},
           {"entries", table.entries()},
-          {"max_error", table.max_error},
+          {"value_bytes", tables::value_bytes(table)},
+          {"lookup_error", table.lookup_error},
+          {"node_error", table.max_error},
           {"unconverged", table.unconverged},
           {"seconds", seconds}};
 }

@@ -14,6 +14,7 @@
 #include "integrate/laws.h"
 #include "tables/bake.h"
 #include "tables/cache.h"
+#include "tables/to_error.h"
 #include "scene/plan.h"
 #include "scene/scene.h"
 
@@ -57,6 +58,8 @@ struct TableOptionArgs {
   std::string res_g, res_h, encoding;
   std::optional<double> tol;
   std::optional<long long> max_evaluations;
+  std::optional<double> max_error;
+  std::optional<unsigned long long> max_bytes;
   /// Registers the flags; `defaults` is what --help shows and what unset flags mean.
   void add_to(CLI::App& app, const scene::TableOptions& defaults);
   /// The options, validated (one-line InputError naming the flag); unset flags take `defaults`.

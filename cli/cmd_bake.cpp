@@ -33,7 +33,8 @@ constexpr double kModelTol = 1e-9;
 
 struct BakeArgs {
   // one table
-  std::string model, law, res, output, mapping;
+  std::string model, law, res, output, mapping, frame, interpolation;
+  std::optional<unsigned long long> checks;
   // a scene's tables
   std::string scene, out_dir;
   // both: --tol, --encoding, --max-evals (and, for scenes, --res-g, --res-h)
@@ -45,7 +46,14 @@ struct BakeArgs {
 int bake_one(const BakeArgs& args) {
   // Everything is checked before the (possibly long) bake.
   if (args.law.empty()) throw InputError("bake --model needs --law g|h|a");
-  if (args.res.empty()) throw InputError("bake --model needs --res N[xN[xN]]");
+  const bool to_error = args.table.max_error.has_value();
+  if (args.res.empty() && !to_error) throw InputError("bake --model needs --res N[xN[xN]] or --max-error E");
+  if (!args.res.empty() && to_error)
+    throw InputError("--res and --max-error are mutually exclusive: --max-error chooses the resolution itself");
+  if (to_error)
+    for (const auto& [flag, set] : {std::pair{"--mapping", !args.mapping.empty()}, {"--frame", !args.frame.empty()},
+                                    {"--interpolation", !args.interpolation.empty()}, {"--checks", args.checks.has_value()}})
+      if (set) throw InputError(std::string(flag) + " cannot be combined with --max-error, which chooses it itself");
   if (args.output.empty()) throw InputError("bake --model needs -o FILE.exr");
   const Law law = tables::parse_tabulated_law("--law", args.law);
   const ModelPtr model = parse_model(args.model);
@@ -53,8 +61,18 @@ int bake_one(const BakeArgs& args) {
   defaults.tolerance = kModelTol;
   const scene::TableOptions table_options = args.table.options(defaults);
   tables::BakeOptions options = table_options.bake_options(law);
-  options.resolution = tables::parse_resolution(args.res, law);
+  if (!to_error) options.resolution = tables::parse_resolution(args.res, law);
+  else tables::check_error_target(options.max_error, options.max_bytes, law, options.encoding);
   if (!args.mapping.empty()) options.mappings = tables::parse_mappings(args.mapping, law);
+  if (!args.interpolation.empty()) options.interpolation = tables::parse_interpolation(args.interpolation);
+  if (!args.frame.empty() && tables::parse_frame(args.frame) == tables::Frame::lobe) {
+    if (law != Law::g) throw InputError("--frame lobe is for law g; h and a tables use the cosines frame");
+    options.lobe = tables::lobe_frame_of(*model);
+    if (!options.lobe)
+      throw InputError("--frame lobe: model '" + model->spec() +
+                       "' hints no lobe at the mirror direction or at j to follow; use --frame cosines");
+  }
+  if (args.checks) options.random_checks = *args.checks;
   tables::table_key(*model, law, options);  // refuses bad axes now
   check_writable(args.output);
   attach_progress(options, args.quiet, law, model->spec());
@@ -69,9 +87,15 @@ int bake_one(const BakeArgs& args) {
   } else {
     std::string nodes;
     for (const tables::Axis& a : table.axes) nodes += (nodes.empty() ? "" : "x") + std::to_string(a.count);
-    std::printf("baked %s of %s, %s nodes (%zu entries, %s) in %.2f s: max error %.3g, %lld unconverged -> %s\n",
-                to_string(law), table.model.c_str(), nodes.c_str(), table.entries(), to_string(table.encoding),
-                r.seconds, table.max_error, table.unconverged, args.output.c_str());
+    if (table.target_error > 0.0)
+      std::printf("target lookup error %s within %llu value bytes: met\n", format_number(table.target_error).c_str(),
+                  static_cast<unsigned long long>(table.target_bytes));
+    std::printf("baked %s of %s, %s nodes (%s frame, %s, %zu entries, %s, %llu value bytes) in %.2f s: lookup error "
+                "%.3g (validated at %lld points; node error %.3g), %lld unconverged -> %s\n",
+                to_string(law), table.model.c_str(), nodes.c_str(), to_string(table.frame),
+                to_string(table.interpolation), table.entries(), to_string(table.encoding),
+                static_cast<unsigned long long>(tables::value_bytes(table)), r.seconds, table.lookup_error,
+                table.interpolation_checks, table.max_error, table.unconverged, args.output.c_str());
   }
   warn_unconverged(r.table, r.status);
   return 0;
@@ -118,6 +142,12 @@ void add_bake_command(CLI::App& app, Action& action, int argc, const char* const
                   "one table: nodes per axis, N or NIxNJxNPHI for g (axes cos_theta_i, cos_theta_j, phi); each >= 2");
   cmd->add_option("--mapping", args->mapping,
                   "one table: axis mappings, M or MxMxM for g (M = linear, sqrt, cos; default: the law's defaults)");
+  cmd->add_option("--frame", args->frame,
+                  "one table: g axes, cosines (i·n, j·n, phi; default) or lobe (theta_j, psi, beta about the lobe's "
+                  "peak, docs/lut-format.md)");
+  cmd->add_option("--interpolation", args->interpolation, "one table: lookup, linear (default) or catmull-rom");
+  cmd->add_option("--checks", args->checks,
+                  "one table: seeded random validation points (besides the cell centres) against direct cubature");
   cmd->add_option("-o,--output", args->output, "one table: the table to write, FILE.exr (written atomically)");
   cmd->add_option("--scene", args->scene, "a scene's tables: the scene file, SCENE.json (cli-contract.md)");
   cmd->add_option("--out", args->out_dir,
@@ -134,7 +164,8 @@ void add_bake_command(CLI::App& app, Action& action, int argc, const char* const
         throw InputError("--scene and --model are mutually exclusive; bake either one table (--model) or a scene's");
       if (!scene && !model)
         throw InputError("bake needs --model SPEC (one table, with --law, --res, -o) or --scene SCENE.json --out DIR");
-      const std::vector<std::string> own_model{"--law", "--res", "--mapping", "--output"};
+      const std::vector<std::string> own_model{"--law",  "--res",          "--mapping", "--output",
+                                               "--frame", "--interpolation", "--checks"};
       const std::vector<std::string> own_scene{"--out", "--res-g", "--res-h"};
       for (const std::string& flag : scene ? own_model : own_scene)
         if (cmd->count(flag) > 0)

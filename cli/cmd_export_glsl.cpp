@@ -98,8 +98,8 @@ int export_scene(const ExportArgs& args) {
                                  {"type", exporting::glsl_sampler_type(planned.request.law)},
                                  {"model", planned.request.spec},
                                  {"law", to_string(planned.request.law)},
-                                 {"max_error", table->max_error},
-                                 {"interpolation_error", table->interpolation_error}};
+                                 {"lookup_error", table->lookup_error},
+                                 {"node_error", table->max_error}};
     if (format) {
       const std::string file = sampler + exporting::texture_extension(*format);
       exporting::write_texture(*table, *format, (std::filesystem::path(dir) / file).string(), sampler);

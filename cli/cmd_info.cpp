@@ -6,6 +6,7 @@
 
 #include "cli/commands.h"
 #include "laws/registry.h"
+#include "tables/bake.h"
 #include "tables/exr_io.h"
 
 namespace ganzfeld::cli {
@@ -27,40 +28,64 @@ void add_info_command(CLI::App& app, Action& action) {
       const tables::Table table = tables::read_table(args->path);
       if (args->json) {
         nlohmann::ordered_json axes = nlohmann::ordered_json::array();
-        for (const tables::Axis& a : table.axes)
-          axes.push_back({{"name", a.name},
-                          {"min", a.min},
-                          {"max", a.max},
-                          {"count", a.count},
-                          {"mapping", to_string(a.mapping)}});
+        for (const tables::Axis& a : table.axes) {
+          nlohmann::ordered_json axis{{"name", a.name},
+                                      {"min", a.min},
+                                      {"max", a.max},
+                                      {"count", a.count},
+                                      {"mapping", to_string(a.mapping)}};
+          if (a.has_width()) axis["width"] = a.width;
+          axes.push_back(axis);
+        }
         nlohmann::ordered_json doc{{"path", args->path},
-                                   {"format_version", tables::kFormatVersion},
+                                   {"format_version", table.format_version},
                                    {"model", table.model},
                                    {"model_content", table.model_content},
                                    {"law", to_string(table.law)},
+                                   {"frame", to_string(table.frame)},
+                                   {"interpolation", to_string(table.interpolation)},
                                    {"axes", axes},
                                    {"entries", table.entries()},
+                                   {"value_bytes", tables::value_bytes(table)},
+                                   {"error", table.lookup_error},
+                                   {"validation_points", table.interpolation_checks},
+                                   {"node_error", table.max_error},
+                                   {"measured_lookup_error", table.interpolation_error},
                                    {"tolerance", table.tolerance},
-                                   {"max_error", table.max_error},
                                    {"unconverged", table.unconverged},
-                                   {"interpolation_error", table.interpolation_error},
-                                   {"interpolation_checks", table.interpolation_checks},
                                    {"encoding", to_string(table.encoding)},
                                    {"command", table.command},
                                    {"version", table.version}};
+        if (table.frame == tables::Frame::lobe) doc["peak"] = to_string(table.peak);
+        if (table.target_error > 0.0) {
+          doc["target_error"] = table.target_error;
+          doc["target_bytes"] = table.target_bytes;
+        }
         std::cout << doc.dump(2) << "\n";
         return 0;
       }
       std::printf("%s\n  format version %d, ganzfeld %s\n  model        %s\n  law          %s\n", args->path.c_str(),
-                  tables::kFormatVersion, table.version.c_str(), table.model.c_str(), to_string(table.law));
+                  table.format_version, table.version.c_str(), table.model.c_str(), to_string(table.law));
+      std::printf("  error        %s (lookup error: validated bound of |lookup - law|, %s at %lld points the "
+                  "table was not built from)\n",
+                  format_number(table.lookup_error).c_str(),
+                  table.format_version >= 2 ? "margin x the largest measured" : "measured", table.interpolation_checks);
+      if (table.target_error > 0.0)
+        std::printf("  target       lookup error <= %s within %llu value bytes\n", format_number(table.target_error).c_str(),
+                    static_cast<unsigned long long>(table.target_bytes));
+      std::printf("  frame        %s%s%s, %s interpolation\n", to_string(table.frame),
+                  table.frame == tables::Frame::lobe ? ", peak " : "",
+                  table.frame == tables::Frame::lobe ? to_string(table.peak) : "", to_string(table.interpolation));
       if (!table.model_content.empty()) std::printf("  model data   %s\n", table.model_content.c_str());
       for (const tables::Axis& a : table.axes)
-        std::printf("  axis         %-12s [%s, %s] %d nodes, %s\n", a.name.c_str(), format_number(a.min).c_str(),
-                    format_number(a.max).c_str(), a.count, to_string(a.mapping));
-      std::printf("  encoding     %s\n  tolerance    %s\n  max error    %s (at the nodes)\n  interpolation error %s (measured at %lld cell centres)\n  unconverged  %lld of %zu\n  command      %s\n",
-                  to_string(table.encoding), format_number(table.tolerance).c_str(),
-                  format_number(table.max_error).c_str(), format_number(table.interpolation_error).c_str(),
-                  table.interpolation_checks, table.unconverged, table.entries(), table.command.c_str());
+        std::printf("  axis         %-12s [%s, %s] %d nodes, %s%s\n", a.name.c_str(), format_number(a.min).c_str(),
+                    format_number(a.max).c_str(), a.count, to_string(a.mapping),
+                    a.has_width() ? (" (width " + format_number(a.width) + ")").c_str() : "");
+      std::printf("  encoding     %s, %llu value bytes\n  node error   %s (cubature + rounding at the nodes only)\n"
+                  "  tolerance    %s\n  unconverged  %lld of %zu\n  command      %s\n",
+                  to_string(table.encoding), static_cast<unsigned long long>(tables::value_bytes(table)),
+                  format_number(table.max_error).c_str(), format_number(table.tolerance).c_str(), table.unconverged,
+                  table.entries(), table.command.c_str());
       return 0;
     };
   });

@@ -21,7 +21,7 @@ struct SampleArgs {
 
 void add_sample_command(CLI::App& app, Action& action) {
   auto* cmd = app.add_subcommand(
-      "sample", "look a table up at directions (multilinear in index space, clamped at the axis ends)");
+      "sample", "look a table up at directions (the table's interpolation in index space, clamped at the axis ends)");
   auto args = std::make_shared<SampleArgs>();
   cmd->add_option("FILE", args->path, "table written by `ganzfeld bake`")->required();
   args->directions.add_to(*cmd);
@@ -36,16 +36,17 @@ void add_sample_command(CLI::App& app, Action& action) {
       const Vec3 j = needs_j ? args->directions.outgoing(law) : Vec3{0, 0, 1};
       const tables::Sample s = tables::sample(table, i, j);
       if (args->json) {
-        // error: the interpolated node errors plus the table's measured interpolation error.
+        // error: the table's validated lookup error (docs/lut-format.md, "The error a lookup reports").
         nlohmann::ordered_json doc{{"value", s.value},
-                                   {"error", s.error + table.interpolation_error},
+                                   {"error", table.lookup_error},
                                    {"node_error", s.error},
-                                   {"interpolation_error", table.interpolation_error}};
+                                   {"validation_points", table.interpolation_checks}};
         std::cout << doc.dump(2) << "\n";
       } else {
-        std::printf("%s %s = %.9g ± %.2g (node error %.2g + interpolation error %.2g measured at %lld cell centres; table %s)\n",
-                    table.model.c_str(), to_string(law), s.value, s.error + table.interpolation_error, s.error,
-                    table.interpolation_error, table.interpolation_checks, args->path.c_str());
+        std::printf("%s %s = %.9g ± %.2g (the table's lookup error, validated at %lld points; node error here %.2g; "
+                    "table %s)\n",
+                    table.model.c_str(), to_string(law), s.value, table.lookup_error, table.interpolation_checks,
+                    s.error, args->path.c_str());
       }
       return 0;
     };

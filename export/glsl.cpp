@@ -189,6 +189,12 @@ float gz_lookup3(highp sampler3D table, vec3 u, ivec3 count) {
 
 std::string glsl_table_function(const Table& table) {
   check_table(table);
+  // The lookup below is the cosines frame with linear blending (format version 1's); the lobe
+  // frame and Catmull–Rom of version 2 are not emitted yet: refuse rather than mis-sample.
+  if (table.frame != Frame::cosines || table.interpolation != Interpolation::linear)
+    throw InputError(std::string("GLSL export of ") + to_string(table.frame) + "-frame, " +
+                     to_string(table.interpolation) + " tables is not implemented yet (law " + to_string(table.law) +
+                     " of '" + table.model + "'); bake it with --res (cosines frame, linear lookup)");
   const std::string name = glsl_function_name(table.model, table.law);
   std::ostringstream s;
   s << "// ---------------------------------------------------------------------------------------------\n"

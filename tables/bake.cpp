@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <limits>
 #include <mutex>
+#include <numbers>
 #include <random>
 
 #include <Imath/half.h>
@@ -16,6 +17,7 @@
 #include "util/error.h"
 #include "laws/registry.h"
 #include "tables/sample.h"
+#include "tables/to_error.h"
 
 namespace ganzfeld::tables {
 
@@ -89,14 +91,37 @@ std::uint64_t table_bytes(const std::vector<int>& resolution) noexcept {
   return bytes;
 }
 
+std::uint64_t value_bytes(const Table& table) noexcept {
+  return static_cast<std::uint64_t>(table.entries()) * (table.encoding == Encoding::half ? 2u : 4u);
+}
+
+std::vector<Axis> bake_axes(Law law, const BakeOptions& options) {
+  if (options.lobe) {
+    if (law != Law::g) throw InputError(std::string("law ") + to_string(law) + " has no lobe frame; only g does");
+    if (!options.mappings.empty()) throw InputError("--mapping applies to the cosines frame only, not to lobe axes");
+    return lobe_axes(options.resolution, options.lobe->width);
+  }
+  return make_axes(law, options.resolution, options.mappings);
+}
+
 Table bake(const Model& model, Law law, const BakeOptions& options) {
+  if (options.max_error != 0.0 || options.max_bytes > 0) return bake_to_error(model, law, options);
+  return bake_resolution(model, law, options);
+}
+
+Table bake_resolution(const Model& model, Law law, const BakeOptions& options) {
   if (!model.traits().isotropic)
     throw InputError("model '" + model.spec() +
                      "' is anisotropic; tables over (cos_theta_i, cos_theta_j, phi) exist only for isotropic models");
   if (!std::isfinite(options.tolerance) || !(options.tolerance > 0.0))
     throw InputError("tolerance " + format_number(options.tolerance) + " is not allowed; expected a positive number");
   Table table;
-  table.axes = make_axes(law, options.resolution, options.mappings);  // refuses other laws and counts < 2
+  table.axes = bake_axes(law, options);  // refuses other laws and counts < 2
+  if (options.interpolation == Interpolation::catmull_rom)
+    for (const Axis& a : table.axes)
+      if (a.count < 4)
+        throw InputError("resolution " + resolution_text(options.resolution) + " has " + std::to_string(a.count) +
+                         " nodes on axis " + a.name + "; catmull-rom interpolation needs at least 4 per axis");
   const std::uint64_t bytes = table_bytes(options.resolution);
   if (bytes > kMaxTableBytes)
     throw InputError("resolution " + resolution_text(options.resolution) + " would need " + std::to_string(bytes) +
@@ -107,6 +132,9 @@ Table bake(const Model& model, Law law, const BakeOptions& options) {
   table.model_content = model.content_digest();
   table.tolerance = options.tolerance;
   table.encoding = options.encoding;
+  table.interpolation = options.interpolation;
+  table.frame = options.lobe ? Frame::lobe : Frame::cosines;
+  table.peak = options.lobe ? options.lobe->peak : PeakKind::mirror;
   table.version = GANZFELD_VERSION;
   table.value.resize(n);
   table.error.resize(n);
@@ -129,24 +157,31 @@ Table bake(const Model& model, Law law, const BakeOptions& options) {
   std::uint64_t reported = 0;
   const std::uint64_t step = std::max<std::uint64_t>(1, n / kProgressSteps);
 
-  // Axis coordinates -> directions. g: (ci, cj, phi) with
+  // Law coordinates -> directions. g: (ci, cj, phi) with
   //   i = (sqrt(1 - ci^2), 0, ci),  j = (sqrt(1 - cj^2) cos phi, sqrt(1 - cj^2) sin phi, cj);
   // h: j = (sqrt(1 - cj^2), 0, cj);  a: i = (sqrt(1 - ci^2), 0, ci).
-  auto law_at = [&](std::span<const double> x) -> Estimate {
-    if (law == Law::g)
-      return vignetting(model, direction_from_cos(x[0]), direction_from_cos(x[1], x[2]), cubature);
+  auto law_at = [&](std::span<const double> x, const CubatureOptions& c) -> Estimate {
+    if (law == Law::g) return vignetting(model, direction_from_cos(x[0]), direction_from_cos(x[1], x[2]), c);
     const Vec3 d = direction_from_cos(x[0]);
-    return law == Law::h ? darkening(model, d, cubature) : albedo(model, d, cubature);
+    return law == Law::h ? darkening(model, d, c) : albedo(model, d, c);
   };
-  // Entry m = (k_i * n_j + k_j) * n_phi + k_phi (g) or k (h, a).
+  // Axis coordinates -> the law (lobe frame: the directions of tables/frame.h).
+  auto law_at_axes = [&](std::span<const double> y, const CubatureOptions& c) -> Estimate {
+    if (table.frame == Frame::lobe) {
+      const auto [i, j] = lobe_directions(table.peak, y[0], y[1], y[2]);
+      return vignetting(model, i, j, c);
+    }
+    return law_at(y, c);
+  };
+  // Entry m = (k_0 * n_1 + k_1) * n_2 + k_2 (g) or k (h, a).
   auto entry = [&](std::uint64_t m) -> Estimate {
     if (law == Law::g) {
-      const std::uint64_t n_j = nodes[1].size(), n_phi = nodes[2].size();
-      const double x[3] = {nodes[0][m / (n_j * n_phi)], nodes[1][(m / n_phi) % n_j], nodes[2][m % n_phi]};
-      return law_at(x);
+      const std::uint64_t n_1 = nodes[1].size(), n_2 = nodes[2].size();
+      const double y[3] = {nodes[0][m / (n_1 * n_2)], nodes[1][(m / n_2) % n_1], nodes[2][m % n_2]};
+      return law_at_axes(y, cubature);
     }
-    const double x[3] = {nodes[0][m], 0.0, 0.0};  // h, a read x[0] only
-    return law_at(std::span<const double>(x, 1));
+    const double y[3] = {nodes[0][m], 0.0, 0.0};  // h, a read y[0] only
+    return law_at_axes(std::span<const double>(y, 1), cubature);
   };
 
   tbb::parallel_for(tbb::blocked_range<std::uint64_t>(0, n, 1), [&](const tbb::blocked_range<std::uint64_t>& r) {
@@ -177,36 +212,67 @@ Table bake(const Model& model, Law law, const BakeOptions& options) {
   table.max_error = 0.0;
   for (float e : table.error) table.max_error = std::max(table.max_error, static_cast<double>(e));
 
-  // Interpolation check: lookups at cell centres (where multilinear interpolation errs most)
-  // against cubature, at every cell of small tables and at a seeded sample of about 1/16 of the
-  // cells of large ones (~6% of the bake).
+  // Validation at points the table was not built from, against direct cubature: cell centres
+  // (where interpolation errs most), at every cell of small tables and at a seeded sample of
+  // about 1/16 of the cells of large ones (~6% of the bake), plus options.random_checks seeded
+  // random points uniform in the law's coordinates.
+  CubatureOptions check = cubature;
+  if (options.check_tolerance > 0.0) check.abs_tol = options.check_tolerance;
   std::vector<std::uint64_t> cell_counts;
   std::uint64_t cells = 1;
   for (const Axis& axis : table.axes) {
     cell_counts.push_back(static_cast<std::uint64_t>(axis.count - 1));
     cells *= cell_counts.back();
   }
-  const std::uint64_t checks = std::min<std::uint64_t>(cells, std::max<std::uint64_t>(kMinInterpolationChecks, n / 16));
-  std::vector<std::uint64_t> chosen(checks);
+  const std::uint64_t centres = std::min<std::uint64_t>(cells, std::max<std::uint64_t>(kMinInterpolationChecks, n / 16));
+  std::vector<std::uint64_t> chosen(centres);
   std::mt19937_64 rng(kInterpolationSeed);
-  for (std::uint64_t c = 0; c < checks; ++c)
-    chosen[c] = checks == cells ? c : std::uniform_int_distribution<std::uint64_t>(0, cells - 1)(rng);
+  for (std::uint64_t c = 0; c < centres; ++c)
+    chosen[c] = centres == cells ? c : std::uniform_int_distribution<std::uint64_t>(0, cells - 1)(rng);
+  const std::vector<double> random = validation_points(law, options.random_checks);
+  const std::size_t dims = table.axes.size();
+  const std::uint64_t checks = centres + options.random_checks;
   std::vector<double> check_error(checks);
   tbb::parallel_for(std::uint64_t{0}, checks, [&](std::uint64_t c) {
-    std::vector<double> x(table.axes.size());
-    std::uint64_t rest = chosen[c];
-    for (std::size_t d = table.axes.size(); d-- > 0;) {
-      const std::uint64_t k = rest % cell_counts[d];
-      rest /= cell_counts[d];
-      x[d] = table.axes[d].coordinate((static_cast<double>(k) + 0.5) / static_cast<double>(cell_counts[d]));
+    std::vector<double> y(dims);
+    if (c < centres) {
+      std::uint64_t rest = chosen[c];
+      for (std::size_t d = dims; d-- > 0;) {
+        const std::uint64_t k = rest % cell_counts[d];
+        rest /= cell_counts[d];
+        y[d] = table.axes[d].coordinate((static_cast<double>(k) + 0.5) / static_cast<double>(cell_counts[d]));
+      }
+      const Estimate exact = law_at_axes(y, check);
+      check_error[c] = std::abs(sample_axes(table, y).value - exact.value) + exact.error;
+    } else {
+      const std::span<const double> x(random.data() + (c - centres) * dims, dims);
+      const Estimate exact = law_at(x, check);
+      check_error[c] = std::abs(sample(table, x).value - exact.value) + exact.error;
     }
-    const Estimate exact = law_at(x);
-    check_error[c] = std::abs(sample(table, x).value - exact.value) + exact.error;
   });
   table.interpolation_checks = static_cast<long long>(checks);
   table.interpolation_error = 0.0;
   for (double e : check_error) table.interpolation_error = std::max(table.interpolation_error, e);
+  table.lookup_error = std::max(kLookupMargin * table.interpolation_error, table.max_error);
   return table;
+}
+
+std::vector<double> validation_points(Law law, std::uint64_t count, std::uint64_t seed) {
+  const std::size_t dims = law == Law::g ? 3 : 1;
+  std::vector<double> x;
+  x.reserve(count * dims);
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  for (std::uint64_t p = 0; p < count; ++p) {
+    if (law == Law::g) {
+      x.push_back(-1.0 + 2.0 * unit(rng));
+      x.push_back(unit(rng));
+      x.push_back(std::numbers::pi * unit(rng));
+    } else {
+      x.push_back(unit(rng));
+    }
+  }
+  return x;
 }
 
 }  // namespace ganzfeld::tables

@@ -5,11 +5,13 @@
 
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "integrate/cubature.h"
 #include "laws/model.h"
+#include "tables/frame.h"
 #include "tables/table.h"
 
 namespace ganzfeld::tables {
@@ -26,6 +28,20 @@ struct BakeOptions {
   double tolerance = 1e-9;      ///< absolute tolerance of every entry's cubature
   long long max_evaluations = CubatureOptions{}.max_evaluations;  ///< per entry
   Encoding encoding = Encoding::single;
+  Interpolation interpolation = Interpolation::linear;
+  /// g only: bake in the lobe frame with this peak and width (tables/frame.h); nothing: the
+  /// cosines frame (version 1's axes; `mappings` apply).
+  std::optional<LobeFrame> lobe;
+  /// Validation after baking: seeded random points uniform in the law's coordinates (g: i·n in
+  /// [-1, 1], j·n in [0, 1], phi in [0, pi]; h, a: [0, 1]) in addition to the cell centres.
+  std::uint64_t random_checks = 0;
+  /// Tolerance of the direct cubature the validation compares with (0: `tolerance`).
+  double check_tolerance = 0.0;
+  /// > 0: bake to this lookup error instead of `resolution` (tables/to_error.h: the baker
+  /// chooses resolution, frame, interpolation and tolerance); 0: bake `resolution` as given.
+  double max_error = 0.0;
+  /// With max_error: the cap of the value bytes (0: kDefaultMaxValueBytes).
+  std::uint64_t max_bytes = 0;
   /// Called with (entries done, total) at most ~kProgressSteps times, serialized (never two at
   /// once) and with increasing `done`, from whichever worker thread finished the entry.
   std::function<void(std::uint64_t done, std::uint64_t total)> progress;
@@ -35,6 +51,8 @@ inline constexpr int kProgressSteps = 1000;
 /// centres (all cells when there are fewer), with a fixed seed so bakes are reproducible.
 inline constexpr std::uint64_t kMinInterpolationChecks = 512;
 inline constexpr std::uint64_t kInterpolationSeed = 20190117;
+/// Seed of the random validation points (BakeOptions::random_checks).
+inline constexpr std::uint64_t kValidationSeed = 20240615;
 
 /// Parses "N", "NxN" or "NxNxN" into node counts; a single N stands for every axis of the law
 /// (g: N x N x N). Throws InputError naming the text and the expected form.
@@ -46,12 +64,26 @@ std::string resolution_text(const std::vector<int>& resolution);
 /// Memory the table would need, in bytes (entries x kBytesPerEntry), saturating at UINT64_MAX.
 std::uint64_t table_bytes(const std::vector<int>& resolution) noexcept;
 
+/// What a shader uploads: the value channel only, entries x (4 bytes float, 2 bytes half).
+std::uint64_t value_bytes(const Table& table) noexcept;
+
+/// The axes bake(model, law, options) uses: lobe_axes when options.lobe (g), else make_axes.
+std::vector<Axis> bake_axes(Law law, const BakeOptions& options);
+
 /// Bakes law g, h or a of an isotropic model (axes: make_axes(law, resolution, mappings): the
 /// default mappings unless overridden). Refuses (InputError) other
 /// laws, anisotropic models, counts < 2 and tables above kMaxTableBytes before allocating, and
 /// values outside the half range when encoding = half. Entries that miss the tolerance are
 /// kept with their (larger) error estimate and counted in Table::unconverged.
 /// Table::command is left empty for the caller; Table::version is this build's.
+/// With options.max_error > 0, bake_to_error (tables/to_error.h) instead.
 Table bake(const Model& model, Law law, const BakeOptions& options);
+
+/// bake() of exactly options.resolution (ignores max_error).
+Table bake_resolution(const Model& model, Law law, const BakeOptions& options);
+
+/// `count` seeded random points uniform in the law's coordinates, flattened (g: (i·n in
+/// [-1, 1], j·n in [0, 1], phi in [0, pi]) each; h, a: cos theta in [0, 1]). Prefix-stable.
+std::vector<double> validation_points(Law law, std::uint64_t count, std::uint64_t seed = kValidationSeed);
 
 }  // namespace ganzfeld::tables

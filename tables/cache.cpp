@@ -9,6 +9,7 @@
 #include "laws/spec.h"
 #include "util/hash.h"
 #include "tables/exr_io.h"
+#include "tables/to_error.h"
 #include "util/timing.h"
 
 namespace ganzfeld::tables {
@@ -25,27 +26,58 @@ TableKey table_key(const Model& model, Law law, const BakeOptions& options) {
   key.model = spec_without_paths(model.spec());
   key.content = model.content_digest();
   key.law = law;
-  key.axes = make_axes(law, options.resolution, options.mappings);
+  if (options.max_error != 0.0 || options.max_bytes > 0) {
+    check_error_target(options.max_error, options.max_bytes, law, options.encoding);
+    key.encoding = options.encoding;
+    key.target_error = options.max_error;
+    key.target_bytes = options.max_bytes ? options.max_bytes : kDefaultMaxValueBytes;
+    return key;
+  }
+  key.axes = bake_axes(law, options);
   key.tolerance = options.tolerance;
   key.encoding = options.encoding;
+  key.interpolation = options.interpolation;
+  key.frame = options.lobe ? Frame::lobe : Frame::cosines;
+  key.peak = options.lobe ? options.lobe->peak : PeakKind::mirror;
   return key;
 }
 
 TableKey table_key(const Table& table) {
-  return {spec_without_paths(table.model), table.model_content, table.law, table.axes, table.tolerance,
-          table.encoding, kFormatVersion};
+  TableKey key;
+  key.model = spec_without_paths(table.model);
+  key.content = table.model_content;
+  key.law = table.law;
+  key.encoding = table.encoding;
+  if (table.target_error > 0.0) {
+    key.target_error = table.target_error;
+    key.target_bytes = table.target_bytes;
+    return key;
+  }
+  key.axes = table.axes;
+  key.tolerance = table.tolerance;
+  key.interpolation = table.interpolation;
+  key.frame = table.frame;
+  key.peak = table.peak;
+  return key;
 }
 
 std::string key_text(const TableKey& key) {
   std::string text = "ganzfeld-table format=" + std::to_string(key.format_version) + " model=" + key.model;
   if (!key.content.empty()) text += " content=" + key.content;
-  text += std::string(" law=") + to_string(key.law) + " axes=";
+  text += std::string(" law=") + to_string(key.law);
+  if (key.target_error > 0.0)
+    return text + " max_error=" + format_number(key.target_error) + " max_bytes=" + std::to_string(key.target_bytes) +
+           " encoding=" + to_string(key.encoding);
+  text += " axes=";
   for (std::size_t d = 0; d < key.axes.size(); ++d) {
     const Axis& a = key.axes[d];
     text += (d ? ";" : "") + a.name + ":" + format_number(a.min) + ":" + format_number(a.max) + ":" +
             std::to_string(a.count) + ":" + to_string(a.mapping);
+    if (a.has_width()) text += ":" + format_number(a.width);
   }
   text += std::string(" tolerance=") + format_number(key.tolerance) + " encoding=" + to_string(key.encoding);
+  text += std::string(" interpolation=") + to_string(key.interpolation) + " frame=" + to_string(key.frame);
+  if (key.frame == Frame::lobe) text += std::string(" peak=") + to_string(key.peak);
   return text;
 }
 
@@ -60,12 +92,15 @@ std::string cache_file_name(const TableKey& key) {
 }
 
 bool same_key(const TableKey& a, const TableKey& b) noexcept {
-  if (a.model != b.model || a.content != b.content || a.law != b.law || a.tolerance != b.tolerance || a.encoding != b.encoding ||
-      a.format_version != b.format_version || a.axes.size() != b.axes.size())
+  if (a.model != b.model || a.content != b.content || a.law != b.law || a.tolerance != b.tolerance ||
+      a.encoding != b.encoding || a.format_version != b.format_version || a.axes.size() != b.axes.size() ||
+      a.interpolation != b.interpolation || a.frame != b.frame || a.peak != b.peak ||
+      a.target_error != b.target_error || a.target_bytes != b.target_bytes)
     return false;
   for (std::size_t d = 0; d < a.axes.size(); ++d) {
     const Axis &x = a.axes[d], &y = b.axes[d];
-    if (x.name != y.name || x.min != y.min || x.max != y.max || x.count != y.count || x.mapping != y.mapping)
+    if (x.name != y.name || x.min != y.min || x.max != y.max || x.count != y.count || x.mapping != y.mapping ||
+        x.width != y.width)
       return false;
   }
   return true;

@@ -31,6 +31,13 @@ struct TableKey {
   double tolerance = 0.0;
   Encoding encoding = Encoding::single;
   int format_version = kFormatVersion;
+  Interpolation interpolation = Interpolation::linear;
+  Frame frame = Frame::cosines;
+  PeakKind peak = PeakKind::mirror;  ///< lobe frame only
+  /// A --max-error bake is keyed by its target (the baker chooses axes, tolerance, frame and
+  /// interpolation, which are then not part of the key): error and value-byte cap.
+  double target_error = 0.0;
+  std::uint64_t target_bytes = 0;
 };
 
 /// The key of the table bake(model, law, options) would make (axes: make_axes). Throws
@@ -47,7 +54,7 @@ std::string key_text(const TableKey& key);
 /// the 16 hex digits of util::fnv1a_64(key_text(key)).
 std::string cache_file_name(const TableKey& key);
 
-/// Exact equality of every field (axes: name, min, max, count, mapping).
+/// Exact equality of every field (axes: name, min, max, count, mapping, width).
 bool same_key(const TableKey& a, const TableKey& b) noexcept;
 
 /// Whether `table` holds `model` as the cache's key sees it: the same spec apart from file paths,

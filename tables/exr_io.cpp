@@ -44,6 +44,13 @@ constexpr const char* kAttrInterpolationChecks = "ganzfeld.interpolation_checks"
 constexpr const char* kAttrCommand = "ganzfeld.command";
 constexpr const char* kAttrGanzfeldVersion = "ganzfeld.version";
 constexpr const char* kAttrEncoding = "ganzfeld.encoding";
+// Version 2 (all required there, absent in version 1).
+constexpr const char* kAttrFrame = "ganzfeld.frame";
+constexpr const char* kAttrPeak = "ganzfeld.peak";  // lobe frame only
+constexpr const char* kAttrInterpolation = "ganzfeld.interpolation";
+constexpr const char* kAttrLookupError = "ganzfeld.lookup_error";
+constexpr const char* kAttrTargetError = "ganzfeld.target_error";  // optional: --max-error bakes
+constexpr const char* kAttrTargetBytes = "ganzfeld.target_bytes";  // with target_error
 
 /// OpenEXR messages may span lines; ours may not.
 std::string one_line(std::string text) {
@@ -62,13 +69,16 @@ std::pair<int, int> image_shape(const Table& table) {
 
 nlohmann::ordered_json axes_json(const Table& table) {
   nlohmann::ordered_json axes = nlohmann::ordered_json::array();
-  for (const Axis& axis : table.axes)
-    axes.push_back({{"name", axis.name},
-                    {"min", axis.min},
-                    {"max", axis.max},
-                    {"count", axis.count},
-                    {"mapping", to_string(axis.mapping)},
-                    {"grid", "node"}});
+  for (const Axis& axis : table.axes) {
+    nlohmann::ordered_json a{{"name", axis.name},
+                             {"min", axis.min},
+                             {"max", axis.max},
+                             {"count", axis.count},
+                             {"mapping", to_string(axis.mapping)}};
+    if (axis.has_width()) a["width"] = axis.width;
+    a["grid"] = "node";
+    axes.push_back(a);
+  }
   return axes;
 }
 
@@ -99,6 +109,14 @@ void write_table(const Table& table, const std::string& path) {
   attr(kAttrCommand, table.command);
   attr(kAttrGanzfeldVersion, table.version);
   attr(kAttrEncoding, to_string(table.encoding));
+  attr(kAttrFrame, to_string(table.frame));
+  if (table.frame == Frame::lobe) attr(kAttrPeak, to_string(table.peak));
+  attr(kAttrInterpolation, to_string(table.interpolation));
+  attr(kAttrLookupError, format_number(table.lookup_error));
+  if (table.target_error > 0.0) {
+    attr(kAttrTargetError, format_number(table.target_error));
+    attr(kAttrTargetBytes, std::to_string(table.target_bytes));
+  }
 
   // Half data are exact in float, so the conversion below loses nothing.
   std::vector<Imath::half> value_half, error_half;
@@ -184,6 +202,10 @@ struct Reader {
       } catch (const InputError& e) {
         refuse(e.what());
       }
+      if (a.contains("width")) {
+        if (!a["width"].is_number()) refuse("axis " + axis.name + " has a width that is not a number");
+        axis.width = a["width"].get<double>();
+      }
       out.push_back(axis);
     }
     return out;
@@ -200,9 +222,10 @@ struct Reader {
 
       // Metadata, version first: a newer format is refused before anything else is judged.
       const std::string version = attribute(header, kAttrVersion);
-      if (version != std::to_string(kFormatVersion))
-        refuse("format version '" + version + "' is not supported; this ganzfeld reads version " +
-               std::to_string(kFormatVersion));
+      if (version != "1" && version != std::to_string(kFormatVersion))
+        refuse("format version '" + version + "' is not supported; this ganzfeld reads versions " +
+               std::to_string(kOldestFormatVersion) + " to " + std::to_string(kFormatVersion));
+      table.format_version = std::stoi(version);
       try {
         table.law = parse_law(attribute(header, kAttrLaw));
         // Kept as text, never parsed: a table must read without its model's code or data files
@@ -228,6 +251,24 @@ struct Reader {
         if (checks != std::floor(checks) || checks < 0 || checks > 9e18 || !(table.interpolation_error >= 0))
           refuse(std::string(kAttrInterpolationChecks) + " / " + kAttrInterpolationError + " are not a count and an error");
         table.interpolation_checks = static_cast<long long>(checks);
+      }
+      if (table.format_version >= 2) {
+        try {
+          table.frame = parse_frame(attribute(header, kAttrFrame));
+          if (table.frame == Frame::lobe) table.peak = parse_peak(attribute(header, kAttrPeak));
+          table.interpolation = parse_interpolation(attribute(header, kAttrInterpolation));
+        } catch (const InputError& e) {
+          refuse(std::string(e.what()));
+        }
+        table.lookup_error = number(header, kAttrLookupError);
+        if (header.findTypedAttribute<Imf::StringAttribute>(kAttrTargetError)) {
+          table.target_error = number(header, kAttrTargetError);
+          const double bytes = number(header, kAttrTargetBytes);
+          if (bytes != std::floor(bytes) || bytes > 1.8e19) refuse(std::string(kAttrTargetBytes) + " is not a count");
+          table.target_bytes = static_cast<std::uint64_t>(bytes);
+        }
+      } else {
+        table.lookup_error = table.interpolation_error;  // version 1: measured, no margin
       }
       table.command = attribute(header, kAttrCommand);
       table.version = attribute(header, kAttrGanzfeldVersion);

@@ -4,34 +4,90 @@
 #include <cmath>
 #include <numbers>
 
+#include "tables/frame.h"
+
 namespace ganzfeld::tables {
 
-Sample sample(const Table& table, std::span<const double> x) noexcept {
-  const std::size_t dims = table.axes.size();
-  if (dims == 0 || dims > 3 || x.size() != dims || table.value.size() != table.entries()) return {};
-  std::size_t lo[3] = {0, 0, 0};
-  double frac[3] = {0, 0, 0};
-  for (std::size_t d = 0; d < dims; ++d) {
-    const Axis& axis = table.axes[d];
-    const double s = axis.index_coordinate(x[d]) * (axis.count - 1);  // in [0, count - 1]
-    const auto k = static_cast<std::size_t>(std::min(std::floor(s), static_cast<double>(axis.count - 2)));
-    lo[d] = k;
-    frac[d] = s - static_cast<double>(k);
+bool is_even_axis(const Axis& axis) noexcept { return axis.name == kAxisPhi || axis.name == kAxisBeta; }
+
+AxisTaps axis_taps(const Axis& axis, double u, Interpolation interpolation) noexcept {
+  AxisTaps out;
+  const int n = axis.count;
+  const double s = std::clamp(u, 0.0, 1.0) * (n - 1);  // in [0, count - 1]
+  const int k = static_cast<int>(std::min(std::floor(s), static_cast<double>(n - 2)));
+  const double t = s - k;
+  if (interpolation == Interpolation::linear || n < 4) {
+    out.taps = 2;
+    out.node = {k, k + 1, k + 1, k + 1};
+    out.weight = {1.0 - t, t, 0.0, 0.0};
+    return out;
   }
-  Sample out;
-  for (unsigned corner = 0; corner < (1u << dims); ++corner) {
-    double weight = 1.0;
-    std::size_t m = 0;
-    for (std::size_t d = 0; d < dims; ++d) {
-      const bool up = (corner >> d) & 1u;
-      weight *= up ? frac[d] : 1.0 - frac[d];
-      m = m * static_cast<std::size_t>(table.axes[d].count) + lo[d] + (up ? 1 : 0);
+  // Catmull–Rom on nodes k-1, k, k+1, k+2 (tangents (p[k+1] - p[k-1])/2).
+  const double t2 = t * t, t3 = t2 * t;
+  double w[4] = {0.5 * (-t3 + 2.0 * t2 - t), 0.5 * (3.0 * t3 - 5.0 * t2 + 2.0), 0.5 * (-3.0 * t3 + 4.0 * t2 + t),
+                 0.5 * (t3 - t2)};
+  const bool even = is_even_axis(axis);
+  if (k == 0) {  // node -1 is missing: p[1] (even) or 3 p[0] - 3 p[1] + p[2]
+    if (even) {
+      w[2] += w[0];
+    } else {
+      w[1] += 3.0 * w[0];
+      w[2] -= 3.0 * w[0];
+      w[3] += w[0];
     }
-    if (weight == 0.0) continue;
-    out.value += weight * table.value[m];
-    out.error += weight * table.error[m];
+    w[0] = 0.0;
+  }
+  if (k == n - 2) {  // node n is missing: p[n-2] (even) or 3 p[n-1] - 3 p[n-2] + p[n-3]
+    if (even) {
+      w[1] += w[3];
+    } else {
+      w[2] += 3.0 * w[3];
+      w[1] -= 3.0 * w[3];
+      w[0] += w[3];
+    }
+    w[3] = 0.0;
+  }
+  out.taps = 4;
+  for (int d = 0; d < 4; ++d) {
+    out.node[d] = std::clamp(k - 1 + d, 0, n - 1);
+    out.weight[d] = w[d];
   }
   return out;
+}
+
+Sample sample_axes(const Table& table, std::span<const double> y) noexcept {
+  const std::size_t dims = table.axes.size();
+  if (dims == 0 || dims > 3 || y.size() != dims || table.value.size() != table.entries()) return {};
+  AxisTaps taps[3];
+  for (std::size_t d = 0; d < dims; ++d)
+    taps[d] = axis_taps(table.axes[d], table.axes[d].index_coordinate(y[d]), table.interpolation);
+  Sample out;
+  const int c0 = taps[0].taps, c1 = dims > 1 ? taps[1].taps : 1, c2 = dims > 2 ? taps[2].taps : 1;
+  const std::size_t n1 = dims > 1 ? table.axes[1].count : 1, n2 = dims > 2 ? table.axes[2].count : 1;
+  for (int a = 0; a < c0; ++a)
+    for (int b = 0; b < c1; ++b)
+      for (int c = 0; c < c2; ++c) {
+        const double w = taps[0].weight[a] * (dims > 1 ? taps[1].weight[b] : 1.0) * (dims > 2 ? taps[2].weight[c] : 1.0);
+        if (w == 0.0) continue;
+        const std::size_t m = (static_cast<std::size_t>(taps[0].node[a]) * n1 + (dims > 1 ? taps[1].node[b] : 0)) * n2 +
+                              (dims > 2 ? taps[2].node[c] : 0);
+        out.value += w * table.value[m];
+        out.error += std::abs(w) * table.error[m];
+      }
+  return out;
+}
+
+std::vector<double> axis_coordinates(const Table& table, std::span<const double> x) noexcept {
+  if (table.frame == Frame::lobe && table.law == Law::g && x.size() == 3) {
+    const std::array<double, 3> y = lobe_coordinates(table.peak, x[0], x[1], x[2]);
+    return {y.begin(), y.end()};
+  }
+  return {x.begin(), x.end()};
+}
+
+Sample sample(const Table& table, std::span<const double> x) noexcept {
+  const std::vector<double> y = axis_coordinates(table, x);
+  return sample_axes(table, y);
 }
 
 std::vector<double> coordinates(Law law, const Vec3& i, const Vec3& j) noexcept {

@@ -1,11 +1,14 @@
-// Table lookup: per axis, invert the mapping to the index coordinate u, then interpolate
-// linearly in index space between the two neighbouring nodes (multilinear over the axes), which
-// is what a GPU's linear filter does with texel coordinate u (count - 1) + 0.5. Coordinates
-// outside an axis are clamped to its ends. The returned error is the same interpolation of the
-// stored per-node errors: a bound on how far the interpolated value is from interpolating the
-// exact node values. It does NOT include the interpolation (discretization) error between nodes.
+// Table lookup (docs/lut-format.md, "Sampling"): the law's coordinates are turned into the
+// table's axis coordinates (its frame), each axis coordinate into an index coordinate u (the
+// mapping inverted), and the nodes around u (count - 1) are blended: multilinearly (2 per axis,
+// what a GPU's linear filter does with texel coordinate u (count - 1) + 0.5) or by Catmull–Rom
+// (4 per axis). Coordinates outside an axis are clamped to its ends. The returned error is the
+// same blend of the stored per-node errors with |weights|: how far the lookup is from blending
+// the exact node values. It does NOT include the interpolation error between nodes, which
+// Table::lookup_error (validated at bake time) does.
 #pragma once
 
+#include <array>
 #include <span>
 #include <vector>
 
@@ -19,8 +22,29 @@ struct Sample {
   double error = 0.0;
 };
 
-/// Lookup at axis coordinates x[d] (one per axis, in the axes' own units).
+/// Lookup at the law's coordinates x (g: i·n, j·n, relative azimuth in [0, pi]; h: j·n; a: i·n),
+/// whatever the table's frame.
 Sample sample(const Table& table, std::span<const double> x) noexcept;
+
+/// Lookup at the table's own axis coordinates y (one per axis, in the axes' units).
+Sample sample_axes(const Table& table, std::span<const double> y) noexcept;
+
+/// The table's axis coordinates of the law's coordinates x (identity for the cosines frame;
+/// (theta_j, psi, beta) of tables/frame.h for the lobe frame).
+std::vector<double> axis_coordinates(const Table& table, std::span<const double> x) noexcept;
+
+/// Nodes and weights of one axis of a lookup at index coordinate u: `taps` nodes (2 linear, 4
+/// Catmull–Rom) at node[k] with weight[k]; the weights sum to 1. Catmull–Rom's missing node
+/// beyond an axis end is the even reflection for azimuths (phi, beta: the laws are even there)
+/// and the quadratic extrapolation 3 p0 - 3 p1 + p2 otherwise, folded into the real nodes.
+struct AxisTaps {
+  int taps = 2;
+  std::array<int, 4> node{};
+  std::array<double, 4> weight{};
+};
+AxisTaps axis_taps(const Axis& axis, double u, Interpolation interpolation) noexcept;
+/// Whether an axis is an azimuth about which the law is even (Catmull–Rom reflects there).
+bool is_even_axis(const Axis& axis) noexcept;
 
 /// The axis coordinates of directions i, j (local frame, n = +z; need not be unit) for the
 /// table's law: g -> (i·n, j·n, relative azimuth in [0, pi]); h -> (j·n); a -> (i·n).

@@ -29,15 +29,52 @@ const char* to_string(Mapping mapping) {
     case Mapping::linear: return "linear";
     case Mapping::sqrt: return "sqrt";
     case Mapping::cos: return "cos";
+    case Mapping::sinh: return "sinh";
+    case Mapping::sinh_max: return "sinh_max";
   }
   return "?";
 }
 
 Mapping parse_mapping(const std::string& text) {
-  for (Mapping m : {Mapping::linear, Mapping::sqrt, Mapping::cos})
+  for (Mapping m : {Mapping::linear, Mapping::sqrt, Mapping::cos, Mapping::sinh, Mapping::sinh_max})
     if (text == to_string(m)) return m;
-  throw InputError("unknown axis mapping '" + text + "'; allowed: linear, sqrt, cos");
+  throw InputError("unknown axis mapping '" + text + "'; allowed: linear, sqrt, cos, sinh, sinh_max");
 }
+
+const char* to_string(Interpolation interpolation) {
+  return interpolation == Interpolation::catmull_rom ? "catmull-rom" : "linear";
+}
+
+Interpolation parse_interpolation(const std::string& text) {
+  if (text == "linear") return Interpolation::linear;
+  if (text == "catmull-rom") return Interpolation::catmull_rom;
+  throw InputError("unknown interpolation '" + text + "'; allowed: linear, catmull-rom");
+}
+
+const char* to_string(Frame frame) { return frame == Frame::lobe ? "lobe" : "cosines"; }
+
+Frame parse_frame(const std::string& text) {
+  if (text == "cosines") return Frame::cosines;
+  if (text == "lobe") return Frame::lobe;
+  throw InputError("unknown frame '" + text + "'; allowed: cosines, lobe");
+}
+
+const char* to_string(PeakKind peak) { return peak == PeakKind::retro ? "retro" : "mirror"; }
+
+PeakKind parse_peak(const std::string& text) {
+  if (text == "mirror") return PeakKind::mirror;
+  if (text == "retro") return PeakKind::retro;
+  throw InputError("unknown lobe peak '" + text + "'; allowed: mirror, retro");
+}
+
+namespace {
+/// The sinh mapping's centre c, half range R and V = asinh(R / w).
+struct SinhAxis {
+  double c, w, V;
+  explicit SinhAxis(const Axis& a) noexcept
+      : c(0.5 * (a.min + a.max)), w(a.width), V(std::asinh(0.5 * (a.max - a.min) / a.width)) {}
+};
+}  // namespace
 
 const char* to_string(Encoding encoding) { return encoding == Encoding::half ? "half" : "float"; }
 
@@ -54,6 +91,20 @@ double Axis::coordinate(double u) const noexcept {
     case Mapping::linear: t = u; break;
     case Mapping::sqrt: t = u * u; break;
     case Mapping::cos: t = 0.5 * (1.0 - std::cos(pi * u)); break;
+    case Mapping::sinh: {
+      if (!(width > 0.0)) return min + (max - min) * u;
+      const SinhAxis s(*this);
+      if (u == 0.0) return min;  // exact ends
+      if (u == 1.0) return max;
+      return std::clamp(s.c + s.w * std::sinh(s.V * (2.0 * u - 1.0)), min, max);
+    }
+    case Mapping::sinh_max: {
+      if (!(width > 0.0)) return min + (max - min) * u;
+      if (u == 0.0) return min;
+      if (u == 1.0) return max;
+      const double V = std::asinh((max - min) / width);
+      return std::clamp(max - width * std::sinh(V * (1.0 - u)), min, max);
+    }
   }
   return min + (max - min) * t;
 }
@@ -66,6 +117,17 @@ double Axis::index_coordinate(double x) const noexcept {
     case Mapping::linear: return t;
     case Mapping::sqrt: return std::sqrt(t);
     case Mapping::cos: return std::acos(1.0 - 2.0 * t) / pi;
+    case Mapping::sinh: {
+      if (!(width > 0.0)) return t;
+      const SinhAxis s(*this);
+      const double x_clamped = min + (max - min) * t;
+      return std::clamp(0.5 * (std::asinh((x_clamped - s.c) / s.w) / s.V + 1.0), 0.0, 1.0);
+    }
+    case Mapping::sinh_max: {
+      if (!(width > 0.0)) return t;
+      const double V = std::asinh((max - min) / width);
+      return std::clamp(1.0 - std::asinh((max - min) * (1.0 - t) / width) / V, 0.0, 1.0);
+    }
   }
   return t;
 }
@@ -75,6 +137,22 @@ double Axis::node(int k) const noexcept {
   if (k >= count - 1) return max;
   return coordinate(static_cast<double>(k) / (count - 1));
 }
+
+namespace {
+/// The axes with their node counts set; refuses a wrong number of counts or a count below 2.
+std::vector<Axis> with_counts(std::vector<Axis> axes, std::span<const int> counts, const std::string& what) {
+  if (counts.size() != axes.size())
+    throw InputError(what + " has " + std::to_string(axes.size()) + " axes but " + std::to_string(counts.size()) +
+                     " node counts were given");
+  for (std::size_t d = 0; d < axes.size(); ++d) {
+    if (counts[d] < 2)
+      throw InputError("resolution " + std::to_string(counts[d]) + " on axis " + axes[d].name +
+                       " is not allowed; each axis needs at least 2 nodes");
+    axes[d].count = counts[d];
+  }
+  return axes;
+}
+}  // namespace
 
 std::vector<Axis> default_axes(Law law, std::span<const int> counts) {
   std::vector<Axis> axes;
@@ -88,16 +166,7 @@ std::vector<Axis> default_axes(Law law, std::span<const int> counts) {
     case Law::a: axes = {{kAxisCosThetaI, 0.0, 1.0, 0, Mapping::sqrt}}; break;
     default: require_tabulated(law);
   }
-  if (counts.size() != axes.size())
-    throw InputError(std::string("law ") + to_string(law) + " has " + std::to_string(axes.size()) + " axes but " +
-                     std::to_string(counts.size()) + " node counts were given");
-  for (std::size_t d = 0; d < axes.size(); ++d) {
-    if (counts[d] < 2)
-      throw InputError("resolution " + std::to_string(counts[d]) + " on axis " + axes[d].name +
-                       " is not allowed; each axis needs at least 2 nodes");
-    axes[d].count = counts[d];
-  }
-  return axes;
+  return with_counts(std::move(axes), counts, std::string("law ") + to_string(law));
 }
 
 std::vector<Axis> make_axes(Law law, std::span<const int> counts, std::span<const Mapping> mappings) {
@@ -108,6 +177,15 @@ std::vector<Axis> make_axes(Law law, std::span<const int> counts, std::span<cons
                      std::to_string(mappings.size()) + " mappings were given");
   for (std::size_t d = 0; d < axes.size(); ++d) axes[d].mapping = mappings[d];
   return axes;
+}
+
+std::vector<Axis> lobe_axes(std::span<const int> counts, double width) {
+  if (!std::isfinite(width) || !(width > 0.0))
+    throw InputError("lobe width " + format_number(width) + " is not allowed; expected a positive number of radians");
+  std::vector<Axis> axes = {{kAxisThetaJ, 0.0, pi / 2, 0, Mapping::sinh_max, kThetaJWidths * width},
+                            {kAxisPsi, 0.0, pi, 0, Mapping::sinh, width},
+                            {kAxisBeta, 0.0, pi, 0, Mapping::linear}};
+  return with_counts(std::move(axes), counts, "a lobe-frame g table");
 }
 
 std::vector<Mapping> parse_mappings(const std::string& text, Law law) {
@@ -178,7 +256,27 @@ void check_table(const Table& table) {
   if (table.axes.size() != want)
     throw InputError(std::string("law ") + law + " needs " + std::to_string(want) + " axes, the metadata lists " +
                      std::to_string(table.axes.size()));
-  const std::vector<Axis> expected = default_axes(table.law, counts);  // checks counts >= 2
+  if (table.frame == Frame::lobe && table.law != Law::g)
+    throw InputError(std::string("law ") + law + " tables use the cosines frame; only g has a lobe frame");
+  if (table.format_version == 1 && (table.frame != Frame::cosines || table.interpolation != Interpolation::linear))
+    throw InputError("format version 1 has only the cosines frame and linear interpolation");
+  if (table.interpolation == Interpolation::catmull_rom)
+    for (const Axis& a : table.axes)
+      if (a.count < 4)
+        throw InputError("axis " + a.name + " has " + std::to_string(a.count) +
+                         " nodes; catmull-rom interpolation needs at least 4");
+  for (const Axis& a : table.axes) {
+    if (a.has_width() && !(std::isfinite(a.width) && a.width > 0.0))
+      throw InputError("axis " + a.name + " has the sinh mapping with width " + format_number(a.width) +
+                       "; expected a positive width");
+    if (!a.has_width() && a.width != 0.0)
+      throw InputError("axis " + a.name + " has a width but its mapping is " + to_string(a.mapping));
+    if (a.has_width() && table.format_version < 2)
+      throw InputError("axis " + a.name + ": the " + to_string(a.mapping) + " mapping needs format version 2");
+  }
+  const std::vector<Axis> expected = table.frame == Frame::lobe && want == 3
+                                         ? lobe_axes(counts, table.axes[1].width > 0.0 ? table.axes[1].width : 1.0)
+                                         : default_axes(table.law, counts);  // checks counts >= 2
   for (std::size_t d = 0; d < want; ++d) {
     const Axis& a = table.axes[d];
     const Axis& e = expected[d];
@@ -208,6 +306,8 @@ void check_table(const Table& table) {
                        "; every error must be finite and >= 0");
     max_error = std::max(max_error, static_cast<double>(table.error[m]));
   }
+  if (!std::isfinite(table.lookup_error) || table.lookup_error < 0.0)
+    throw InputError("lookup_error " + format_number(table.lookup_error) + " is not a finite number >= 0");
   if (table.max_error != max_error)
     throw InputError("max_error " + format_number(table.max_error) + " disagrees with the error data (max " +
                      format_number(max_error) + ")");

@@ -17,8 +17,10 @@ void require_tabulated(Law law);
 /// parse_law for a flag that names a tabulated law; refusals name `flag` and the text.
 Law parse_tabulated_law(const std::string& flag, const std::string& text);
 
-/// The version of docs/lut-format.md this code writes and the only one it reads.
-inline constexpr int kFormatVersion = 1;
+/// The version of docs/lut-format.md this code writes. Version 1 files (cosine axes, linear
+/// lookup, no frame or interpolation attributes) are still read.
+inline constexpr int kFormatVersion = 2;
+inline constexpr int kOldestFormatVersion = 1;
 
 /// How an axis spends its nodes. u in [0, 1] is the index coordinate (node k at u = k/(count-1)),
 /// t = (x - min)/(max - min) the normalized coordinate:
@@ -26,10 +28,39 @@ inline constexpr int kFormatVersion = 1;
 ///   sqrt:   t = u^2,  u = sqrt(t)      (dense at min: grazing angles for h and a)
 ///   cos:    t = (1 - cos(pi u))/2,  u = acos(1 - 2t)/pi   (Chebyshev–Lobatto: dense at both
 ///           ends; on [-1, 1] this is exactly uniform in the angle theta = pi (1 - u))
-enum class Mapping { linear, sqrt, cos };
+///   sinh:   x = c + w sinh(V (2u - 1)),  u = (asinh((x - c)/w)/V + 1)/2, with the centre
+///           c = (min + max)/2, the axis' width w (Axis::width) and V = asinh((max - min)/(2w)):
+///           dense at the centre on the scale w, spreading geometrically towards both ends (a
+///           lobe of angular width w crossing the centre; docs/lut-format.md, version 2)
+///   sinh_max: x = max - w sinh(V (1 - u)),  u = 1 - asinh((max - x)/w)/V, V = asinh((max - min)/w):
+///           dense at max on the scale w (a lobe reaching the horizon)
+enum class Mapping { linear, sqrt, cos, sinh, sinh_max };
 const char* to_string(Mapping mapping);
-/// Throws InputError naming the value and listing linear, sqrt, cos.
+/// Throws InputError naming the value and listing linear, sqrt, cos, sinh.
 Mapping parse_mapping(const std::string& text);
+
+/// How a lookup blends nodes (docs/lut-format.md, "Sampling"): multilinear (2 nodes per axis,
+/// what a GPU's linear filter does) or Catmull–Rom (4 nodes per axis, cubic, C1; at an axis end
+/// the missing node is the even reflection for an azimuth, else quadratic extrapolation).
+enum class Interpolation { linear, catmull_rom };
+const char* to_string(Interpolation interpolation);  ///< "linear" or "catmull-rom"
+/// Accepts "linear" and "catmull-rom"; throws InputError otherwise.
+Interpolation parse_interpolation(const std::string& text);
+
+/// What the axes of a g table are (docs/lut-format.md, "Axes"):
+///   cosines: (i·n, j·n, phi), format version 1's axes;
+///   lobe:    (theta_j, psi, beta), relative to the peak p(j) of the model's lobe: theta_j the
+///            polar angle of j, psi the angle between i and p, beta the azimuth of i about p
+///            measured from the plane of n and p. psi uses the sinh mapping with the lobe's width.
+/// h and a tables always use the cosines frame.
+enum class Frame { cosines, lobe };
+const char* to_string(Frame frame);  ///< "cosines" or "lobe"
+Frame parse_frame(const std::string& text);
+/// Where the lobe of a lobe-frame table peaks for the viewing direction j: the mirror direction
+/// m = 2(j·n)n - j (specular) or j itself (retro: backscatter).
+enum class PeakKind { mirror, retro };
+const char* to_string(PeakKind peak);  ///< "mirror" or "retro"
+PeakKind parse_peak(const std::string& text);
 
 /// How the stored numbers are rounded: IEEE half or single precision (EXR HALF / FLOAT).
 enum class Encoding { half, single };
@@ -44,6 +75,8 @@ struct Axis {
   double max = 1.0;
   int count = 2;
   Mapping mapping = Mapping::linear;
+  double width = 0.0;  ///< the sinh mappings' scale w (> 0); 0 for the other mappings
+  bool has_width() const noexcept { return mapping == Mapping::sinh || mapping == Mapping::sinh_max; }
 
   /// x for the index coordinate u in [0, 1] (clamped).
   double coordinate(double u) const noexcept;
@@ -57,6 +90,10 @@ struct Axis {
 inline constexpr const char* kAxisCosThetaI = "cos_theta_i";  ///< i·n
 inline constexpr const char* kAxisCosThetaJ = "cos_theta_j";  ///< j·n
 inline constexpr const char* kAxisPhi = "phi";                ///< azimuth of j minus that of i
+/// Axis names of the lobe frame (version 2).
+inline constexpr const char* kAxisThetaJ = "theta_j";  ///< polar angle of j, [0, pi/2]
+inline constexpr const char* kAxisPsi = "psi";         ///< angle between i and the lobe's peak p(j), [0, pi]
+inline constexpr const char* kAxisBeta = "beta";       ///< azimuth of i about p(j), folded to [0, pi]
 
 /// The axes of a law for an isotropic model, with the default mappings, given the node counts
 /// (g: 3 counts; h, a: 1). Throws InputError for another law, a wrong number of counts or a
@@ -70,10 +107,29 @@ std::vector<Axis> default_axes(Law law, std::span<const int> counts);
 /// defaults). Throws InputError when `mappings` is neither empty nor one per axis.
 std::vector<Axis> make_axes(Law law, std::span<const int> counts, std::span<const Mapping> mappings);
 
+/// The theta_j axis of the lobe frame is dense towards the horizon on this many lobe widths: where
+/// the lobe reaches the horizon, the part of it the horizon hides changes on the scale of the
+/// width; away from it g is cos(theta_j) I1 + sin(theta_j) I2 with I1, I2 fixed by (psi, beta),
+/// smooth. A narrower band leaves the nodes too sparse near the normal, a linear axis too sparse
+/// at grazing (compared on specular alpha = 1000: docs/tradeoff.md).
+inline constexpr double kThetaJWidths = 6.0;
+
+/// The axes of a lobe-frame g table with lobe width `width` (radians, > 0) and node counts
+/// (theta_j, psi, beta):
+///   theta_j in [0, pi/2] (sinh_max, kThetaJWidths x width), psi in [0, pi] (sinh, width),
+///   beta in [0, pi] (linear).
+/// Throws InputError for a count below 2 or a width that is not a positive finite number.
+std::vector<Axis> lobe_axes(std::span<const int> counts, double width);
+
 /// Parses "M", "MxM" or "MxMxM" (M = linear, sqrt or cos) into one mapping per axis of the law;
 /// a single M stands for every axis; "default" gives the empty list (the law's defaults).
 /// Throws InputError naming the text and the expected form.
 std::vector<Mapping> parse_mappings(const std::string& text, Law law);
+
+/// The margin of Table::lookup_error over the largest error measured at the validation points:
+/// the validation points are a sample, a fresh point may err somewhat more (tests/tables_test.cpp
+/// checks the bound holds at >= 99.9% of fresh random points).
+inline constexpr double kLookupMargin = 1.5;
 
 struct Table {
   Law law = Law::g;
@@ -88,14 +144,26 @@ struct Table {
   double tolerance = 0.0;      ///< absolute tolerance the cubature was asked for
   double max_error = 0.0;      ///< max of `error`
   long long unconverged = 0;   ///< entries whose cubature missed the tolerance
-  /// Largest |lookup - cubature| (+ the cubature's own error) measured after baking at the
-  /// centres of `interpolation_checks` cells, where multilinear interpolation errs most: the
-  /// between-node error that `error` (node values only) does not cover. Measured, not a bound.
+  /// Largest |lookup - cubature| + the cubature's own error measured after baking at
+  /// `interpolation_checks` points the table was not built from (cell centres, and for
+  /// validated bakes also seeded random points): measured, not a bound.
   double interpolation_error = 0.0;
   long long interpolation_checks = 0;  ///< 0 for tables made before the measurement existed
+  /// THE error of the table: a bound of |lookup - law| anywhere in the domain, validated at the
+  /// `interpolation_checks` points (kLookupMargin x interpolation_error, and never below
+  /// max_error). Version 1 files: interpolation_error (no margin).
+  double lookup_error = 0.0;
+  /// The --max-error and --max-bytes the table was baked to (0 and 0 when baked at a given
+  /// resolution): part of its cache key.
+  double target_error = 0.0;
+  std::uint64_t target_bytes = 0;
   std::string command;         ///< the command line that made the table
   std::string version;         ///< ganzfeld version that made it
   Encoding encoding = Encoding::single;
+  Interpolation interpolation = Interpolation::linear;
+  Frame frame = Frame::cosines;
+  PeakKind peak = PeakKind::mirror;  ///< lobe frame only
+  int format_version = kFormatVersion;  ///< as read (version 1 files) or written
 
   std::size_t entries() const noexcept;
 };
@@ -103,10 +171,10 @@ struct Table {
 /// Product of the counts; 0 for no axes.
 std::uint64_t entry_count(std::span<const Axis> axes) noexcept;
 
-/// Checks the metadata of a table against format version 1 (the model spec one printable line,
-/// the content digest empty or well-formed, axes of the law, counts, finite numbers, data sizes,
-/// finite values, non-negative errors, max_error): throws InputError with a one-line
-/// description of the first problem.
+/// Checks the metadata of a table against its format version (the model spec one printable
+/// line, the content digest empty or well-formed, axes of the law and frame, counts, finite
+/// numbers, data sizes, finite values, non-negative errors, max_error): throws InputError with
+/// a one-line description of the first problem.
 void check_table(const Table& table);
 
 }  // namespace ganzfeld::tables

@@ -90,6 +90,38 @@ expect_bad "does not exist" bake --scene "$scene" --out "$tmp/no/such/cache" "${
 expect_bad "mutually exclusive" bake --scene "$scene" --model lambert --out "$tmp/cache"
 expect_bad "no such file" bake --scene "$tmp/none.json" --out "$tmp/cache"
 
+# --- bake --max-error (issue 15): the baker chooses the table; its headline error is the
+# validated lookup error (bake, info --json, sample), the node-only error a secondary field
+"$G" bake --model specular:alpha=100 --law g --max-error 1e-3 -o "$tmp/to_error.exr" --json >"$tmp/to_error.json" \
+  && ok || fail "bake --max-error"
+[ "$(json_field "$tmp/to_error.json" "d['tables'][0]['lookup_error'] <= 1e-3 and d['tables'][0]['node_error'] <= d['tables'][0]['lookup_error'] and d['tables'][0]['value_bytes'] > 0")" = "True" ] \
+  && ok || fail "bake --max-error JSON: $(cat "$tmp/to_error.json")"
+"$G" info "$tmp/to_error.exr" --json >"$tmp/to_error_info.json" && ok || fail "info of a --max-error table"
+[ "$(json_field "$tmp/to_error_info.json" "d['error'] <= 1e-3 and d['error'] >= d['node_error'] and d['frame']=='lobe' and d['interpolation']=='catmull-rom' and d['format_version']==2 and d['target_error']==1e-3 and d['value_bytes']==4*d['entries'] and d['validation_points'] >= 2000")" = "True" ] \
+  && ok || fail "info --json of a --max-error table: $(cat "$tmp/to_error_info.json")"
+"$G" info "$tmp/to_error.exr" | grep -q "^  error  .*lookup error" && ok || fail "info headline is not the lookup error"
+[ "$(json_field <("$G" sample "$tmp/to_error.exr" --theta-i 60 --theta-j 45 --phi 30 --json) "d['error']==$(json_field "$tmp/to_error_info.json" "d['error']")")" = "True" ] \
+  && ok || fail "sample does not report the table's lookup error"
+[ "$(json_field <("$G" bake --model specular:alpha=100 --law g --max-error 1e-3 -o "$tmp/to_error.exr" --json) "d['tables'][0]['status']")" = "reused" ] \
+  && ok || fail "bake --max-error not reused"
+expect_bad "--max-error 0 is not allowed" bake --model specular:alpha=8 --law h --max-error 0 -o "$tmp/bad_e.exr"
+expect_bad "--max-error -1 is not allowed" bake --model specular:alpha=8 --law h --max-error -1 -o "$tmp/bad_e.exr"
+expect_bad "--max-error nan is not allowed" bake --model specular:alpha=8 --law h --max-error nan -o "$tmp/bad_e.exr"
+expect_bad "below what a float table can hold" bake --model specular:alpha=8 --law h --max-error 1e-9 -o "$tmp/bad_e.exr"
+expect_bad "below what a half table can hold" bake --model specular:alpha=8 --law h --max-error 1e-4 --encoding half -o "$tmp/bad_e.exr"
+expect_bad "mutually exclusive" bake --model specular:alpha=8 --law h --res 9 --max-error 1e-4 -o "$tmp/bad_e.exr"
+expect_bad "--max-bytes needs --max-error" bake --model specular:alpha=8 --law h --res 9 --max-bytes 100000 -o "$tmp/bad_e.exr"
+expect_bad "--max-bytes 8 is too small" bake --model specular:alpha=8 --law g --max-error 1e-3 --max-bytes 8 -o "$tmp/bad_e.exr"
+expect_bad "cannot reach --max-error" bake --model specular:alpha=100 --law g --max-error 1e-6 --max-bytes 4096 -o "$tmp/bad_e.exr"
+[ ! -e "$tmp/bad_e.exr" ] && ok || fail "a refused --max-error bake left a file"
+# scenes honour --max-error (and it is in the cache key: a second run reuses everything)
+"$G" bake --scene "$scene" --out "$tmp/err_cache" --max-error 1e-3 --json >"$tmp/err_scene.json" && ok || fail "scene --max-error"
+[ "$(json_field "$tmp/err_scene.json" "all(t['lookup_error'] <= 1e-3 for t in d['tables']) and len(d['tables'])==6")" = "True" ] \
+  && ok || fail "scene --max-error JSON: $(cat "$tmp/err_scene.json")"
+[ "$(json_field <("$G" bake --scene "$scene" --out "$tmp/err_cache" --max-error 1e-3 --json) "all(t['status']=='reused' for t in d['tables'])")" = "True" ] \
+  && ok || fail "scene --max-error not reused"
+expect_bad "drop --res-g or --max-error" bake --scene "$scene" --out "$tmp/err_cache" --max-error 1e-3 --res-g 9
+
 # --- one planner: a cache baked with non-default table options is what render and export-glsl
 # reach with the same options (nothing baked again), and tables from the cache shade exactly as
 # tables baked in memory
@@ -108,7 +140,7 @@ opts=(--res-g 5x5x3 --res-h 9 --tol 1e-6 --encoding half --max-evals 200000)
 [ "$(ls "$tmp/plan_cache" | wc -l)" -eq 6 ] && ok || fail "the cache grew: $(ls "$tmp/plan_cache")"
 "$G" render --scene "$scene" "${opts[@]}" -o "$tmp/memory.exr" --quiet && ok || fail "render in memory"
 cmp -s "$tmp/cached.exr" "$tmp/memory.exr" && ok || fail "cached and in-memory tables shade differently"
-[ "$(json_field "$tmp/plan_glsl.json" "sorted((t['model'], t['law'], t['max_error']) for t in d['textures']) == sorted((t['model'], t['law'], t['max_error']) for t in $(cat "$tmp/plan_bake.json")['tables'])")" = "True" ] \
+[ "$(json_field "$tmp/plan_glsl.json" "sorted((t['model'], t['law'], t['lookup_error'], t['node_error']) for t in d['textures']) == sorted((t['model'], t['law'], t['lookup_error'], t['node_error']) for t in $(cat "$tmp/plan_bake.json")['tables'])")" = "True" ] \
   && ok || fail "export-glsl's tables are not the baked ones"
 
 # --- a table is self-describing: it reads without its model's data file (issue #19)

@@ -1,0 +1,169 @@
+#include "tables/to_error.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "util/error.h"
+#include "laws/registry.h"
+#include "tables/frame.h"
+#include "tables/sample.h"
+
+namespace ganzfeld::tables {
+
+namespace {
+
+/// Initial node counts (g: 17x17x9; h, a: 33): cheap, and fine enough that the per-axis
+/// estimates of the first bake are in their asymptotic regime for smooth laws.
+std::vector<int> initial_counts(Law law) { return law == Law::g ? std::vector<int>{17, 17, 9} : std::vector<int>{33}; }
+
+/// Catmull–Rom interpolation's order (error ~ h^3) and linear's (h^2).
+double order(Interpolation interpolation) { return interpolation == Interpolation::catmull_rom ? 3.0 : 2.0; }
+
+/// Step 3 of the search: per axis d, the largest |value at an odd node - interpolation from the
+/// even nodes along d| (a grid twice as coarse along d), times 2^-p: that axis' share of the
+/// interpolation error at the current spacing. Catmull–Rom at the midpoint of a coarse cell is
+/// (-1, 9, 9, -1)/16 of the even nodes k-3, k-1, k+1, k+3; linear (1, 1)/2 of k-1, k+1.
+std::vector<double> axis_error_estimates(const Table& table, Interpolation interpolation) {
+  const std::size_t dims = table.axes.size();
+  std::vector<double> out(dims, 0.0);
+  std::vector<std::size_t> stride(dims, 1);
+  for (std::size_t d = dims - 1; d-- > 0;) stride[d] = stride[d + 1] * table.axes[d + 1].count;
+  const std::size_t n = table.entries();
+  const bool cubic = interpolation == Interpolation::catmull_rom;
+  for (std::size_t d = 0; d < dims; ++d) {
+    const int count = table.axes[d].count;
+    const std::size_t s = stride[d];
+    double worst = 0.0;
+    for (std::size_t m = 0; m < n; ++m) {
+      const int k = static_cast<int>((m / s) % count);
+      if (k % 2 == 0) continue;
+      double predicted;
+      if (cubic) {
+        if (k < 3 || k + 3 > count - 1) continue;
+        predicted = (-table.value[m - 3 * s] + 9.0 * table.value[m - s] + 9.0 * table.value[m + s] -
+                     table.value[m + 3 * s]) / 16.0;
+      } else {
+        if (k + 1 > count - 1) continue;
+        predicted = 0.5 * (table.value[m - s] + table.value[m + s]);
+      }
+      worst = std::max(worst, std::abs(table.value[m] - predicted));
+    }
+    out[d] = worst * std::pow(2.0, -order(interpolation));
+  }
+  return out;
+}
+
+std::uint64_t bytes_of(const std::vector<int>& counts, Encoding encoding) {
+  double n = 1.0;
+  for (int c : counts) n *= c;
+  n *= encoding == Encoding::half ? 2.0 : 4.0;
+  return n > 1.8e19 ? std::numeric_limits<std::uint64_t>::max() : static_cast<std::uint64_t>(n);
+}
+
+/// Counts that bring each axis' share (calibrated estimate x (h_new/h)^p) to `share`.
+std::vector<int> counts_for(const std::vector<int>& counts, const std::vector<double>& estimates, double calibration,
+                            double share, Interpolation interpolation) {
+  std::vector<int> out(counts.size());
+  for (std::size_t d = 0; d < counts.size(); ++d) {
+    const double e = calibration * estimates[d];
+    const double factor = e > 0.0 ? std::pow(e / share, 1.0 / order(interpolation)) : 0.5;
+    const double cells = std::ceil((counts[d] - 1) * std::max(factor, 0.5));  // shrink at most by half per step
+    out[d] = static_cast<int>(std::clamp(cells + 1.0, 4.0, 1e9));
+  }
+  return out;
+}
+
+}  // namespace
+
+double min_max_error(Encoding encoding) noexcept {
+  return encoding == Encoding::half ? std::ldexp(1.0, -10) : std::ldexp(1.0, -23);
+}
+
+void check_error_target(double max_error, std::uint64_t max_bytes, Law law, Encoding encoding) {
+  if (!std::isfinite(max_error) || !(max_error > 0.0))
+    throw InputError("--max-error " + format_number(max_error) + " is not allowed; expected a positive number");
+  if (max_error < min_max_error(encoding))
+    throw InputError("--max-error " + format_number(max_error) + " is below what a " + to_string(encoding) +
+                     " table can hold (its rounding alone); allowed: >= " + format_number(min_max_error(encoding)) +
+                     (encoding == Encoding::half ? " (use --encoding float for less)" : ""));
+  const std::uint64_t smallest = bytes_of(std::vector<int>(law == Law::g ? 3 : 1, 4), encoding);
+  if (max_bytes != 0 && max_bytes < smallest)
+    throw InputError("--max-bytes " + std::to_string(max_bytes) + " is too small; the smallest " +
+                     to_string(encoding) + " table of law " + to_string(law) + " needs " + std::to_string(smallest) +
+                     " value bytes");
+}
+
+Table bake_to_error(const Model& model, Law law, const BakeOptions& requested) {
+  const double E = requested.max_error;
+  check_error_target(E, requested.max_bytes, law, requested.encoding);
+  const std::uint64_t cap = requested.max_bytes ? requested.max_bytes : kDefaultMaxValueBytes;
+  BakeOptions options = requested;
+  options.max_error = 0.0;
+  options.max_bytes = 0;
+  options.mappings.clear();
+  options.tolerance = E / kNodeToleranceRatio;
+  options.check_tolerance = E / kCheckToleranceRatio;
+  options.random_checks = kSearchChecks;
+  options.lobe = law == Law::g ? lobe_frame_of(model) : std::nullopt;
+  options.interpolation = Interpolation::catmull_rom;
+  options.resolution = initial_counts(law);
+  const double dims = static_cast<double>(options.resolution.size());
+  // Each axis' share of E: the validated error is kLookupMargin x the measured one, and the
+  // axes' errors may add at one point.
+  const double share = E / (kLookupMargin * dims) * 0.8;
+
+  double best_error = std::numeric_limits<double>::infinity(), best_bytes = 0.0;
+  for (int attempt = 0; attempt < kMaxSearchBakes; ++attempt) {
+    if (bytes_of(options.resolution, options.encoding) > cap) break;
+    Table table = bake_resolution(model, law, options);
+    if (table.lookup_error < best_error) {
+      best_error = table.lookup_error;
+      best_bytes = static_cast<double>(value_bytes(table));
+    }
+    if (table.lookup_error <= E) {
+      table.target_error = E;
+      table.target_bytes = cap;
+      return table;
+    }
+    // Calibrate the per-axis estimates of each interpolation with the validated error (the
+    // estimates see node differences only; the validation sees the whole domain).
+    const std::vector<double> cubic = axis_error_estimates(table, Interpolation::catmull_rom);
+    double sum = 0.0;
+    for (double e : cubic) sum += e;
+    const double measured = table.interpolation_error;
+    const double calibration = sum > 0.0 ? std::max(1.0, measured / sum) : 1.0;
+    std::vector<int> next = counts_for(options.resolution, cubic, calibration, share, Interpolation::catmull_rom);
+    Interpolation next_interpolation = Interpolation::catmull_rom;
+    if (options.interpolation == Interpolation::catmull_rom) {  // would linear be smaller?
+      const std::vector<double> linear = axis_error_estimates(table, Interpolation::linear);
+      std::vector<int> lin = counts_for(options.resolution, linear, 1.0, share, Interpolation::linear);
+      for (int& c : lin) c = std::max(c, 2);
+      if (bytes_of(lin, options.encoding) < bytes_of(next, options.encoding)) {
+        next = lin;
+        next_interpolation = Interpolation::linear;
+      }
+    }
+    if (next_interpolation == options.interpolation) {
+      // Never repeat a failed bake: grow by at least the ratio of the errors.
+      const double grow = std::pow(table.lookup_error / E, 1.0 / order(next_interpolation)) * 1.05;
+      bool larger = false;
+      for (std::size_t d = 0; d < next.size(); ++d) larger = larger || next[d] > options.resolution[d];
+      if (!larger)
+        for (std::size_t d = 0; d < next.size(); ++d)
+          next[d] = static_cast<int>(std::ceil((options.resolution[d] - 1) * grow)) + 1;
+    }
+    options.resolution = next;
+    options.interpolation = next_interpolation;
+  }
+  // The best error B allows, extrapolated from the last estimates (error ~ bytes^(-p/dims)).
+  const double reachable =
+      best_bytes > 0.0 ? best_error * std::pow(static_cast<double>(cap) / best_bytes, -order(options.interpolation) / dims)
+                       : best_error;
+  throw InputError("cannot reach --max-error " + format_number(E) + " for law " + to_string(law) + " of '" +
+                   model.spec() + "' within " + std::to_string(cap) + " value bytes (" +
+                   (requested.max_bytes ? "--max-bytes" : "the default cap") + "); the best this search found is " +
+                   format_number(best_error) + ", about " + format_number(reachable) + " within the cap");
+}
+
+}  // namespace ganzfeld::tables

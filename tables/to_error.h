@@ -1,0 +1,52 @@
+// Baking to a requested lookup error (issue 15, `bake --max-error E [--max-bytes B]`): the baker
+// chooses the node counts per axis, the frame and the interpolation so that the validated lookup
+// error (Table::lookup_error) is <= E with as few value bytes as it can find, sets the cubature
+// tolerance itself (E/kNodeToleranceRatio), and refuses when E cannot be met within B.
+//
+// The search, in three steps:
+//  1. Frame: g of a model whose mass hints show a lobe at the mirror direction or at j gets the
+//     lobe frame (tables/frame.h), else the cosines frame; h and a the cosines frame.
+//  2. Bake at a coarse resolution, validate (cell centres + kSearchChecks seeded random points
+//     against direct cubature at E/kCheckToleranceRatio).
+//  3. Per axis, estimate how much error that axis contributes from the table itself: at every
+//     odd node, the difference between its value and the interpolation from the even nodes (a
+//     grid twice as coarse along that axis), scaled by 2^-p (p = 3 Catmull–Rom, 2 linear). The
+//     validated error calibrates these estimates; each axis then gets the count that brings its
+//     share to E/(margin x axes) (the product of the counts is smallest when the shares are
+//     equal), and the interpolation (linear or Catmull–Rom) whose predicted bytes are fewer.
+//     Bake again; stop when lookup_error <= E; at most kMaxSearchBakes bakes.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include "laws/model.h"
+#include "tables/bake.h"
+#include "tables/table.h"
+
+namespace ganzfeld::tables {
+
+/// Default cap of --max-bytes (value bytes, what a shader uploads).
+inline constexpr std::uint64_t kDefaultMaxValueBytes = std::uint64_t{64} << 20;  // 64 MiB
+/// Node cubature tolerance = E / this; reference tolerance of the validation = E / the other.
+inline constexpr double kNodeToleranceRatio = 100.0;
+inline constexpr double kCheckToleranceRatio = 1000.0;
+/// Random validation points of a --max-error bake (besides the cell centres).
+inline constexpr std::uint64_t kSearchChecks = 2000;
+inline constexpr int kMaxSearchBakes = 6;
+
+/// The smallest E an encoding can hold: twice its unit roundoff at 1 (laws are of order 1), so
+/// that storage rounding alone never uses more than half of E. float: 2^-23; half: 2^-10.
+double min_max_error(Encoding encoding) noexcept;
+
+/// Refuses (InputError, one line) E that is not a finite number above min_max_error(encoding)
+/// and B below the smallest table (4 nodes per axis).
+void check_error_target(double max_error, std::uint64_t max_bytes, Law law, Encoding encoding);
+
+/// The table of law `law` of `model` with lookup_error <= options.max_error and value_bytes <=
+/// options.max_bytes (0: kDefaultMaxValueBytes), baked as described above; options.resolution,
+/// mappings, interpolation, lobe, tolerance, random_checks and check_tolerance are chosen here.
+/// Throws InputError "cannot reach ... within ... bytes; the best ... is ..." when it cannot.
+Table bake_to_error(const Model& model, Law law, const BakeOptions& options);
+
+}  // namespace ganzfeld::tables
