@@ -2,10 +2,9 @@
 #include <cstdio>
 #include <iostream>
 
-#include <nlohmann/json.hpp>
-
 #include "cli/commands.h"
 #include "laws/registry.h"
+#include "shapes/json.h"
 #include "tables/exr_io.h"
 
 namespace ganzfeld::cli {
@@ -26,29 +25,7 @@ void add_info_command(CLI::App& app, Action& action) {
     action = [args] {
       const tables::Table table = tables::read_table(args->path);
       if (args->json) {
-        nlohmann::ordered_json axes = nlohmann::ordered_json::array();
-        for (const tables::Axis& a : table.axes)
-          axes.push_back({{"name", a.name},
-                          {"min", a.min},
-                          {"max", a.max},
-                          {"count", a.count},
-                          {"mapping", to_string(a.mapping)}});
-        nlohmann::ordered_json doc{{"path", args->path},
-                                   {"format_version", tables::kFormatVersion},
-                                   {"model", table.model},
-                                   {"model_content", table.model_content},
-                                   {"law", to_string(table.law)},
-                                   {"axes", axes},
-                                   {"entries", table.entries()},
-                                   {"tolerance", table.tolerance},
-                                   {"max_error", table.max_error},
-                                   {"unconverged", table.unconverged},
-                                   {"interpolation_error", table.interpolation_error},
-                                   {"interpolation_checks", table.interpolation_checks},
-                                   {"encoding", to_string(table.encoding)},
-                                   {"command", table.command},
-                                   {"version", table.version}};
-        std::cout << doc.dump(2) << "\n";
+        std::cout << shapes::info_json(args->path, table).dump(2) << "\n";
         return 0;
       }
       std::printf("%s\n  format version %d, ganzfeld %s\n  model        %s\n  law          %s\n", args->path.c_str(),
