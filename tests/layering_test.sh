@@ -12,10 +12,11 @@ declare -A allowed=(
   [scene]="util laws integrate tables scene"
   [export]="util laws integrate tables scene export"
   [shapes]="util laws integrate tables shapes"
+  [serve]="util laws integrate tables scene export shapes serve"
   [reports]="util laws integrate tables reports"
   [rasterizer]="util laws integrate tables scene rasterizer"
   [bench]="util laws integrate tables scene rasterizer reports bench"
-  [cli]="util laws integrate tables scene export shapes reports rasterizer bench cli"
+  [cli]="util laws integrate tables scene export shapes serve reports rasterizer bench cli"
 )
 status=0
 for module in "${!allowed[@]}"; do
