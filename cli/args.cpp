@@ -205,23 +205,9 @@ scene::TableStore table_store(const std::string& cache_dir, bool quiet, bool for
   return store;
 }
 
-nlohmann::ordered_json table_json(const std::string& path, const tables::Table& table, tables::CacheStatus status,
-                                  double seconds) {
-  return {{"path", path.empty() ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(path)},
-          {"model", table.model},
-          {"law", to_string(table.law)},
-          {"status", to_string(status)},
-          {"entries", table.entries()},
-          {"value_bytes", tables::value_bytes(table)},
-          {"lookup_error", table.lookup_error},
-          {"node_error", table.max_error},
-          {"unconverged", table.unconverged},
-          {"seconds", seconds}};
-}
-
 nlohmann::ordered_json tables_json(const scene::ShadingPlan& plan) {
   nlohmann::ordered_json out = nlohmann::ordered_json::array();
-  for (const scene::PlannedTable& t : plan.tables) out.push_back(table_json(t.path, *t.table, t.status, t.seconds));
+  for (const scene::PlannedTable& t : plan.tables) out.push_back(shapes::table_json(t.path, *t.table, t.status, t.seconds));
   return out;
 }
 

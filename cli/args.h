@@ -17,6 +17,7 @@
 #include "tables/to_error.h"
 #include "scene/plan.h"
 #include "scene/scene.h"
+#include "shapes/json.h"
 
 namespace ganzfeld::cli {
 
@@ -71,11 +72,7 @@ struct TableOptionArgs {
 /// command that reproduces it.
 scene::TableStore table_store(const std::string& cache_dir, bool quiet, bool force = false);
 
-/// One JSON shape for a table everywhere (bake, bake --scene, render, export-glsl):
-/// {path (null in memory), model, law, status, entries, max_error, unconverged, seconds}.
-nlohmann::ordered_json table_json(const std::string& path, const tables::Table& table, tables::CacheStatus status,
-                                  double seconds);
-/// table_json of every table of the plan.
+/// shapes::table_json of every table of the plan.
 nlohmann::ordered_json tables_json(const scene::ShadingPlan& plan);
 
 /// Warns on stderr about a freshly baked table with entries that missed the tolerance.

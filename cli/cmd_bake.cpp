@@ -80,7 +80,7 @@ int bake_one(const BakeArgs& args) {
   const tables::CacheResult r = tables::bake_or_reuse(args.output, *model, law, options, shell_line(args.argv), args.force);
   const tables::Table& table = r.table;
   if (args.json) {
-    std::cout << nlohmann::ordered_json{{"tables", {table_json(r.path, r.table, r.status, r.seconds)}}}.dump(2) << "\n";
+    std::cout << nlohmann::ordered_json{{"tables", {shapes::table_json(r.path, r.table, r.status, r.seconds)}}}.dump(2) << "\n";
   } else if (r.status == tables::CacheStatus::reused) {
     std::cerr << "ganzfeld: reused " << args.output << ": it already holds " << to_string(law) << " of "
               << table.model << " with the same axes, tolerance and encoding (--force re-bakes)\n";

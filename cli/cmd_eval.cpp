@@ -1,12 +1,11 @@
 #include <cstdio>
 #include <iostream>
 
-#include <nlohmann/json.hpp>
-
 #include "cli/args.h"
 #include "cli/commands.h"
 #include "util/error.h"
 #include "laws/spec.h"
+#include "shapes/json.h"
 #include "util/timing.h"
 
 namespace ganzfeld::cli {
@@ -48,13 +47,10 @@ void add_eval_command(CLI::App& app, Action& action) {
       const Estimate e = evaluate_law(*model, law, i, j, options);
       const double seconds = watch.seconds();
       if (args->json) {
-        nlohmann::ordered_json doc{{"model", model->spec()}, {"law", to_string(law)}, {"value", e.value},
-                                   {"error", e.error},       {"evaluations", e.evaluations},
-                                   {"converged", e.converged}, {"tolerance", args->tol}};
-        if (needs_i) doc["i"] = {i.x, i.y, i.z};
-        if (needs_j) doc["j"] = {j.x, j.y, j.z};
-        doc["seconds"] = seconds;
-        std::cout << doc.dump(2) << "\n";
+        std::cout << shapes::eval_json(model->spec(), law, e, args->tol, needs_i ? std::optional(i) : std::nullopt,
+                                       needs_j ? std::optional(j) : std::nullopt, seconds)
+                         .dump(2)
+                  << "\n";
       } else {
         std::printf("%s %s = %.17g ± %.2g (%lld evaluations, %s, %.3f s)\n", model->spec().c_str(), to_string(law),
                     e.value, e.error, e.evaluations, e.converged ? "converged" : "NOT converged", seconds);

@@ -2,10 +2,9 @@
 #include <cstdio>
 #include <iostream>
 
-#include <nlohmann/json.hpp>
-
 #include "cli/commands.h"
 #include "laws/registry.h"
+#include "shapes/json.h"
 #include "tables/bake.h"
 #include "tables/exr_io.h"
 
@@ -27,41 +26,7 @@ void add_info_command(CLI::App& app, Action& action) {
     action = [args] {
       const tables::Table table = tables::read_table(args->path);
       if (args->json) {
-        nlohmann::ordered_json axes = nlohmann::ordered_json::array();
-        for (const tables::Axis& a : table.axes) {
-          nlohmann::ordered_json axis{{"name", a.name},
-                                      {"min", a.min},
-                                      {"max", a.max},
-                                      {"count", a.count},
-                                      {"mapping", to_string(a.mapping)}};
-          if (a.has_width()) axis["width"] = a.width;
-          axes.push_back(axis);
-        }
-        nlohmann::ordered_json doc{{"path", args->path},
-                                   {"format_version", table.format_version},
-                                   {"model", table.model},
-                                   {"model_content", table.model_content},
-                                   {"law", to_string(table.law)},
-                                   {"frame", to_string(table.frame)},
-                                   {"interpolation", to_string(table.interpolation)},
-                                   {"axes", axes},
-                                   {"entries", table.entries()},
-                                   {"value_bytes", tables::value_bytes(table)},
-                                   {"error", table.lookup_error},
-                                   {"validation_points", table.interpolation_checks},
-                                   {"node_error", table.max_error},
-                                   {"measured_lookup_error", table.interpolation_error},
-                                   {"tolerance", table.tolerance},
-                                   {"unconverged", table.unconverged},
-                                   {"encoding", to_string(table.encoding)},
-                                   {"command", table.command},
-                                   {"version", table.version}};
-        if (table.frame == tables::Frame::lobe) doc["peak"] = to_string(table.peak);
-        if (table.target_error > 0.0) {
-          doc["target_error"] = table.target_error;
-          doc["target_bytes"] = table.target_bytes;
-        }
-        std::cout << doc.dump(2) << "\n";
+        std::cout << shapes::info_json(args->path, table).dump(2) << "\n";
         return 0;
       }
       std::printf("%s\n  format version %d, ganzfeld %s\n  model        %s\n  law          %s\n", args->path.c_str(),

@@ -4,26 +4,12 @@
 
 #include "cli/commands.h"
 #include "laws/registry.h"
+#include "shapes/json.h"
 #include "util/atomic_file.h"
 
 namespace ganzfeld::cli {
 
 namespace {
-
-const char* type_name(ParamType t) {
-  switch (t) {
-    case ParamType::real: return "real";
-    case ParamType::integer: return "integer";
-    case ParamType::choice: return "choice";
-  }
-  return "?";
-}
-
-/// A default as a spec would write it: the name of a choice, else the number.
-std::string default_text(const ParamInfo& p) {
-  if (p.type == ParamType::choice) return p.choices.at(static_cast<std::size_t>(p.default_value));
-  return format_number(p.default_value);
-}
 
 std::string markdown_cell(const std::string& text) {
   std::string out;
@@ -74,46 +60,7 @@ void add_models_command(CLI::App& app, Action& action) {
   cmd->callback([&action, json, markdown] {
     action = [json, markdown] {
       if (!markdown->empty()) check_writable(*markdown);
-      nlohmann::ordered_json doc;
-      doc["models"] = nlohmann::ordered_json::array();
-      for (const auto& m : model_catalogue()) {
-        nlohmann::ordered_json params = nlohmann::ordered_json::array();
-        std::string example = m.name;
-        if (m.make_with_file) {  // file=PATH comes first; required unless the model has a default
-          params.push_back({{"name", "file"},
-                            {"type", "path"},
-                            {"required", !m.file_optional},
-                            {"meaning", m.file_meaning + " (no ',', '+' or '*' in the path)"}});
-          if (!m.file_optional) example += ":file=DATA";
-        }
-        for (const auto& p : m.parameters) {
-          nlohmann::ordered_json param{{"name", p.name},
-                                       {"type", type_name(p.type)},
-                                       {"min", p.min},
-                                       {"max", p.max},
-                                       {"default", p.default_value},
-                                       {"meaning", p.meaning}};
-          if (p.type == ParamType::choice) {
-            param["choices"] = p.choices;
-            param["default"] = default_text(p);  // the name, as a spec gives it
-          }
-          if (p.min_exclusive) param["min_exclusive"] = true;
-          if (p.optional) param["optional"] = true;
-          param["allowed"] = allowed_values(p);
-          params.push_back(param);
-          if (!p.optional) example += (example == m.name ? ":" : ",") + p.name + "=" + default_text(p);
-        }
-        doc["models"].push_back({{"name", m.name},
-                                 {"summary", m.summary},
-                                 {"source", m.source},
-                                 {"example", example},
-                                 {"parameters", params},
-                                 {"isotropic", m.traits.isotropic},
-                                 {"reciprocal", m.traits.reciprocal},
-                                 {"energy_class", to_string(m.traits.energy)},
-                                 {"closed_forms", m.closed_forms}});
-      }
-      doc["mixtures"] = "W1*SPEC1 + W2*SPEC2 + ... (partitive mixture; weights > 0 are normalized)";
+      const nlohmann::ordered_json doc = shapes::models_json();
       if (!markdown->empty()) write_text_atomically(*markdown, models_markdown(doc), "markdown");
       if (*json) {
         std::cout << doc.dump(2) << "\n";

@@ -39,6 +39,7 @@ int main(int argc, char** argv) {
   add_export_glsl_command(app, action);
   add_export_brdf_command(app, action);
   add_plausibility_command(app, action);
+  add_serve_command(app, action);
   try {
     app.parse(argc, argv);
   } catch (const CLI::Success& e) {  // --help, --version

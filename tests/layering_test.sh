@@ -11,10 +11,12 @@ declare -A allowed=(
   [tables]="util laws integrate tables"
   [scene]="util laws integrate tables scene"
   [export]="util laws integrate tables scene export"
+  [shapes]="util laws integrate tables shapes"
+  [serve]="util laws integrate tables scene export shapes serve"
   [reports]="util laws integrate tables reports"
   [rasterizer]="util laws integrate tables scene rasterizer"
   [bench]="util laws integrate tables scene rasterizer reports bench"
-  [cli]="util laws integrate tables scene export reports rasterizer bench cli"
+  [cli]="util laws integrate tables scene export shapes serve reports rasterizer bench cli"
 )
 status=0
 for module in "${!allowed[@]}"; do

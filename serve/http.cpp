@@ -1,0 +1,99 @@
+#include "serve/http.h"
+
+#include <atomic>
+#include <csignal>
+#include <cstdio>
+#include <mutex>
+#include <pthread.h>
+#include <thread>
+
+#include <httplib.h>
+
+#include "util/error.h"
+#include "util/timing.h"
+
+namespace ganzfeld::serve {
+
+namespace {
+
+std::mutex log_mutex;
+
+/// One line on stderr: "ganzfeld serve: MESSAGE".
+void log_line(const std::string& message) {
+  std::lock_guard lock(log_mutex);
+  std::fprintf(stderr, "ganzfeld serve: %s\n", message.c_str());
+  std::fflush(stderr);
+}
+
+}  // namespace
+
+int run(const ServiceOptions& service_options, const ServerOptions& options) {
+  sigset_t signals;
+  sigemptyset(&signals);
+  sigaddset(&signals, SIGINT);
+  sigaddset(&signals, SIGTERM);
+  pthread_sigmask(SIG_BLOCK, &signals, nullptr);  // inherited by every thread started below
+
+  Service service(service_options);
+  httplib::Server server;
+  const int threads = options.threads;
+  server.new_task_queue = [threads] { return new httplib::ThreadPool(static_cast<std::size_t>(threads)); };
+  server.set_payload_max_length(64 * 1024);  // GET only: a larger body gets 413
+  server.set_keep_alive_timeout(5);
+  server.Get(".*", [&service](const httplib::Request& req, httplib::Response& res) {
+    const util::Stopwatch watch;
+    const std::size_t mark = req.target.find('?');
+    const std::string query = mark == std::string::npos ? "" : req.target.substr(mark + 1);
+    const Reply reply = service.handle(req.path, query, req.get_header_value("If-None-Match"));
+    res.status = reply.status;
+    for (const auto& [name, value] : reply.headers) res.set_header(name, value);
+    res.set_header("Server-Timing", "total;dur=" + std::to_string(watch.seconds() * 1000.0));
+    if (reply.status != 304) res.set_content(reply.body, reply.content_type);
+  });
+  server.set_error_handler([](const httplib::Request&, httplib::Response& res) {
+    if (!res.body.empty()) return;
+    const std::string message = res.status == 413   ? "request too large; GET requests carry no body"
+                                : res.status == 414 ? "request URI too long"
+                                : res.status == 404 || res.status == 405
+                                    ? "only GET (and HEAD) requests are served"
+                                    : "bad request";
+    res.set_content(error_body(message), "application/json");
+  });
+  server.set_logger([](const httplib::Request& req, const httplib::Response& res) {
+    std::string line = req.remote_addr + " " + req.method + " " + req.target + " " + std::to_string(res.status) +
+                       " " + std::to_string(res.body.size()) + " bytes";
+    for (const char* header : {"X-Ganzfeld-Table", "Server-Timing"}) {
+      if (!res.has_header(header)) continue;
+      line += ' ';
+      line += res.get_header_value(header);  // "baked", "reused", "joined"; "total;dur=MS"
+    }
+    log_line(line);
+  });
+
+  int port = options.port;
+  const bool bound = port == 0 ? (port = server.bind_to_any_port(options.bind)) > 0 : server.bind_to_port(options.bind, port);
+  if (!bound)
+    throw InputError("cannot listen on " + options.bind + ":" + std::to_string(options.port) +
+                     " (address in use, not local, or not allowed); choose another --bind or --port");
+  log_line("listening on http://" + options.bind + ":" + std::to_string(port) + "/ (cache " + service_options.cache_dir +
+           ", " + std::to_string(service_options.jobs) + " bake jobs, " + std::to_string(service_options.queue) +
+           " queued at most)");
+
+  std::atomic<bool> signalled{false};
+  std::thread waiter([&] {
+    int signal = 0;
+    sigwait(&signals, &signal);
+    signalled = true;
+    log_line(std::string("shutting down on ") + (signal == SIGINT ? "SIGINT" : "SIGTERM") +
+             ": queued bakes are discarded, running ones finish");
+    service.stop();  // waits for the running bakes; their requests are answered before the listener closes
+    server.stop();
+  });
+  const bool served = server.listen_after_bind();
+  if (!served && !signalled) pthread_kill(waiter.native_handle(), SIGTERM);  // the listener failed: wake the waiter
+  waiter.join();
+  log_line("stopped");
+  return 0;
+}
+
+}  // namespace ganzfeld::serve

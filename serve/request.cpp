@@ -1,0 +1,210 @@
+#include "serve/request.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <numbers>
+#include <regex>
+#include <set>
+#include <vector>
+
+#include "laws/registry.h"
+#include "laws/spec.h"
+#include "tables/cache.h"
+#include "util/error.h"
+
+namespace ganzfeld::serve {
+
+namespace {
+
+RequestError bad(const std::string& message) { return RequestError(400, message); }
+
+/// Refuses repeated parameters and parameters the endpoint does not know, naming what it knows.
+void check_names(const Query& query, const std::string& endpoint, const std::vector<std::string>& allowed) {
+  std::string list;
+  for (const std::string& name : allowed) list += (list.empty() ? "" : ", ") + name;
+  for (auto it = query.begin(); it != query.end(); it = query.upper_bound(it->first)) {
+    if (std::find(allowed.begin(), allowed.end(), it->first) == allowed.end())
+      throw bad("unknown parameter '" + it->first + "' for " + endpoint + "; allowed: " + list);
+    if (query.count(it->first) > 1) throw bad("parameter '" + it->first + "' is given more than once");
+  }
+}
+
+std::optional<std::string> text_of(const Query& query, const std::string& name) {
+  const auto it = query.find(name);
+  if (it == query.end()) return std::nullopt;
+  return it->second;
+}
+
+std::string required(const Query& query, const std::string& name, const std::string& example) {
+  const std::optional<std::string> text = text_of(query, name);
+  if (!text || text->empty()) throw bad("missing parameter '" + name + "'; e.g. " + name + "=" + example);
+  return *text;
+}
+
+/// A finite number, all of the text.
+std::optional<double> number(const Query& query, const std::string& name) {
+  const std::optional<std::string> text = text_of(query, name);
+  if (!text) return std::nullopt;
+  char* end = nullptr;
+  const double x = std::strtod(text->c_str(), &end);
+  if (text->empty() || *end != '\0' || !std::isfinite(x))
+    throw bad(name + "='" + *text + "' is not a number; expected a finite decimal number");
+  return x;
+}
+
+double angle(const Query& query, const std::string& name, double max_deg, const std::string& why) {
+  const std::optional<double> deg = number(query, name);
+  if (!deg) throw bad("missing parameter '" + name + "'" + why);
+  if (*deg < 0.0 || *deg > max_deg)
+    throw bad(name + "=" + format_number(*deg) + " is out of range; allowed: [0, " + format_number(max_deg) +
+              "] degrees");
+  return *deg * std::numbers::pi / 180.0;
+}
+
+double tolerance(const Query& query, double fallback) {
+  const double tol = number(query, "tol").value_or(fallback);
+  if (tol < 1e-15 || tol > 1.0)
+    throw bad("tol=" + format_number(tol) + " is not allowed; expected an absolute tolerance in [1e-15, 1]");
+  return tol;
+}
+
+/// Library refusals (InputError) become 400 with the library's message.
+template <class F>
+auto as_request(F&& f) -> decltype(f()) {
+  try {
+    return f();
+  } catch (const InputError& e) {
+    throw bad(e.what());
+  }
+}
+
+int hex_digit(char c) {
+  if (c >= '0' && c <= '9') return c - '0';
+  if (c >= 'a' && c <= 'f') return c - 'a' + 10;
+  if (c >= 'A' && c <= 'F') return c - 'A' + 10;
+  return -1;
+}
+
+std::string decoded(std::string_view text) {
+  std::string out;
+  for (std::size_t k = 0; k < text.size(); ++k) {
+    if (text[k] == '+') {
+      out += ' ';
+    } else if (text[k] != '%') {
+      out += text[k];
+    } else {
+      const int hi = k + 2 < text.size() ? hex_digit(text[k + 1]) : -1;
+      const int lo = hi >= 0 ? hex_digit(text[k + 2]) : -1;
+      if (lo < 0) throw bad("malformed query: '" + std::string(text) + "' has a '%' not followed by two hex digits");
+      out += static_cast<char>(hi * 16 + lo);
+      k += 2;
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+Query parse_query(std::string_view text) {
+  Query query;
+  while (!text.empty()) {
+    const std::size_t amp = text.find('&');
+    const std::string_view pair = text.substr(0, amp);
+    if (!pair.empty()) {
+      const std::size_t eq = pair.find('=');
+      query.emplace(decoded(pair.substr(0, eq)), eq == std::string_view::npos ? "" : decoded(pair.substr(eq + 1)));
+    }
+    if (amp == std::string_view::npos) break;
+    text.remove_prefix(amp + 1);
+  }
+  return query;
+}
+
+ModelPtr parse_served_model(const std::string& spec) {
+  static const std::regex file_item(R"((^|[:,])\s*file\s*=)");
+  if (std::regex_search(spec, file_item))
+    throw bad("model '" + spec + "' names a data file; the service reads no file outside its cache: allowed: "
+              "analytic models and mixtures (see /api/models)");
+  return as_request([&] { return parse_model(spec); });
+}
+
+EvalQuery parse_eval(const Query& query, const Limits& limits) {
+  check_names(query, "/api/eval", {"model", "law", "theta_i", "theta_j", "phi", "tol"});
+  EvalQuery q;
+  q.law = as_request([&] { return parse_law(required(query, "law", "g (one of f, g, h, a, r)")); });
+  q.model = parse_served_model(required(query, "model", "specular:alpha=8"));
+  const bool needs_i = q.law == Law::f || q.law == Law::g || q.law == Law::a;
+  const bool needs_j = q.law == Law::f || q.law == Law::g || q.law == Law::h;
+  const std::string law = std::string(" (law ") + to_string(q.law) + " needs it)";
+  if (needs_i) q.i = direction(angle(query, "theta_i", q.law == Law::g ? 180.0 : 90.0, law), 0.0);
+  if (needs_j) q.j = direction(angle(query, "theta_j", 90.0, law), number(query, "phi").value_or(0.0) * std::numbers::pi / 180.0);
+  q.tolerance = tolerance(query, 1e-9);
+  q.options.abs_tol = q.tolerance;
+  q.options.max_evaluations = limits.max_evaluations;
+  return q;
+}
+
+const char* to_string(TableFormat format) {
+  switch (format) {
+    case TableFormat::exr: return "exr";
+    case TableFormat::ktx2: return "ktx2";
+    case TableFormat::json: return "json";
+  }
+  return "?";
+}
+
+const char* content_type(TableFormat format) {
+  switch (format) {
+    case TableFormat::exr: return "image/x-exr";
+    case TableFormat::ktx2: return "image/ktx2";
+    case TableFormat::json: return "application/json";
+  }
+  return "application/octet-stream";
+}
+
+TableQuery parse_table(const Query& query, const Limits& limits, TableEndpoint endpoint,
+                       const scene::TableOptions& defaults) {
+  std::vector<std::string> names{"model", "law", "res", "tol", "encoding", "max_error"};
+  if (endpoint == TableEndpoint::table) names.push_back("format");
+  check_names(query, endpoint == TableEndpoint::table ? "/api/table" : "/api/glsl", names);
+  if (query.count("max_error"))  // issue #15 (bake --max-error) will give it a meaning
+    throw bad("max_error is not supported yet; choose the table by res and tol instead");
+  TableQuery q;
+  q.law = as_request([&] { return tables::parse_tabulated_law("law", required(query, "law", "g (one of g, h, a)")); });
+  q.model = parse_served_model(required(query, "model", "specular:alpha=8"));
+  if (!q.model->traits().isotropic)
+    throw bad("model '" + q.model->spec() + "' is anisotropic; tables hold isotropic models only");
+  q.options = defaults.bake_options(q.law == Law::g ? Law::g : Law::h);
+  q.options.max_evaluations = limits.max_evaluations;
+  if (const auto res = text_of(query, "res")) {
+    q.options.resolution = as_request([&] {
+      try {
+        return tables::parse_resolution(*res, q.law);
+      } catch (const InputError& e) {
+        const std::string what = e.what();  // "--res '...' is not ...": name the parameter as given
+        throw InputError(what.rfind("--res ", 0) == 0 ? "res=" + what.substr(6) : what);
+      }
+    });
+  }
+  const std::uint64_t entries = tables::table_bytes(q.options.resolution) / tables::kBytesPerEntry;
+  if (entries > limits.max_entries)
+    throw RequestError(413, "res=" + tables::resolution_text(q.options.resolution) + " is " + std::to_string(entries) +
+                                " entries; this service bakes at most " + std::to_string(limits.max_entries) +
+                                " on demand (bake larger tables with `ganzfeld bake`)");
+  q.options.tolerance = tolerance(query, defaults.tolerance);
+  if (const auto encoding = text_of(query, "encoding"))
+    q.options.encoding = as_request([&] { return tables::parse_encoding(*encoding); });
+  if (const auto format = text_of(query, "format")) {
+    if (*format == "exr") q.format = TableFormat::exr;
+    else if (*format == "ktx2") q.format = TableFormat::ktx2;
+    else if (*format == "json") q.format = TableFormat::json;
+    else throw bad("unknown format '" + *format + "'; allowed: exr, ktx2, json");
+  }
+  const tables::TableKey key = as_request([&] { return tables::table_key(*q.model, q.law, q.options); });
+  q.key = tables::key_text(key);
+  q.file_name = tables::cache_file_name(key);
+  return q;
+}
+
+}  // namespace ganzfeld::serve

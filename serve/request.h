@@ -1,0 +1,82 @@
+// The requests of `ganzfeld serve` (docs/serve.md), parsed and validated apart from HTTP: a query
+// (the decoded ?key=value pairs) becomes what the library is asked, or a RequestError whose one
+// line names the bad value and what is allowed. Nothing here reads a file: models naming a
+// data file (file=PATH) are refused, so no request can make the service read outside its cache.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+
+#include "integrate/cubature.h"
+#include "integrate/laws.h"
+#include "scene/plan.h"
+#include "tables/bake.h"
+
+namespace ganzfeld::serve {
+
+/// The decoded query parameters.
+using Query = std::multimap<std::string, std::string>;
+
+/// A refused request: 400 (bad value), 404 (no such endpoint) or 413 (more than the service
+/// computes on demand); what() is one line for {"error": ...}.
+class RequestError : public std::runtime_error {
+ public:
+  RequestError(int status, const std::string& message) : std::runtime_error(message), status_(status) {}
+  int status() const noexcept { return status_; }
+
+ private:
+  int status_;
+};
+
+/// The query of a request target (the text after '?'): pairs split at '&', each at its first
+/// '=' (a spec's own '=' stays in the value: model=specular:alpha=8), %XX and '+' (a space)
+/// decoded; a '+' inside a value is sent as %2B. A malformed escape is refused (400).
+Query parse_query(std::string_view text);
+
+/// What one request may cost.
+struct Limits {
+  /// Largest table baked on demand, in entries (64 x 64 x 64): larger ones are refused with 413.
+  std::uint64_t max_entries = 64 * 64 * 64;
+  /// Evaluation budget of one eval and of each table entry; beyond it: not converged.
+  long long max_evaluations = CubatureOptions{}.max_evaluations;
+};
+
+/// GET /api/eval?model=SPEC&law=f|g|h|a|r&theta_i=DEG&theta_j=DEG&phi=DEG&tol=T
+struct EvalQuery {
+  ModelPtr model;
+  Law law = Law::f;
+  std::optional<Vec3> i, j;  ///< set when the law uses them
+  double tolerance = 1e-9;
+  CubatureOptions options;
+};
+EvalQuery parse_eval(const Query& query, const Limits& limits);
+
+enum class TableFormat { exr, ktx2, json };
+const char* to_string(TableFormat format);         ///< "exr", "ktx2", "json"
+const char* content_type(TableFormat format);      ///< the media type of the body
+
+/// GET /api/table?model=SPEC&law=g|h|a[&res=N[xNxN]][&tol=T][&encoding=float|half][&format=exr|ktx2|json]
+/// and GET /api/glsl with the same parameters but format. Unset parameters take the scene
+/// defaults (scene::TableOptions), so a service answers from the cache entries `bake --scene`,
+/// `render` and `export-glsl --scene` fill, and fills entries they reuse.
+struct TableQuery {
+  ModelPtr model;
+  Law law = Law::g;
+  tables::BakeOptions options;
+  TableFormat format = TableFormat::exr;
+  std::string key;        ///< tables::key_text of the table: one bake per key (serve/bakery.h)
+  std::string file_name;  ///< tables::cache_file_name: the only file the request can reach
+};
+enum class TableEndpoint { table, glsl };
+TableQuery parse_table(const Query& query, const Limits& limits, TableEndpoint endpoint,
+                       const scene::TableOptions& defaults = {});
+
+/// The model of a spec given in a request: refuses (400) specs with a data file (file=...),
+/// then parses it (unknown model or parameter: 400 with the parser's message).
+ModelPtr parse_served_model(const std::string& spec);
+
+}  // namespace ganzfeld::serve

@@ -1,0 +1,167 @@
+#include "serve/service.h"
+
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+
+#include "export/glsl.h"
+#include "export/texture_file.h"
+#include "scene/plan.h"
+#include "serve/etag.h"
+#include "shapes/json.h"
+#include "tables/exr_io.h"
+#include "util/error.h"
+#include "util/timing.h"
+
+namespace ganzfeld::serve {
+
+namespace {
+
+/// The page at / until the viewer (issue #17, second half) lands.
+constexpr const char* kPlaceholderPage = R"(<!doctype html>
+<html lang="en"><head><meta charset="utf-8"><title>ganzfeld serve</title></head>
+<body>
+<h1>ganzfeld serve</h1>
+<p>The WebGL2 viewer is coming (issue #17). Until then, the API:</p>
+<ul>
+<li><a href="/api/models">/api/models</a> &mdash; every model, its parameters, traits and closed forms</li>
+<li><a href="/api/eval?model=specular:alpha=8&amp;law=g&amp;theta_i=60&amp;theta_j=30&amp;phi=180">/api/eval?model=specular:alpha=8&amp;law=g&amp;theta_i=60&amp;theta_j=30&amp;phi=180</a></li>
+<li><a href="/api/table?model=minnaert:xi=1&amp;law=h&amp;res=64&amp;format=json">/api/table?model=minnaert:xi=1&amp;law=h&amp;res=64&amp;format=json</a> (format=exr, ktx2 or json)</li>
+<li><a href="/api/glsl?model=minnaert:xi=1&amp;law=h&amp;res=64">/api/glsl?model=minnaert:xi=1&amp;law=h&amp;res=64</a></li>
+<li><a href="/healthz">/healthz</a></li>
+</ul>
+<p>Parameters and answers: docs/serve.md.</p>
+</body></html>
+)";
+
+Reply json_reply(int status, const nlohmann::ordered_json& doc) { return {status, "application/json", doc.dump() + "\n", {}}; }
+
+Reply error_reply(int status, const std::string& message) {
+  return {status, "application/json", error_body(message), {}};
+}
+
+std::string file_bytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw std::runtime_error("cannot read the cached table " + std::filesystem::path(path).filename().string());
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+/// A table body in `format`; json: info --json (with the cache file name as path) + the values.
+std::string table_body(const tables::CacheResult& r, TableFormat format, const std::string& file_name) {
+  switch (format) {
+    case TableFormat::exr: return file_bytes(r.path);
+    case TableFormat::ktx2: {
+      const std::vector<std::uint8_t> bytes = exporting::ktx2_bytes(r.table);
+      return {bytes.begin(), bytes.end()};
+    }
+    case TableFormat::json: {
+      nlohmann::ordered_json doc = shapes::info_json(file_name, r.table);
+      doc["value"] = r.table.value;
+      return doc.dump() + "\n";
+    }
+  }
+  return {};
+}
+
+}  // namespace
+
+std::string error_body(const std::string& message) { return nlohmann::json{{"error", message}}.dump() + "\n"; }
+
+Service::Service(ServiceOptions options)
+    : options_(std::move(options)), bakery_(options_.jobs, options_.queue), models_(shapes::models_json().dump() + "\n") {}
+
+void Service::stop() { bakery_.stop(); }
+
+nlohmann::ordered_json Service::health() const {
+  const Bakery::Stats s = bakery_.stats();
+  return {{"status", "ok"},
+          {"tables_baked", baked_.load()},
+          {"tables_reused", reused_.load()},
+          {"bakes_joined", s.joined},
+          {"bakes_refused", s.refused},
+          {"bakes_running", s.running},
+          {"bakes_queued", s.queued},
+          {"jobs", options_.jobs},
+          {"queue", options_.queue}};
+}
+
+Reply Service::handle(const std::string& path, std::string_view query, const std::string& if_none_match) {
+  try {
+    return handle(Request{path, parse_query(query), if_none_match});
+  } catch (const RequestError& e) {
+    return error_reply(e.status(), e.what());
+  }
+}
+
+Reply Service::handle(const Request& request) {
+  try {
+    const std::string& path = request.path;
+    const Query& query = request.query;
+    const bool fixed = path == "/" || path == "/healthz" || path == "/api/models";
+    if (fixed && !query.empty()) return error_reply(400, path + " takes no parameters");
+    if (path == "/") return {200, "text/html; charset=utf-8", kPlaceholderPage, {}};
+    if (path == "/healthz") return json_reply(200, health());
+    if (path == "/api/models") return {200, "application/json", models_, {}};
+    if (path == "/api/eval") {
+      const EvalQuery q = parse_eval(query, options_.limits);
+      const util::Stopwatch watch;
+      const Estimate e = evaluate_law(*q.model, q.law, q.i.value_or(Vec3{0, 0, 1}), q.j.value_or(Vec3{0, 0, 1}), q.options);
+      return json_reply(200, shapes::eval_json(q.model->spec(), q.law, e, q.tolerance, q.i, q.j, watch.seconds()));
+    }
+    if (path == "/api/table") return table(request, TableEndpoint::table);
+    if (path == "/api/glsl") return table(request, TableEndpoint::glsl);
+    return error_reply(404, "no endpoint '" + path + "'; allowed: /, /healthz, /api/models, /api/eval, /api/table, /api/glsl");
+  } catch (const RequestError& e) {
+    return error_reply(e.status(), e.what());
+  } catch (const Busy& e) {
+    Reply reply = error_reply(503, e.what());
+    reply.headers.emplace_back("Retry-After", std::to_string(kRetryAfterSeconds));
+    return reply;
+  } catch (const InputError& e) {
+    return error_reply(400, e.what());
+  } catch (const std::exception& e) {
+    return error_reply(500, std::string("internal error: ") + e.what());
+  }
+}
+
+Bakery::Result Service::obtain(const TableQuery& q, std::string& status) {
+  const std::string path = (std::filesystem::path(options_.cache_dir) / q.file_name).string();
+  if (std::optional<tables::Table> table = tables::read_if_matching(path, tables::table_key(*q.model, q.law, q.options))) {
+    ++reused_;
+    status = "reused";
+    return std::make_shared<const tables::CacheResult>(tables::CacheResult{path, tables::CacheStatus::reused, std::move(*table), 0.0});
+  }
+  const Bakery::Ticket ticket = bakery_.submit(q.key, [this, q, path] {
+    scene::TableRequest request{q.model->spec(), q.law, q.model, q.options};
+    const std::string command = options_.command_line ? options_.command_line(scene::bake_command(request, path)) : "";
+    auto r = std::make_shared<const tables::CacheResult>(tables::bake_or_reuse(path, *q.model, q.law, q.options, command));
+    ++(r->status == tables::CacheStatus::baked ? baked_ : reused_);
+    return r;
+  });
+  Bakery::Result result = ticket.result.get();
+  status = ticket.joined ? "joined" : tables::to_string(result->status);
+  return result;
+}
+
+Reply Service::table(const Request& request, TableEndpoint endpoint) {
+  const TableQuery q = parse_table(request.query, options_.limits, endpoint, options_.defaults);
+  std::string status;
+  const Bakery::Result r = obtain(q, status);
+  Reply reply;
+  if (endpoint == TableEndpoint::glsl) {
+    reply.content_type = "text/plain; charset=utf-8";
+    reply.body = exporting::glsl_table_snippet(r->table);
+  } else {
+    reply.content_type = content_type(q.format);
+    reply.body = table_body(*r, q.format, q.file_name);
+  }
+  const std::string etag = strong_etag(reply.body);
+  reply.headers = {{"ETag", etag}, {"Cache-Control", "public, max-age=31536000, immutable"}, {"X-Ganzfeld-Table", status}};
+  if (!request.if_none_match.empty() && if_none_match(request.if_none_match, etag)) {
+    reply.status = 304;  // RFC 9110, 15.4.5: no body, the same validators
+    reply.body.clear();
+  }
+  return reply;
+}
+
+}  // namespace ganzfeld::serve

@@ -1,0 +1,84 @@
+// `ganzfeld serve` without HTTP (docs/serve.md): a request (path, decoded query, If-None-Match)
+// becomes a reply (status, media type, body, headers). The httplib glue (serve/http.h) only
+// moves bytes; everything that decides an answer is here and unit-tested (tests/serve_test.cpp).
+//
+//   GET /             placeholder page (the viewer is issue #17's other half)
+//   GET /healthz      {"status": "ok", bakes and queue counters}
+//   GET /api/models   shapes::models_json (= `ganzfeld models --json`)
+//   GET /api/eval     shapes::eval_json   (= `ganzfeld eval --json`)
+//   GET /api/table    the table from the cache (baked on demand: serve/bakery.h) as exr, ktx2 or json
+//   GET /api/glsl     export::glsl_table_snippet of that table
+// Errors: {"error": "one line"} with 400 (bad value), 404 (no such endpoint), 413 (too large),
+// 503 (no bake slot free: Retry-After) or 500.
+#pragma once
+
+#include <atomic>
+#include <functional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "scene/plan.h"
+#include "serve/bakery.h"
+#include "serve/request.h"
+
+namespace ganzfeld::serve {
+
+struct ServiceOptions {
+  std::string cache_dir;  ///< the table cache (already created); the only files the service reads
+  int jobs = 1;           ///< bakes at once
+  int queue = 4;          ///< bakes waiting; beyond: 503
+  Limits limits;
+  scene::TableOptions defaults;  ///< what unset table parameters mean
+  /// Joins the words of the equivalent `ganzfeld bake` into the line stamped into each table.
+  std::function<std::string(const std::vector<std::string>&)> command_line;
+};
+
+struct Request {
+  std::string path;           ///< decoded, without the query
+  Query query;                ///< decoded
+  std::string if_none_match;  ///< the header, or empty
+};
+
+struct Reply {
+  int status = 200;
+  std::string content_type = "application/json";
+  std::string body;
+  std::vector<std::pair<std::string, std::string>> headers;
+};
+
+/// Seconds a client is told to wait after a 503.
+inline constexpr int kRetryAfterSeconds = 2;
+
+class Service {
+ public:
+  explicit Service(ServiceOptions options);
+
+  /// The reply to `request`; never throws.
+  Reply handle(const Request& request);
+  /// handle() of a path (decoded), a raw query (parse_query) and an If-None-Match header.
+  Reply handle(const std::string& path, std::string_view query, const std::string& if_none_match);
+
+  /// Refuses new bakes, discards queued ones, waits for running ones (serve/bakery.h).
+  void stop();
+
+  /// Counters: tables baked (written), reused (read from the cache), bakes joined, refused.
+  nlohmann::ordered_json health() const;
+
+ private:
+  Reply table(const Request& request, TableEndpoint endpoint);
+  /// The table of `q` from the cache, or baked (single flight); `status`: baked, reused or joined.
+  Bakery::Result obtain(const TableQuery& q, std::string& status);
+
+  ServiceOptions options_;
+  Bakery bakery_;
+  std::string models_;  ///< the registry never changes while serving
+  std::atomic<long long> baked_{0}, reused_{0};
+};
+
+/// {"error": message} as one line of JSON.
+std::string error_body(const std::string& message);
+
+}  // namespace ganzfeld::serve

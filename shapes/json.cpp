@@ -1,0 +1,131 @@
+#include "shapes/json.h"
+
+#include "laws/registry.h"
+#include "tables/bake.h"
+
+namespace ganzfeld::shapes {
+
+namespace {
+
+const char* type_name(ParamType t) {
+  switch (t) {
+    case ParamType::real: return "real";
+    case ParamType::integer: return "integer";
+    case ParamType::choice: return "choice";
+  }
+  return "?";
+}
+
+/// A default as a spec would write it: the name of a choice, else the number.
+std::string default_text(const ParamInfo& p) {
+  if (p.type == ParamType::choice) return p.choices.at(static_cast<std::size_t>(p.default_value));
+  return format_number(p.default_value);
+}
+
+nlohmann::ordered_json model_json(const ModelInfo& m) {
+  nlohmann::ordered_json params = nlohmann::ordered_json::array();
+  std::string example = m.name;
+  if (m.make_with_file) {  // file=PATH comes first; required unless the model has a default
+    params.push_back({{"name", "file"},
+                      {"type", "path"},
+                      {"required", !m.file_optional},
+                      {"meaning", m.file_meaning + " (no ',', '+' or '*' in the path)"}});
+    if (!m.file_optional) example += ":file=DATA";
+  }
+  for (const auto& p : m.parameters) {
+    nlohmann::ordered_json param{{"name", p.name},         {"type", type_name(p.type)}, {"min", p.min},
+                                 {"max", p.max},           {"default", p.default_value},
+                                 {"meaning", p.meaning}};
+    if (p.type == ParamType::choice) {
+      param["choices"] = p.choices;
+      param["default"] = default_text(p);  // the name, as a spec gives it
+    }
+    if (p.min_exclusive) param["min_exclusive"] = true;
+    if (p.optional) param["optional"] = true;
+    param["allowed"] = allowed_values(p);
+    params.push_back(param);
+    if (!p.optional) example += (example == m.name ? ":" : ",") + p.name + "=" + default_text(p);
+  }
+  return {{"name", m.name},
+          {"summary", m.summary},
+          {"source", m.source},
+          {"example", example},
+          {"parameters", params},
+          {"isotropic", m.traits.isotropic},
+          {"reciprocal", m.traits.reciprocal},
+          {"energy_class", to_string(m.traits.energy)},
+          {"closed_forms", m.closed_forms}};
+}
+
+}  // namespace
+
+nlohmann::ordered_json models_json() {
+  nlohmann::ordered_json doc;
+  doc["models"] = nlohmann::ordered_json::array();
+  for (const auto& m : model_catalogue()) doc["models"].push_back(model_json(m));
+  doc["mixtures"] = "W1*SPEC1 + W2*SPEC2 + ... (partitive mixture; weights > 0 are normalized)";
+  return doc;
+}
+
+nlohmann::ordered_json eval_json(const std::string& spec, Law law, const Estimate& e, double tolerance,
+                                 const std::optional<Vec3>& i, const std::optional<Vec3>& j, double seconds) {
+  nlohmann::ordered_json doc{{"model", spec},           {"law", to_string(law)},
+                             {"value", e.value},        {"error", e.error},
+                             {"evaluations", e.evaluations}, {"converged", e.converged},
+                             {"tolerance", tolerance}};
+  if (i) doc["i"] = {i->x, i->y, i->z};
+  if (j) doc["j"] = {j->x, j->y, j->z};
+  doc["seconds"] = seconds;
+  return doc;
+}
+
+nlohmann::ordered_json table_json(const std::string& path, const tables::Table& table, tables::CacheStatus status,
+                                  double seconds) {
+  return {{"path", path.empty() ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(path)},
+          {"model", table.model},
+          {"law", to_string(table.law)},
+          {"status", to_string(status)},
+          {"entries", table.entries()},
+          {"value_bytes", tables::value_bytes(table)},
+          {"lookup_error", table.lookup_error},
+          {"node_error", table.max_error},
+          {"unconverged", table.unconverged},
+          {"seconds", seconds}};
+}
+
+nlohmann::ordered_json info_json(const std::string& path, const tables::Table& table) {
+  nlohmann::ordered_json axes = nlohmann::ordered_json::array();
+  for (const tables::Axis& a : table.axes) {
+    nlohmann::ordered_json axis{
+        {"name", a.name}, {"min", a.min}, {"max", a.max}, {"count", a.count}, {"mapping", to_string(a.mapping)}};
+    if (a.has_width()) axis["width"] = a.width;
+    axes.push_back(axis);
+  }
+  nlohmann::ordered_json doc{{"path", path},
+                             {"format_version", table.format_version},
+                             {"model", table.model},
+                             {"model_content", table.model_content},
+                             {"law", to_string(table.law)},
+                             {"frame", to_string(table.frame)},
+                             {"interpolation", to_string(table.interpolation)},
+                             {"axes", axes},
+                             {"entries", table.entries()},
+                             {"value_bytes", tables::value_bytes(table)},
+                             {"error", table.lookup_error},
+                             {"validation_points", table.interpolation_checks},
+                             {"node_error", table.max_error},
+                             {"measured_lookup_error", table.interpolation_error},
+                             {"tolerance", table.tolerance},
+                             {"unconverged", table.unconverged},
+                             {"encoding", to_string(table.encoding)},
+                             {"command", table.command},
+                             {"version", table.version}};
+  if (table.frame == tables::Frame::lobe) doc["peak"] = to_string(table.peak);
+  if (table.target_error > 0.0) {
+    doc["target_error"] = table.target_error;
+    doc["target_bytes"] = table.target_bytes;
+  }
+  return doc;
+}
+
+}  // namespace ganzfeld::shapes

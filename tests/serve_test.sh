@@ -1,0 +1,118 @@
+#!/usr/bin/env bash
+# `ganzfeld serve` over HTTP, as a browser or script sees it (docs/serve.md): endpoints and their
+# JSON, ETag/304, refusals (400/413 + one-line JSON, the server lives on), no file outside the
+# cache, single flight (8 identical requests -> one bake), 503 when the queue is full, SIGTERM.
+# Usage: serve_test.sh PATH/TO/ganzfeld
+set -u
+G="$1"
+. "$(dirname "$0")/harness.sh"
+command -v curl >/dev/null || { echo "serve_test: curl is missing (scripts/install-deps installs it)"; exit 1; }
+
+# A slow bake (a few seconds on 2 cores): long enough for concurrent requests to meet in flight.
+SLOW="model=specular:alpha=8&law=g&res=40x40x20&tol=1e-10"
+FAST="model=minnaert:xi=1&law=h&res=32"
+
+# --jobs 1 --queue 0: one bake at a time, nothing waits, so a second distinct bake gets 503.
+"$G" serve --cache "$tmp/cache" --port 0 --jobs 1 --queue 0 2>"$tmp/log" &
+pid=$!
+trap 'kill -TERM $pid 2>/dev/null; rm -rf "$tmp"' EXIT
+for _ in $(seq 100); do grep -q "listening on" "$tmp/log" && break; sleep 0.1; done
+port=$(sed -nE 's|.*listening on http://127\.0\.0\.1:([0-9]+)/.*|\1|p' "$tmp/log")
+[ -n "$port" ] && ok || { fail "no listening line: $(cat "$tmp/log")"; exit 1; }
+URL="http://127.0.0.1:$port"
+# code PATH?QUERY [curl args]: the status; the body in $tmp/body, the headers in $tmp/headers
+code() { local target="$1"; shift; rm -f "$tmp/body"; curl -s -o "$tmp/body" -D "$tmp/headers" -w '%{http_code}' "$@" "$URL$target"; }
+header() { sed -nE "s/^$1: (.*)\r$/\1/Ip" "$tmp/headers"; }
+alive() { kill -0 $pid 2>/dev/null; }
+
+# --- health, the placeholder page, the registry
+[ "$(code /healthz)" = 200 ] && [ "$(json_field "$tmp/body" "d['status']")" = ok ] && ok || fail "/healthz"
+[ "$(code /)" = 200 ] && grep -q "viewer is coming" "$tmp/body" && grep -q "/api/models" "$tmp/body" && ok || fail "/ placeholder"
+"$G" models --json >"$tmp/models.json"
+[ "$(code /api/models)" = 200 ] && \
+  [ "$(python3 -c "import json; print(json.load(open('$tmp/body')) == json.load(open('$tmp/models.json')))")" = True ] \
+  && ok || fail "/api/models differs from models --json"
+
+# --- eval: the same value as the command line
+"$G" eval --model specular:alpha=8 --law g --theta-i 60 --theta-j 30 --phi 180 --json >"$tmp/eval.json"
+[ "$(code "/api/eval?model=specular:alpha=8&law=g&theta_i=60&theta_j=30&phi=180")" = 200 ] && ok || fail "/api/eval: $(cat "$tmp/body")"
+[ "$(python3 -c "import json; a=json.load(open('$tmp/body')); b=json.load(open('$tmp/eval.json')); print(all(a[k]==b[k] for k in ('model','law','value','error','evaluations','converged','i','j')))")" = True ] \
+  && ok || fail "/api/eval differs from eval --json: $(cat "$tmp/body")"
+[ "$(code "/api/eval?model=0.5*lambert%2B0.5*minnaert:xi=1&law=h&theta_j=45")" = 200 ] && ok || fail "/api/eval of a mixture (%2B)"
+
+# --- table: baked into the cache, ETag, 304, readable by `ganzfeld info`, the keys of `bake`
+[ "$(code "/api/table?$FAST")" = 200 ] && [ "$(header X-Ganzfeld-Table)" = baked ] && ok || fail "/api/table: $(cat "$tmp/body")"
+etag=$(header ETag)
+[[ "$etag" =~ ^\"fnv1a64:[0-9a-f]{16}\"$ ]] && ok || fail "ETag '$etag'"
+header Cache-Control | grep -q immutable && ok || fail "Cache-Control"
+cp "$tmp/body" "$tmp/h.exr"
+"$G" info "$tmp/h.exr" --json >"$tmp/info.json" && [ "$(json_field "$tmp/info.json" "(d['model'], d['law'], d['axes'][0]['count'])")" = "('minnaert:xi=1', 'h', 32)" ] \
+  && ok || fail "the served table does not read with info"
+cached=("$tmp"/cache/*.exr)
+[ ${#cached[@]} -eq 1 ] && cmp -s "${cached[0]}" "$tmp/h.exr" && ok || fail "the cache holds ${#cached[@]} files / other bytes"
+[ "$(json_field <("$G" bake --model minnaert:xi=1 --law h --res 32 --tol 1e-8 -o "${cached[0]}" --json) "d['tables'][0]['status']")" = reused ] \
+  && ok || fail "bake does not reuse the service's cache entry (keys differ)"
+[ "$(code "/api/table?$FAST" -H "If-None-Match: $etag")" = 304 ] && [ ! -s "$tmp/body" ] && ok || fail "If-None-Match -> 304"
+[ "$(code "/api/table?$FAST" -H 'If-None-Match: "fnv1a64:0000000000000000"')" = 200 ] && ok || fail "other ETag -> 200"
+[ "$(code "/api/table?$FAST&format=ktx2")" = 200 ] && [ "$(head -c 12 "$tmp/body" | od -An -c | tr -d ' \n')" = "253KTX20273\r\n032\n" ] \
+  && ok || fail "format=ktx2"
+[ "$(code "/api/table?$FAST&format=json")" = 200 ] && [ "$(json_field "$tmp/body" "(len(d['value']), d['law'])")" = "(32, 'h')" ] \
+  && ok || fail "format=json"
+[ "$(code "/api/glsl?$FAST")" = 200 ] && grep -q "float gz_minnaert_xi_1_h(" "$tmp/body" && ok || fail "/api/glsl"
+
+# --- bad requests: 400/413 with a one-line JSON error, and the server lives on
+bad() {  # bad STATUS FRAGMENT TARGET
+  local got; got=$(code "$3")
+  if [ "$got" != "$1" ]; then fail "$3: status $got (want $1): $(cat "$tmp/body")"; return; fi
+  if ! json_field "$tmp/body" "d['error']" | grep -qF -- "$2"; then fail "$3: error lacks '$2': $(cat "$tmp/body")"; return; fi
+  [ "$(wc -l <"$tmp/body")" -eq 1 ] && ok || fail "$3: error is not one line"
+}
+bad 400 "unknown model 'nope'" "/api/eval?model=nope&law=h&theta_j=1"
+bad 400 "alpha" "/api/eval?model=specular:alpha=-1&law=h&theta_j=1"
+bad 400 "theta_j=91 is out of range" "/api/eval?model=lambert&law=h&theta_j=91"
+bad 400 "unknown law 'q'" "/api/eval?model=lambert&law=q"
+bad 400 "unknown parameter 'bogus'" "/api/eval?model=lambert&law=h&theta_j=1&bogus=2"
+bad 400 "res='0x0' is not a resolution" "/api/table?model=lambert&law=h&res=0x0"
+bad 400 "max_error is not supported yet" "/api/table?$FAST&max_error=1e-4"
+bad 413 "this service bakes at most" "/api/table?model=minnaert:xi=1&law=g&res=512"
+alive && ok || fail "the server died on bad requests"
+
+# --- nothing outside the cache can be read
+bad 400 "unknown model '../../etc/passwd'" "/api/table?model=../../etc/passwd&law=h"
+bad 400 "names a data file" "/api/table?model=merl:file=/etc/passwd&law=h"
+bad 400 "names a data file" "/api/eval?model=tabulated:file=..%2F..%2Fetc%2Fpasswd&law=h&theta_j=1"
+for target in "/..%2F..%2Fetc%2Fpasswd" "/api/table/..%2F..%2Fetc%2Fpasswd" "/../../etc/passwd" "/api/../../etc/passwd" "/etc/passwd"; do
+  status=$(code "$target" --path-as-is)
+  [[ "$status" =~ ^4 ]] && ! grep -q "root:" "$tmp/body" && ok || fail "$target: $status $(head -c 200 "$tmp/body")"
+done
+
+# --- single flight: 8 identical requests at once -> one bake, one file, one ETag
+before=$(ls "$tmp"/cache/*.exr | wc -l)
+for k in $(seq 8); do curl -s -o "$tmp/slow$k" -D "$tmp/slowh$k" -w '%{http_code}\n' "$URL/api/table?$SLOW" >"$tmp/slowcode$k" & done
+sleep 0.5  # the bake runs: a distinct bake finds no free job and no queue slot
+bad 503 "retry later" "/api/table?model=specular:alpha=9&law=g&res=40x40x20&tol=1e-10"
+header Retry-After | grep -qE '^[0-9]+$' && ok || fail "503 without Retry-After"
+wait $(jobs -p | grep -v "^$pid$") 2>/dev/null
+[ "$(cat "$tmp"/slowcode* | sort -u)" = 200 ] && ok || fail "concurrent requests: $(cat "$tmp"/slowcode* | tr '\n' ' ')"
+[ "$(cat "$tmp"/slowh* | grep -i '^etag' | sort -u | wc -l)" -eq 1 ] && ok || fail "concurrent requests got different ETags"
+[ $(( $(ls "$tmp"/cache/*.exr | wc -l) - before )) -eq 1 ] && ok || fail "the cache gained other than one file"
+[ "$(grep -F "GET /api/table?$SLOW 200" "$tmp/log" | grep -c ' baked ')" -eq 1 ] && ok || fail "log: not exactly one bake: $(grep -F "$SLOW" "$tmp/log")"
+code /healthz >/dev/null
+[ "$(json_field "$tmp/body" "(d['tables_baked'], d['bakes_refused'] >= 1)")" = "(2, True)" ] && ok || fail "/healthz counters: $(cat "$tmp/body")"
+
+# --- SIGTERM during a bake: the bake finishes, its request is answered, no partial file, exit 0
+curl -s -o "$tmp/last" -w '%{http_code}' "$URL/api/table?model=specular:alpha=7&law=g&res=40x40x20&tol=1e-10" >"$tmp/lastcode" &
+curl_pid=$!
+sleep 0.5
+kill -TERM $pid
+wait $pid; status=$?
+wait $curl_pid
+[ $status -eq 0 ] && ok || fail "exit $status after SIGTERM"
+grep -q "shutting down on SIGTERM" "$tmp/log" && ok || fail "no shutdown line"
+[ "$(cat "$tmp/lastcode")" = 200 ] && ok || fail "the in-flight bake was not answered: $(cat "$tmp/lastcode")"
+ls "$tmp/cache" | grep -q tmp && fail "partial files in the cache: $(ls "$tmp/cache")" || ok
+for f in "$tmp"/cache/*; do "$G" info "$f" >/dev/null || fail "unreadable cache file $f"; done
+curl -s -m 2 "$URL/healthz" >/dev/null && fail "still answering after SIGTERM" || ok
+
+echo "serve: $passed passed, $failed failed"
+[ "$failed" -eq 0 ]
