@@ -109,16 +109,19 @@ Table bake(const Model& model, Law law, const BakeOptions& options) {
   return bake_resolution(model, law, options);
 }
 
-Table bake_resolution(const Model& model, Law law, const BakeOptions& options) {
+namespace {
+
+/// Refuses what no bake can do: anisotropic models, bad tolerances, too few nodes for the
+/// interpolation, tables over kMaxTableBytes. Returns the axes (bake_axes refuses other laws).
+std::vector<Axis> checked_axes(const Model& model, Law law, const BakeOptions& options) {
   if (!model.traits().isotropic)
     throw InputError("model '" + model.spec() +
                      "' is anisotropic; tables over (cos_theta_i, cos_theta_j, phi) exist only for isotropic models");
   if (!std::isfinite(options.tolerance) || !(options.tolerance > 0.0))
     throw InputError("tolerance " + format_number(options.tolerance) + " is not allowed; expected a positive number");
-  Table table;
-  table.axes = bake_axes(law, options);  // refuses other laws and counts < 2
+  std::vector<Axis> axes = bake_axes(law, options);  // refuses other laws and counts < 2
   if (options.interpolation == Interpolation::catmull_rom)
-    for (const Axis& a : table.axes)
+    for (const Axis& a : axes)
       if (a.count < 4)
         throw InputError("resolution " + resolution_text(options.resolution) + " has " + std::to_string(a.count) +
                          " nodes on axis " + a.name + "; catmull-rom interpolation needs at least 4 per axis");
@@ -126,7 +129,13 @@ Table bake_resolution(const Model& model, Law law, const BakeOptions& options) {
   if (bytes > kMaxTableBytes)
     throw InputError("resolution " + resolution_text(options.resolution) + " would need " + std::to_string(bytes) +
                      " bytes (" + gib(bytes) + " GiB); the limit is " + std::to_string(kMaxTableBytes) + " bytes (2 GiB)");
-  const std::uint64_t n = entry_count(table.axes);
+  return axes;
+}
+
+/// The table's metadata, with room for its entries.
+Table empty_table(const Model& model, Law law, const BakeOptions& options, std::vector<Axis> axes) {
+  Table table;
+  table.axes = std::move(axes);
   table.law = law;
   table.model = model.spec();
   table.model_content = model.content_digest();
@@ -136,54 +145,62 @@ Table bake_resolution(const Model& model, Law law, const BakeOptions& options) {
   table.frame = options.lobe ? Frame::lobe : Frame::cosines;
   table.peak = options.lobe ? options.lobe->peak : PeakKind::mirror;
   table.version = GANZFELD_VERSION;
+  const std::uint64_t n = entry_count(table.axes);
   table.value.resize(n);
   table.error.resize(n);
+  return table;
+}
 
-  // Node coordinates per axis, computed once.
-  std::vector<std::vector<double>> nodes;
+/// The law at a point given in the law's coordinates or in the table's axis coordinates.
+struct LawAt {
+  const Model& model;
+  Law law;
+  const Table& table;
+  // Law coordinates -> directions. g: (ci, cj, phi) with
+  //   i = (sqrt(1 - ci^2), 0, ci),  j = (sqrt(1 - cj^2) cos phi, sqrt(1 - cj^2) sin phi, cj);
+  // h: j = (sqrt(1 - cj^2), 0, cj);  a: i = (sqrt(1 - ci^2), 0, ci).
+  Estimate law_coordinates(std::span<const double> x, const CubatureOptions& c) const {
+    if (law == Law::g) return vignetting(model, direction_from_cos(x[0]), direction_from_cos(x[1], x[2]), c);
+    const Vec3 d = direction_from_cos(x[0]);
+    return law == Law::h ? darkening(model, d, c) : albedo(model, d, c);
+  }
+  // Axis coordinates -> the law (lobe frame: the directions of tables/frame.h).
+  Estimate axis_coordinates(std::span<const double> y, const CubatureOptions& c) const {
+    if (table.frame == Frame::lobe) {
+      const auto [i, j] = lobe_directions(table.peak, y[0], y[1], y[2]);
+      return vignetting(model, i, j, c);
+    }
+    return law_coordinates(y, c);
+  }
+};
+
+/// Bakes every node (in parallel, deterministic): value rounded to the encoding, error = the
+/// cubature estimate + that rounding, rounded up. Reports progress; refuses values the encoding
+/// cannot hold.
+void bake_nodes(Table& table, const LawAt& law_at, const BakeOptions& options, const CubatureOptions& cubature) {
+  std::vector<std::vector<double>> nodes;  // node coordinates per axis, computed once
   for (const Axis& axis : table.axes) {
     std::vector<double> x(axis.count);
     for (int k = 0; k < axis.count; ++k) x[k] = axis.node(k);
     nodes.push_back(std::move(x));
   }
-
-  CubatureOptions cubature;
-  cubature.abs_tol = options.tolerance;
-  cubature.max_evaluations = options.max_evaluations;
+  // Entry m = (k_0 * n_1 + k_1) * n_2 + k_2 (g) or k (h, a).
+  auto entry = [&](std::uint64_t m) -> Estimate {
+    if (table.law == Law::g) {
+      const std::uint64_t n_1 = nodes[1].size(), n_2 = nodes[2].size();
+      const double y[3] = {nodes[0][m / (n_1 * n_2)], nodes[1][(m / n_2) % n_1], nodes[2][m % n_2]};
+      return law_at.axis_coordinates(y, cubature);
+    }
+    const double y[3] = {nodes[0][m], 0.0, 0.0};  // h, a read y[0] only
+    return law_at.axis_coordinates(std::span<const double>(y, 1), cubature);
+  };
+  const std::uint64_t n = table.value.size();
   std::atomic<long long> unconverged{0};
   std::atomic<bool> out_of_range{false};
   std::atomic<std::uint64_t> done{0};
   std::mutex progress_mutex;
   std::uint64_t reported = 0;
   const std::uint64_t step = std::max<std::uint64_t>(1, n / kProgressSteps);
-
-  // Law coordinates -> directions. g: (ci, cj, phi) with
-  //   i = (sqrt(1 - ci^2), 0, ci),  j = (sqrt(1 - cj^2) cos phi, sqrt(1 - cj^2) sin phi, cj);
-  // h: j = (sqrt(1 - cj^2), 0, cj);  a: i = (sqrt(1 - ci^2), 0, ci).
-  auto law_at = [&](std::span<const double> x, const CubatureOptions& c) -> Estimate {
-    if (law == Law::g) return vignetting(model, direction_from_cos(x[0]), direction_from_cos(x[1], x[2]), c);
-    const Vec3 d = direction_from_cos(x[0]);
-    return law == Law::h ? darkening(model, d, c) : albedo(model, d, c);
-  };
-  // Axis coordinates -> the law (lobe frame: the directions of tables/frame.h).
-  auto law_at_axes = [&](std::span<const double> y, const CubatureOptions& c) -> Estimate {
-    if (table.frame == Frame::lobe) {
-      const auto [i, j] = lobe_directions(table.peak, y[0], y[1], y[2]);
-      return vignetting(model, i, j, c);
-    }
-    return law_at(y, c);
-  };
-  // Entry m = (k_0 * n_1 + k_1) * n_2 + k_2 (g) or k (h, a).
-  auto entry = [&](std::uint64_t m) -> Estimate {
-    if (law == Law::g) {
-      const std::uint64_t n_1 = nodes[1].size(), n_2 = nodes[2].size();
-      const double y[3] = {nodes[0][m / (n_1 * n_2)], nodes[1][(m / n_2) % n_1], nodes[2][m % n_2]};
-      return law_at_axes(y, cubature);
-    }
-    const double y[3] = {nodes[0][m], 0.0, 0.0};  // h, a read y[0] only
-    return law_at_axes(std::span<const double>(y, 1), cubature);
-  };
-
   tbb::parallel_for(tbb::blocked_range<std::uint64_t>(0, n, 1), [&](const tbb::blocked_range<std::uint64_t>& r) {
     for (std::uint64_t m = r.begin(); m != r.end(); ++m) {
       const Estimate e = entry(m);
@@ -205,31 +222,32 @@ Table bake_resolution(const Model& model, Law law, const BakeOptions& options) {
     }
   });
   if (out_of_range)
-    throw InputError("law " + std::string(to_string(law)) + " of '" + table.model + "' has values outside the " +
+    throw InputError("law " + std::string(to_string(table.law)) + " of '" + table.model + "' has values outside the " +
                      (options.encoding == Encoding::half ? "half range (|x| <= 65504); use --encoding float"
                                                          : "float range"));
   table.unconverged = unconverged;
   table.max_error = 0.0;
   for (float e : table.error) table.max_error = std::max(table.max_error, static_cast<double>(e));
+}
 
-  // Validation at points the table was not built from, against direct cubature: cell centres
-  // (where interpolation errs most), at every cell of small tables and at a seeded sample of
-  // about 1/16 of the cells of large ones (~6% of the bake), plus options.random_checks seeded
-  // random points uniform in the law's coordinates.
-  CubatureOptions check = cubature;
-  if (options.check_tolerance > 0.0) check.abs_tol = options.check_tolerance;
+/// Validation at points the table was not built from, against direct cubature: cell centres
+/// (where interpolation errs most), at every cell of small tables and at a seeded sample of
+/// about 1/16 of the cells of large ones (~6% of the bake), plus options.random_checks seeded
+/// random points uniform in the law's coordinates. Sets the measured and the headline error.
+void validate(Table& table, const LawAt& law_at, const BakeOptions& options, const CubatureOptions& check) {
   std::vector<std::uint64_t> cell_counts;
   std::uint64_t cells = 1;
   for (const Axis& axis : table.axes) {
     cell_counts.push_back(static_cast<std::uint64_t>(axis.count - 1));
     cells *= cell_counts.back();
   }
+  const std::uint64_t n = table.value.size();
   const std::uint64_t centres = std::min<std::uint64_t>(cells, std::max<std::uint64_t>(kMinInterpolationChecks, n / 16));
   std::vector<std::uint64_t> chosen(centres);
   std::mt19937_64 rng(kInterpolationSeed);
   for (std::uint64_t c = 0; c < centres; ++c)
     chosen[c] = centres == cells ? c : std::uniform_int_distribution<std::uint64_t>(0, cells - 1)(rng);
-  const std::vector<double> random = validation_points(law, options.random_checks);
+  const std::vector<double> random = validation_points(table.law, options.random_checks);
   const std::size_t dims = table.axes.size();
   const std::uint64_t checks = centres + options.random_checks;
   std::vector<double> check_error(checks);
@@ -242,11 +260,11 @@ Table bake_resolution(const Model& model, Law law, const BakeOptions& options) {
         rest /= cell_counts[d];
         y[d] = table.axes[d].coordinate((static_cast<double>(k) + 0.5) / static_cast<double>(cell_counts[d]));
       }
-      const Estimate exact = law_at_axes(y, check);
+      const Estimate exact = law_at.axis_coordinates(y, check);
       check_error[c] = std::abs(sample_axes(table, y).value - exact.value) + exact.error;
     } else {
       const std::span<const double> x(random.data() + (c - centres) * dims, dims);
-      const Estimate exact = law_at(x, check);
+      const Estimate exact = law_at.law_coordinates(x, check);
       check_error[c] = std::abs(sample(table, x).value - exact.value) + exact.error;
     }
   });
@@ -254,6 +272,20 @@ Table bake_resolution(const Model& model, Law law, const BakeOptions& options) {
   table.interpolation_error = 0.0;
   for (double e : check_error) table.interpolation_error = std::max(table.interpolation_error, e);
   table.lookup_error = std::max(kLookupMargin * table.interpolation_error, table.max_error);
+}
+
+}  // namespace
+
+Table bake_resolution(const Model& model, Law law, const BakeOptions& options) {
+  Table table = empty_table(model, law, options, checked_axes(model, law, options));
+  const LawAt law_at{model, law, table};
+  CubatureOptions cubature;
+  cubature.abs_tol = options.tolerance;
+  cubature.max_evaluations = options.max_evaluations;
+  bake_nodes(table, law_at, options, cubature);
+  CubatureOptions check = cubature;
+  if (options.check_tolerance > 0.0) check.abs_tol = options.check_tolerance;
+  validate(table, law_at, options, check);
   return table;
 }
 
