@@ -211,6 +211,129 @@ struct Reader {
     return out;
   }
 
+  /// Law, model (as text), content digest, encoding, axes, tolerance and errors; version first:
+  /// a newer format is refused before anything else is judged.
+  void read_metadata(const Imf::Header& header, Table& table) const {
+    const std::string version = attribute(header, kAttrVersion);
+    if (version != "1" && version != std::to_string(kFormatVersion))
+      refuse("format version '" + version + "' is not supported; this ganzfeld reads versions " +
+             std::to_string(kOldestFormatVersion) + " to " + std::to_string(kFormatVersion));
+    table.format_version = std::stoi(version);
+    try {
+      table.law = parse_law(attribute(header, kAttrLaw));
+      // Kept as text, never parsed: a table must read without its model's code or data files
+      // (a measured model's file may have moved); check_table checks the text's form.
+      table.model = attribute(header, kAttrModel);
+      // Tables written before the digest existed have none: they read as analytic ones.
+      if (header.findTypedAttribute<Imf::StringAttribute>(kAttrModelContent))
+        table.model_content = attribute(header, kAttrModelContent);
+      table.encoding = parse_encoding(attribute(header, kAttrEncoding));
+    } catch (const InputError& e) {
+      refuse(std::string(e.what()));
+    }
+    table.axes = axes(attribute(header, kAttrAxes));
+    table.tolerance = number(header, kAttrTolerance);
+    table.max_error = number(header, kAttrMaxError);
+    const double unconverged = number(header, kAttrUnconverged);
+    if (unconverged != std::floor(unconverged) || unconverged > 9e18) refuse(std::string(kAttrUnconverged) + " is not a count");
+    table.unconverged = static_cast<long long>(unconverged);
+    if (header.findTypedAttribute<Imf::StringAttribute>(kAttrInterpolationChecks)) {
+      const double checks = number(header, kAttrInterpolationChecks);
+      table.interpolation_error = number(header, kAttrInterpolationError);
+      if (checks != std::floor(checks) || checks < 0 || checks > 9e18 || !(table.interpolation_error >= 0))
+        refuse(std::string(kAttrInterpolationChecks) + " / " + kAttrInterpolationError + " are not a count and an error");
+      table.interpolation_checks = static_cast<long long>(checks);
+    }
+    if (table.format_version >= 2) read_version_2(header, table);
+    else table.lookup_error = table.interpolation_error;  // version 1: measured, no margin
+    table.command = attribute(header, kAttrCommand);
+    table.version = attribute(header, kAttrGanzfeldVersion);
+    if (table.axes.size() != (table.law == Law::g ? 3u : 1u))
+      refuse(std::string("law ") + to_string(table.law) + " needs " + (table.law == Law::g ? "3 axes" : "1 axis") +
+             " but " + kAttrAxes + " lists " + std::to_string(table.axes.size()));
+  }
+
+  /// Format version 2: frame, peak, interpolation, the headline lookup error and a --max-error target.
+  void read_version_2(const Imf::Header& header, Table& table) const {
+    try {
+      table.frame = parse_frame(attribute(header, kAttrFrame));
+      if (table.frame == Frame::lobe) table.peak = parse_peak(attribute(header, kAttrPeak));
+      table.interpolation = parse_interpolation(attribute(header, kAttrInterpolation));
+    } catch (const InputError& e) {
+      refuse(std::string(e.what()));
+    }
+    table.lookup_error = number(header, kAttrLookupError);
+    if (header.findTypedAttribute<Imf::StringAttribute>(kAttrTargetError)) {
+      table.target_error = number(header, kAttrTargetError);
+      const double bytes = number(header, kAttrTargetBytes);
+      if (bytes != std::floor(bytes) || bytes > 1.8e19) refuse(std::string(kAttrTargetBytes) + " is not a count");
+      table.target_bytes = static_cast<std::uint64_t>(bytes);
+    }
+  }
+
+  /// Exactly the channels "value" and "error", both of the encoding's pixel type.
+  void check_channels(const Imf::Header& header, Imf::PixelType type, Encoding encoding) const {
+    std::set<std::string> names;
+    for (auto it = header.channels().begin(); it != header.channels().end(); ++it) {
+      names.insert(it.name());
+      if (it.channel().type != type)
+        refuse(std::string("channel '") + it.name() + "' is not " + (type == Imf::HALF ? "HALF" : "FLOAT") +
+               " as ganzfeld.encoding=" + to_string(encoding) + " says");
+      if (it.channel().xSampling != 1 || it.channel().ySampling != 1)
+        refuse(std::string("channel '") + it.name() + "' is subsampled");
+    }
+    if (names != std::set<std::string>{kValueChannel, kErrorChannel}) {
+      std::string list;
+      for (const auto& n : names) list += (list.empty() ? "" : ", ") + n;
+      refuse("channels are {" + list + "}; expected exactly {error, value}");
+    }
+  }
+
+  /// The image's shape against the axes: width = last axis, height = product of the others.
+  void check_shape(const Imath::Box2i& window, const std::vector<Axis>& axes) const {
+    const long long width = static_cast<long long>(window.max.x) - window.min.x + 1;
+    const long long height = static_cast<long long>(window.max.y) - window.min.y + 1;
+    long long want_height = 1;
+    for (std::size_t d = 0; d + 1 < axes.size(); ++d) {
+      want_height *= axes[d].count;
+      if (want_height > std::numeric_limits<int>::max()) refuse("the axes describe an absurdly large table");
+    }
+    if (window.min.x != 0 || window.min.y != 0)
+      refuse("data window starts at (" + std::to_string(window.min.x) + ", " + std::to_string(window.min.y) +
+             "); expected (0, 0)");
+    if (width != axes.back().count || height != want_height)
+      refuse("image is " + std::to_string(width) + "x" + std::to_string(height) + " but the axes need " +
+             std::to_string(axes.back().count) + "x" + std::to_string(want_height) +
+             " (width = count of the last axis, height = product of the others)");
+  }
+
+  /// The value and error channels into the table (half converted to float).
+  static void read_pixels(Imf::InputFile& file, const Imath::Box2i& window, Imf::PixelType type, Table& table) {
+    const std::size_t w = static_cast<std::size_t>(window.max.x - window.min.x + 1);
+    const std::size_t n = w * static_cast<std::size_t>(window.max.y - window.min.y + 1);
+    table.value.resize(n);
+    table.error.resize(n);
+    Imf::FrameBuffer frame;
+    std::vector<Imath::half> value_half, error_half;
+    auto slice = [&](char* base, std::size_t size) { return Imf::Slice(type, base, size, size * w); };
+    if (type == Imf::HALF) {
+      value_half.resize(n);
+      error_half.resize(n);
+      frame.insert(kValueChannel, slice(reinterpret_cast<char*>(value_half.data()), sizeof(Imath::half)));
+      frame.insert(kErrorChannel, slice(reinterpret_cast<char*>(error_half.data()), sizeof(Imath::half)));
+    } else {
+      frame.insert(kValueChannel, slice(reinterpret_cast<char*>(table.value.data()), sizeof(float)));
+      frame.insert(kErrorChannel, slice(reinterpret_cast<char*>(table.error.data()), sizeof(float)));
+    }
+    file.setFrameBuffer(frame);
+    file.readPixels(window.min.y, window.max.y);
+    if (type == Imf::HALF)
+      for (std::size_t m = 0; m < n; ++m) {
+        table.value[m] = value_half[m];
+        table.error[m] = error_half[m];
+      }
+  }
+
   Table read() const {
     std::error_code ec;
     if (!fs::is_regular_file(path, ec)) refuse("no such file");
@@ -219,126 +342,12 @@ struct Reader {
       Imf::InputFile file(path.c_str());
       const Imf::Header& header = file.header();
       Table table;
-
-      // Metadata, version first: a newer format is refused before anything else is judged.
-      const std::string version = attribute(header, kAttrVersion);
-      if (version != "1" && version != std::to_string(kFormatVersion))
-        refuse("format version '" + version + "' is not supported; this ganzfeld reads versions " +
-               std::to_string(kOldestFormatVersion) + " to " + std::to_string(kFormatVersion));
-      table.format_version = std::stoi(version);
-      try {
-        table.law = parse_law(attribute(header, kAttrLaw));
-        // Kept as text, never parsed: a table must read without its model's code or data files
-        // (a measured model's file may have moved); check_table below checks the text's form.
-        table.model = attribute(header, kAttrModel);
-        // Tables written before the digest existed have none: they read as analytic ones.
-        if (header.findTypedAttribute<Imf::StringAttribute>(kAttrModelContent))
-          table.model_content = attribute(header, kAttrModelContent);
-        table.encoding = parse_encoding(attribute(header, kAttrEncoding));
-      } catch (const InputError& e) {
-        refuse(std::string(e.what()));
-      }
-      table.axes = axes(attribute(header, kAttrAxes));
-      table.tolerance = number(header, kAttrTolerance);
-      table.max_error = number(header, kAttrMaxError);
-      const double unconverged = number(header, kAttrUnconverged);
-      if (unconverged != std::floor(unconverged) || unconverged > 9e18)
-        refuse(std::string(kAttrUnconverged) + " is not a count");
-      table.unconverged = static_cast<long long>(unconverged);
-      if (header.findTypedAttribute<Imf::StringAttribute>(kAttrInterpolationChecks)) {
-        const double checks = number(header, kAttrInterpolationChecks);
-        table.interpolation_error = number(header, kAttrInterpolationError);
-        if (checks != std::floor(checks) || checks < 0 || checks > 9e18 || !(table.interpolation_error >= 0))
-          refuse(std::string(kAttrInterpolationChecks) + " / " + kAttrInterpolationError + " are not a count and an error");
-        table.interpolation_checks = static_cast<long long>(checks);
-      }
-      if (table.format_version >= 2) {
-        try {
-          table.frame = parse_frame(attribute(header, kAttrFrame));
-          if (table.frame == Frame::lobe) table.peak = parse_peak(attribute(header, kAttrPeak));
-          table.interpolation = parse_interpolation(attribute(header, kAttrInterpolation));
-        } catch (const InputError& e) {
-          refuse(std::string(e.what()));
-        }
-        table.lookup_error = number(header, kAttrLookupError);
-        if (header.findTypedAttribute<Imf::StringAttribute>(kAttrTargetError)) {
-          table.target_error = number(header, kAttrTargetError);
-          const double bytes = number(header, kAttrTargetBytes);
-          if (bytes != std::floor(bytes) || bytes > 1.8e19) refuse(std::string(kAttrTargetBytes) + " is not a count");
-          table.target_bytes = static_cast<std::uint64_t>(bytes);
-        }
-      } else {
-        table.lookup_error = table.interpolation_error;  // version 1: measured, no margin
-      }
-      table.command = attribute(header, kAttrCommand);
-      table.version = attribute(header, kAttrGanzfeldVersion);
-      if (table.axes.size() != (table.law == Law::g ? 3u : 1u))
-        refuse(std::string("law ") + to_string(table.law) + " needs " + (table.law == Law::g ? "3 axes" : "1 axis") +
-               " but " + kAttrAxes + " lists " + std::to_string(table.axes.size()));
-
-      // Channels: exactly "value" and "error", both of the encoding's pixel type.
+      read_metadata(header, table);
       const Imf::PixelType type = table.encoding == Encoding::half ? Imf::HALF : Imf::FLOAT;
-      std::set<std::string> names;
-      for (auto it = header.channels().begin(); it != header.channels().end(); ++it) {
-        names.insert(it.name());
-        if (it.channel().type != type)
-          refuse(std::string("channel '") + it.name() + "' is not " +
-                 (type == Imf::HALF ? "HALF" : "FLOAT") + " as ganzfeld.encoding=" + to_string(table.encoding) +
-                 " says");
-        if (it.channel().xSampling != 1 || it.channel().ySampling != 1)
-          refuse(std::string("channel '") + it.name() + "' is subsampled");
-      }
-      if (names != std::set<std::string>{kValueChannel, kErrorChannel}) {
-        std::string list;
-        for (const auto& n : names) list += (list.empty() ? "" : ", ") + n;
-        refuse("channels are {" + list + "}; expected exactly {error, value}");
-      }
-
-      // Shape: width = last axis, height = product of the others.
-      const Imath::Box2i window = header.dataWindow();
-      const long long width = static_cast<long long>(window.max.x) - window.min.x + 1;
-      const long long height = static_cast<long long>(window.max.y) - window.min.y + 1;
-      long long want_height = 1;
-      for (std::size_t d = 0; d + 1 < table.axes.size(); ++d) {
-        want_height *= table.axes[d].count;
-        if (want_height > std::numeric_limits<int>::max()) refuse("the axes describe an absurdly large table");
-      }
-      if (window.min.x != 0 || window.min.y != 0)
-        refuse("data window starts at (" + std::to_string(window.min.x) + ", " + std::to_string(window.min.y) +
-               "); expected (0, 0)");
-      if (width != table.axes.back().count || height != want_height)
-        refuse("image is " + std::to_string(width) + "x" + std::to_string(height) + " but the axes need " +
-               std::to_string(table.axes.back().count) + "x" + std::to_string(want_height) +
-               " (width = count of the last axis, height = product of the others)");
+      check_channels(header, type, table.encoding);
+      check_shape(header.dataWindow(), table.axes);
       if (!file.isComplete()) refuse("truncated file (not all scanlines are present)");
-
-      const std::size_t n = static_cast<std::size_t>(width * height);
-      table.value.resize(n);
-      table.error.resize(n);
-      const std::size_t w = static_cast<std::size_t>(width);
-      Imf::FrameBuffer frame;
-      std::vector<Imath::half> value_half, error_half;
-      if (type == Imf::HALF) {
-        value_half.resize(n);
-        error_half.resize(n);
-        frame.insert(kValueChannel, Imf::Slice(Imf::HALF, reinterpret_cast<char*>(value_half.data()),
-                                               sizeof(Imath::half), sizeof(Imath::half) * w));
-        frame.insert(kErrorChannel, Imf::Slice(Imf::HALF, reinterpret_cast<char*>(error_half.data()),
-                                               sizeof(Imath::half), sizeof(Imath::half) * w));
-      } else {
-        frame.insert(kValueChannel, Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(table.value.data()),
-                                               sizeof(float), sizeof(float) * w));
-        frame.insert(kErrorChannel, Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(table.error.data()),
-                                               sizeof(float), sizeof(float) * w));
-      }
-      file.setFrameBuffer(frame);
-      file.readPixels(window.min.y, window.max.y);
-      if (type == Imf::HALF) {
-        for (std::size_t m = 0; m < n; ++m) {
-          table.value[m] = value_half[m];
-          table.error[m] = error_half[m];
-        }
-      }
+      read_pixels(file, header.dataWindow(), type, table);
       try {
         check_table(table);
       } catch (const InputError& e) {
