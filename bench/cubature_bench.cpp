@@ -663,40 +663,43 @@ void targets_section(std::ostringstream& md, const std::vector<FamilyResult>& fa
   }
 }
 
+/// A section that lists rows under a table header, or says there are none.
+void listing(std::ostringstream& md, const std::string& heading, const std::string& intro, const std::string& header,
+             const std::vector<std::string>& rows) {
+  md << "\n## " << heading << "\n\n";
+  if (rows.empty()) {
+    md << "None in this run.\n";
+    return;
+  }
+  md << intro << "\n\n" << header << "\n";
+  for (const std::string& row : rows) md << row << "\n";
+}
+
+std::string triple(const Vec3Triple& v, int digits) {
+  return number(v[0], digits) + "," + number(v[1], digits) + "," + number(v[2], digits);
+}
+
 void disagreements_section(std::ostringstream& md, const std::vector<FamilyResult>& families) {
-  md << "\n## Cases where the references disagree\n\n";
-  bool any = false;
+  std::vector<std::string> rows;
   for (const auto& f : families)
-    for (const auto& d : f.disagreements) {
-      if (!any) md << "Kept in every table above; verdicts allow for the difference.\n\n"
-                   << "| family | model | i | j | Boost GK61 | ours at 1e-13 | difference |\n|---|---|---|---|---|---|---|\n";
-      any = true;
-      md << "| " << f.name << " | `" << d.model << "` | " << number(d.i[0], 6) << "," << number(d.i[1], 6) << ","
-         << number(d.i[2], 6) << " | " << number(d.j[0], 6) << "," << number(d.j[1], 6) << "," << number(d.j[2], 6)
-         << " | " << number(d.boost_reference, 17) << " | " << number(d.ours_reference, 17) << " | "
-         << number(std::abs(d.boost_reference - d.ours_reference)) << " |\n";
-    }
-  if (!any) md << "None in this run.\n";
+    for (const auto& d : f.disagreements)
+      rows.push_back("| " + f.name + " | `" + d.model + "` | " + triple(d.i, 6) + " | " + triple(d.j, 6) + " | " +
+                     number(d.boost_reference, 17) + " | " + number(d.ours_reference, 17) + " | " +
+                     number(std::abs(d.boost_reference - d.ours_reference)) + " |");
+  listing(md, "Cases where the references disagree", "Kept in every table above; verdicts allow for the difference.",
+          "| family | model | i | j | Boost GK61 | ours at 1e-13 | difference |\n|---|---|---|---|---|---|---|", rows);
 }
 
 void misses_section(std::ostringstream& md, const std::vector<FamilyResult>& families) {
-  md << "\n## Our missed tolerances and dishonest estimates\n\n";
-  bool any = false;
+  std::vector<std::string> rows;
   for (const auto& f : families)
-    for (const auto& m : f.misses) {
-      if (!any) md << "Each reproducible with `ganzfeld eval --model SPEC --law g --i I --j J --tol TOL`.\n\n"
-                   << "| family | model | i | j | tol | achieved error | estimate | evaluations |\n|---|---|---|---|---|---|---|---|\n";
-      any = true;
-      auto dir = [](const Vec3Triple& v) {
-        std::ostringstream o;
-        o.precision(17);
-        o << v[0] << "," << v[1] << "," << v[2];
-        return o.str();
-      };
-      md << "| " << f.name << " | `" << m.model << "` | " << dir(m.i) << " | " << dir(m.j) << " | " << number(m.tolerance)
-         << " | " << number(m.achieved_error) << " | " << number(m.estimate) << " | " << m.evaluations << " |\n";
-    }
-  if (!any) md << "None in this run.\n";
+    for (const auto& m : f.misses)
+      rows.push_back("| " + f.name + " | `" + m.model + "` | " + triple(m.i, 17) + " | " + triple(m.j, 17) + " | " +
+                     number(m.tolerance) + " | " + number(m.achieved_error) + " | " + number(m.estimate) + " | " +
+                     std::to_string(m.evaluations) + " |");
+  listing(md, "Our missed tolerances and dishonest estimates",
+          "Each reproducible with `ganzfeld eval --model SPEC --law g --i I --j J --tol TOL`.",
+          "| family | model | i | j | tol | achieved error | estimate | evaluations |\n|---|---|---|---|---|---|---|---|", rows);
 }
 
 void bake_section(std::ostringstream& md, const std::vector<BakeTiming>& bakes) {

@@ -145,23 +145,25 @@ EvalQuery parse_eval(const Query& query, const Limits& limits) {
   return q;
 }
 
-const char* to_string(TableFormat format) {
-  switch (format) {
-    case TableFormat::exr: return "exr";
-    case TableFormat::ktx2: return "ktx2";
-    case TableFormat::json: return "json";
-  }
-  return "?";
+namespace {
+/// Every table format the service answers in: its query name and its Content-Type.
+struct FormatInfo {
+  TableFormat format;
+  const char* name;
+  const char* content_type;
+};
+constexpr FormatInfo kFormats[] = {{TableFormat::exr, "exr", "image/x-exr"},
+                                   {TableFormat::ktx2, "ktx2", "image/ktx2"},
+                                   {TableFormat::json, "json", "application/json"}};
+const FormatInfo& info(TableFormat format) {
+  for (const FormatInfo& f : kFormats)
+    if (f.format == format) return f;
+  return kFormats[0];  // unreachable: kFormats lists every enumerator
 }
+}  // namespace
 
-const char* content_type(TableFormat format) {
-  switch (format) {
-    case TableFormat::exr: return "image/x-exr";
-    case TableFormat::ktx2: return "image/ktx2";
-    case TableFormat::json: return "application/json";
-  }
-  return "application/octet-stream";
-}
+const char* to_string(TableFormat format) { return info(format).name; }
+const char* content_type(TableFormat format) { return info(format).content_type; }
 
 TableQuery parse_table(const Query& query, const Limits& limits, TableEndpoint endpoint,
                        const scene::TableOptions& defaults) {
@@ -196,10 +198,10 @@ TableQuery parse_table(const Query& query, const Limits& limits, TableEndpoint e
   if (const auto encoding = text_of(query, "encoding"))
     q.options.encoding = as_request([&] { return tables::parse_encoding(*encoding); });
   if (const auto format = text_of(query, "format")) {
-    if (*format == "exr") q.format = TableFormat::exr;
-    else if (*format == "ktx2") q.format = TableFormat::ktx2;
-    else if (*format == "json") q.format = TableFormat::json;
-    else throw bad("unknown format '" + *format + "'; allowed: exr, ktx2, json");
+    const auto known = std::find_if(std::begin(kFormats), std::end(kFormats),
+                                    [&](const FormatInfo& f) { return *format == f.name; });
+    if (known == std::end(kFormats)) throw bad("unknown format '" + *format + "'; allowed: exr, ktx2, json");
+    q.format = known->format;
   }
   const tables::TableKey key = as_request([&] { return tables::table_key(*q.model, q.law, q.options); });
   q.key = tables::key_text(key);
