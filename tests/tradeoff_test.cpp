@@ -127,9 +127,6 @@ TEST(tradeoff, HalfRoundingShowsFloatRoundingDoesNot) {
     } else if (r.config.tolerance == kTolerance) {
       EXPECT_LE(r.max_stored_error, kFloatStoredErrorAtMost) << resolution_text(r.config.resolution);
     }
-    // A lookup is never better than the rounding a node carries on the whole: at least the
-    // stored error is an upper bound at the nodes, and the max error is not below the RMS.
-    EXPECT_GE(r.max_error, r.rms_error);
   }
 }
 
@@ -159,9 +156,8 @@ TEST(tradeoff, BytesFollowTheResolution) {
     EXPECT_EQ(r.entries, n);
     EXPECT_EQ(r.texture_bytes, n * per);
     EXPECT_EQ(r.bytes, 2 * n * per);  // value + error channels
-    EXPECT_GT(r.file_bytes, 0u);
-    EXPECT_GT(r.bake_seconds, 0.0);
-    EXPECT_GT(r.lookup_ns, 0.0);
+    // The file is the lossless (ZIP) EXR of both channels: never larger than them plus the header.
+    EXPECT_LE(r.file_bytes, r.bytes + 64 * 1024u);
   }
 }
 
