@@ -170,8 +170,8 @@ TableQuery parse_table(const Query& query, const Limits& limits, TableEndpoint e
   std::vector<std::string> names{"model", "law", "res", "tol", "encoding", "max_error"};
   if (endpoint == TableEndpoint::table) names.push_back("format");
   check_names(query, endpoint == TableEndpoint::table ? "/api/table" : "/api/glsl", names);
-  if (query.count("max_error"))  // issue #15 (bake --max-error) will give it a meaning
-    throw bad("max_error is not supported yet; choose the table by res and tol instead");
+  if (query.count("max_error") && query.count("res"))
+    throw bad("give res or max_error, not both: with max_error the baker chooses the resolution (issue #15)");
   TableQuery q;
   q.law = as_request([&] { return tables::parse_tabulated_law("law", required(query, "law", "g (one of g, h, a)")); });
   q.model = parse_served_model(required(query, "model", "specular:alpha=8"));
@@ -195,6 +195,12 @@ TableQuery parse_table(const Query& query, const Limits& limits, TableEndpoint e
                                 " entries; this service bakes at most " + std::to_string(limits.max_entries) +
                                 " on demand (bake larger tables with `ganzfeld bake`)");
   q.options.tolerance = tolerance(query, defaults.tolerance);
+  if (const auto max_error = number(query, "max_error")) {
+    // As `bake --max-error`: the smallest table whose validated lookup error is <= max_error,
+    // within this service's own size cap (max_entries floats of values).
+    q.options.max_error = *max_error;
+    q.options.max_bytes = limits.max_entries * sizeof(float);
+  }
   if (const auto encoding = text_of(query, "encoding"))
     q.options.encoding = as_request([&] { return tables::parse_encoding(*encoding); });
   if (const auto format = text_of(query, "format")) {
@@ -203,7 +209,16 @@ TableQuery parse_table(const Query& query, const Limits& limits, TableEndpoint e
     if (known == std::end(kFormats)) throw bad("unknown format '" + *format + "'; allowed: exr, ktx2, json");
     q.format = known->format;
   }
-  const tables::TableKey key = as_request([&] { return tables::table_key(*q.model, q.law, q.options); });
+  const tables::TableKey key = as_request([&] {
+    try {
+      return tables::table_key(*q.model, q.law, q.options);
+    } catch (const InputError& e) {  // the CLI's flag names, as this query names them
+      std::string what = e.what();
+      for (const auto& [flag, name] : {std::pair{"--max-error ", "max_error="}, std::pair{"--max-bytes ", "max_bytes="}})
+        if (what.rfind(flag, 0) == 0) what = name + what.substr(std::string(flag).size());
+      throw InputError(what);
+    }
+  });
   q.key = tables::key_text(key);
   q.file_name = tables::cache_file_name(key);
   return q;

@@ -58,6 +58,11 @@ cached=("$tmp"/cache/*.exr)
   && ok || fail "format=ktx2"
 [ "$(code "/api/table?$FAST&format=json")" = 200 ] && [ "$(json_field "$tmp/body" "(len(d['value']), d['law'])")" = "(32, 'h')" ] \
   && ok || fail "format=json"
+# max_error: the table baked to a validated lookup error, as `bake --max-error` bakes it (issue #15)
+[ "$(code "/api/table?model=specular:alpha=8&law=h&max_error=1e-5")" = 200 ] && ok || fail "max_error: $(cat "$tmp/body")"
+"$G" info "$tmp/body" --json >"$tmp/maxerr.json" 2>&1 && ok || fail "the max_error table does not read"
+[ "$(json_field "$tmp/maxerr.json" "d['target_error'] == 1e-5 and d['error'] <= 1e-5")" = "True" ] \
+  && ok || fail "max_error table: $(cat "$tmp/maxerr.json")"
 [ "$(code "/api/glsl?$FAST")" = 200 ] && grep -q "float gz_minnaert_xi_1_h(" "$tmp/body" && ok || fail "/api/glsl"
 
 # --- bad requests: 400/413 with a one-line JSON error, and the server lives on
@@ -73,7 +78,8 @@ bad 400 "theta_j=91 is out of range" "/api/eval?model=lambert&law=h&theta_j=91"
 bad 400 "unknown law 'q'" "/api/eval?model=lambert&law=q"
 bad 400 "unknown parameter 'bogus'" "/api/eval?model=lambert&law=h&theta_j=1&bogus=2"
 bad 400 "res='0x0' is not a resolution" "/api/table?model=lambert&law=h&res=0x0"
-bad 400 "max_error is not supported yet" "/api/table?$FAST&max_error=1e-4"
+bad 400 "give res or max_error, not both" "/api/table?$FAST&max_error=1e-4"
+bad 400 "max_error=0 is not allowed" "/api/table?model=lambert&law=h&max_error=0"
 bad 413 "this service bakes at most" "/api/table?model=minnaert:xi=1&law=g&res=512"
 alive && ok || fail "the server died on bad requests"
 
@@ -98,7 +104,8 @@ wait $(jobs -p | grep -v "^$pid$") 2>/dev/null
 [ $(( $(ls "$tmp"/cache/*.exr | wc -l) - before )) -eq 1 ] && ok || fail "the cache gained other than one file"
 [ "$(grep -F "GET /api/table?$SLOW 200" "$tmp/log" | grep -c ' baked ')" -eq 1 ] && ok || fail "log: not exactly one bake: $(grep -F "$SLOW" "$tmp/log")"
 code /healthz >/dev/null
-[ "$(json_field "$tmp/body" "(d['tables_baked'], d['bakes_refused'] >= 1)")" = "(2, True)" ] && ok || fail "/healthz counters: $(cat "$tmp/body")"
+# three bakes so far: FAST, the max_error table and SLOW (once, however many asked)
+[ "$(json_field "$tmp/body" "(d['tables_baked'], d['bakes_refused'] >= 1)")" = "(3, True)" ] && ok || fail "/healthz counters: $(cat "$tmp/body")"
 
 # --- SIGTERM during a bake: the bake finishes, its request is answered, no partial file, exit 0
 curl -s -o "$tmp/last" -w '%{http_code}' "$URL/api/table?model=specular:alpha=7&law=g&res=40x40x20&tol=1e-10" >"$tmp/lastcode" &
