@@ -117,7 +117,7 @@ void write_table(const Table& table, const std::string& path) {
                  Imf::Slice(type, reinterpret_cast<char*>(const_cast<float*>(table.error.data())), stride, stride * width));
   }
 
-  write_atomically(path, [&](const std::string& temp) {
+  write_atomically(path, [&, height = height](const std::string& temp) {  // clang < 16: no captured bindings
     std::ofstream os(temp, std::ios::binary | std::ios::trunc);
     if (!os) throw std::runtime_error("cannot create a file in its directory (missing or not writable)");
     {
