@@ -17,6 +17,7 @@
 #include <OpenEXR/ImfTestFile.h>
 #include <nlohmann/json.hpp>
 
+#include "tables/exr_guard.h"
 #include "util/error.h"
 #include "util/atomic_file.h"
 #include "laws/registry.h"
@@ -193,6 +194,7 @@ struct Reader {
     std::error_code ec;
     if (!fs::is_regular_file(path, ec)) refuse("no such file");
     if (!Imf::isOpenExrFile(path.c_str())) refuse("not an OpenEXR file");
+    check_exr_sizes(path);  // before OpenEXR allocates what the header declares
     try {
       Imf::InputFile file(path.c_str());
       const Imf::Header& header = file.header();
