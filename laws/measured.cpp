@@ -4,6 +4,7 @@
 #include <bit>
 #include <cmath>
 #include <cstdint>
+#include <filesystem>
 #include <fstream>
 #include <numbers>
 #include <sstream>
@@ -57,6 +58,9 @@ HalfDiff node_angles(int kh, int kd, int kp) noexcept {
 
 // ---------------------------------------------------------------------------------------------
 std::shared_ptr<const MerlData> read_merl(const std::string& path) {
+  std::error_code ec;  // not a device or FIFO (a FIFO would block)
+  if (std::filesystem::exists(path, ec) && !std::filesystem::is_regular_file(path, ec))
+    throw InputError("cannot read MERL file '" + path + "': not a regular file");
   std::ifstream in(path, std::ios::binary | std::ios::ate);
   if (!in) throw InputError("cannot read MERL file '" + path + "'");
   const auto size = static_cast<std::size_t>(in.tellg());

@@ -8,11 +8,7 @@
 
 namespace ganzfeld {
 
-Mixture::Mixture(std::vector<Lobe> lobes) : lobes_(std::move(lobes)) {
-  double total = 0.0;
-  for (const auto& lobe : lobes_) total += lobe.weight;
-  for (auto& lobe : lobes_) lobe.weight /= total;
-}
+Mixture::Mixture(std::vector<Lobe> lobes) : lobes_(std::move(lobes)) { normalize_weights(lobes_); }
 
 std::string Mixture::spec() const {
   std::string out;

@@ -2,6 +2,7 @@
 
 #include <cctype>
 #include <cmath>
+#include <limits>
 #include <cstdlib>
 
 #include "util/error.h"
@@ -112,7 +113,6 @@ std::vector<std::string> split_terms(const std::string& s) {
 
 std::vector<Lobe> parse_lobes(const std::string& spec) {
   std::vector<Lobe> lobes;
-  double total = 0.0;
   for (const auto& term_text : split_terms(spec)) {
     const std::string term = trim(term_text);
     if (term.empty()) throw InputError("malformed mixture '" + spec + "': empty term around '+'");
@@ -128,10 +128,17 @@ std::vector<Lobe> parse_lobes(const std::string& spec) {
       body = term.substr(star + 1);
     }
     lobes.push_back({weight, parse_single(body)});
-    total += weight;
   }
-  for (auto& lobe : lobes) lobe.weight /= total;
+  normalize_weights(lobes);
   return lobes;
+}
+
+void normalize_weights(std::vector<Lobe>& lobes) {
+  double total = 0.0;
+  for (const auto& lobe : lobes) total += lobe.weight;
+  const double rounding = 4.0 * static_cast<double>(lobes.size()) * std::numeric_limits<double>::epsilon();
+  if (std::abs(total - 1.0) <= rounding) return;
+  for (auto& lobe : lobes) lobe.weight /= total;
 }
 
 std::string spec_without_paths(const std::string& spec) {

@@ -17,6 +17,11 @@ struct Lobe {
   double weight;
   ModelPtr model;
 };
+/// Divides the weights by their sum, unless they already sum to 1 within rounding (4 n ulps):
+/// normalizing normalized weights changes nothing, so a mixture's canonical spec (whose printed
+/// weights sum to 1 only within rounding) parses back to itself (found by fuzz/spec_fuzz.cpp).
+void normalize_weights(std::vector<Lobe>& lobes);
+
 /// The lobes of a spec (a plain model is one lobe of weight 1). Tables are baked per lobe.
 std::vector<Lobe> parse_lobes(const std::string& spec);
 

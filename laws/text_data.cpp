@@ -1,6 +1,7 @@
 #include "laws/text_data.h"
 
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 
 #include "laws/registry.h"  // format_number
@@ -8,6 +9,9 @@
 namespace ganzfeld {
 
 std::string read_text_file(const std::string& path, const std::string& what) {
+  // Not a device or FIFO: /dev/zero would be read for ever, a FIFO block.
+  std::error_code ec;
+  if (std::filesystem::exists(path, ec) && !std::filesystem::is_regular_file(path, ec)) throw InputError("cannot read " + what + ": not a regular file");
   std::ifstream in(path, std::ios::binary);  // the bytes as they are: models hash them (content_digest)
   if (!in) throw InputError("cannot read " + what);
   std::stringstream text;

@@ -122,7 +122,7 @@ CheckResult lump_volume_check() {
   for (double n : ns)
     for (double theta : {0.0, 45.0, 89.0})
       for (auto [fu, fv] : {std::pair{1.0, 1.0}, std::pair{1.0, 0.3}, std::pair{0.05, 0.7}})
-        jobs.push_back([=] {
+        jobs.push_back([=, fu = fu, fv = fv] {  // clang < 16 cannot capture structured bindings
           const Vec3 j = view(theta, 30.0);
           HvdEmpirical::Params P;
           P.n_s = P.n_r = n;

@@ -116,7 +116,8 @@ class Parser {
   }
 
   void check_keys(const Json& object, const std::string& where, std::initializer_list<const char*> allowed) const {
-    for (const auto& [key, value] : object.items()) {
+    for (const auto& item : object.items()) {
+      const std::string& key = item.key();  // not a structured binding: clang < 16 cannot capture those
       if (std::none_of(allowed.begin(), allowed.end(), [&](const char* a) { return key == a; }))
         refuse((where.empty() ? "unknown top-level key '" : "unknown key '" + where + ".") + key + "'; allowed: " +
                join(allowed));

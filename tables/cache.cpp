@@ -73,7 +73,10 @@ std::string key_text(const TableKey& key) {
     const Axis& a = key.axes[d];
     text += (d ? ";" : "") + a.name + ":" + format_number(a.min) + ":" + format_number(a.max) + ":" +
             std::to_string(a.count) + ":" + to_string(a.mapping);
-    if (a.has_width()) text += ":" + format_number(a.width);
+    if (a.has_width()) {  // appended in two steps: g++ 12 warns falsely (-Wrestrict) on ":" + std::string&&
+      text += ':';
+      text += format_number(a.width);
+    }
   }
   text += std::string(" tolerance=") + format_number(key.tolerance) + " encoding=" + to_string(key.encoding);
   text += std::string(" interpolation=") + to_string(key.interpolation) + " frame=" + to_string(key.frame);

@@ -17,6 +17,7 @@
 #include <OpenEXR/ImfTestFile.h>
 #include <nlohmann/json.hpp>
 
+#include "tables/exr_guard.h"
 #include "util/error.h"
 #include "util/atomic_file.h"
 #include "laws/registry.h"
@@ -135,7 +136,7 @@ void write_table(const Table& table, const std::string& path) {
                  Imf::Slice(type, reinterpret_cast<char*>(const_cast<float*>(table.error.data())), stride, stride * width));
   }
 
-  write_atomically(path, [&](const std::string& temp) {
+  write_atomically(path, [&, height = height](const std::string& temp) {  // clang < 16: no captured bindings
     std::ofstream os(temp, std::ios::binary | std::ios::trunc);
     if (!os) throw std::runtime_error("cannot create a file in its directory (missing or not writable)");
     {
@@ -338,6 +339,7 @@ struct Reader {
     std::error_code ec;
     if (!fs::is_regular_file(path, ec)) refuse("no such file");
     if (!Imf::isOpenExrFile(path.c_str())) refuse("not an OpenEXR file");
+    check_exr_sizes(path);  // before OpenEXR allocates what the header declares
     try {
       Imf::InputFile file(path.c_str());
       const Imf::Header& header = file.header();

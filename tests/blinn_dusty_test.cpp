@@ -69,7 +69,7 @@ ModelPtr make(const ParamValues& given = {}) {
   ParamValues values;
   for (const auto& p : m.parameters) values[p.name] = p.default_value;
   for (const auto& [key, value] : given) {
-    const auto it = std::find_if(m.parameters.begin(), m.parameters.end(), [&](const ParamInfo& p) { return p.name == key; });
+    const auto it = std::find_if(m.parameters.begin(), m.parameters.end(), [&key = key](const ParamInfo& p) { return p.name == key; });
     if (it == m.parameters.end()) throw InputError("unknown parameter '" + key + "'");
     validate_param(m, *it, value);
     values[key] = value;

@@ -107,6 +107,16 @@ void expect_refused(const std::string& spec, const std::vector<std::string>& fra
   }
 }
 
+// fuzz/corpus/spec/crash-mixture-canonical-spec-round-trip: normalized weights sum to 1 only within
+// rounding; normalizing them again must not change their last digits (the spec is the identity).
+TEST(Spec, MixtureCanonicalFormRoundTrips) {
+  for (const char* spec : {"2.5*lambert+0.26*phong+0.25*ggx:alpha=0.1", "1*lambert + 3*minnaert:xi=1 + 7*phong",
+                           "0.1*lambert + 0.2*lambert + 0.3*lambert + 1e-9*phong"}) {
+    const std::string canonical = parse_model(spec)->spec();
+    EXPECT_EQ(parse_model(canonical)->spec(), canonical) << spec;
+  }
+}
+
 TEST(Spec, BadInputIsRefusedWithTheValueAndWhatIsAllowed) {
   expect_refused("no-such-model", {"'no-such-model'", "lambert", "asperity"});
   expect_refused("specular:beta=2", {"'beta'", "alpha"});
@@ -121,6 +131,13 @@ TEST(Spec, BadInputIsRefusedWithTheValueAndWhatIsAllowed) {
   expect_refused("specular:alpha=2,alpha=3", {"twice"});
   expect_refused("lambert:xi=1", {"'xi'", "none"});
   expect_refused("", {"empty"});
+  // fuzz/corpus/spec/crash-newline-in-unknown-model-name: a quoted line break stays off the message.
+  expect_refused(std::string("tab\n\0\0\0ed:", 9), {"unknown model 'tab "});
+  expect_refused("specular:alpha=1\r\n2", {"'1  2'"});
+  // A device is not a data file (/dev/zero was read for ever).
+  expect_refused("tabulated:file=/dev/zero", {"/dev/zero", "not a regular file"});
+  expect_refused("merl:file=/dev/zero", {"/dev/zero", "not a regular file"});
+  expect_refused("beard-maxwell:file=/dev/zero", {"/dev/zero", "not a regular file"});
   expect_refused("0.5*lambert + ", {"empty term"});
   expect_refused("-1*lambert + minnaert", {"-1", "> 0"});
   expect_refused("x*lambert", {"'x'"});

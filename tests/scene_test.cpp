@@ -65,10 +65,6 @@ std::string sphere_scene(const std::string& material, const std::string& lights)
          lights + "}";
 }
 
-constexpr const char* kAllLights = R"([{"type": "collimated", "direction": [1, 1, 1]},
-                                       {"type": "hemispherical", "pole": [0, 1, 0]},
-                                       {"type": "ganzfeld", "radiance": 0.2}])";
-
 std::vector<std::pair<std::string, Law>> plan_of(const Scene& scene) {
   std::vector<std::pair<std::string, Law>> out;
   for (const TableRequest& r : tables_needed(scene)) out.emplace_back(r.spec, r.law);

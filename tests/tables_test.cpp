@@ -1,6 +1,7 @@
 // Tables (tables/): bake -> write -> read -> sample against closed forms and the integrator, the
 // storage encodings, and every refusal of the reader and the baker.
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -9,11 +10,13 @@
 #include <numbers>
 #include <random>
 #include <string>
+#include <tuple>
 #include <unistd.h>
 
 #include <gtest/gtest.h>
 
 #include "util/atomic_file.h"
+#include "tests/largest_allocation.h"
 #include "tests/temp_dir.h"
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
@@ -451,6 +454,41 @@ TEST_F(lutRefusal, ModelContentMalformed) {
   for (const char* digest : {"0123456789abcdef", "fnv1a64:0123", "sha256:0123456789abcdef"})
     expect_refused(valid_with("ganzfeld.model_content", digest, "bad_content.exr"),
                    std::string("model content '") + digest + "' is not allowed");
+}
+
+// A table whose header declares more than its bytes hold (the issue-20 memory bomb: an 852-byte
+// file whose attribute size of 1.6 GB OpenEXR allocated before any check) is refused by
+// tables/exr_guard.cpp before OpenEXR reads it: one line naming the attribute, no allocation
+// beyond a small multiple of the file, quickly.
+TEST_F(lutRefusal, ForgedSizesAreRefusedBeforeAllocating) {
+  // OpenEXR allocates the header's strings and the pixel buffers; the valid 9-node table allocates
+  // well under this. The forged sizes below are ~10^6 times the file.
+  constexpr std::size_t kMaxAllocationPerFileByte = 64;
+  // Refused from the header alone: far below the time of allocating and touching 1.6 GB.
+  constexpr double kMaxSeconds = 0.5;
+  std::ifstream in(*valid_, std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const auto forge = [&](const std::string& attribute, std::size_t value_offset, std::int32_t value) {
+    std::string forged = bytes;
+    const auto at = forged.find(attribute + '\0');
+    EXPECT_NE(at, std::string::npos) << attribute;
+    const auto size_at = forged.find('\0', at + attribute.size() + 1) + 1;  // after the type name
+    for (int k = 0; k < 4; ++k) forged[size_at + value_offset + k] = static_cast<char>((value >> (8 * k)) & 0xff);
+    return forged;
+  };
+  const std::size_t kSizeField = 0, kValue = 4, kBoxMaxY = 4 + 12;
+  for (const auto& [attribute, offset, value, reason] :
+       {std::tuple{"ganzfeld.command", kSizeField, 1'600'000'000, "attribute 'ganzfeld.command' declares 1600000000"},
+        std::tuple{"ganzfeld.axes", kSizeField, -5, "attribute 'ganzfeld.axes' declares a negative size"},
+        std::tuple{"dataWindow", kBoxMaxY, 2'000'000'000, "scanlines needs"},
+        std::tuple{"dataWindow", kValue + 8, 1'000'000, "more than 1100 times"}}) {
+    const std::string path = temp_file("forged.exr");
+    std::ofstream(path, std::ios::binary | std::ios::trunc) << forge(attribute, offset, value);
+    const auto start = std::chrono::steady_clock::now();
+    const std::size_t largest = testing_support::largest_allocation_during([&path, reason = reason] { expect_refused(path, reason); });
+    EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), kMaxSeconds);
+    EXPECT_LT(largest, kMaxAllocationPerFileByte * bytes.size()) << attribute;
+  }
 }
 
 // --- Atomic writes ----------------------------------------------------------------------------

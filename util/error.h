@@ -1,5 +1,5 @@
 // Bad input at a boundary (spec strings, files, command line, scene JSON). The message is one
-// line naming the bad value and what is allowed; cli/main maps it to exit code 2.
+// line naming the bad value and what is allowed; cli/run.cpp maps it to exit code 2.
 #pragma once
 
 #include <stdexcept>
@@ -9,7 +9,16 @@ namespace ganzfeld {
 
 class InputError : public std::runtime_error {
  public:
-  explicit InputError(const std::string& message) : std::runtime_error(message) {}
+  /// Line breaks in the message (from a quoted bad value: a spec, a path, a file's text) become
+  /// spaces, so the message stays one line whatever it quotes (found by fuzz/spec_fuzz.cpp).
+  explicit InputError(const std::string& message) : std::runtime_error(one_line(message)) {}
+
+ private:
+  static std::string one_line(std::string text) {
+    for (char& c : text)
+      if (c == '\n' || c == '\r') c = ' ';
+    return text;
+  }
 };
 
 }  // namespace ganzfeld
