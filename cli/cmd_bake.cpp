@@ -101,6 +101,13 @@ int bake_one(const BakeArgs& args) {
   return 0;
 }
 
+/// The node counts of a table's axes (a --max-error bake chooses them).
+std::vector<int> axis_counts(const tables::Table& table) {
+  std::vector<int> counts;
+  for (const tables::Axis& a : table.axes) counts.push_back(a.count);
+  return counts;
+}
+
 int bake_scene(const BakeArgs& args) {
   if (args.out_dir.empty()) throw InputError("bake --scene needs --out DIR (the table cache directory)");
   const scene::TableOptions options = args.table.options(scene::TableOptions{});
@@ -111,9 +118,10 @@ int bake_scene(const BakeArgs& args) {
   for (const scene::PlannedTable& t : plan.tables) {
     baked += t.status == tables::CacheStatus::baked;
     if (!args.json)
-      std::printf("%s %s of %s, %s nodes, max error %.3g -> %s\n", tables::to_string(t.status), to_string(t.request.law),
-                  t.request.spec.c_str(), tables::resolution_text(t.request.options.resolution).c_str(),
-                  t.table->max_error, t.path.c_str());
+      std::printf("%s %s of %s, %s nodes: lookup error %.3g (validated; node error %.3g) -> %s\n",
+                  tables::to_string(t.status), to_string(t.request.law), t.request.spec.c_str(),
+                  tables::resolution_text(axis_counts(*t.table)).c_str(), t.table->lookup_error, t.table->max_error,
+                  t.path.c_str());
   }
   warn_unconverged(plan);
   if (args.json) {
