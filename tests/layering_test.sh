@@ -15,6 +15,7 @@ declare -A allowed=(
   [rasterizer]="util laws integrate tables scene rasterizer"
   [bench]="util laws integrate tables scene rasterizer reports bench"
   [cli]="util laws integrate tables scene export reports rasterizer bench cli"
+  [fuzz]="util laws integrate tables scene export reports rasterizer bench cli fuzz"
 )
 status=0
 for module in "${!allowed[@]}"; do

@@ -1,13 +1,16 @@
-// ganzfeld: extended-source shading tables from BRDFs. main catches once and maps to the exit
+// ganzfeld: extended-source shading tables from BRDFs. run_cli catches once and maps to the exit
 // codes of cli-contract.md: 0 ok, 2 bad input (one line on stderr), 1 internal failure.
+#include "cli/run.h"
+
 #include <exception>
 #include <iostream>
 
 #include "cli/commands.h"
 #include "util/error.h"
 
-int main(int argc, char** argv) {
-  using namespace ganzfeld::cli;
+namespace ganzfeld::cli {
+
+int run_cli(int argc, const char* const* argv, bool parse_only) {
   CLI::App app{"ganzfeld " GANZFELD_VERSION
                " - laws of shading, vignetting and darkening (Koenderink & Pont) for any BRDF"};
   app.set_version_flag("--version", GANZFELD_VERSION);
@@ -42,6 +45,7 @@ int main(int argc, char** argv) {
     std::cerr << "ganzfeld: " << e.what() << " (see ganzfeld --help)\n";
     return 2;
   }
+  if (parse_only) return action ? 0 : 2;
   try {
     return action ? action() : 2;
   } catch (const ganzfeld::InputError& e) {
@@ -52,3 +56,5 @@ int main(int argc, char** argv) {
     return 1;
   }
 }
+
+}  // namespace ganzfeld::cli
