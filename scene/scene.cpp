@@ -10,6 +10,7 @@
 #include <fstream>
 #include <initializer_list>
 #include <map>
+#include <optional>
 #include <sstream>
 
 #include <nlohmann/json.hpp>
@@ -48,7 +49,8 @@ std::string join(std::initializer_list<const char*> names) {
 
 class Parser {
  public:
-  explicit Parser(std::string path) : path_(std::move(path)) {}
+  explicit Parser(std::string path, std::optional<std::string> text = std::nullopt)
+      : path_(std::move(path)), text_(std::move(text)) {}
 
   Scene parse() {
     const Json doc = read_json();
@@ -83,13 +85,15 @@ class Parser {
 
  private:
   std::string path_;
+  std::optional<std::string> text_;  ///< the file's text when parsed from memory
 
   [[noreturn]] void refuse(const std::string& why) const { throw InputError("scene '" + path_ + "': " + one_line(why)); }
   [[noreturn]] void fail(const std::string& key, const Json& value, const std::string& allowed) const {
     refuse((key.empty() ? std::string("top level") : key) + " = " + quote(value) + " is not allowed; " + allowed);
   }
 
-  Json read_json() const {
+  std::string read_text() const {
+    if (text_) return *text_;
     std::error_code ec;
     if (!fs::exists(path_, ec)) refuse("no such file");
     if (!fs::is_regular_file(path_, ec)) refuse("not a regular file");
@@ -97,8 +101,13 @@ class Parser {
     std::stringstream text;
     text << in.rdbuf();
     if (!in || in.bad()) refuse("cannot be read");
+    return text.str();
+  }
+
+  Json read_json() const {
+    const std::string text = read_text();
     try {
-      return Json::parse(text.str());
+      return Json::parse(text);
     } catch (const Json::parse_error& e) {
       // e.what() is "[json.exception.parse_error.101] parse error at line L, column C: ...".
       std::string what = e.what();
@@ -340,5 +349,7 @@ class Parser {
 }  // namespace
 
 Scene load_scene(const std::string& path) { return Parser(path).parse(); }
+
+Scene load_scene_text(const std::string& text, const std::string& path) { return Parser(path, text).parse(); }
 
 }  // namespace ganzfeld

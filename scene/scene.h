@@ -64,4 +64,8 @@ struct Scene {
 /// key or value and what is allowed (implemented in scene/scene.cpp).
 Scene load_scene(const std::string& path);
 
+/// The same for the scene file's text: `path` names it in messages and is where relative mesh
+/// paths are resolved from (the fuzzer and tests parse scenes from memory).
+Scene load_scene_text(const std::string& text, const std::string& path);
+
 }  // namespace ganzfeld

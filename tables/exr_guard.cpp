@@ -3,6 +3,8 @@
 #include <array>
 #include <filesystem>
 #include <fstream>
+#include <map>
+#include <optional>
 
 #include "util/error.h"
 
@@ -76,7 +78,9 @@ class HeaderWalk {
   std::ifstream in_;
 };
 
-/// Bytes per pixel of all channels of a chlist value (name\0, int32 type, 4 bytes, 2 × int32).
+/// Bytes per pixel of all channels of a chlist value (name\0, int32 type, 4 bytes, 2 × int32,
+/// then an empty name). OpenEXR reads up to the empty name whatever the declared size says, so
+/// the list must end exactly at the value's last byte, or its walk and ours would part.
 std::uint64_t bytes_per_pixel(const std::string& v, const HeaderWalk& walk) {
   std::uint64_t bytes = 0;
   std::size_t at = 0;
@@ -88,7 +92,22 @@ std::uint64_t bytes_per_pixel(const std::string& v, const HeaderWalk& walk) {
     bytes += type == 1 ? 2 : 4;
     at = end + 17;
   }
+  if (at + 1 != v.size()) walk.refuse("attribute 'channels' does not end where its declared size says");
   return bytes;
+}
+
+/// Value sizes of the attribute types OpenEXR 3.1 reads with a fixed size whatever the declared
+/// size says (ImfHeader.cpp registers them); a declared size that differs would make OpenEXR's walk
+/// and ours part. string, floatvector and unknown (opaque) types are read with the declared size.
+std::optional<std::int32_t> fixed_size(const std::string& type) {
+  static const std::map<std::string, std::int32_t> sizes{
+      {"box2i", 16}, {"box2f", 16}, {"chromaticities", 32}, {"compression", 1}, {"deepImageState", 1},
+      {"double", 8}, {"envmap", 1},  {"float", 4},           {"int", 4},          {"keycode", 28},
+      {"lineOrder", 1}, {"m33f", 36}, {"m33d", 72},        {"m44f", 64},        {"m44d", 128},
+      {"rational", 8}, {"tiledesc", 9}, {"timecode", 8},   {"v2i", 8},          {"v2f", 8},
+      {"v2d", 16},   {"v3i", 12},    {"v3f", 12},           {"v3d", 24}};
+  const auto it = sizes.find(type);
+  return it == sizes.end() ? std::nullopt : std::optional<std::int32_t>(it->second);
 }
 
 }  // namespace
@@ -115,6 +134,13 @@ void check_exr_sizes(const std::string& path) {
     const std::string what = "attribute '" + printable(name) + "'";
     const std::int32_t declared = HeaderWalk::i32(walk.bytes(4, what), 0);
     if (declared < 0) walk.refuse(what + " declares a negative size " + std::to_string(declared));
+    // Types whose values hold sizes of their own that OpenEXR allocates (a preview's width × height,
+    // a string vector's lengths, an ID manifest's uncompressed size): no ganzfeld table has them.
+    if (type == "preview" || type == "stringvector" || type == "idmanifest")
+      walk.refuse(what + " is of type '" + type + "', which ganzfeld tables do not use");
+    if (const auto size = fixed_size(type); size && declared != *size)
+      walk.refuse(what + " of type '" + type + "' declares " + std::to_string(declared) + " bytes; it has " +
+                  std::to_string(*size));
     if (name == "dataWindow" && type == "box2i" && declared == 16) {
       const std::string v = walk.bytes(16, what);
       width = std::int64_t{HeaderWalk::i32(v, 8)} - HeaderWalk::i32(v, 0) + 1;
@@ -124,8 +150,9 @@ void check_exr_sizes(const std::string& path) {
       compression = static_cast<unsigned char>(walk.bytes(1, what)[0]);
       if (compression >= static_cast<int>(kLinesPerChunk.size()))
         walk.refuse("attribute 'compression' is " + std::to_string(compression) + "; allowed: 0 to 9");
-    } else if (name == "channels" && type == "chlist") {
-      pixel_bytes = bytes_per_pixel(walk.bytes(static_cast<std::uint64_t>(declared), what), walk);
+    } else if (type == "chlist") {  // OpenEXR reads any chlist up to its terminator
+      const std::uint64_t bytes = bytes_per_pixel(walk.bytes(static_cast<std::uint64_t>(declared), what), walk);
+      if (name == "channels") pixel_bytes = bytes;
     } else {
       walk.skip(static_cast<std::uint64_t>(declared), what);
     }

@@ -481,7 +481,12 @@ TEST_F(lutRefusal, ForgedSizesAreRefusedBeforeAllocating) {
        {std::tuple{"ganzfeld.command", kSizeField, 1'600'000'000, "attribute 'ganzfeld.command' declares 1600000000"},
         std::tuple{"ganzfeld.axes", kSizeField, -5, "attribute 'ganzfeld.axes' declares a negative size"},
         std::tuple{"dataWindow", kBoxMaxY, 2'000'000'000, "scanlines needs"},
-        std::tuple{"dataWindow", kValue + 8, 1'000'000, "more than 1100 times"}}) {
+        std::tuple{"dataWindow", kValue + 8, 1'000'000, "more than 1100 times"},
+        // Found by fuzz/table_fuzz.cpp (fuzz/corpus/table/oom-chlist-shorter-than-its-list): OpenEXR
+        // reads a channel list to its terminator, past a declared size 1 byte short, and then
+        // read the next attribute's bytes as a size of 1.6 GB. 45 = 2 × (6 + 16) + 1.
+        std::tuple{"channels", kSizeField, 44, "does not end where its declared size says"},
+        std::tuple{"compression", kSizeField, 4, "of type 'compression' declares 4 bytes; it has 1"}}) {
     const std::string path = temp_file("forged.exr");
     std::ofstream(path, std::ios::binary | std::ios::trunc) << forge(attribute, offset, value);
     const auto start = std::chrono::steady_clock::now();

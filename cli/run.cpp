@@ -1,18 +1,16 @@
-// ganzfeld: extended-source shading tables from BRDFs. main catches once and maps to the exit
+// ganzfeld: extended-source shading tables from BRDFs. run_cli catches once and maps to the exit
 // codes of cli-contract.md: 0 ok, 2 bad input (one line on stderr), 1 internal failure.
-#include <csignal>
+#include "cli/run.h"
+
 #include <exception>
 #include <iostream>
 
 #include "cli/commands.h"
 #include "util/error.h"
 
-int main(int argc, char** argv) {
-  using namespace ganzfeld::cli;
-  // Past a file-size limit (ulimit -f) the kernel's default is to kill the process with SIGXFSZ,
-  // leaving a temporary file behind; ignored, the write fails with EFBIG instead and the atomic
-  // writer removes the temporary file and reports one line (exit 2).
-  std::signal(SIGXFSZ, SIG_IGN);
+namespace ganzfeld::cli {
+
+int run_cli(int argc, const char* const* argv, bool parse_only) {
   CLI::App app{"ganzfeld " GANZFELD_VERSION
                " - laws of shading, vignetting and darkening (Koenderink & Pont) for any BRDF"};
   app.set_version_flag("--version", GANZFELD_VERSION);
@@ -48,6 +46,7 @@ int main(int argc, char** argv) {
     std::cerr << "ganzfeld: " << e.what() << " (see ganzfeld --help)\n";
     return 2;
   }
+  if (parse_only) return action ? 0 : 2;
   try {
     return action ? action() : 2;
   } catch (const ganzfeld::InputError& e) {
@@ -58,3 +57,5 @@ int main(int argc, char** argv) {
     return 1;
   }
 }
+
+}  // namespace ganzfeld::cli
