@@ -117,30 +117,44 @@ TEST(Spec, MixtureCanonicalFormRoundTrips) {
   }
 }
 
-TEST(Spec, BadInputIsRefusedWithTheValueAndWhatIsAllowed) {
+TEST(Spec, BadNamesAndSyntaxAreRefusedWithWhatIsAllowed) {
   expect_refused("no-such-model", {"'no-such-model'", "lambert", "asperity"});
   expect_refused("specular:beta=2", {"'beta'", "alpha"});
+  expect_refused("specular:alpha", {"KEY=VALUE"});
+  expect_refused("specular:alpha=2,alpha=3", {"twice"});
+  expect_refused("lambert:xi=1", {"'xi'", "none"});
+}
+
+TEST(Spec, BadValuesAreRefusedWithTheValueAndTheRange) {
   expect_refused("specular:alpha=0.5", {"alpha=0.5", "[1, 10000]"});
   expect_refused("specular:alpha=nan", {"alpha=nan", "finite"});
   expect_refused("specular:alpha=inf", {"alpha=inf"});
   expect_refused("minnaert:xi=-1", {"xi=-1", "[0, 1000]"});
+  expect_refused("specular:alpha=eight", {"'eight'", "not a number"});
+}
+
+TEST(Spec, IntegerParametersAreRefusedOutsideTheirSet) {
   expect_refused("perfect-backscatter:alpha=2.5", {"alpha=2.5", "integer"});
   expect_refused("perfect-backscatter:alpha=1", {"alpha=1", "[2, 10000]"});
-  expect_refused("specular:alpha", {"KEY=VALUE"});
-  expect_refused("specular:alpha=eight", {"'eight'", "not a number"});
-  expect_refused("specular:alpha=2,alpha=3", {"twice"});
-  expect_refused("lambert:xi=1", {"'xi'", "none"});
+}
+
+TEST(Spec, EmptyAndBadMixturesAreRefused) {
   expect_refused("", {"empty"});
-  // fuzz/corpus/spec/crash-newline-in-unknown-model-name: a quoted line break stays off the message.
-  expect_refused(std::string("tab\n\0\0\0ed:", 9), {"unknown model 'tab "});
-  expect_refused("specular:alpha=1\r\n2", {"'1  2'"});
-  // A device is not a data file (/dev/zero was read for ever).
-  expect_refused("tabulated:file=/dev/zero", {"/dev/zero", "not a regular file"});
-  expect_refused("merl:file=/dev/zero", {"/dev/zero", "not a regular file"});
-  expect_refused("beard-maxwell:file=/dev/zero", {"/dev/zero", "not a regular file"});
   expect_refused("0.5*lambert + ", {"empty term"});
   expect_refused("-1*lambert + minnaert", {"-1", "> 0"});
   expect_refused("x*lambert", {"'x'"});
+}
+
+// fuzz/corpus/spec/crash-newline-in-unknown-model-name: a quoted line break stays off the message.
+TEST(Spec, LineBreaksNeverReachTheOneLineMessage) {
+  expect_refused(std::string("tab\n\0\0\0ed:", 9), {"unknown model 'tab "});
+  expect_refused("specular:alpha=1\r\n2", {"'1  2'"});
+}
+
+// A device is not a data file (/dev/zero was read for ever).
+TEST(Spec, DevicesAreNotDataFiles) {
+  for (const char* model : {"tabulated", "merl", "beard-maxwell"})
+    expect_refused(std::string(model) + ":file=/dev/zero", {"/dev/zero", "not a regular file"});
 }
 
 }  // namespace
