@@ -9,6 +9,7 @@
 #include <map>
 #include <numbers>
 #include <random>
+#include <set>
 #include <string>
 #include <tuple>
 #include <unistd.h>
@@ -278,6 +279,9 @@ struct RawExr {
   int width = 0, height = 0;
   Imf::Header header;
   std::map<std::string, std::vector<float>> channels;
+  /// Attributes save() leaves out. Not Imf::Header::erase: OpenEXR 3.1's erase drops the
+  /// attribute from its map without deleting it (LeakSanitizer reports it under --sanitize).
+  std::set<std::string> dropped;
 
   static RawExr load(const std::string& path) {
     Imf::InputFile in(path.c_str());
@@ -301,7 +305,8 @@ struct RawExr {
   void save(const std::string& path) {
     Imf::Header h(width, height);
     for (auto it = header.begin(); it != header.end(); ++it)
-      if (std::string(it.name()).rfind("ganzfeld.", 0) == 0) h.insert(it.name(), it.attribute());
+      if (std::string(it.name()).rfind("ganzfeld.", 0) == 0 && !dropped.contains(it.name()))
+        h.insert(it.name(), it.attribute());
     Imf::FrameBuffer frame;
     for (auto& [name, data] : channels) {
       h.channels().insert(name, Imf::Channel(Imf::FLOAT));
@@ -373,7 +378,7 @@ TEST_F(lutRefusal, Truncated) {
 
 TEST_F(lutRefusal, MissingVersion) {
   RawExr raw = valid();
-  raw.header.erase("ganzfeld.format_version");
+  raw.dropped.insert("ganzfeld.format_version");
   const std::string path = temp_file("no_version.exr");
   raw.save(path);
   expect_refused(path, "missing string attribute ganzfeld.format_version");
@@ -442,7 +447,7 @@ TEST_F(lutRefusal, ModelSpecBlankOrMultiLine) {
 // ganzfeld.model_content (issue #19): optional, so tables written before it existed still read.
 TEST_F(lutRefusal, ModelContentMissingReadsAsNone) {
   RawExr raw = valid();
-  raw.header.erase("ganzfeld.model_content");
+  raw.dropped.insert("ganzfeld.model_content");
   const std::string path = temp_file("no_content.exr");
   raw.save(path);
   EXPECT_EQ(read_table(path).model_content, "");
@@ -679,7 +684,7 @@ TEST(lut, Version1FilesStillRead) {
   write_table(bake_table("minnaert:xi=1", Law::h, {9}), path);
   RawExr raw = RawExr::load(path);
   raw.set("ganzfeld.format_version", "1");
-  for (const char* name : {"ganzfeld.frame", "ganzfeld.interpolation", "ganzfeld.lookup_error"}) raw.header.erase(name);
+  for (const char* name : {"ganzfeld.frame", "ganzfeld.interpolation", "ganzfeld.lookup_error"}) raw.dropped.insert(name);
   raw.save(path);
   const Table t = read_table(path);
   EXPECT_EQ(t.format_version, 1);
