@@ -114,6 +114,10 @@ struct ShadingPlan {
   std::vector<bool> material_used;         ///< per material: some object uses it
 };
 
+/// One table obtained from `store`: reused from its cache file when that holds exactly this
+/// table, else baked (and stored when the store has a directory).
+PlannedTable obtain_table(TableRequest request, const TableStore& store);
+
 /// The plan of `scene`: its tables obtained from `store`; with `direct`, no tables at all (every
 /// non-Lambert law is LawOrigin::direct).
 ShadingPlan plan_shading(const Scene& scene, const TableOptions& options, const TableStore& store, bool direct = false);
