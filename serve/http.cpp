@@ -9,6 +9,7 @@
 
 #include <httplib.h>
 
+#include "serve/connection_pool.h"
 #include "util/error.h"
 #include "util/timing.h"
 
@@ -36,11 +37,24 @@ int run(const ServiceOptions& service_options, const ServerOptions& options) {
 
   Service service(service_options);
   httplib::Server server;
-  const int threads = options.threads;
-  server.new_task_queue = [threads] { return new httplib::ThreadPool(static_cast<std::size_t>(threads)); };
+  const auto threads = static_cast<std::size_t>(options.threads), waiting = static_cast<std::size_t>(options.waiting);
+  server.new_task_queue = [threads, waiting] { return new ConnectionPool(threads, waiting); };
   server.set_payload_max_length(64 * 1024);  // GET only: a larger body gets 413
   server.set_keep_alive_timeout(5);
-  server.Get(".*", [&service](const httplib::Request& req, httplib::Response& res) {
+  // Without TCP_NODELAY, a keep-alive client waits ~40 ms for each answer: the headers and the
+  // body leave in two writes, and Nagle holds the second until the client's delayed ACK of the
+  // first (RFC 896, RFC 1122 4.2.3.2). Measured by scripts/gen-serve-load-docs.
+  server.set_tcp_nodelay(true);
+  server.Get(".*", [&service, &options](const httplib::Request& req, httplib::Response& res) {
+    if (ConnectionPool::shedding()) {  // every connection thread busy, the connection queue full
+      res.status = 503;
+      res.set_header("Retry-After", std::to_string(kRetryAfterSeconds));
+      res.set_header("Connection", "close");
+      res.set_content(error_body("all " + std::to_string(options.threads) + " connection threads are busy and " +
+                                 std::to_string(options.waiting) + " connections wait; retry later"),
+                      "application/json");
+      return;
+    }
     const util::Stopwatch watch;
     const std::size_t mark = req.target.find('?');
     const std::string query = mark == std::string::npos ? "" : req.target.substr(mark + 1);
@@ -77,7 +91,8 @@ int run(const ServiceOptions& service_options, const ServerOptions& options) {
                      " (address in use, not local, or not allowed); choose another --bind or --port");
   log_line("listening on http://" + options.bind + ":" + std::to_string(port) + "/ (cache " + service_options.cache_dir +
            ", " + std::to_string(service_options.jobs) + " bake jobs, " + std::to_string(service_options.queue) +
-           " queued at most)");
+           " queued at most; " + std::to_string(options.threads) + " connection threads, " +
+           std::to_string(options.waiting) + " connections waiting at most)");
 
   std::atomic<bool> signalled{false};
   std::thread waiter([&] {
