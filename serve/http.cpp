@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <mutex>
 #include <pthread.h>
+#include <sys/socket.h>
 #include <thread>
 
 #include <httplib.h>
@@ -18,6 +19,13 @@ namespace ganzfeld::serve {
 namespace {
 
 std::mutex log_mutex;
+
+/// Connections the kernel holds for the listener before it accepts them. cpp-httplib 0.11
+/// listens with CPPHTTPLIB_LISTEN_BACKLOG = 5, compiled into Debian's library: a burst of more
+/// connections (16 load-test clients, a browser's parallel requests) loses SYNs, and each lost
+/// one costs its client a 1 s retransmission (RFC 6298 2.1), seen as 1 s and 2 s maxima in
+/// docs/serve-load.md before this. Still bounded: the kernel caps it at net.core.somaxconn.
+constexpr int kListenBacklog = 128;
 
 /// One line on stderr: "ganzfeld serve: MESSAGE".
 void log_line(const std::string& message) {
@@ -84,11 +92,22 @@ int run(const ServiceOptions& service_options, const ServerOptions& options) {
     log_line(line);
   });
 
+  // httplib's default socket options set SO_REUSEPORT, with which a second `serve` on the same
+  // port binds too and silently shares the connections; SO_REUSEADDR alone refuses it (and still
+  // allows a restart while old connections linger in TIME_WAIT). The socket is kept to raise
+  // its backlog after bind: listen() on a listening socket sets a new backlog (Linux, listen(2)).
+  int listener = -1;
+  server.set_socket_options([&listener](int sock) {
+    const int yes = 1;
+    setsockopt(sock, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof yes);
+    listener = sock;
+  });
   int port = options.port;
   const bool bound = port == 0 ? (port = server.bind_to_any_port(options.bind)) > 0 : server.bind_to_port(options.bind, port);
   if (!bound)
     throw InputError("cannot listen on " + options.bind + ":" + std::to_string(options.port) +
                      " (address in use, not local, or not allowed); choose another --bind or --port");
+  if (listener >= 0) ::listen(listener, kListenBacklog);
   log_line("listening on http://" + options.bind + ":" + std::to_string(port) + "/ (cache " + service_options.cache_dir +
            ", " + std::to_string(service_options.jobs) + " bake jobs, " + std::to_string(service_options.queue) +
            " queued at most; " + std::to_string(options.threads) + " connection threads, " +

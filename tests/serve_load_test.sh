@@ -35,6 +35,12 @@ n=$(json_field "$tmp/load.json" "d['uncached_tables_requested']")
 [ "$(grep -E "GET /api/table\?model=specular:alpha=[0-9]+&law=g&res=16x16x8&tol=1e-6 200 .* baked " "$tmp/log" | sed -E 's/.*alpha=([0-9]+).*/\1/' | sort | uniq -c | awk '$1 == 1' | wc -l)" -eq "$n" ] \
   && ok || fail "access log: $(grep -c ' baked ' "$tmp/log") baked lines for $n tables"
 [ "$(grep -E "minnaert.* baked " "$tmp/log" | wc -l)" -eq 8 ] && ok || fail "cached set baked other than once each"
+# a second service on the same port is refused (httplib's default SO_REUSEPORT would let it share)
+"$G" serve --cache "$tmp/cache2" --port "$port" 2>"$tmp/second.err" &
+second=$!
+sleep 1
+if kill -0 $second 2>/dev/null; then kill -TERM $second; wait $second; fail "a second serve shares port $port"
+else wait $second; rc=$?; [ $rc -eq 2 ] && grep -q "cannot listen on 127.0.0.1:$port" "$tmp/second.err" && ok || fail "second serve: exit $rc $(cat "$tmp/second.err")"; fi
 kill -TERM $pid; wait $pid; pid=""
 
 # --- the bounded connection queue: --connection-queue 2 and every connection thread held by an
