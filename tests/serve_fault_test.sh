@@ -18,20 +18,12 @@ cache="$tmp/cache"
 pid=""
 trap '[ -n "$pid" ] && kill -9 $pid 2>/dev/null; rm -rf "$tmp"' EXIT
 
-start_serve() {  # start_serve LOG: serve on a free port; sets pid and URL
-  "$G" serve --cache "$cache" --port 0 2>"$1" &
-  pid=$!
-  for _ in $(seq 100); do grep -q "listening on" "$1" && break; sleep 0.1; done
-  local port; port=$(sed -nE 's|.*listening on http://127\.0\.0\.1:([0-9]+)/.*|\1|p' "$1")
-  URL="http://127.0.0.1:$port"
-  [ -n "$port" ]
-}
 get() { curl -s -o "$tmp/body" -D "$tmp/headers" -w '%{http_code}' "$URL$1"; }  # status; body, headers
 table_status() { sed -nE 's/^X-Ganzfeld-Table: (.*)\r$/\1/Ip' "$tmp/headers"; }
 running() { curl -s "$URL/healthz" | python3 -c "import json,sys; print(json.load(sys.stdin)['bakes_running'])"; }
 entries() { ls -A "$cache"; }
 
-start_serve "$tmp/log1" && ok || { fail "serve did not start: $(cat "$tmp/log1")"; exit 1; }
+start_serve "$tmp/log1" --cache "$cache" && ok || { fail "serve did not start: $(cat "$tmp/log1")"; exit 1; }
 [ "$(get "/api/table?$FAST")" = 200 ] && [ "$(table_status)" = baked ] && ok || fail "fast table: $(cat "$tmp/body")"
 fast_file=$(entries)
 curl -s -o /dev/null "$URL/api/table?$SLOW" &
@@ -52,7 +44,7 @@ cp "$cache/$fast_file" "$tmp/fast.exr"
 head -c 1000 "$tmp/fast.exr" >"$cache/$fast_file"
 
 # --- the next serve over the same cache
-start_serve "$tmp/log2" && ok || { fail "serve did not restart: $(cat "$tmp/log2")"; exit 1; }
+start_serve "$tmp/log2" --cache "$cache" && ok || { fail "serve did not restart: $(cat "$tmp/log2")"; exit 1; }
 [ "$(get "/api/table?$FAST")" = 200 ] && [ "$(table_status)" = baked ] && ok || fail "truncated table not re-baked: $(table_status)"
 cmp -s "$tmp/body" "$tmp/fast.exr" && cmp -s "$cache/$fast_file" "$tmp/fast.exr" && ok || fail "the re-baked table differs from the first bake"
 [ "$(get "/api/table?$FAST")" = 200 ] && [ "$(table_status)" = reused ] && ok || fail "fast table not reused: $(table_status)"

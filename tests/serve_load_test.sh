@@ -12,17 +12,8 @@ LOAD="$2"
 pid=""
 trap '[ -n "$pid" ] && kill -9 $pid 2>/dev/null; rm -rf "$tmp"' EXIT
 
-start_serve() {  # start_serve LOG [serve args]: sets pid, port
-  local log="$1"; shift
-  "$G" serve --cache "$tmp/cache" --port 0 "$@" 2>"$log" &
-  pid=$!
-  for _ in $(seq 100); do grep -q "listening on" "$log" && break; sleep 0.1; done
-  port=$(sed -nE 's|.*listening on http://127\.0\.0\.1:([0-9]+)/.*|\1|p' "$log")
-  [ -n "$port" ]
-}
-
 # --jobs 2 --queue 16: the 12 uncached tables always find a bake slot (bench/serve_load.cpp).
-start_serve "$tmp/log" --jobs 2 --queue 16 && ok || { fail "serve did not start: $(cat "$tmp/log")"; exit 1; }
+start_serve "$tmp/log" --cache "$tmp/cache" --jobs 2 --queue 16 && ok || { fail "serve did not start: $(cat "$tmp/log")"; exit 1; }
 "$LOAD" --port "$port" --clients 8 --requests 60 --seed 7 >"$tmp/load.json" 2>"$tmp/load.err"
 rc=$?
 [ $rc -eq 0 ] && ok || fail "ganzfeld-load exit $rc: $(cat "$tmp/load.err") $(head -c 600 "$tmp/load.json")"
@@ -46,7 +37,7 @@ kill -TERM $pid; wait $pid; pid=""
 # --- the bounded connection queue: --connection-queue 2 and every connection thread held by an
 # idle connection (it sends nothing, so a thread waits on it for the read timeout); the
 # connections beyond threads + queue get 503 at once, not a place in an unbounded backlog.
-start_serve "$tmp/log2" --connection-queue 2 && ok || { fail "serve did not restart: $(cat "$tmp/log2")"; exit 1; }
+start_serve "$tmp/log2" --cache "$tmp/cache" --connection-queue 2 && ok || { fail "serve did not restart: $(cat "$tmp/log2")"; exit 1; }
 threads=$(sed -nE 's/.*; ([0-9]+) connection threads, 2 connections waiting at most.*/\1/p' "$tmp/log2")
 [ -n "$threads" ] && ok || { fail "no thread count in: $(cat "$tmp/log2")"; exit 1; }
 held=()
