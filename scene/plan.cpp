@@ -62,6 +62,7 @@ std::vector<TableRequest> requests_of(const std::vector<Material>& materials, co
 }  // namespace
 
 PlannedTable obtain_table(TableRequest request, const TableStore& store) {
+  if (store.obtain) return store.obtain(std::move(request));
   PlannedTable out;
   if (store.before_bake) store.before_bake(request);
   if (store.cache_dir.empty()) {
