@@ -64,6 +64,16 @@ minnaert=$(cd "$tmp/merged/cache" && ls minnaert_xi=1.h.*.exr)
   && ok || fail "bake --model does not reuse the library's entry (keys differ)"
 [ -z "$(find "$tmp" -name '.*.tmp-*')" ] && ok || fail "temporary files left: $(find "$tmp" -name '.*.tmp-*')"
 
+# --- docs/slurm/bake-library.sh as Slurm runs array task 1 of --array=0-2: shard 1/3, all reused
+# from the merged cache; an array not numbered 0..N-1 is refused
+mkdir -p "$tmp/bin" && ln -sf "$G" "$tmp/bin/ganzfeld"
+slurm() { PATH="$tmp/bin:$PATH" SLURM_ARRAY_TASK_ID=1 SLURM_ARRAY_TASK_COUNT=3 "$@" \
+  bash "$(dirname "$0")/../docs/slurm/bake-library.sh" "$tmp/lib.json" "$tmp/merged/cache"; }
+slurm env SLURM_ARRAY_TASK_MIN=0 SLURM_ARRAY_TASK_MAX=2 >"$tmp/slurm.out" 2>&1 &&
+  grep -q "^shard 1/3: .* of the library's $TABLES tables in .*: 0 baked" "$tmp/slurm.out" && ok || fail "slurm script: $(cat "$tmp/slurm.out")"
+slurm env SLURM_ARRAY_TASK_MIN=1 SLURM_ARRAY_TASK_MAX=3 >"$tmp/slurm.out" 2>&1
+[ $? -eq 2 ] && grep -q "submit with --array=0-2" "$tmp/slurm.out" && ok || fail "slurm script, array 1-3: $(cat "$tmp/slurm.out")"
+
 # --- bad input: one line, exit 2, no directory and no file made
 lib="$tmp/lib.json"
 never="$tmp/never"

@@ -15,6 +15,11 @@ LIBRARY="${1:?usage: sbatch --array=0-N1 bake-library.sh LIB.json CACHE_DIR}"
 CACHE="${2:?usage: sbatch --array=0-N1 bake-library.sh LIB.json CACHE_DIR}"
 K="${SLURM_ARRAY_TASK_ID:?run as an array job: sbatch --array=0-7 ...}"
 N="${SLURM_ARRAY_TASK_COUNT:?run as an array job: sbatch --array=0-7 ...}"
+# Task ids must be exactly 0..N-1 (not 1-8, not 0-14:2): otherwise shards would be skipped.
+if [ "${SLURM_ARRAY_TASK_MIN:-0}" -ne 0 ] || [ "${SLURM_ARRAY_TASK_MAX:-$((N - 1))}" -ne $((N - 1)) ]; then
+  echo "bake-library.sh: submit with --array=0-$((N - 1)) (ids 0 to N-1, step 1)" >&2
+  exit 2
+fi
 # The bake runs its entries on every core of the task's CPU set (TBB follows the affinity mask
 # Slurm gives the task: --cpus-per-task).
 exec ganzfeld bake --library "$LIBRARY" --out "$CACHE" --shard "$K/$N" --quiet
