@@ -6,7 +6,9 @@
 // handler answers 503 with Retry-After and Connection: close (http.cpp) without doing any work.
 // (0.11's TaskQueue hands over an opaque closure, not the socket, so the only way to answer the
 // connection is to run the closure; a shed answer costs microseconds. Connections arriving while
-// the accepting thread sheds wait in the kernel's listen backlog, which is bounded too.)
+// the accepting thread sheds wait in the kernel's listen backlog, which is bounded too. A shed
+// client that sends no request holds the accepting thread for httplib's read timeout, 5 s: a
+// limit of this design, not of the bound.)
 #pragma once
 
 #include <condition_variable>
@@ -37,7 +39,7 @@ class ConnectionPool : public httplib::TaskQueue {
   /// True on a thread running a shed connection: answer 503 and close.
   static bool shedding() noexcept;
 
-  /// Connections shed so far (all pools): reported by /healthz-like counters and tests.
+  /// Connections shed so far by every pool of the process (tests/connection_pool_test.cpp).
   static long long shed_count() noexcept;
 
  private:
