@@ -29,8 +29,8 @@ n=$(json_field "$tmp/load.json" "d['uncached_tables_requested']")
 # a second service on the same port is refused (httplib's default SO_REUSEPORT would let it share)
 "$G" serve --cache "$tmp/cache2" --port "$port" 2>"$tmp/second.err" &
 second=$!
-sleep 1
-if kill -0 $second 2>/dev/null; then kill -TERM $second; wait $second; fail "a second serve shares port $port"
+for _ in $(seq 100); do kill -0 $second 2>/dev/null && ! grep -q "listening on" "$tmp/second.err" || break; sleep 0.1; done
+if grep -q "listening on" "$tmp/second.err"; then kill -TERM $second; wait $second; fail "a second serve shares port $port"
 else wait $second; rc=$?; [ $rc -eq 2 ] && grep -q "cannot listen on 127.0.0.1:$port" "$tmp/second.err" && ok || fail "second serve: exit $rc $(cat "$tmp/second.err")"; fi
 kill -TERM $pid; wait $pid; pid=""
 
