@@ -1,7 +1,9 @@
-// ganzfeld bake: one law of one model into an OpenEXR table (tables/, docs/lut-format.md), or every
-// table a scene needs into a cache directory (scene/plan.h, tables/cache.h). A table whose file
+// ganzfeld bake: one law of one model into an OpenEXR table (tables/, docs/lut-format.md), every
+// table a scene needs into a cache directory (scene/plan.h, tables/cache.h), or one shard of a
+// material library's tables into one (cli/library.h, docs/scale-out.md). A table whose file
 // already carries exactly the requested key (spec, law, axes, tolerance, encoding, format
 // version) is reused, not re-baked, unless --force.
+#include <algorithm>
 #include <cstdio>
 #include <iostream>
 #include <optional>
@@ -11,6 +13,7 @@
 #include "util/atomic_file.h"
 #include "cli/args.h"
 #include "cli/commands.h"
+#include "cli/library.h"
 #include "util/error.h"
 #include "laws/registry.h"
 #include "laws/spec.h"
@@ -35,8 +38,9 @@ struct BakeArgs {
   // one table
   std::string model, law, res, output, mapping, frame, interpolation;
   std::optional<unsigned long long> checks;
-  // a scene's tables
-  std::string scene, out_dir;
+  // a scene's tables, or a library's (one shard of them)
+  std::string scene, library, out_dir;
+  std::optional<std::string> shard;  ///< --shard K/N (absent: 0/1)
   // both: --tol, --encoding, --max-evals (and, for scenes, --res-g, --res-h)
   TableOptionArgs table;
   bool quiet = false, json = false, force = false;
@@ -108,31 +112,106 @@ std::vector<int> axis_counts(const tables::Table& table) {
   return counts;
 }
 
+/// "baked g of SPEC, 32x32x16 nodes: lookup error ... -> PATH"
+void print_table_line(const scene::PlannedTable& t) {
+  std::printf("%s %s of %s, %s nodes: lookup error %.3g (validated; node error %.3g) -> %s\n",
+              tables::to_string(t.status), to_string(t.request.law), t.request.spec.c_str(),
+              tables::resolution_text(axis_counts(*t.table)).c_str(), t.table->lookup_error, t.table->max_error,
+              t.path.c_str());
+}
+
+/// How many of `plan`'s tables were baked (the others were reused).
+std::size_t baked_count(const scene::ShadingPlan& plan) {
+  return static_cast<std::size_t>(std::count_if(plan.tables.begin(), plan.tables.end(), [](const scene::PlannedTable& t) {
+    return t.status == tables::CacheStatus::baked;
+  }));
+}
+
 int bake_scene(const BakeArgs& args) {
   if (args.out_dir.empty()) throw InputError("bake --scene needs --out DIR (the table cache directory)");
   const scene::TableOptions options = args.table.options(scene::TableOptions{});
   const Scene scene = load_scene(args.scene);
   const std::string dir = prepare_directory("--out", args.out_dir);
   const scene::ShadingPlan plan = scene::plan_shading(scene, options, table_store(dir, args.quiet, args.force));
-  std::size_t baked = 0;
-  for (const scene::PlannedTable& t : plan.tables) {
-    baked += t.status == tables::CacheStatus::baked;
-    if (!args.json)
-      std::printf("%s %s of %s, %s nodes: lookup error %.3g (validated; node error %.3g) -> %s\n",
-                  tables::to_string(t.status), to_string(t.request.law), t.request.spec.c_str(),
-                  tables::resolution_text(axis_counts(*t.table)).c_str(), t.table->lookup_error, t.table->max_error,
-                  t.path.c_str());
-  }
+  if (!args.json)
+    for (const scene::PlannedTable& t : plan.tables) print_table_line(t);
   warn_unconverged(plan);
   if (args.json) {
     std::cout << nlohmann::ordered_json{{"tables", tables_json(plan)}}.dump(2) << "\n";
   } else if (plan.tables.empty()) {
     std::printf("scene %s needs no tables (only collimated light, or Lambert lobes only)\n", args.scene.c_str());
   } else {
+    const std::size_t baked = baked_count(plan);
     std::printf("%zu tables in %s: %zu baked, %zu reused\n", plan.tables.size(), dir.c_str(), baked,
                 plan.tables.size() - baked);
   }
   return 0;
+}
+
+/// One shard of a library's tables into the cache --out (docs/scale-out.md): the library and the
+/// shard are checked before the directory is created or anything is baked.
+int bake_library(const BakeArgs& args) {
+  if (args.out_dir.empty()) throw InputError("bake --library needs --out DIR (the table cache directory)");
+  const Shard shard = args.shard ? parse_shard(*args.shard) : Shard{};
+  const std::vector<scene::TableRequest> all = load_library(args.library);
+  const std::vector<scene::TableRequest> mine = shard_of(all, shard);
+  const std::string dir = prepare_directory("--out", args.out_dir);
+  const scene::TableStore store = table_store(dir, args.quiet, args.force);
+  scene::ShadingPlan plan;  // only its tables: the JSON and warnings of a scene bake
+  for (const scene::TableRequest& request : mine) {
+    plan.tables.push_back(scene::obtain_table(request, store));
+    if (!args.json) print_table_line(plan.tables.back());
+  }
+  warn_unconverged(plan);
+  const std::string name = std::to_string(shard.index) + "/" + std::to_string(shard.count);
+  if (args.json) {
+    std::cout << nlohmann::ordered_json{{"shard", name}, {"library_tables", all.size()}, {"tables", tables_json(plan)}}.dump(2)
+              << "\n";
+  } else {
+    const std::size_t baked = baked_count(plan);
+    std::printf("shard %s: %zu of the library's %zu tables in %s: %zu baked, %zu reused\n", name.c_str(),
+                plan.tables.size(), all.size(), dir.c_str(), baked, plan.tables.size() - baked);
+  }
+  return 0;
+}
+
+enum class BakeMode { model, scene, library };
+
+/// The flags only some modes take; --tol, --encoding, --max-evals, --max-error, --max-bytes are
+/// for --model and --scene (a library states them per accuracy).
+struct ModeFlag {
+  const char* flag;
+  bool model, scene, library;
+};
+constexpr ModeFlag kModeFlags[] = {
+    {"--law", true, false, false},   {"--res", true, false, false},       {"--mapping", true, false, false},
+    {"--output", true, false, false}, {"--frame", true, false, false},    {"--interpolation", true, false, false},
+    {"--checks", true, false, false}, {"--out", false, true, true},       {"--res-g", false, true, false},
+    {"--res-h", false, true, false},  {"--shard", false, false, true},    {"--tol", true, true, false},
+    {"--encoding", true, true, false}, {"--max-evals", true, true, false}, {"--max-error", true, true, false},
+    {"--max-bytes", true, true, false}};
+
+/// Which of --model, --scene, --library was given (exactly one), with no flag of another mode.
+BakeMode bake_mode(const CLI::App& cmd) {
+  const bool model = cmd.count("--model") > 0, scene = cmd.count("--scene") > 0, library = cmd.count("--library") > 0;
+  if (model + scene + library > 1)
+    throw InputError("--model, --scene and --library are mutually exclusive; bake one table (--model), a scene's "
+                     "(--scene) or a library's (--library)");
+  if (!model && !scene && !library)
+    throw InputError("bake needs --model SPEC (one table, with --law, --res, -o), --scene SCENE.json --out DIR or "
+                     "--library LIB.json --out DIR [--shard K/N]");
+  const BakeMode mode = model ? BakeMode::model : scene ? BakeMode::scene : BakeMode::library;
+  const char* name = model ? "--model" : scene ? "--scene" : "--library";
+  for (const ModeFlag& f : kModeFlags) {
+    const bool allowed = mode == BakeMode::model ? f.model : mode == BakeMode::scene ? f.scene : f.library;
+    if (!allowed && cmd.count(f.flag) > 0) {
+      const char* hint = mode == BakeMode::model     ? "with --model use --law, --res, -o FILE.exr"
+                         : mode == BakeMode::scene ? "with --scene use --out DIR, --res-g, --res-h"
+                                                   : "with --library use --out DIR, --shard K/N; accuracies go in the library";
+      throw InputError(std::string(f.flag) + " is not for " + name + " bakes; " + hint);
+    }
+  }
+  return mode;
 }
 
 }  // namespace
@@ -158,29 +237,22 @@ void add_bake_command(CLI::App& app, Action& action, int argc, const char* const
                   "one table: seeded random validation points (besides the cell centres) against direct cubature");
   cmd->add_option("-o,--output", args->output, "one table: the table to write, FILE.exr (written atomically)");
   cmd->add_option("--scene", args->scene, "a scene's tables: the scene file, SCENE.json (cli-contract.md)");
+  cmd->add_option("--library", args->library,
+                  "a library's tables: LIB.json, groups of model specs x laws x accuracies (docs/scale-out.md)");
+  cmd->add_option("--shard", args->shard,
+                  "a library's tables: bake only shard K of N (K/N, 0 <= K < N; default 0/1, all); the N shards "
+                  "are disjoint and together are the whole library");
   cmd->add_option("--out", args->out_dir,
-                  "a scene's tables: the cache directory (created if its parent exists); file names are "
-                  "SPEC.LAW.HASH.exr");
+                  "a scene's or a library's tables: the cache directory (created if its parent exists); file "
+                  "names are SPEC.LAW.HASH.exr");
   args->table.add_to(*cmd, scene::TableOptions{});  // --res-g, --res-h (scenes), --tol, --encoding, --max-evals
   cmd->add_flag("--force", args->force, "bake even when the file already holds exactly this table");
   cmd->add_flag("--quiet", args->quiet, "no progress bar (it is shown only when stderr is a terminal)");
   cmd->add_flag("--json", args->json, "print one JSON document: {\"tables\": [{path, model, law, status}, ...]}");
   cmd->callback([&action, args, cmd] {
-    const bool scene = cmd->count("--scene") > 0, model = cmd->count("--model") > 0;
-    action = [args, cmd, scene, model] {
-      if (scene && model)
-        throw InputError("--scene and --model are mutually exclusive; bake either one table (--model) or a scene's");
-      if (!scene && !model)
-        throw InputError("bake needs --model SPEC (one table, with --law, --res, -o) or --scene SCENE.json --out DIR");
-      const std::vector<std::string> own_model{"--law",  "--res",          "--mapping", "--output",
-                                               "--frame", "--interpolation", "--checks"};
-      const std::vector<std::string> own_scene{"--out", "--res-g", "--res-h"};
-      for (const std::string& flag : scene ? own_model : own_scene)
-        if (cmd->count(flag) > 0)
-          throw InputError(flag + " is for " + (scene ? "--model" : "--scene") + " bakes; " +
-                           (scene ? "with --scene use --out DIR, --res-g, --res-h"
-                                  : "with --model use --law, --res, -o FILE.exr"));
-      return scene ? bake_scene(*args) : bake_one(*args);
+    action = [args, cmd] {
+      const BakeMode mode = bake_mode(*cmd);
+      return mode == BakeMode::model ? bake_one(*args) : mode == BakeMode::scene ? bake_scene(*args) : bake_library(*args);
     };
   });
 }

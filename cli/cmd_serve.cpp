@@ -26,6 +26,9 @@ void add_serve_command(CLI::App& app, Action& action) {
   cmd->add_option("--bind", args->server.bind, "address to listen on (default 127.0.0.1: this machine only)");
   cmd->add_option("--jobs", args->jobs, "tables baked at once (default 1; each bake uses every core)");
   cmd->add_option("--queue", args->queue, "bakes waiting for a job (default 4); beyond them requests get 503");
+  cmd->add_option("--connection-queue", args->server.waiting,
+                  "connections waiting for a free connection thread (default " +
+                      std::to_string(serve::ServerOptions{}.waiting) + "); beyond them a connection gets 503");
   cmd->add_option("--max-entries", args->max_entries,
                   "largest table baked on demand, in entries (default " + std::to_string(serve::Limits{}.max_entries) +
                       "); larger requests get 413");
@@ -37,6 +40,9 @@ void add_serve_command(CLI::App& app, Action& action) {
         throw InputError("--jobs=" + std::to_string(args->jobs) + " is out of range; allowed: 1 to 64");
       if (args->queue < 0 || args->queue > 1024)
         throw InputError("--queue=" + std::to_string(args->queue) + " is out of range; allowed: 0 to 1024");
+      if (args->server.waiting < 0 || args->server.waiting > 4096)
+        throw InputError("--connection-queue=" + std::to_string(args->server.waiting) +
+                         " is out of range; allowed: 0 to 4096");
       if (args->max_entries < 2)
         throw InputError("--max-entries=" + std::to_string(args->max_entries) + " is too small; allowed: >= 2");
       serve::ServiceOptions options;

@@ -59,7 +59,10 @@ std::vector<TableRequest> requests_of(const std::vector<Material>& materials, co
   return out;
 }
 
-PlannedTable obtain(TableRequest request, const TableStore& store) {
+}  // namespace
+
+PlannedTable obtain_table(TableRequest request, const TableStore& store) {
+  if (store.obtain) return store.obtain(std::move(request));
   PlannedTable out;
   if (store.before_bake) store.before_bake(request);
   if (store.cache_dir.empty()) {
@@ -78,6 +81,8 @@ PlannedTable obtain(TableRequest request, const TableStore& store) {
   return out;
 }
 
+namespace {
+
 std::shared_ptr<const tables::Table> find_table(const std::vector<PlannedTable>& tables, const std::string& spec,
                                                 Law law) {
   for (const PlannedTable& t : tables)
@@ -92,7 +97,7 @@ ShadingPlan plan(const std::vector<Material>& materials, std::vector<bool> used,
   out.material_used = std::move(used);
   if (!direct)
     for (TableRequest& request : requests_of(materials, out.material_used, out.fields, options))
-      out.tables.push_back(obtain(std::move(request), store));
+      out.tables.push_back(obtain_table(std::move(request), store));
   for (const Material& material : materials) {
     PlannedMaterial planned;
     for (const MaterialLobe& lobe : material.lobes) {

@@ -76,6 +76,8 @@ std::vector<TableRequest> tables_needed(const Scene& scene, const TableOptions& 
 /// `request` at `path` (stamped into the file).
 std::vector<std::string> bake_command(const TableRequest& request, const std::string& path);
 
+struct PlannedTable;
+
 /// Where tables come from: a cache directory (reused when an entry matches exactly, else baked
 /// and stored), or memory (baked, not stored) when `cache_dir` is empty.
 struct TableStore {
@@ -85,6 +87,9 @@ struct TableStore {
   std::function<std::string(const std::vector<std::string>&)> command_line;
   /// Called before each bake so the caller can attach progress to the options.
   std::function<void(TableRequest&)> before_bake;
+  /// When set, obtains every table instead of the above (the service routes a scene's tables
+  /// through its bounded, single-flight bakery: serve/service.h).
+  std::function<PlannedTable(TableRequest)> obtain;
 };
 
 /// One table of the plan, as obtained.
@@ -113,6 +118,10 @@ struct ShadingPlan {
   std::vector<PlannedMaterial> materials;  ///< one per scene material (unused ones too)
   std::vector<bool> material_used;         ///< per material: some object uses it
 };
+
+/// One table obtained from `store`: reused from its cache file when that holds exactly this
+/// table, else baked (and stored when the store has a directory).
+PlannedTable obtain_table(TableRequest request, const TableStore& store);
 
 /// The plan of `scene`: its tables obtained from `store`; with `direct`, no tables at all (every
 /// non-Lambert law is LawOrigin::direct).

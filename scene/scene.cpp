@@ -7,14 +7,13 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <initializer_list>
 #include <map>
 #include <optional>
-#include <sstream>
 
 #include <nlohmann/json.hpp>
 
+#include "scene/json_file.h"
 #include "util/error.h"
 
 namespace ganzfeld {
@@ -92,37 +91,7 @@ class Parser {
     refuse((key.empty() ? std::string("top level") : key) + " = " + quote(value) + " is not allowed; " + allowed);
   }
 
-  std::string read_text() const {
-    if (text_) return *text_;
-    std::error_code ec;
-    if (!fs::exists(path_, ec)) refuse("no such file");
-    if (!fs::is_regular_file(path_, ec)) refuse("not a regular file");
-    std::ifstream in(path_, std::ios::binary);
-    std::stringstream text;
-    text << in.rdbuf();
-    if (!in || in.bad()) refuse("cannot be read");
-    return text.str();
-  }
-
-  Json read_json() const {
-    const std::string text = read_text();
-    try {
-      return Json::parse(text);
-    } catch (const Json::parse_error& e) {
-      // e.what() is "[json.exception.parse_error.101] parse error at line L, column C: ...".
-      std::string what = e.what();
-      const auto bracket = what.find("] ");
-      if (bracket != std::string::npos) what = what.substr(bracket + 2);
-      refuse("malformed JSON: " + what + " (byte " + std::to_string(e.byte) + ")");
-    } catch (const Json::exception& e) {
-      // e.g. "[json.exception.out_of_range.406] number overflow parsing '1e999'": JSON numbers
-      // must be finite.
-      std::string what = e.what();
-      const auto bracket = what.find("] ");
-      if (bracket != std::string::npos) what = what.substr(bracket + 2);
-      refuse("malformed JSON: " + what + " (numbers must be finite)");
-    }
-  }
+  Json read_json() const { return scene::read_json_file("scene", path_, text_); }
 
   void check_keys(const Json& object, const std::string& where, std::initializer_list<const char*> allowed) const {
     for (const auto& item : object.items()) {

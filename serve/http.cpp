@@ -5,10 +5,12 @@
 #include <cstdio>
 #include <mutex>
 #include <pthread.h>
+#include <sys/socket.h>
 #include <thread>
 
 #include <httplib.h>
 
+#include "serve/connection_pool.h"
 #include "util/error.h"
 #include "util/timing.h"
 
@@ -17,6 +19,13 @@ namespace ganzfeld::serve {
 namespace {
 
 std::mutex log_mutex;
+
+/// Connections the kernel holds for the listener before it accepts them. cpp-httplib 0.11
+/// listens with CPPHTTPLIB_LISTEN_BACKLOG = 5, compiled into Debian's library: a burst of more
+/// connections (16 load-test clients, a browser's parallel requests) loses SYNs, and each lost
+/// one costs its client a 1 s retransmission (RFC 6298 2.1), seen as 1 s and 2 s maxima in
+/// docs/serve-load.md before this. Still bounded: the kernel caps it at net.core.somaxconn.
+constexpr int kListenBacklog = 128;
 
 /// One line on stderr: "ganzfeld serve: MESSAGE".
 void log_line(const std::string& message) {
@@ -36,11 +45,24 @@ int run(const ServiceOptions& service_options, const ServerOptions& options) {
 
   Service service(service_options);
   httplib::Server server;
-  const int threads = options.threads;
-  server.new_task_queue = [threads] { return new httplib::ThreadPool(static_cast<std::size_t>(threads)); };
+  const auto threads = static_cast<std::size_t>(options.threads), waiting = static_cast<std::size_t>(options.waiting);
+  server.new_task_queue = [threads, waiting] { return new ConnectionPool(threads, waiting); };
   server.set_payload_max_length(64 * 1024);  // GET only: a larger body gets 413
   server.set_keep_alive_timeout(5);
-  server.Get(".*", [&service](const httplib::Request& req, httplib::Response& res) {
+  // Without TCP_NODELAY, a keep-alive client waits ~40 ms for each answer: the headers and the
+  // body leave in two writes, and Nagle holds the second until the client's delayed ACK of the
+  // first (RFC 896, RFC 1122 4.2.3.2). Measured by scripts/gen-serve-load-docs.
+  server.set_tcp_nodelay(true);
+  server.Get(".*", [&service, &options](const httplib::Request& req, httplib::Response& res) {
+    if (ConnectionPool::shedding()) {  // every connection thread busy, the connection queue full
+      res.status = 503;
+      res.set_header("Retry-After", std::to_string(kRetryAfterSeconds));
+      res.set_header("Connection", "close");
+      res.set_content(error_body("all " + std::to_string(options.threads) + " connection threads are busy and " +
+                                 std::to_string(options.waiting) + " connections wait; retry later"),
+                      "application/json");
+      return;
+    }
     const util::Stopwatch watch;
     const std::size_t mark = req.target.find('?');
     const std::string query = mark == std::string::npos ? "" : req.target.substr(mark + 1);
@@ -70,14 +92,26 @@ int run(const ServiceOptions& service_options, const ServerOptions& options) {
     log_line(line);
   });
 
+  // httplib's default socket options set SO_REUSEPORT, with which a second `serve` on the same
+  // port binds too and silently shares the connections; SO_REUSEADDR alone refuses it (and still
+  // allows a restart while old connections linger in TIME_WAIT). The socket is kept to raise
+  // its backlog after bind: listen() on a listening socket sets a new backlog (Linux, listen(2)).
+  int listener = -1;
+  server.set_socket_options([&listener](int sock) {
+    const int yes = 1;
+    setsockopt(sock, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof yes);
+    listener = sock;
+  });
   int port = options.port;
   const bool bound = port == 0 ? (port = server.bind_to_any_port(options.bind)) > 0 : server.bind_to_port(options.bind, port);
   if (!bound)
     throw InputError("cannot listen on " + options.bind + ":" + std::to_string(options.port) +
                      " (address in use, not local, or not allowed); choose another --bind or --port");
+  if (listener >= 0) ::listen(listener, kListenBacklog);
   log_line("listening on http://" + options.bind + ":" + std::to_string(port) + "/ (cache " + service_options.cache_dir +
            ", " + std::to_string(service_options.jobs) + " bake jobs, " + std::to_string(service_options.queue) +
-           " queued at most)");
+           " queued at most; " + std::to_string(options.threads) + " connection threads, " +
+           std::to_string(options.waiting) + " connections waiting at most)");
 
   std::atomic<bool> signalled{false};
   std::thread waiter([&] {

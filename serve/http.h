@@ -13,6 +13,7 @@ struct ServerOptions {
   std::string bind = "127.0.0.1";  ///< localhost unless told otherwise
   int port = 8080;                 ///< 0: any free port (the log line says which)
   int threads = 16;                ///< connections served at once (some wait on bakes)
+  int waiting = 64;                ///< connections accepted and waiting for a thread; beyond: 503 (connection_pool.h)
 };
 
 /// Serves until SIGINT or SIGTERM, then returns 0. Blocks those signals in every thread it

@@ -8,6 +8,9 @@
 #include <set>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
+#include "export/glsl.h"
 #include "laws/registry.h"
 #include "laws/spec.h"
 #include "tables/cache.h"
@@ -121,11 +124,25 @@ Query parse_query(std::string_view text) {
   return query;
 }
 
-ModelPtr parse_served_model(const std::string& spec) {
+namespace {
+/// Refuses (400) a spec with a data file item (file=PATH).
+void refuse_data_file(const std::string& spec) {
   static const std::regex file_item(R"((^|[:,])\s*file\s*=)");
   if (std::regex_search(spec, file_item))
     throw bad("model '" + spec + "' names a data file; the service reads no file outside its cache: allowed: "
               "analytic models and mixtures (see /api/models)");
+}
+
+/// refuse_data_file of every string in a JSON document (as decoded: escapes cannot hide one).
+void refuse_data_files(const nlohmann::json& value) {
+  if (value.is_string()) refuse_data_file(value.get<std::string>());
+  if (value.is_structured())
+    for (const auto& item : value) refuse_data_files(item);
+}
+}  // namespace
+
+ModelPtr parse_served_model(const std::string& spec) {
+  refuse_data_file(spec);
   return as_request([&] { return parse_model(spec); });
 }
 
@@ -209,6 +226,11 @@ TableQuery parse_table(const Query& query, const Limits& limits, TableEndpoint e
     if (known == std::end(kFormats)) throw bad("unknown format '" + *format + "'; allowed: exr, ktx2, json");
     q.format = known->format;
   }
+  return table_query(q.model, q.law, q.options, q.format);
+}
+
+TableQuery table_query(ModelPtr model, Law law, tables::BakeOptions options, TableFormat format) {
+  TableQuery q{std::move(model), law, std::move(options), format, "", ""};
   const tables::TableKey key = as_request([&] {
     try {
       return tables::table_key(*q.model, q.law, q.options);
@@ -221,6 +243,24 @@ TableQuery parse_table(const Query& query, const Limits& limits, TableEndpoint e
   });
   q.key = tables::key_text(key);
   q.file_name = tables::cache_file_name(key);
+  return q;
+}
+
+SceneQuery parse_scene_glsl(const Query& query) {
+  check_names(query, "/api/glsl with scene", {"scene", "format"});
+  const std::string text = required(query, "scene", "{...}");
+  // The scene parser reads a model's data file while it parses the spec (and its messages
+  // describe the bytes): every string is checked first. Malformed JSON is left to the parser's
+  // message.
+  refuse_data_files(nlohmann::json::parse(text, nullptr, false));
+  SceneQuery q{as_request([&] { return load_scene_text(text, "scene"); }), false};
+  as_request([&] {
+    exporting::check_scene_exportable(q.scene);
+    return 0;
+  });
+  const std::string format = text_of(query, "format").value_or("glsl");
+  if (format != "glsl" && format != "json") throw bad("unknown format '" + format + "'; allowed: glsl, json");
+  q.json = format == "json";
   return q;
 }
 

@@ -14,6 +14,7 @@
 #include "integrate/cubature.h"
 #include "integrate/laws.h"
 #include "scene/plan.h"
+#include "scene/scene.h"
 #include "tables/bake.h"
 
 namespace ganzfeld::serve {
@@ -43,6 +44,8 @@ struct Limits {
   std::uint64_t max_entries = 64 * 64 * 64;
   /// Evaluation budget of one eval and of each table entry; beyond it: not converged.
   long long max_evaluations = CubatureOptions{}.max_evaluations;
+  /// Most tables one scene request (GET /api/glsl?scene=...) may need; more: 413.
+  std::size_t max_scene_tables = 16;
 };
 
 /// GET /api/eval?model=SPEC&law=f|g|h|a|r&theta_i=DEG&theta_j=DEG&phi=DEG&tol=T
@@ -74,6 +77,19 @@ struct TableQuery {
 enum class TableEndpoint { table, glsl };
 TableQuery parse_table(const Query& query, const Limits& limits, TableEndpoint endpoint,
                        const scene::TableOptions& defaults = {});
+
+/// The TableQuery of law `law` of `model` baked with `options` (key and cache file name set);
+/// throws RequestError 400 for axes a bake would refuse.
+TableQuery table_query(ModelPtr model, Law law, tables::BakeOptions options, TableFormat format = TableFormat::exr);
+
+/// GET /api/glsl?scene=SCENE[&format=glsl|json]: SCENE is the text of a scene file
+/// (cli-contract.md; its meshes are never read: the shader does not need them). Refused (400):
+/// a malformed scene, a lobe naming a data file, a scene export-glsl refuses.
+struct SceneQuery {
+  Scene scene;
+  bool json = false;  ///< format=json: {"glsl", "textures": [...]}; else the shader as text
+};
+SceneQuery parse_scene_glsl(const Query& query);
 
 /// The model of a spec given in a request: refuses (400) specs with a data file (file=...),
 /// then parses it (unknown model or parameter: 400 with the parser's message).

@@ -63,6 +63,18 @@ std::string table_body(const tables::CacheResult& r, TableFormat format, const s
   return {};
 }
 
+/// `reply` with a strong ETag of its body, cached forever (a key names one answer forever), and
+/// X-Ganzfeld-Table: `status`; 304 without a body when `if_none_match_header` matches the tag.
+Reply immutable(Reply reply, const std::string& if_none_match_header, const std::string& status) {
+  const std::string etag = strong_etag(reply.body);
+  reply.headers = {{"ETag", etag}, {"Cache-Control", "public, max-age=31536000, immutable"}, {"X-Ganzfeld-Table", status}};
+  if (!if_none_match_header.empty() && if_none_match(if_none_match_header, etag)) {
+    reply.status = 304;  // RFC 9110, 15.4.5: no body, the same validators
+    reply.body.clear();
+  }
+  return reply;
+}
+
 }  // namespace
 
 std::string error_body(const std::string& message) { return nlohmann::json{{"error", message}}.dump() + "\n"; }
@@ -109,7 +121,7 @@ Reply Service::handle(const Request& request) {
       return json_reply(200, shapes::eval_json(q.model->spec(), q.law, e, q.tolerance, q.i, q.j, watch.seconds()));
     }
     if (path == "/api/table") return table(request, TableEndpoint::table);
-    if (path == "/api/glsl") return table(request, TableEndpoint::glsl);
+    if (path == "/api/glsl") return query.count("scene") ? scene_glsl(request) : table(request, TableEndpoint::glsl);
     return error_reply(404, "no endpoint '" + path + "'; allowed: /, /healthz, /api/models, /api/eval, /api/table, /api/glsl");
   } catch (const RequestError& e) {
     return error_reply(e.status(), e.what());
@@ -155,13 +167,43 @@ Reply Service::table(const Request& request, TableEndpoint endpoint) {
     reply.content_type = content_type(q.format);
     reply.body = table_body(*r, q.format, q.file_name);
   }
-  const std::string etag = strong_etag(reply.body);
-  reply.headers = {{"ETag", etag}, {"Cache-Control", "public, max-age=31536000, immutable"}, {"X-Ganzfeld-Table", status}};
-  if (!request.if_none_match.empty() && if_none_match(request.if_none_match, etag)) {
-    reply.status = 304;  // RFC 9110, 15.4.5: no body, the same validators
-    reply.body.clear();
+  return immutable(std::move(reply), request.if_none_match, status);
+}
+
+Reply Service::scene_glsl(const Request& request) {
+  const SceneQuery q = parse_scene_glsl(request.query);
+  const std::size_t needed = scene::tables_needed(q.scene, options_.defaults).size();
+  if (needed > options_.limits.max_scene_tables)
+    throw RequestError(413, "the scene needs " + std::to_string(needed) + " tables; this service bakes at most " +
+                                std::to_string(options_.limits.max_scene_tables) + " for one scene (use `ganzfeld "
+                                "export-glsl --scene`)");
+  scene::TableStore store;
+  std::string statuses;  // "baked", "reused", "joined" of each table, comma-separated
+  store.obtain = [&](scene::TableRequest r) {
+    std::string status;
+    r.options.max_evaluations = options_.limits.max_evaluations;
+    const Bakery::Result result = obtain(table_query(r.model, r.law, r.options), status);
+    statuses += (statuses.empty() ? "" : ",") + status;
+    scene::PlannedTable planned{std::move(r), std::shared_ptr<const tables::Table>(result, &result->table), result->path,
+                                result->status, result->seconds};
+    return planned;
+  };
+  const scene::ShadingPlan plan = scene::plan_shading(q.scene, options_.defaults, store);
+  Reply reply;
+  reply.body = exporting::glsl_scene_shader(q.scene, plan, kSceneShaderSource);
+  reply.content_type = "text/plain; charset=utf-8";
+  if (q.json) {
+    nlohmann::ordered_json textures = nlohmann::ordered_json::array();
+    for (const scene::PlannedTable& t : plan.tables)
+      textures.push_back({{"sampler", exporting::glsl_sampler_name(t.request.spec, t.request.law)},
+                          {"type", exporting::glsl_sampler_type(t.request.law)},
+                          {"model", t.request.spec},
+                          {"law", to_string(t.request.law)},
+                          {"file", std::filesystem::path(t.path).filename().string()}});
+    reply.body = nlohmann::ordered_json{{"glsl", reply.body}, {"textures", textures}}.dump() + "\n";
+    reply.content_type = "application/json";
   }
-  return reply;
+  return immutable(std::move(reply), request.if_none_match, statuses.empty() ? "none" : statuses);
 }
 
 }  // namespace ganzfeld::serve

@@ -7,7 +7,8 @@
 //   GET /api/models   shapes::models_json (= `ganzfeld models --json`)
 //   GET /api/eval     shapes::eval_json   (= `ganzfeld eval --json`)
 //   GET /api/table    the table from the cache (baked on demand: serve/bakery.h) as exr, ktx2 or json
-//   GET /api/glsl     export::glsl_table_snippet of that table
+//   GET /api/glsl     export::glsl_table_snippet of that table, or with scene=SCENE the scene's
+//                     shader (export::glsl_scene_shader) and the tables it samples
 // Errors: {"error": "one line"} with 400 (bad value), 404 (no such endpoint), 413 (too large),
 // 503 (no bake slot free: Retry-After) or 500.
 #pragma once
@@ -52,6 +53,9 @@ struct Reply {
 /// Seconds a client is told to wait after a 503.
 inline constexpr int kRetryAfterSeconds = 2;
 
+/// What a served scene shader's header comment names as its source.
+inline constexpr const char* kSceneShaderSource = "the scene of a GET /api/glsl request";
+
 class Service {
  public:
   explicit Service(ServiceOptions options);
@@ -69,6 +73,8 @@ class Service {
 
  private:
   Reply table(const Request& request, TableEndpoint endpoint);
+  /// GET /api/glsl?scene=...: the scene's shader, its tables obtained through the bakery.
+  Reply scene_glsl(const Request& request);
   /// The table of `q` from the cache, or baked (single flight); `status`: baked, reused or joined.
   Bakery::Result obtain(const TableQuery& q, std::string& status);
 

@@ -17,3 +17,14 @@ expect_bad() {
   ok
 }
 json_field() { python3 -c "import json,sys; d=json.load(open('$1')); print($2)"; }
+# start_serve LOG [serve args]: `$G serve --port 0 ARGS` in the background, stderr to LOG; waits for
+# its listening line and sets pid, port and URL; fails (status 1) if it never listens.
+start_serve() {
+  local log="$1"; shift
+  "$G" serve --port 0 "$@" 2>"$log" &
+  pid=$!
+  for _ in $(seq 100); do grep -q "listening on" "$log" && break; sleep 0.1; done
+  port=$(sed -nE 's|.*listening on http://127\.0\.0\.1:([0-9]+)/.*|\1|p' "$log")
+  URL="http://127.0.0.1:$port"
+  [ -n "$port" ]
+}
