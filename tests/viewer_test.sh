@@ -72,10 +72,49 @@ check beam "model=specular:alpha=20&light=collimated&dir=0.3,0.6,0.74" page_alph
 reference beam20 specular:alpha=20 "{\"type\": \"collimated\", \"direction\": [0.3, 0.6, 0.74], \"irradiance\": [$PI08, $PI08, $PI08]}" 0.1
 "$COMPARE" "$tmp/beam20.exr" "$tmp/page_alpha20.html" && ok || fail "alpha=20 page vs its own render"
 
-# The interactive page comes up with its panels for model A and B (no test mode).
-load interactive "model=$(uri "$SPEC")&model_b=$(uri minnaert:xi=1)"
+# The interactive page comes up with its panels for model A and B (no test mode), and the numbers
+# under a probed cursor are f, g, h, a, r at that point's angles: the angles computed here
+# apart from the page (the figure's camera and sphere), the values those of `ganzfeld eval`.
+load interactive "model=$(uri "$SPEC")&model_b=$(uri minnaert:xi=1)&dir=0.3,0.6,0.74&pole=0.2,0.9,0.4&probe=0.6,0.4"
 grep -q '"ready":true,"rows":\["specular:alpha=8","minnaert:xi=1"\]' "$tmp/interactive.html" && ok \
   || fail "interactive page: $(grep -o '<pre id="result">.*</pre>' "$tmp/interactive.html"; grep -o 'class="error">[^<]*' "$tmp/interactive.html")"
+python3 - "$tmp/interactive.html" "$G" "$SPEC" <<'PY' && ok || fail "numbers at the cursor"
+import json, math, re, subprocess, sys
+dom, ganzfeld, spec = sys.argv[1], sys.argv[2], sys.argv[3]
+text = re.search(r'<div id="numbers">(.*?)</div>', open(dom, encoding='utf-8').read(), re.S).group(1)
+unit = lambda v: [x / math.sqrt(sum(y * y for y in v)) for x in v]
+dot = lambda a, b: sum(x * y for x, y in zip(a, b))
+t = math.tan(math.radians(12.5))                          # the figure's 25° field of view
+d = unit([(2 * 0.6 - 1) * t, (1 - 2 * 0.4) * t, -1])      # probe (0.6, 0.4), eye (0, 0, 6)
+b = dot([0, 0, 6], d)
+s = -b - math.sqrt(b * b - 35)                            # |eye|^2 - 1 = 35
+n = unit([s * d[0], s * d[1], 6 + s * d[2]])
+j = [-x for x in d]
+def azimuth(a):
+    ta = [x - dot(a, n) * y for x, y in zip(a, n)]
+    tj = [x - dot(j, n) * y for x, y in zip(j, n)]
+    return math.degrees(math.acos(dot(ta, tj) / math.sqrt(dot(ta, ta) * dot(tj, tj))))
+beam, pole = unit([0.3, 0.6, 0.74]), unit([0.2, 0.9, 0.4])
+angles = {'f': (math.degrees(math.acos(dot(beam, n))), math.degrees(math.acos(dot(j, n))), azimuth(beam)),
+          'g': (math.degrees(math.acos(dot(pole, n))), math.degrees(math.acos(dot(j, n))), azimuth(pole))}
+for law, (ti, tj, phi) in angles.items():
+    line = re.search('^%s = (\\S+) .*θi ([0-9.]+)°.*θj ([0-9.]+)°, φ ([0-9.]+)°' % law, text, re.M)
+    assert line, 'no line for %s in %r' % (law, text)
+    shown = [float(x) for x in line.groups()[1:]]
+    assert all(abs(x - y) <= 0.005 + 1e-9 for x, y in zip(shown, (ti, tj, phi))), (law, shown, (ti, tj, phi))
+    cli = json.loads(subprocess.run([ganzfeld, 'eval', '--model', spec, '--law', law, '--theta-i', line.group(2),
+                                     '--theta-j', line.group(3), '--phi', line.group(4), '--tol', '1e-6', '--json'],
+                                    capture_output=True, text=True, check=True).stdout)
+    assert '%.6g' % cli['value'] == '%.6g' % float(line.group(1)), (law, cli['value'], line.group(1))
+one_angle = {'h': ('--theta-j', 'θj', angles['f'][1]), 'a': ('--theta-i', 'θi', angles['f'][0]), 'r': None}
+for law, angle in one_angle.items():
+    line = re.search('^%s = (\\S+) ± ' % law + ('.*%s ([0-9.]+)°' % angle[1] if angle else ''), text, re.M)
+    assert line, 'no line for %s in %r' % (law, text)
+    if angle: assert abs(float(line.group(2)) - angle[2]) <= 0.005 + 1e-9, (law, line.group(2), angle[2])
+    command = [ganzfeld, 'eval', '--model', spec, '--law', law, '--tol', '1e-6', '--json'] + ([angle[0], line.group(2)] if angle else [])
+    cli = json.loads(subprocess.run(command, capture_output=True, text=True, check=True).stdout)
+    assert '%.6g' % cli['value'] == '%.6g' % float(line.group(1)), (law, cli['value'], line.group(1))
+PY
 
 # A bad model in the URL: the page reports the service's one-line error.
 page bad "model=nosuchmodel&light=sky&dir=0,1,0"

@@ -6,6 +6,8 @@
 // The shading is the service's own GLSL ES 3.00: f from /api/glsl?law=f, g and h from /api/glsl
 // (export-glsl's snippet) sampling the tables of /api/table (format=json, uploaded as R32F), so the
 // page shades exactly as `ganzfeld render` does from the same cache (tests/viewer_test.sh checks it).
+// The URL keeps the state: ?model=SPEC&model_b=SPEC&dir=X,Y,Z (beam)&pole=X,Y,Z&theta=DEG (lobe's
+// incidence)&lobe=N (its resolution)&probe=U,V (the numbers at that point of the spheres).
 // Test mode (?test=1&model=SPEC&light=collimated|sky|ganzfeld&dir=X,Y,Z&size=N): one sphere rendered
 // into a float framebuffer, its pixels written as JSON into <pre id="result"> for --dump-dom.
 'use strict';
@@ -22,8 +24,9 @@ const kBeam = normalize([0.5, 0.5, Math.SQRT1_2]);
 // Pixels whose j.n is below this lie within a pixel or two of the silhouette, where a tessellated
 // sphere (the CPU's coverage test) and the exact one differ: marked so a comparison skips them.
 const kSilhouetteCos = 0.05;
-// Sampling of f over the hemisphere for the lobe and the polar plot.
-const kGridTheta = 64, kGridPhi = 128;
+// Sampling of f over the hemisphere for the lobe and the polar plot: theta_j steps (adjustable),
+// twice as many in phi.
+const kLobeResolutions = [16, 32, 64, 128];
 const kLobeColors = ['#4aa3ff', '#ff9f40'];
 const kViews = ['collimated', 'sky', 'ganzfeld'];
 const kViewTitles = ['collimated beam: H0 (i·n) f', 'hemispherical sky: N g', 'Ganzfeld: N h'];
@@ -234,21 +237,23 @@ class Shading {
     return {value, mask};
   }
 
-  /// f(i, j, +z) for j at the centres of a kGridTheta x kGridPhi grid (row: theta_j).
-  fGrid(i) {
-    const pixels = this.offscreen(kGridPhi, kGridTheta, () => {
+  /// f(i, j, +z) for j at the centres of an nt x 2 nt grid of (theta_j, phi_j), rows theta_j:
+  /// {f, max, nt, np}.
+  fGrid(i, nt) {
+    const np = 2 * nt;
+    const pixels = this.offscreen(np, nt, () => {
       const gl = this.gl;
       gl.useProgram(this.program);
-      gl.viewport(0, 0, kGridPhi, kGridTheta);
+      gl.viewport(0, 0, np, nt);
       gl.uniform1i(this.location('u_mode'), 3);
       gl.uniform3fv(this.location('u_light'), i);
       gl.uniform2f(this.location('u_origin'), 0, 0);
-      gl.uniform2f(this.location('u_size'), kGridPhi, kGridTheta);
+      gl.uniform2f(this.location('u_size'), np, nt);
       gl.drawArrays(gl.TRIANGLES, 0, 3);
     });
-    const f = new Float32Array(kGridTheta * kGridPhi);
+    const f = new Float32Array(nt * np);
     for (let k = 0; k < f.length; ++k) f[k] = pixels[4 * k];
-    return f;
+    return {f, max: f.reduce((m, v) => Math.max(m, v), 0), nt, np};
   }
 
   /// Runs draw() into an RGBA32F framebuffer and reads it back as floats (not the 8-bit canvas).
@@ -283,11 +288,12 @@ function context(canvas) {
 // ---------------------------------------------------------------------------------------------
 // Geometry shared by drawing and picking
 
-/// The unit normal and j of the figure's sphere at pixel (x, y) of a size x size view (y = 0
-/// top), or null off the sphere: rasterizer/raster.cpp's pixel_ray and the exact sphere.
-function spherePoint(x, y, size) {
+/// The unit normal and j of the figure's sphere at (u, v) of its view, in [0, 1] from the top
+/// left (pixel x's centre: u = (x + 0.5) / size), or null off the sphere: rasterizer/raster.cpp's
+/// pixel_ray and the exact sphere.
+function spherePoint(u, v) {
   const t = Math.tan(kFovDeg * Math.PI / 360);
-  const d = normalize([(2 * (x + 0.5) / size - 1) * t, (1 - 2 * (y + 0.5) / size) * t, -1]);
+  const d = normalize([(2 * u - 1) * t, (1 - 2 * v) * t, -1]);
   const eye = [0, 0, kEyeZ];
   const q = eye.map((e, k) => e - dot(eye, d) * d[k]);  // as the shader
   const disc = 1 - dot(q, q);
@@ -310,6 +316,7 @@ const state = {
   light: kBeam,       // towards the beam's source
   pole: [0, 1, 0],    // the sky's pole
   thetaLobe: 45,      // incidence of the lobe and the polar plot, degrees (K&P's 45°)
+  lobeResolution: 64, // theta_j steps of the lobe (kLobeResolutions)
   lobeYaw: -0.5, lobePitch: 0.35,
   rows: [],           // per model: {spec, shading, gl, canvases, grid}
   registry: null,
@@ -369,19 +376,19 @@ function drawLobes() {
 /// r(j) j with r = f / max f on the grid's theta rings and phi meridians.
 function drawWireframe(ctx, grid, project, color) {
   const point = (a, b) => {
-    const theta = (a + 0.5) / kGridTheta * Math.PI / 2, phi = (b + 0.5) / kGridPhi * 2 * Math.PI;
-    const r = grid.max > 0 ? grid.f[a * kGridPhi + (b % kGridPhi)] / grid.max : 0;
+    const theta = (a + 0.5) / grid.nt * Math.PI / 2, phi = (b + 0.5) / grid.np * 2 * Math.PI;
+    const r = grid.max > 0 ? grid.f[a * grid.np + (b % grid.np)] / grid.max : 0;
     return project([r * Math.sin(theta) * Math.cos(phi), r * Math.sin(theta) * Math.sin(phi), r * Math.cos(theta)]);
   };
   ctx.strokeStyle = color;
   ctx.beginPath();
-  for (let a = 0; a < kGridTheta; a += 4)
-    for (let b = 0; b <= kGridPhi; ++b) {
+  for (let a = 0; a < grid.nt; a += Math.max(1, grid.nt / 16))
+    for (let b = 0; b <= grid.np; ++b) {
       const p = point(a, b);
       b ? ctx.lineTo(p[0], p[1]) : ctx.moveTo(p[0], p[1]);
     }
-  for (let b = 0; b < kGridPhi; b += 8)
-    for (let a = 0; a < kGridTheta; ++a) {
+  for (let b = 0; b < grid.np; b += Math.max(1, grid.np / 16))
+    for (let a = 0; a < grid.nt; ++a) {
       const p = point(a, b);
       a ? ctx.lineTo(p[0], p[1]) : ctx.moveTo(p[0], p[1]);
     }
@@ -415,15 +422,15 @@ function drawPolar(row) {
     if (!other.grid || (other !== row && !row.overlay)) return;
     ctx.strokeStyle = kLobeColors[index];
     ctx.beginPath();
-    // phi = 180° (column kGridPhi/2) from the horizon to the normal, then phi = 0 back down.
-    const half = kGridPhi / 2;
+    // phi = 180° (column np/2) from the horizon to the normal, then phi = 0 back down.
+    const {nt, np} = other.grid, half = np / 2;
     const samples = [];
-    for (let a = kGridTheta - 1; a >= 0; --a) samples.push([a, half, -1]);
-    for (let a = 0; a < kGridTheta; ++a) samples.push([a, 0, 1]);
+    for (let a = nt - 1; a >= 0; --a) samples.push([a, half, -1]);
+    for (let a = 0; a < nt; ++a) samples.push([a, 0, 1]);
     samples.forEach(([a, b, side], k) => {
-      // columns b and b-1 straddle the plane (cell centres at (b + 0.5)/kGridPhi): average them
-      const f = 0.5 * (other.grid.f[a * kGridPhi + b] + other.grid.f[a * kGridPhi + ((b + kGridPhi - 1) % kGridPhi)]);
-      const r = other.grid.max > 0 ? f / other.grid.max : 0, theta = (a + 0.5) / kGridTheta * Math.PI / 2;
+      // columns b and b-1 straddle the plane (cell centres at (b + 0.5)/np): average them
+      const f = 0.5 * (other.grid.f[a * np + b] + other.grid.f[a * np + ((b + np - 1) % np)]);
+      const r = other.grid.max > 0 ? f / other.grid.max : 0, theta = (a + 0.5) / nt * Math.PI / 2;
       const x = cx + side * R * r * Math.sin(theta), y = cy - R * r * Math.cos(theta);
       k ? ctx.lineTo(x, y) : ctx.moveTo(x, y);
     });
@@ -434,8 +441,7 @@ function drawPolar(row) {
 function updateLobes() {
   for (const row of state.rows) {
     if (!row.shading || !row.model.f.code) { row.grid = null; continue; }
-    const f = row.shading.fGrid(lobeIncidence());
-    row.grid = {f, max: f.reduce((m, v) => Math.max(m, v), 0)};
+    row.grid = row.shading.fGrid(lobeIncidence(), state.lobeResolution);
   }
   drawLobes();
   state.rows.forEach((row) => row.polar && drawPolar(row));
@@ -451,8 +457,10 @@ async function buildRow(container, spec, index) {
   const element = document.createElement('div');
   element.innerHTML = `<div class="model-title" style="color:${kLobeColors[index]}"></div>
     <div class="row"><canvas class="lobe"></canvas><canvas class="polar"></canvas><canvas class="spheres"></canvas></div>
-    <div class="caption"><div style="width:${size}px">indicatrix r(j) j, θi = ${state.thetaLobe}°
-      <input type="range" class="theta" min="0" max="89" value="${state.thetaLobe}"></div>
+    <div class="caption"><div style="width:${size}px">indicatrix r(j) j, θi = <span class="theta-value">${state.thetaLobe}</span>°
+      <input type="range" class="theta" min="0" max="89" value="${state.thetaLobe}">
+      <select class="resolution" title="lobe resolution: theta x phi steps">${kLobeResolutions.map((n) =>
+        `<option value="${n}"${n === state.lobeResolution ? ' selected' : ''}>${n}×${2 * n}</option>`).join('')}</select></div>
       <div style="width:${size}px">polar plot, plane of incidence</div>
       ${kViewTitles.map((t) => `<div style="width:${size}px">${t}</div>`).join('')}</div>
     <div class="error"></div>`;
@@ -507,7 +515,7 @@ function pick(row, event) {
   const x = (event.clientX - rect.left) * row.spheres.width / rect.width;
   const y = (event.clientY - rect.top) * row.spheres.height / rect.height;
   const view = Math.floor(x / row.size);
-  const point = spherePoint(x - view * row.size, y, row.size);
+  const point = spherePoint((x - view * row.size) / row.size, y / row.size);
   return point && view >= 0 && view < 3 ? {view, ...point} : null;
 }
 
@@ -531,6 +539,12 @@ function attachRowEvents(row) {
   row.element.querySelector('.theta').addEventListener('input', (e) => {
     state.thetaLobe = Number(e.target.value);
     document.querySelectorAll('.theta').forEach((t) => { t.value = state.thetaLobe; });
+    document.querySelectorAll('.theta-value').forEach((t) => { t.textContent = state.thetaLobe; });
+    updateLobes();
+  });
+  row.element.querySelector('.resolution').addEventListener('change', (e) => {
+    state.lobeResolution = Number(e.target.value);
+    document.querySelectorAll('.resolution').forEach((r) => { r.value = e.target.value; });
     updateLobes();
   });
   let turning = null;
@@ -549,31 +563,34 @@ function attachRowEvents(row) {
 let numbersTimer = null;
 function showNumbers(row, p) {
   clearTimeout(numbersTimer);
-  numbersTimer = setTimeout(async () => {
-    const thetaJ = deg(Math.acos(Math.min(1, dot(p.j, p.n))));
-    const thetaBeam = deg(Math.acos(Math.max(-1, Math.min(1, dot(state.light, p.n)))));
-    const thetaPole = deg(Math.acos(Math.max(-1, Math.min(1, dot(state.pole, p.n)))));
-    const fixed = (x) => x.toFixed(2);
-    const asks = [
-      ['f', thetaBeam <= 90 ? `&theta_i=${fixed(thetaBeam)}&theta_j=${fixed(thetaJ)}&phi=${fixed(relativeAzimuth(state.light, p.j, p.n))}` : null,
-       `θi ${fixed(thetaBeam)}° (beam), θj ${fixed(thetaJ)}°`],
-      ['g', `&theta_i=${fixed(thetaPole)}&theta_j=${fixed(thetaJ)}&phi=${fixed(relativeAzimuth(state.pole, p.j, p.n))}`,
-       `θi ${fixed(thetaPole)}° (pole), θj ${fixed(thetaJ)}°`],
-      ['h', `&theta_j=${fixed(thetaJ)}`, `θj ${fixed(thetaJ)}°`],
-      ['a', thetaBeam <= 90 ? `&theta_i=${fixed(thetaBeam)}` : null, `θi ${fixed(thetaBeam)}° (beam)`],
-      ['r', '', ''],
-    ];
-    const lines = await Promise.all(asks.map(async ([law, angles, where]) => {
-      if (angles === null) return `${law}  (beam below the horizon)`;
-      try {
-        const e = JSON.parse(await cached(`/api/eval?${query(row.spec, law)}${angles}&tol=1e-6`));
-        return `${law} = ${e.value.toPrecision(6)} ± ${e.error.toExponential(1)}${e.converged ? '' : ' (not converged)'}  ${where}`;
-      } catch (error) {
-        return `${law}: ${error.message}`;
-      }
-    }));
-    document.getElementById('numbers').textContent = `${row.spec}\n${lines.join('\n')}`;
-  }, 120);
+  numbersTimer = setTimeout(() => writeNumbers(row, p), 120);
+}
+
+async function writeNumbers(row, p) {
+  const thetaJ = deg(Math.acos(Math.min(1, dot(p.j, p.n))));
+  const thetaBeam = deg(Math.acos(Math.max(-1, Math.min(1, dot(state.light, p.n)))));
+  const thetaPole = deg(Math.acos(Math.max(-1, Math.min(1, dot(state.pole, p.n)))));
+  const fixed = (x) => x.toFixed(2);
+  const phiBeam = relativeAzimuth(state.light, p.j, p.n), phiPole = relativeAzimuth(state.pole, p.j, p.n);
+  const asks = [
+    ['f', thetaBeam <= 90 ? `&theta_i=${fixed(thetaBeam)}&theta_j=${fixed(thetaJ)}&phi=${fixed(phiBeam)}` : null,
+     `θi ${fixed(thetaBeam)}° (beam), θj ${fixed(thetaJ)}°, φ ${fixed(phiBeam)}°`],
+    ['g', `&theta_i=${fixed(thetaPole)}&theta_j=${fixed(thetaJ)}&phi=${fixed(phiPole)}`,
+     `θi ${fixed(thetaPole)}° (pole), θj ${fixed(thetaJ)}°, φ ${fixed(phiPole)}°`],
+    ['h', `&theta_j=${fixed(thetaJ)}`, `θj ${fixed(thetaJ)}°`],
+    ['a', thetaBeam <= 90 ? `&theta_i=${fixed(thetaBeam)}` : null, `θi ${fixed(thetaBeam)}° (beam)`],
+    ['r', '', ''],
+  ];
+  const lines = await Promise.all(asks.map(async ([law, angles, where]) => {
+    if (angles === null) return `${law}  (beam below the horizon)`;
+    try {
+      const e = JSON.parse(await cached(`/api/eval?${query(row.spec, law)}${angles}&tol=1e-6`));
+      return `${law} = ${e.value.toPrecision(6)} ± ${e.error.toExponential(1)}${e.converged ? '' : ' (not converged)'}  ${where}`;
+    } catch (error) {
+      return `${law}: ${error.message}`;
+    }
+  }));
+  document.getElementById('numbers').textContent = `${row.spec}\n${lines.join('\n')}`;
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -695,6 +712,7 @@ async function main() {
   if (params.get('test')) return testMode(params);
   if (params.get('dir')) state.light = parseVector(params.get('dir'));
   if (params.get('pole')) state.pole = parseVector(params.get('pole'));
+  if (kLobeResolutions.includes(Number(params.get('lobe')))) state.lobeResolution = Number(params.get('lobe'));
   if (params.get('theta')) state.thetaLobe = Math.max(0, Math.min(89, Number(params.get('theta')) || 45));
   try {
     state.registry = JSON.parse(await cached('/api/models'));
@@ -707,6 +725,11 @@ async function main() {
   setupEditor('a', rebuild);
   setupEditor('b', rebuild);
   await rebuild();
+  // probe=U,V: the numbers at (U, V) of model A's sphere views (spherePoint), as if the cursor
+  // were there (for screenshots and tests/viewer_test.sh).
+  const probe = (params.get('probe') || '').split(',').map(Number);
+  const point = probe.length === 2 && probe.every(Number.isFinite) && spherePoint(probe[0], probe[1]);
+  if (point && state.rows.length) await writeNumbers(state.rows[0], point);
   document.getElementById('result').textContent = JSON.stringify({ready: true, rows: state.rows.map((r) => r.spec)});
 }
 
