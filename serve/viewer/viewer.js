@@ -318,6 +318,8 @@ const state = {
   thetaLobe: 45,      // incidence of the lobe and the polar plot, degrees (K&P's 45°)
   lobeResolution: 64, // theta_j steps of the lobe (kLobeResolutions)
   lobeYaw: -0.5, lobePitch: 0.35,
+  dragging: null,     // the sphere view being dragged (0 beam, 1 sky), or null
+  turning: null,      // the last mouse position while the lobe is turned, or null
   rows: [],           // per model: {spec, shading, gl, canvases, grid}
   registry: null,
 };
@@ -500,6 +502,8 @@ async function rebuild() {
   }
   if (generation !== state.generation) return;  // a newer request superseded this one
   container.replaceChildren(...staging.children);
+  // Free the replaced rows' contexts now (browsers keep only a few WebGL contexts alive).
+  for (const old of state.rows) old.gl.getExtension('WEBGL_lose_context')?.loseContext();
   state.rows = rows;
   const url = new URL(window.location);
   url.searchParams.set('model', specs[0]);
@@ -520,19 +524,17 @@ function pick(row, event) {
 }
 
 function attachRowEvents(row) {
-  let dragging = null;
   row.spheres.addEventListener('mousedown', (e) => {
     const p = pick(row, e);
-    if (p && p.view < 2) dragging = p.view;
+    if (p && p.view < 2) state.dragging = p.view;
     move(e);
   });
-  window.addEventListener('mouseup', () => { dragging = null; });
   const move = (e) => {
     const p = pick(row, e);
     if (!p) return;
-    if (dragging === 0) state.light = p.n;  // the beam comes from the normal under the cursor
-    if (dragging === 1) state.pole = p.n;
-    if (dragging !== null) redraw();
+    if (state.dragging === 0) state.light = p.n;  // the beam comes from the normal under the cursor
+    if (state.dragging === 1) state.pole = p.n;
+    if (state.dragging !== null) redraw();
     showNumbers(row, p);
   };
   row.spheres.addEventListener('mousemove', move);
@@ -547,14 +549,13 @@ function attachRowEvents(row) {
     document.querySelectorAll('.resolution').forEach((r) => { r.value = e.target.value; });
     updateLobes();
   });
-  let turning = null;
-  row.lobe.addEventListener('mousedown', (e) => { turning = [e.clientX, e.clientY]; });
-  window.addEventListener('mouseup', () => { turning = null; });
+  row.lobe.addEventListener('mousedown', (e) => { state.turning = [e.clientX, e.clientY]; });
   row.lobe.addEventListener('mousemove', (e) => {
+    const turning = state.turning;
     if (!turning) return;
     state.lobeYaw += (e.clientX - turning[0]) * 0.01;
     state.lobePitch = Math.max(-1.5, Math.min(1.5, state.lobePitch + (e.clientY - turning[1]) * 0.01));
-    turning = [e.clientX, e.clientY];
+    state.turning = [e.clientX, e.clientY];
     drawLobes();
   });
 }
@@ -722,6 +723,7 @@ async function main() {
   }
   document.getElementById('spec-a').value = params.get('model') || 'specular:alpha=8';
   document.getElementById('spec-b').value = params.get('model_b') || '';
+  window.addEventListener('mouseup', () => { state.dragging = null; state.turning = null; });
   setupEditor('a', rebuild);
   setupEditor('b', rebuild);
   await rebuild();
