@@ -21,7 +21,7 @@ SIZE=64  # pixels per side: the sphere covers ~1,700 of them (viewer_compare.cpp
 "$G" serve --cache "$tmp/cache" --port 0 2>"$tmp/log" &
 pid=$!
 trap 'kill -TERM $pid 2>/dev/null; wait $pid 2>/dev/null; rm -rf "$tmp"' EXIT
-for _ in $(seq 100); do grep -q "listening on" "$tmp/log" && break; sleep 0.1; done
+for _ in $(seq 100); do grep -qs "listening on" "$tmp/log" && break; sleep 0.1; done
 port=$(sed -nE 's|.*listening on http://127\.0\.0\.1:([0-9]+)/.*|\1|p' "$tmp/log")
 [ -n "$port" ] || { echo "FAIL: no listening line: $(cat "$tmp/log")"; exit 1; }
 
