@@ -3,8 +3,9 @@
 # SwiftShader, loads the page of a running `ganzfeld serve` in its test mode (one sphere of the
 # K&P panel rendered into a float framebuffer, the pixels written into <pre id="result">), and
 # tests/viewer_compare.cpp holds them against `ganzfeld render`'s image of the same scene, shaded
-# from the same cache: the beam, the sky and the Ganzfeld, a mixture, a moved light, and a
-# changed parameter that must change the image.
+# from the same cache: the beam, the sky and the Ganzfeld, a mixture, GGX's sky (no GLSL f), a
+# moved light and a changed parameter that must change the image; the interactive page, its
+# numbers at the cursor, and the page's own errors (bad model, no WebGL).
 # Usage: viewer_test.sh PATH/TO/ganzfeld PATH/TO/viewer_compare
 set -u
 G="$1"
@@ -65,6 +66,17 @@ check ganzfeld "model=$(uri "$SPEC")&light=ganzfeld" page_ganzfeld
 MIX="0.7*minnaert:xi=1 + 0.3*backscatter:alpha=2"
 reference mix_beam "$MIX" "{\"type\": \"collimated\", \"direction\": [-0.5, 0.2, 0.8], \"irradiance\": [$PI08, $PI08, $PI08]}" 0.1
 check mix_beam "model=$(uri "$MIX")&light=collimated&dir=-0.5,0.2,0.8" page_mix_beam
+
+# A model without a GLSL f (GGX): its sky still comes from its table; its beam is refused by name.
+reference ggx_sky ggx:alpha=0.3 '{"type": "hemispherical", "pole": [0.2, 0.9, 0.4], "radiance": [0.8, 0.8, 0.8]}' 0.1
+check ggx_sky "model=$(uri ggx:alpha=0.3)&light=sky&dir=0.2,0.9,0.4" page_ggx_sky
+page ggx_beam "model=$(uri ggx:alpha=0.3)&light=collimated&dir=0,0,1"
+grep -q '"error":"400 .*no GLSL form of f' "$tmp/ggx_beam.html" && ok || fail "ggx beam: $(grep -o '<pre id="result">.*</pre>' "$tmp/ggx_beam.html")"
+
+# Without WebGL the page says so (the comparisons above rely on its saying so, not on a blank image).
+"$BROWSER" --no-sandbox --headless --disable-webgl --virtual-time-budget=60000 --user-data-dir="$tmp/profile" \
+  --dump-dom "http://127.0.0.1:$port/?test=1&size=$SIZE&model=lambert&light=ganzfeld" >"$tmp/nowebgl.html" 2>/dev/null
+grep -q '"error":"no WebGL2 context"' "$tmp/nowebgl.html" && ok || fail "no WebGL: $(grep -o '<pre id="result">.*</pre>' "$tmp/nowebgl.html")"
 
 # What is compared must be able to differ: another light direction, another parameter.
 check beam "model=$(uri "$SPEC")&light=collimated&dir=-0.3,0.6,0.74" page_beam_moved --expect-mismatch
