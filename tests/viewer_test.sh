@@ -84,6 +84,19 @@ check beam "model=specular:alpha=20&light=collimated&dir=0.3,0.6,0.74" page_alph
 reference beam20 specular:alpha=20 "{\"type\": \"collimated\", \"direction\": [0.3, 0.6, 0.74], \"irradiance\": [$PI08, $PI08, $PI08]}" 0.1
 "$COMPARE" "$tmp/beam20.exr" "$tmp/page_alpha20.html" && ok || fail "alpha=20 page vs its own render"
 
+# A slider dragged with the mouse (tests/viewer_drive.py, DevTools protocol): the spec follows,
+# the row is rebuilt from the new tables, and its beam sphere is `ganzfeld render`'s of the new spec.
+if python3 "$(dirname "$0")/viewer_drive.py" "$BROWSER" "http://127.0.0.1:$port/?model=$(uri "$SPEC")&dir=0.3,0.6,0.74" \
+     "$tmp/page_drag.html" "$SIZE" >"$tmp/drive.json" 2>"$tmp/drive.err"; then
+  dragged=$(json_field "$tmp/drive.json" "d['after']")
+  [ "$(json_field "$tmp/drive.json" "d['before']")" = "$SPEC" ] && [ "$dragged" != "$SPEC" ] && ok || fail "drag: $(cat "$tmp/drive.json")"
+  reference drag "$dragged" "{\"type\": \"collimated\", \"direction\": [0.3, 0.6, 0.74], \"irradiance\": [$PI08, $PI08, $PI08]}" 0.1
+  "$COMPARE" "$tmp/drag.exr" "$tmp/page_drag.html" && ok || fail "dragged page vs render of $dragged"
+  "$COMPARE" "$tmp/beam.exr" "$tmp/page_drag.html" --expect-mismatch && ok || fail "dragging did not change the image"
+else
+  fail "viewer_drive.py: $(tail -3 "$tmp/drive.err")"
+fi
+
 # The interactive page comes up with its panels for model A and B (no test mode), and the numbers
 # under a probed cursor are f, g, h, a, r at that point's angles: the angles computed here
 # apart from the page (the figure's camera and sphere), the values those of `ganzfeld eval`.

@@ -318,6 +318,7 @@ const state = {
   thetaLobe: 45,      // incidence of the lobe and the polar plot, degrees (K&P's 45°)
   lobeResolution: 64, // theta_j steps of the lobe (kLobeResolutions)
   lobeYaw: -0.5, lobePitch: 0.35,
+  builds: 0,          // rows built so far
   dragging: null,     // the sphere view being dragged (0 beam, 1 sky), or null
   turning: null,      // the last mouse position while the lobe is turned, or null
   rows: [],           // per model: {spec, shading, gl, canvases, grid}
@@ -511,6 +512,7 @@ async function rebuild() {
   window.history.replaceState(null, '', url);
   redraw();
   updateLobes();
+  state.builds += 1;  // tests/viewer_drive.py waits for this after dragging a slider
 }
 
 /// Which sphere view and which point of it a mouse event is over, or null.
