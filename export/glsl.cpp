@@ -8,6 +8,7 @@
 
 #include "util/error.h"
 #include "laws/kp_lobes.h"
+#include "laws/mixture.h"
 #include "scene/plan.h"
 #include "tables/cache.h"
 
@@ -251,6 +252,19 @@ void check_table_is(const Table& table, const Model& model, Law law) {
 std::string glsl_model_f(const Model& model) {
   const std::string name = glsl_identifier("f_" + model.spec());
   std::ostringstream s;
+  if (const auto* mixture = dynamic_cast<const Mixture*>(&model)) {
+    // f of a mixture is the weighted sum of its lobes' f (laws/mixture.h; weights normalized).
+    std::set<std::string> emitted;
+    std::string sum;
+    for (const Lobe& lobe : mixture->lobes()) {
+      const std::string lobe_name = glsl_identifier("f_" + lobe.model->spec());
+      if (emitted.insert(lobe_name).second) s << glsl_model_f(*lobe.model);
+      sum += (sum.empty() ? "" : " + ") + literal(lobe.weight) + " * " + lobe_name + "(i, j, n)";
+    }
+    s << "// f of the mixture " << comment_text(model.spec()) << "\n"
+      << "float " << name << "(vec3 i, vec3 j, vec3 n) { return " << sum << "; }\n";
+    return s.str();
+  }
   s << "// f of " << comment_text(model.spec()) << " (laws/kp_lobes.h); i, j, n unit.\n"
     << "float " << name << "(vec3 i, vec3 j, vec3 n) {\n"
     << "  float mi = dot(i, n), mj = dot(j, n);\n"

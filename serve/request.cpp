@@ -162,6 +162,16 @@ EvalQuery parse_eval(const Query& query, const Limits& limits) {
   return q;
 }
 
+bool is_f_glsl(const Query& query) {
+  const auto law = query.find("law");
+  return law != query.end() && law->second == "f";
+}
+
+ModelPtr parse_f_glsl(const Query& query) {
+  check_names(query, "/api/glsl with law=f", {"model", "law"});
+  return parse_served_model(required(query, "model", "specular:alpha=8"));
+}
+
 namespace {
 /// Every table format the service answers in: its query name and its Content-Type.
 struct FormatInfo {

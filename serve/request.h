@@ -91,6 +91,11 @@ struct SceneQuery {
 };
 SceneQuery parse_scene_glsl(const Query& query);
 
+/// GET /api/glsl?model=SPEC&law=f: f in closed form as GLSL (exporting::glsl_model_f), no table;
+/// the viewer's collimated beam. is_f_glsl: the /api/glsl query asks for law f.
+bool is_f_glsl(const Query& query);
+ModelPtr parse_f_glsl(const Query& query);
+
 /// The model of a spec given in a request: refuses (400) specs with a data file (file=...),
 /// then parses it (unknown model or parameter: 400 with the parser's message).
 ModelPtr parse_served_model(const std::string& spec);

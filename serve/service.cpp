@@ -7,6 +7,7 @@
 #include "export/glsl.h"
 #include "export/texture_file.h"
 #include "scene/plan.h"
+#include "serve/assets.h"
 #include "serve/etag.h"
 #include "shapes/json.h"
 #include "tables/exr_io.h"
@@ -16,23 +17,6 @@
 namespace ganzfeld::serve {
 
 namespace {
-
-/// The page at / until the viewer (issue #17, second half) lands.
-constexpr const char* kPlaceholderPage = R"(<!doctype html>
-<html lang="en"><head><meta charset="utf-8"><title>ganzfeld serve</title></head>
-<body>
-<h1>ganzfeld serve</h1>
-<p>The WebGL2 viewer is coming (issue #17). Until then, the API:</p>
-<ul>
-<li><a href="/api/models">/api/models</a> &mdash; every model, its parameters, traits and closed forms</li>
-<li><a href="/api/eval?model=specular:alpha=8&amp;law=g&amp;theta_i=60&amp;theta_j=30&amp;phi=180">/api/eval?model=specular:alpha=8&amp;law=g&amp;theta_i=60&amp;theta_j=30&amp;phi=180</a></li>
-<li><a href="/api/table?model=minnaert:xi=1&amp;law=h&amp;res=64&amp;format=json">/api/table?model=minnaert:xi=1&amp;law=h&amp;res=64&amp;format=json</a> (format=exr, ktx2 or json)</li>
-<li><a href="/api/glsl?model=minnaert:xi=1&amp;law=h&amp;res=64">/api/glsl?model=minnaert:xi=1&amp;law=h&amp;res=64</a></li>
-<li><a href="/healthz">/healthz</a></li>
-</ul>
-<p>Parameters and answers: docs/serve.md.</p>
-</body></html>
-)";
 
 Reply json_reply(int status, const nlohmann::ordered_json& doc) { return {status, "application/json", doc.dump() + "\n", {}}; }
 
@@ -63,11 +47,11 @@ std::string table_body(const tables::CacheResult& r, TableFormat format, const s
   return {};
 }
 
-/// `reply` with a strong ETag of its body, cached forever (a key names one answer forever), and
-/// X-Ganzfeld-Table: `status`; 304 without a body when `if_none_match_header` matches the tag.
-Reply immutable(Reply reply, const std::string& if_none_match_header, const std::string& status) {
+/// `reply` with its strong ETag and Cache-Control: immutable (its request names one body
+/// forever); 304 without a body when `if_none_match_header` matches.
+Reply cacheable(Reply reply, const std::string& if_none_match_header) {
   const std::string etag = strong_etag(reply.body);
-  reply.headers = {{"ETag", etag}, {"Cache-Control", "public, max-age=31536000, immutable"}, {"X-Ganzfeld-Table", status}};
+  reply.headers.insert(reply.headers.begin(), {{"ETag", etag}, {"Cache-Control", "public, max-age=31536000, immutable"}});
   if (!if_none_match_header.empty() && if_none_match(if_none_match_header, etag)) {
     reply.status = 304;  // RFC 9110, 15.4.5: no body, the same validators
     reply.body.clear();
@@ -109,9 +93,10 @@ Reply Service::handle(const Request& request) {
   try {
     const std::string& path = request.path;
     const Query& query = request.query;
-    const bool fixed = path == "/" || path == "/healthz" || path == "/api/models";
+    // The viewer's files (serve/assets.h); the page reads its own query (model, light, test mode).
+    if (const Asset* asset = find_asset(path)) return {200, std::string(asset->media_type), std::string(asset->body), {}};
+    const bool fixed = path == "/healthz" || path == "/api/models";
     if (fixed && !query.empty()) return error_reply(400, path + " takes no parameters");
-    if (path == "/") return {200, "text/html; charset=utf-8", kPlaceholderPage, {}};
     if (path == "/healthz") return json_reply(200, health());
     if (path == "/api/models") return {200, "application/json", models_, {}};
     if (path == "/api/eval") {
@@ -121,8 +106,12 @@ Reply Service::handle(const Request& request) {
       return json_reply(200, shapes::eval_json(q.model->spec(), q.law, e, q.tolerance, q.i, q.j, watch.seconds()));
     }
     if (path == "/api/table") return table(request, TableEndpoint::table);
-    if (path == "/api/glsl") return query.count("scene") ? scene_glsl(request) : table(request, TableEndpoint::glsl);
-    return error_reply(404, "no endpoint '" + path + "'; allowed: /, /healthz, /api/models, /api/eval, /api/table, /api/glsl");
+    if (path == "/api/glsl") {
+      if (query.count("scene")) return scene_glsl(request);
+      return is_f_glsl(query) ? f_shader(request) : table(request, TableEndpoint::glsl);
+    }
+    return error_reply(404, "no endpoint '" + path +
+                                "'; allowed: /, /viewer.js, /healthz, /api/models, /api/eval, /api/table, /api/glsl");
   } catch (const RequestError& e) {
     return error_reply(e.status(), e.what());
   } catch (const Busy& e) {
@@ -155,6 +144,11 @@ Bakery::Result Service::obtain(const TableQuery& q, std::string& status) {
   return result;
 }
 
+Reply Service::f_shader(const Request& request) {
+  const ModelPtr model = parse_f_glsl(request.query);
+  return cacheable({200, "text/plain; charset=utf-8", exporting::glsl_model_f(*model), {}}, request.if_none_match);
+}
+
 Reply Service::table(const Request& request, TableEndpoint endpoint) {
   const TableQuery q = parse_table(request.query, options_.limits, endpoint, options_.defaults);
   std::string status;
@@ -167,7 +161,8 @@ Reply Service::table(const Request& request, TableEndpoint endpoint) {
     reply.content_type = content_type(q.format);
     reply.body = table_body(*r, q.format, q.file_name);
   }
-  return immutable(std::move(reply), request.if_none_match, status);
+  reply.headers = {{"X-Ganzfeld-Table", status}};
+  return cacheable(std::move(reply), request.if_none_match);
 }
 
 Reply Service::scene_glsl(const Request& request) {
@@ -203,7 +198,8 @@ Reply Service::scene_glsl(const Request& request) {
     reply.body = nlohmann::ordered_json{{"glsl", reply.body}, {"textures", textures}}.dump() + "\n";
     reply.content_type = "application/json";
   }
-  return immutable(std::move(reply), request.if_none_match, statuses.empty() ? "none" : statuses);
+  reply.headers = {{"X-Ganzfeld-Table", statuses.empty() ? "none" : statuses}};
+  return cacheable(std::move(reply), request.if_none_match);
 }
 
 }  // namespace ganzfeld::serve

@@ -2,13 +2,13 @@
 // becomes a reply (status, media type, body, headers). The httplib glue (serve/http.h) only
 // moves bytes; everything that decides an answer is here and unit-tested (tests/serve_test.cpp).
 //
-//   GET /             placeholder page (the viewer is issue #17's other half)
+//   GET /, /viewer.js the viewer (serve/viewer/, embedded: serve/assets.h)
 //   GET /healthz      {"status": "ok", bakes and queue counters}
 //   GET /api/models   shapes::models_json (= `ganzfeld models --json`)
 //   GET /api/eval     shapes::eval_json   (= `ganzfeld eval --json`)
 //   GET /api/table    the table from the cache (baked on demand: serve/bakery.h) as exr, ktx2 or json
-//   GET /api/glsl     export::glsl_table_snippet of that table, or with scene=SCENE the scene's
-//                     shader (export::glsl_scene_shader) and the tables it samples
+//   GET /api/glsl     export::glsl_table_snippet of that table; with law=f, export::glsl_model_f;
+//                     with scene=SCENE the scene's shader (export::glsl_scene_shader) and its tables
 // Errors: {"error": "one line"} with 400 (bad value), 404 (no such endpoint), 413 (too large),
 // 503 (no bake slot free: Retry-After) or 500.
 #pragma once
@@ -75,6 +75,7 @@ class Service {
   Reply table(const Request& request, TableEndpoint endpoint);
   /// GET /api/glsl?scene=...: the scene's shader, its tables obtained through the bakery.
   Reply scene_glsl(const Request& request);
+  Reply f_shader(const Request& request);
   /// The table of `q` from the cache, or baked (single flight); `status`: baked, reused or joined.
   Bakery::Result obtain(const TableQuery& q, std::string& status);
 

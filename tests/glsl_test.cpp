@@ -156,6 +156,32 @@ TEST(GlslExport, FOfModelsWithoutAGlslFormIsRefused) {
   EXPECT_NE(f.find("float gz_f_specular_alpha_8(vec3 i, vec3 j, vec3 n)"), std::string::npos);
 }
 
+/// Occurrences of `what` in `text`.
+std::size_t count(const std::string& text, const std::string& what) {
+  std::size_t n = 0;
+  for (std::size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
+  return n;
+}
+
+TEST(GlslExport, FOfAMixtureIsTheWeightedSumOfItsLobes) {
+  // Each lobe's function once (GLSL refuses a second definition), then the sum with the mixture's
+  // normalized weights (laws/mixture.h): 1 and 3 become 0.25 and 0.75.
+  const std::string f = glsl_model_f(*parse_model("1*specular:alpha=8 + 3*minnaert:xi=1"));
+  EXPECT_EQ(count(f, "float gz_f_specular_alpha_8(vec3 i, vec3 j, vec3 n)"), 1u);
+  EXPECT_EQ(count(f, "float gz_f_minnaert_xi_1(vec3 i, vec3 j, vec3 n)"), 1u);
+  EXPECT_NE(f.find("return 0.25 * gz_f_specular_alpha_8(i, j, n) + 0.75 * gz_f_minnaert_xi_1(i, j, n);"), std::string::npos)
+      << f;
+  const std::string twice = glsl_model_f(*parse_model("0.5*specular:alpha=8 + 0.5*specular:alpha=8"));
+  EXPECT_EQ(count(twice, "float gz_f_specular_alpha_8(vec3 i, vec3 j, vec3 n)"), 1u) << twice;
+  // A lobe without a GLSL form makes the whole mixture refused, naming that lobe.
+  try {
+    glsl_model_f(*parse_model("0.5*specular:alpha=8 + 0.5*oren-nayar:sigma=0.3"));
+    ADD_FAILURE() << "a mixture with an oren-nayar lobe was exported";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("oren-nayar"), std::string::npos) << e.what();
+  }
+}
+
 TEST(GlslExport, TheFunctionCarriesTheTableMetadataAndItsShape) {
   const Table table = small_table("specular:alpha=8", Law::g, Encoding::single);
   const std::string glsl = glsl_table_snippet(table);

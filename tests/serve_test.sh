@@ -25,9 +25,17 @@ code() { local target="$1"; shift; rm -f "$tmp/body"; curl -s -o "$tmp/body" -D 
 header() { sed -nE "s/^$1: (.*)\r$/\1/Ip" "$tmp/headers"; }
 alive() { kill -0 $pid 2>/dev/null; }
 
-# --- health, the placeholder page, the registry
+# --- health, the viewer's files (embedded; tests/viewer_test.sh runs them in a browser), the registry
 [ "$(code /healthz)" = 200 ] && [ "$(json_field "$tmp/body" "d['status']")" = ok ] && ok || fail "/healthz"
-[ "$(code /)" = 200 ] && grep -q "viewer is coming" "$tmp/body" && grep -q "/api/models" "$tmp/body" && ok || fail "/ placeholder"
+[ "$(code /)" = 200 ] && grep -q '<script src="/viewer.js">' "$tmp/body" && header Content-Type | grep -q text/html && ok || fail "/ viewer page"
+[ "$(code /viewer.js)" = 200 ] && grep -q "/api/table" "$tmp/body" && header Content-Type | grep -q text/javascript && ok || fail "/viewer.js"
+[ "$(code "/?model=specular:alpha=8")" = 200 ] && ok || fail "/ with the viewer's own query"
+# --- f's closed form as GLSL (the viewer's beam); a model without one is refused
+[ "$(code "/api/glsl?model=0.5*minnaert:xi=1%2B0.5*specular:alpha=8&law=f")" = 200 ] \
+  && grep -q "float gz_f_0_5_minnaert_xi_1_0_5_specular_alpha_8(vec3 i, vec3 j, vec3 n)" "$tmp/body" && [ -n "$(header ETag)" ] \
+  && ok || fail "/api/glsl law=f: $(cat "$tmp/body")"
+[ "$(code "/api/glsl?model=ggx:alpha=0.3&law=f")" = 400 ] && grep -q "no GLSL form of f" "$tmp/body" && ok || fail "/api/glsl law=f ggx"
+[ "$(code "/api/glsl?model=lambert&law=f&res=8")" = 400 ] && grep -q "unknown parameter 'res'" "$tmp/body" && ok || fail "/api/glsl law=f res"
 "$G" models --json >"$tmp/models.json"
 [ "$(code /api/models)" = 200 ] && \
   [ "$(python3 -c "import json; print(json.load(open('$tmp/body')) == json.load(open('$tmp/models.json')))")" = True ] \
