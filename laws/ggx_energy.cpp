@@ -34,14 +34,16 @@ double gauss_panels(const std::vector<double>& cuts, F&& f) {
 }
 
 /// Cuts of [0, hi]: 4 level equal panels, plus geometric ones (ratio 2^(1/level)) towards 0 and
-/// π/2 down to the scale alpha/4.
-std::vector<double> theta_cuts(double hi, double alpha, int level) {
+/// π/2 down to the scale alpha/4, and towards hi = θ* down to the scale mu/4 (near grazing the
+/// masking of o changes within o_z ~ μ of the horizon).
+std::vector<double> theta_cuts(double hi, double alpha, double mu, int level) {
   std::vector<double> cuts{0.0, hi};
   const double ratio = std::pow(2.0, 1.0 / level);
   for (double s = 0.25 * alpha; s < pi / 2; s *= ratio) {
     cuts.push_back(s);
     cuts.push_back(pi / 2 - s);
   }
+  for (double s = 0.25 * mu; s > 0.0 && s < 0.25; s *= ratio) cuts.push_back(hi - s);
   const int uniform = 4 * level;
   for (int k = 1; k < uniform; ++k) cuts.push_back(hi * k / uniform);
   std::erase_if(cuts, [&](double c) { return !(c >= 0.0 && c <= hi); });
@@ -57,10 +59,17 @@ double rule(double mu, double alpha, int level, const std::function<double(doubl
   std::vector<double> phi_cuts;
   const int phi_panels = 8 * level;
   for (int k = 0; k <= phi_panels; ++k) phi_cuts.push_back(pi * k / phi_panels);
+  // θ* swings from above π/4 to below it across φ_h = π/2 within ~μ/sin θ_v: geometric cuts there.
+  const double ratio = std::pow(2.0, 1.0 / level);
+  for (double w = 0.25 * mu / std::max(sin_v, 1e-300); w > 0.0 && w < pi / phi_panels; w *= ratio) {
+    phi_cuts.push_back(pi / 2 - w);
+    phi_cuts.push_back(pi / 2 + w);
+  }
+  std::sort(phi_cuts.begin(), phi_cuts.end());
   const double half_circle = gauss_panels(phi_cuts, [&](double phi) {
     const double cos_phi = std::cos(phi);
     const double theta_star = 0.5 * std::atan2(sin_v * cos_phi, mu) + pi / 4;
-    return gauss_panels(theta_cuts(theta_star, alpha, level), [&](double theta) {
+    return gauss_panels(theta_cuts(theta_star, alpha, mu, level), [&](double theta) {
       const double s = std::sin(theta), c = std::cos(theta);
       const double vh = sin_v * s * cos_phi + mu * c;
       const double o_z = 2.0 * vh * c - mu;
