@@ -76,7 +76,11 @@ Estimate integral(Base base, double alpha, double mu, ggx::G2Form g2, const Cuba
   switch (base) {
     case Base::fc: return albedo(Ggx({alpha, alpha}, 0.0, g2), i, c);
     case Base::e: return albedo(Ggx({alpha, alpha}, 1.0, g2), i, c);
-    case Base::charlie: return albedo(Charlie(alpha), i, c);
+    case Base::charlie: {
+      CubatureOptions tighter = c;  // see kCharlieTolerance
+      tighter.abs_tol *= kCharlieTolerance;
+      return albedo(Charlie(alpha), i, tighter);
+    }
     case Base::e_avg: return double_diffuse(Ggx({alpha, alpha}, 1.0, g2), c);
   }
   return {};
@@ -172,7 +176,7 @@ ParamTable bake_preset(const Model& model, const PresetOptions& options) {
       for (const auto& [base, sign] : r.terms) {
         const Estimate& e = grid.at(base)[m];
         value += sign * e.value;
-        error += e.error;
+        error += kEstimateMargin * e.error;
         converged = converged && e.converged;
       }
       if (!std::isfinite(value) || !std::isfinite(error))
