@@ -76,6 +76,9 @@ ls -a "$tmp" | grep -q '\.tmp-' && fail "temporary file left behind" || ok
 "$G" bake --preset kulla-conty --model ggx:g2=separable --res 3 --grid node --axis alpha -o "$tmp/kc.exr" >/dev/null && ok || fail "bake --preset kulla-conty"
 [ "$(json_field <("$G" info "$tmp/kc.exr" --json) "[c['name'] for c in d['channels']]==['e','e_avg'] and d['axes'][0]['name']=='alpha'")" = "True" ] && ok || fail "info of a kulla-conty table"
 [ "$(json_field <("$G" eval --model ggx:alpha=0.9,f0=1 --alpha 1 --law a --theta-i 0 --json) "d['model'].startswith('ggx:alpha=1,')")" = "True" ] && ok || fail "eval --alpha overrides"
+"$G" export-glsl "$tmp/dfg.exr" -o "$tmp/dfg.glsl" >/dev/null && grep -q "vec4 gz_dfg_filament(highp sampler2D table, float mu, float roughness)" "$tmp/dfg.glsl" \
+  && grep -q "gz_dfg_filament_texels\[60\]" "$tmp/dfg.h" && ok || fail "export-glsl of a dfg table"
+expect_bad "--texture ktx2 is not available for parameter tables" export-glsl "$tmp/dfg.exr" -o "$tmp/dfg2.glsl" --texture ktx2
 expect_bad "needs a ggx model" bake --preset dfg --model lambert -o "$tmp/bad.exr"
 expect_bad "sets alpha" bake --preset dfg --model ggx:alpha=0.3 -o "$tmp/bad.exr"
 expect_bad "unknown preset 'dfgx'" bake --preset dfgx --model ggx -o "$tmp/bad.exr"
