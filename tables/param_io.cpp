@@ -1,13 +1,14 @@
 // Format version 3 files (docs/lut-format.md, "Version 3: parameter axes and channels"): one
 // scanline OpenEXR image, width = cos_theta_i samples, height = parameter samples, a channel per
 // value and one per error bound (NAME and NAME_error), string attributes for the rest. In memory
-// every channel is float; OpenEXR converts to and from HALF files exactly, because a half table's
-// values and errors are already rounded to half by the baker.
+// every channel is float; a half table's values and errors are already rounded to half by the
+// baker, so the conversions to and from HALF files are exact.
 #include <cmath>
 #include <filesystem>
 #include <limits>
 #include <set>
 
+#include <Imath/half.h>
 #include <OpenEXR/ImfChannelList.h>
 #include <OpenEXR/ImfFrameBuffer.h>
 #include <OpenEXR/ImfHeader.h>
@@ -78,7 +79,18 @@ void write_param_table(const ParamTable& table, const std::string& path) {
   attr("version", table.version);
   attr("encoding", to_string(table.encoding));
   ParamTable copy = table;  // Slice wants non-const pointers
-  const Imf::FrameBuffer frame = frame_buffer(copy);
+  Imf::FrameBuffer frame = frame_buffer(copy);
+  // OpenEXR converts HALF channels to float slices when reading, but writes only from slices of
+  // the channel's own type: a half table goes out through half copies (exact: already rounded).
+  std::vector<std::vector<Imath::half>> halves;
+  halves.reserve(2 * table.channels.size());
+  if (type == Imf::HALF)
+    for (const Channel& ch : table.channels)
+      for (const auto& [name, data] : {std::pair{ch.name, &ch.value}, {ch.name + kErrorSuffix, &ch.error}}) {
+        halves.emplace_back(data->begin(), data->end());
+        frame.insert(name, Imf::Slice(Imf::HALF, reinterpret_cast<char*>(halves.back().data()), sizeof(Imath::half),
+                                      sizeof(Imath::half) * width));
+      }
   write_atomically(path, [&](const std::string& temp) {
     Imf::OutputFile file(temp.c_str(), header);
     file.setFrameBuffer(frame);

@@ -176,6 +176,15 @@ TEST(Preset, FileRoundTripAndVersionSeparation) {
   EXPECT_EQ(back.grid, Grid::texel);
   EXPECT_EQ(back.command, t.command);
   EXPECT_THROW(read_table(path), InputError);  // the version 1/2 reader refuses version 3
+  // Half tables: the baker rounds to half; the file holds exactly those numbers.
+  PresetOptions half = options_for(Preset::kulla_conty, Grid::node, {2, 3}, kAxisAlpha);
+  half.encoding = Encoding::half;
+  const ParamTable h = bake_preset(*parse_model("ggx"), half);
+  write_param_table(h, testing_support::temp_dir() + "/half.exr");
+  const ParamTable h_back = read_param_table(testing_support::temp_dir() + "/half.exr");
+  EXPECT_EQ(h_back.encoding, Encoding::half);
+  EXPECT_EQ(h_back.channels[0].value, h.channels[0].value);
+  EXPECT_EQ(h_back.channels[1].error, h.channels[1].error);
   t.channels[0].value[5] = std::nanf("");
   EXPECT_THROW(write_param_table(t, testing_support::temp_dir() + "/nan.exr"), InputError);
   EXPECT_FALSE(std::filesystem::exists(testing_support::temp_dir() + "/nan.exr"));
