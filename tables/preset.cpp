@@ -36,9 +36,17 @@ DfgLayout parse_dfg_layout(const std::string& text) {
 
 std::string preset_family(const Model& model, const PresetOptions& options) {
   const auto* ggx = dynamic_cast<const Ggx*>(&model);
-  if (!ggx)
-    throw InputError(std::string("--preset ") + to_string(options.preset) + " needs a ggx model: '" + model.spec() +
-                     "' has no parameter " + options.axis + " for the table's axis");
+  if (!ggx) {
+    const std::string spec = model.spec(), name = spec.substr(0, spec.find(':'));
+    bool has_axis = false;  // the name of a mixture is no model's: it has no parameters either
+    for (const ModelInfo& info : model_catalogue())
+      for (const ParamInfo& p : info.parameters) has_axis = has_axis || (info.name == name && p.name == options.axis);
+    if (!has_axis)
+      throw InputError(std::string("--preset ") + to_string(options.preset) + " needs a ggx model: '" + spec +
+                       "' has no parameter " + options.axis + " for the table's axis");
+    throw InputError(std::string("--preset ") + to_string(options.preset) +
+                     " is defined for ggx (its channels are GGX and Charlie albedos), not for '" + spec + "'");
+  }
   if (!model.traits().isotropic)
     throw InputError(std::string("--preset ") + to_string(options.preset) + " needs an isotropic ggx model, not '" +
                      model.spec() + "'");

@@ -79,7 +79,8 @@ ls -a "$tmp" | grep -q '\.tmp-' && fail "temporary file left behind" || ok
 "$G" export-glsl "$tmp/dfg.exr" -o "$tmp/dfg.glsl" >/dev/null && grep -q "vec4 gz_dfg_filament(highp sampler2D table, float mu, float roughness)" "$tmp/dfg.glsl" \
   && grep -q "gz_dfg_filament_texels\[60\]" "$tmp/dfg.h" && ok || fail "export-glsl of a dfg table"
 expect_bad "--texture ktx2 is not available for parameter tables" export-glsl "$tmp/dfg.exr" -o "$tmp/dfg2.glsl" --texture ktx2
-expect_bad "needs a ggx model" bake --preset dfg --model lambert -o "$tmp/bad.exr"
+expect_bad "'lambert' has no parameter roughness" bake --preset dfg --model lambert -o "$tmp/bad.exr"
+expect_bad "is defined for ggx" bake --preset kulla-conty --model ggx-ms -o "$tmp/bad.exr"
 expect_bad "sets alpha" bake --preset dfg --model ggx:alpha=0.3 -o "$tmp/bad.exr"
 expect_bad "unknown preset 'dfgx'" bake --preset dfgx --model ggx -o "$tmp/bad.exr"
 expect_bad "--axis 'beta'" bake --preset dfg --model ggx --axis beta -o "$tmp/bad.exr"
