@@ -26,6 +26,22 @@ void DirectionArgs::add_to(CLI::App& app) {
   app.add_option("--phi", phi_deg, "azimuth of j minus azimuth of i, degrees (default 0)");
 }
 
+void ParameterArgs::add_to(CLI::App& app) {
+  app.add_option("--alpha", alpha, "GGX-style roughness alpha in (0, 1] (overrides the model's / picks the table row)");
+  app.add_option("--roughness", roughness, "perceptual roughness R in [0, 1], alpha = R^2 (instead of --alpha)");
+}
+
+std::optional<std::pair<std::string, double>> ParameterArgs::given() const {
+  if (alpha && roughness) throw InputError("give either --alpha or --roughness, not both");
+  if (alpha && !(*alpha > 0.0 && *alpha <= 1.0))
+    throw InputError("--alpha=" + format_number(*alpha) + " is not allowed; allowed: a real number in (0, 1]");
+  if (roughness && !(*roughness >= 0.0 && *roughness <= 1.0))
+    throw InputError("--roughness=" + format_number(*roughness) + " is not allowed; allowed: a real number in [0, 1]");
+  if (alpha) return std::pair<std::string, double>{"alpha", *alpha};
+  if (roughness) return std::pair<std::string, double>{"roughness", *roughness};
+  return std::nullopt;
+}
+
 Vec3 parse_vector(const std::string& flag, const std::string& text) {
   std::stringstream in(text);
   std::string part;

@@ -32,6 +32,16 @@ struct DirectionArgs {
   Vec3 outgoing(Law law) const;
 };
 
+/// --alpha A / --roughness R: a value of a model's roughness parameter (eval: it overrides the
+/// spec's; sample: the point on a parameter table's axis).
+struct ParameterArgs {
+  std::optional<double> alpha, roughness;
+  void add_to(CLI::App& app);
+  /// The flag given ("alpha" or "roughness") and its value, validated: alpha in (0, 1],
+  /// roughness in [0, 1], finite; nothing when neither is given; both given is refused.
+  std::optional<std::pair<std::string, double>> given() const;
+};
+
 /// Parses "X,Y,Z" into a normalized vector; throws InputError naming the flag and the value.
 Vec3 parse_vector(const std::string& flag, const std::string& text);
 

@@ -20,6 +20,9 @@
 #include "tables/bake.h"
 #include "tables/cache.h"
 #include "tables/exr_io.h"
+#include "tables/preset.h"
+#include "util/progress.h"
+#include "util/timing.h"
 #include "scene/plan.h"
 #include "scene/scene.h"
 
@@ -37,6 +40,8 @@ constexpr double kModelTol = 1e-9;
 struct BakeArgs {
   // one table
   std::string model, law, res, output, mapping, frame, interpolation;
+  // a preset table over a roughness axis (tables/preset.h)
+  std::string preset, dfg_layout, axis, grid;
   std::optional<unsigned long long> checks;
   // a scene's tables, or a library's (one shard of them)
   std::string scene, library, out_dir;
@@ -47,7 +52,85 @@ struct BakeArgs {
   std::vector<std::string> argv;  ///< the command line, stamped into single tables
 };
 
+/// Refuses a --model spec that sets what a preset's axis and channels set (alpha, roughness,
+/// alpha_x, alpha_y, f0): the table is over every alpha and fixes f0 per channel.
+void refuse_preset_parameters(const std::string& spec) {
+  const std::size_t colon = spec.find(':');
+  if (colon == std::string::npos) return;
+  std::size_t start = colon + 1;
+  while (start <= spec.size()) {
+    const std::size_t comma = std::min(spec.find(',', start), spec.size());
+    const std::string key = spec.substr(start, std::min(spec.find('=', start), comma) - start);
+    for (const char* set : {"alpha", "roughness", "alpha_x", "alpha_y", "f0"})
+      if (key == set)
+        throw InputError("--preset: the model spec '" + spec + "' sets " + key +
+                         ", which the table's axis and channels set; give the model as ggx or ggx:g2=...");
+    start = comma + 1;
+  }
+}
+
+tables::PresetOptions preset_options(const BakeArgs& args) {
+  tables::PresetOptions options;
+  options.preset = tables::parse_preset(args.preset);
+  if (!args.dfg_layout.empty()) {
+    if (options.preset != tables::Preset::dfg) throw InputError("--dfg-layout is for --preset dfg");
+    options.layout = tables::parse_dfg_layout(args.dfg_layout);
+  }
+  if (!args.axis.empty()) options.axis = args.axis;
+  if (options.axis != tables::kAxisRoughness && options.axis != tables::kAxisAlpha)
+    throw InputError("--axis '" + args.axis + "' is not allowed; allowed: roughness (alpha = R^2), alpha");
+  if (!args.grid.empty()) options.grid = tables::parse_grid(args.grid);
+  if (!args.res.empty()) options.resolution = tables::parse_preset_resolution(args.res);
+  if (args.table.tol) validate_tolerance(*args.table.tol);
+  options.tolerance = args.table.tol.value_or(tables::kPresetTolerance);
+  if (!args.table.encoding.empty()) options.encoding = tables::parse_encoding(args.table.encoding);
+  if (args.table.max_evaluations) {
+    check_max_evaluations(*args.table.max_evaluations);
+    options.max_evaluations = *args.table.max_evaluations;
+  }
+  return options;
+}
+
+/// bake --preset dfg|kulla-conty --model ggx -o FILE.exr: a format version 3 table.
+int bake_preset_table(const BakeArgs& args) {
+  for (const auto& [flag, set] : {std::pair{"--law", !args.law.empty()}, {"--mapping", !args.mapping.empty()},
+                                  {"--frame", !args.frame.empty()}, {"--interpolation", !args.interpolation.empty()},
+                                  {"--checks", args.checks.has_value()}, {"--max-error", args.table.max_error.has_value()}})
+    if (set) throw InputError(std::string(flag) + " cannot be combined with --preset, which fixes it");
+  if (args.output.empty()) throw InputError("bake --preset needs -o FILE.exr");
+  tables::PresetOptions options = preset_options(args);
+  refuse_preset_parameters(args.model);
+  const ModelPtr model = parse_model(args.model);
+  const std::string family = tables::preset_family(*model, options);
+  check_writable(args.output);
+  options.progress = util::progress_bar("baking preset " + args.preset + " of " + family, args.quiet);
+  const util::Stopwatch watch;
+  tables::ParamTable table = tables::bake_preset(*model, options);
+  const double seconds = watch.seconds();
+  table.command = shell_line(args.argv);
+  tables::write_param_table(table, args.output);
+  std::string channels;
+  long long unconverged = 0;
+  for (const tables::Channel& ch : table.channels) {
+    channels += (channels.empty() ? "" : ", ") + ch.name;
+    unconverged += ch.unconverged;
+  }
+  std::printf("baked preset %s (%s) of %s, %dx%d %s-centred samples over (%s, cos_theta_i), channels %s, in %.2f s: "
+              "max per-texel error %.3g, %lld unconverged -> %s\n",
+              table.preset.c_str(), table.layout.c_str(), table.model.c_str(), table.axes[0].count,
+              table.axes[1].count, to_string(table.grid), table.axes[0].name.c_str(), channels.c_str(), seconds,
+              table.max_error, unconverged, args.output.c_str());
+  if (unconverged > 0)
+    std::cerr << "ganzfeld: warning: " << unconverged << " texels missed tolerance " << format_number(table.tolerance)
+              << "; their achieved error is stored\n";
+  return 0;
+}
+
 int bake_one(const BakeArgs& args) {
+  if (!args.preset.empty()) return bake_preset_table(args);
+  for (const auto& [flag, set] : {std::pair{"--dfg-layout", !args.dfg_layout.empty()}, {"--axis", !args.axis.empty()},
+                                  {"--grid", !args.grid.empty()}})
+    if (set) throw InputError(std::string(flag) + " is for --preset bakes");
   // Everything is checked before the (possibly long) bake.
   if (args.law.empty()) throw InputError("bake --model needs --law g|h|a");
   const bool to_error = args.table.max_error.has_value();
@@ -189,7 +272,8 @@ constexpr ModeFlag kModeFlags[] = {
     {"--checks", true, false, false}, {"--out", false, true, true},       {"--res-g", false, true, false},
     {"--res-h", false, true, false},  {"--shard", false, false, true},    {"--tol", true, true, false},
     {"--encoding", true, true, false}, {"--max-evals", true, true, false}, {"--max-error", true, true, false},
-    {"--max-bytes", true, true, false}};
+    {"--max-bytes", true, true, false}, {"--preset", true, false, false}, {"--dfg-layout", true, false, false},
+    {"--axis", true, false, false},   {"--grid", true, false, false}};
 
 /// Which of --model, --scene, --library was given (exactly one), with no flag of another mode.
 BakeMode bake_mode(const CLI::App& cmd) {
@@ -235,6 +319,14 @@ void add_bake_command(CLI::App& app, Action& action, int argc, const char* const
   cmd->add_option("--interpolation", args->interpolation, "one table: lookup, linear (default) or catmull-rom");
   cmd->add_option("--checks", args->checks,
                   "one table: seeded random validation points (besides the cell centres) against direct cubature");
+  cmd->add_option("--preset", args->preset,
+                  "one table over a roughness axis, as engines read it: dfg (split-sum DFG) or kulla-conty (E, E_avg); "
+                  "--model ggx[:g2=...]; docs/lut-format.md, version 3");
+  cmd->add_option("--dfg-layout", args->dfg_layout,
+                  "--preset dfg channels: filament (default: dfg_fc, dfg_e, charlie) or ue4 (scale, bias)");
+  cmd->add_option("--axis", args->axis, "--preset: the parameter axis, roughness (default; alpha = R^2) or alpha");
+  cmd->add_option("--grid", args->grid,
+                  "--preset: texel (default; sample k at (k + 0.5)/N, what a GPU lookup reads) or node (k/(N - 1))");
   cmd->add_option("-o,--output", args->output, "one table: the table to write, FILE.exr (written atomically)");
   cmd->add_option("--scene", args->scene, "a scene's tables: the scene file, SCENE.json (cli-contract.md)");
   cmd->add_option("--library", args->library,

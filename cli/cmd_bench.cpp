@@ -6,6 +6,7 @@
 #include <tbb/global_control.h>
 
 #include "bench/cubature_bench.h"
+#include "bench/realtime_bench.h"
 #include "bench/render_bench.h"
 #include "cli/args.h"
 #include "cli/commands.h"
@@ -114,25 +115,42 @@ nlohmann::ordered_json render_report(const BenchArgs& args) {
           {"ratios", {{"tables_vs_lambert", r.tables_vs_lambert}, {"direct_vs_tables", r.direct_vs_tables}}}};
 }
 
+/// The real-time tables' accuracy report (issue 16): Markdown to --markdown, or to stdout.
+int realtime_report(const BenchArgs& args) {
+  std::vector<std::string> words{"ganzfeld", "bench", "realtime"};
+  if (args.quick) words.push_back("--quick");
+  if (args.repeats > 0) words.insert(words.end(), {"--repeats", std::to_string(args.repeats)});
+  if (!args.markdown.empty()) words.insert(words.end(), {"--markdown", args.markdown});
+  bench::RealtimeOptions options;
+  options.quick = args.quick;
+  options.repeats = bake_repeats(args);
+  const std::string md = bench::realtime_markdown(options, shell_line(words));
+  if (args.markdown.empty()) std::cout << md;
+  else write_text_atomically(args.markdown, md);
+  return 0;
+}
+
 }  // namespace
 
 void add_bench_command(CLI::App& app, Action& action) {
   auto* cmd = app.add_subcommand("bench", "benchmarks that print ratios measured in one run");
   auto args = std::make_shared<BenchArgs>();
-  cmd->add_option("what", args->what, "cubature | bake | render")->required();
+  cmd->add_option("what", args->what, "cubature | bake | render | realtime")->required();
   cmd->add_flag("--json", args->json, "print one JSON document");
   cmd->add_flag("--quick", args->quick, "a small sample (CI); the full run takes minutes");
   cmd->add_option("--cases", args->cases, "cases per integrand family (cubature; default 200, quick 4)");
   cmd->add_option("--repeats", args->repeats, "runs of each bake timing (default 5, quick 1); medians and spread");
-  cmd->add_option("--markdown", args->markdown, "cubature: also write the report (docs/performance.md) to FILE");
+  cmd->add_option("--markdown", args->markdown,
+                  "cubature: also write the report (docs/performance.md) to FILE; realtime: write docs/realtime.md");
   cmd->add_option("--plot", args->plot, "cubature: also write the work-precision plot (PNG) to FILE");
   cmd->callback([&action, args] {
     action = [args] {
+      if (args->what == "realtime") return realtime_report(*args);
       nlohmann::ordered_json doc;
       if (args->what == "cubature") doc = cubature_report(*args);
       else if (args->what == "bake") doc = bake_report(*args);
       else if (args->what == "render") doc = render_report(*args);
-      else throw InputError("unknown benchmark '" + args->what + "'; allowed: cubature, bake, render");
+      else throw InputError("unknown benchmark '" + args->what + "'; allowed: cubature, bake, render, realtime");
       if (args->json) {
         std::cout << doc.dump(2) << "\n";
         return 0;

@@ -14,6 +14,7 @@ namespace {
 struct EvalArgs {
   std::string model, law;
   DirectionArgs directions;
+  ParameterArgs parameter;
   double tol = 1e-9;
   long long max_evaluations = CubatureOptions{}.max_evaluations;
   bool json = false;
@@ -26,13 +27,16 @@ void add_eval_command(CLI::App& app, Action& action) {
   cmd->add_option("--model", args->model, "model spec, e.g. specular:alpha=8 (see `ganzfeld models`)")->required();
   cmd->add_option("--law", args->law, "f (BRDF), g (vignetting), h (darkening), a (albedo), r (double-diffuse)")->required();
   args->directions.add_to(*cmd);
+  args->parameter.add_to(*cmd);
   cmd->add_option("--tol", args->tol, "absolute tolerance of the cubature (default 1e-9)");
   cmd->add_option("--max-evals", args->max_evaluations, "evaluation budget; beyond it the result is reported as not converged");
   cmd->add_flag("--json", args->json, "print one JSON document");
   cmd->callback([&action, args] {
     action = [args] {
       const Law law = parse_law(args->law);
-      const ModelPtr model = parse_model(args->model);
+      const auto parameter = args->parameter.given();
+      const ModelPtr model =
+          parse_model(parameter ? with_parameter(args->model, parameter->first, parameter->second) : args->model);
       validate_tolerance(args->tol);
       if (args->max_evaluations < 1000)
         throw InputError("--max-evals=" + std::to_string(args->max_evaluations) + " is too small; allowed: >= 1000");

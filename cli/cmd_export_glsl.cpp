@@ -22,6 +22,8 @@
 #include "util/atomic_file.h"
 #include "tables/exr_io.h"
 #include "export/glsl.h"
+#include "export/param_export.h"
+#include "tables/param_table.h"
 #include "scene/plan.h"
 #include "scene/scene.h"
 #include "export/texture_file.h"
@@ -31,13 +33,14 @@ namespace ganzfeld::cli {
 namespace {
 
 struct ExportArgs {
-  std::string table, output, scene, out_dir, cache, texture = "ktx2", model, law;
+  std::string table, output, scene, out_dir, cache, texture, model, law;  ///< texture "": ktx2 (header for version 3)
   TableOptionArgs tables;  // with --scene: the same table options as `bake --scene` and `render`
   bool json = false, quiet = false;
 };
 
 std::optional<exporting::TextureFormat> texture_format(const std::string& text) {
   if (text == "none") return std::nullopt;
+  if (text.empty()) return exporting::TextureFormat::ktx2;
   try {
     return exporting::parse_texture_format(text);
   } catch (const InputError&) {
@@ -45,10 +48,37 @@ std::optional<exporting::TextureFormat> texture_format(const std::string& text) 
   }
 }
 
+/// A parameter table (format version 3): its GLSL lookup and, by default, its C header.
+int export_param_table(const ExportArgs& args) {
+  if (!args.model.empty() || !args.law.empty())
+    throw InputError("--model and --law are for law tables; '" + args.table + "' is a parameter table (version 3)");
+  if (args.texture == "ktx2")
+    throw InputError("--texture ktx2 is not available for parameter tables; allowed: header (the default), none");
+  const tables::ParamTable table = tables::read_param_table(args.table);
+  const std::string glsl = exporting::glsl_param_snippet(table), name = exporting::glsl_param_function_name(table);
+  std::string header_path;
+  if (args.texture != "none") {
+    texture_format(args.texture);  // refuses anything but header here
+    header_path = std::filesystem::path(args.output).replace_extension(".h").string();
+    write_text_atomically(header_path, exporting::param_c_header(table, name), "texture");
+  }
+  write_text_atomically(args.output, glsl, "shader");
+  if (args.json) {
+    nlohmann::ordered_json doc{{"glsl", args.output}, {"function", name}, {"sampler", "sampler2D"},
+                               {"model", table.model}, {"preset", table.preset}};
+    doc["texture"] = header_path.empty() ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(header_path);
+    std::cout << doc.dump(2) << "\n";
+  } else if (!args.quiet) {
+    std::cout << "wrote " << args.output << (header_path.empty() ? "" : " and " + header_path) << "\n";
+  }
+  return 0;
+}
+
 int export_table(const ExportArgs& args) {
   if (args.output.empty()) throw InputError("export-glsl TABLE.exr needs -o FILE.glsl");
   if (std::filesystem::path(args.output).extension() != ".glsl")
     throw InputError("output '" + args.output + "' must end in .glsl");
+  if (tables::format_version_of(args.table) == tables::kParamFormatVersion) return export_param_table(args);
   const auto format = texture_format(args.texture);
   const tables::Table table = tables::read_table(args.table);
   if (!args.model.empty() || !args.law.empty()) {
@@ -130,7 +160,8 @@ void add_export_glsl_command(CLI::App& app, Action& action) {
   cmd->add_option("TABLE", args->table, "a table written by `ganzfeld bake` (omit with --scene)");
   cmd->add_option("-o,--output", args->output, "the GLSL snippet, FILE.glsl; the texture goes beside it");
   cmd->add_option("--texture", args->texture,
-                  "texture file: ktx2 (KTX 2.0, R32F or R16F, the default), header (C array) or none");
+                  "texture file: ktx2 (KTX 2.0, R32F or R16F, the default), header (C array) or none; parameter "
+                  "tables (version 3): header (half floats, the default) or none");
   cmd->add_option("--model", args->model, "the model the shader expects: a table of another model is refused");
   cmd->add_option("--law", args->law, "the law the shader expects (g, h, a): a table of another law is refused");
   cmd->add_option("--scene", args->scene, "export the reference shader and every table of SCENE.json instead");

@@ -2,11 +2,14 @@
 #include <cstdio>
 #include <iostream>
 
+#include <nlohmann/json.hpp>
+
 #include "cli/commands.h"
 #include "laws/registry.h"
 #include "shapes/json.h"
 #include "tables/bake.h"
 #include "tables/exr_io.h"
+#include "tables/param_table.h"
 
 namespace ganzfeld::cli {
 
@@ -15,6 +18,46 @@ struct InfoArgs {
   std::string path;
   bool json = false;
 };
+
+/// info of a format version 3 table: preset, axes with their grid, channels with definitions.
+int param_info(const std::string& path, bool json) {
+  const tables::ParamTable table = tables::read_param_table(path);
+  nlohmann::ordered_json axes = nlohmann::ordered_json::array(), channels = nlohmann::ordered_json::array();
+  for (const tables::Axis& a : table.axes)
+    axes.push_back({{"name", a.name}, {"min", a.min}, {"max", a.max}, {"count", a.count},
+                    {"mapping", to_string(a.mapping)}, {"grid", to_string(table.grid)}});
+  for (const tables::Channel& ch : table.channels) {
+    double max_error = 0.0;
+    for (float e : ch.error) max_error = std::max(max_error, static_cast<double>(e));
+    channels.push_back({{"name", ch.name}, {"definition", ch.definition}, {"max_error", max_error},
+                        {"unconverged", ch.unconverged}});
+  }
+  if (json) {
+    nlohmann::ordered_json doc{{"path", path}, {"format_version", tables::kParamFormatVersion},
+                               {"preset", table.preset}, {"layout", table.layout}, {"model", table.model},
+                               {"axes", axes}, {"channels", channels}, {"max_error", table.max_error},
+                               {"tolerance", table.tolerance}, {"encoding", to_string(table.encoding)},
+                               {"command", table.command}, {"version", table.version}};
+    std::cout << doc.dump(2) << "\n";
+    return 0;
+  }
+  std::printf("%s\n  format version %d, ganzfeld %s\n  preset       %s (%s)\n  model        %s\n", path.c_str(),
+              tables::kParamFormatVersion, table.version.c_str(), table.preset.c_str(), table.layout.c_str(),
+              table.model.c_str());
+  for (const auto& a : axes)
+    std::printf("  axis         %-12s [%s, %s] %d samples, %s, %s-centred\n", a["name"].get<std::string>().c_str(),
+                format_number(a["min"].get<double>()).c_str(), format_number(a["max"].get<double>()).c_str(),
+                a["count"].get<int>(), a["mapping"].get<std::string>().c_str(), to_string(table.grid));
+  for (const auto& c : channels)
+    std::printf("  channel      %-8s max error %.3g, %lld unconverged: %s\n", c["name"].get<std::string>().c_str(),
+                c["max_error"].get<double>(), c["unconverged"].get<long long>(),
+                c["definition"].get<std::string>().c_str());
+  std::printf("  error        %s (per texel: cubature + rounding; interpolation between texels not included)\n"
+              "  tolerance    %s\n  encoding     %s\n  command      %s\n",
+              format_number(table.max_error).c_str(), format_number(table.tolerance).c_str(),
+              to_string(table.encoding), table.command.c_str());
+  return 0;
+}
 }  // namespace
 
 void add_info_command(CLI::App& app, Action& action) {
@@ -24,6 +67,7 @@ void add_info_command(CLI::App& app, Action& action) {
   cmd->add_flag("--json", args->json, "print one JSON document");
   cmd->callback([&action, args] {
     action = [args] {
+      if (tables::format_version_of(args->path) == tables::kParamFormatVersion) return param_info(args->path, args->json);
       const tables::Table table = tables::read_table(args->path);
       if (args->json) {
         std::cout << shapes::info_json(args->path, table).dump(2) << "\n";

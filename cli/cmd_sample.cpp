@@ -1,12 +1,17 @@
 // ganzfeld sample: a table lookup at given directions (tables/sample.h).
 #include <cstdio>
+#include <cmath>
 #include <iostream>
+#include <optional>
 
 #include <nlohmann/json.hpp>
 
 #include "cli/args.h"
 #include "cli/commands.h"
 #include "tables/exr_io.h"
+#include "tables/param_table.h"
+#include "util/error.h"
+#include "laws/registry.h"
 #include "tables/sample.h"
 
 namespace ganzfeld::cli {
@@ -15,8 +20,48 @@ namespace {
 struct SampleArgs {
   std::string path;
   DirectionArgs directions;
+  ParameterArgs parameter;
+  std::optional<double> mu;
   bool json = false;
 };
+
+/// A parameter table (format version 3) at (--alpha | --roughness, --mu | --theta-i | --i):
+/// every channel, bilinear in the table's grid convention.
+int sample_param_table(const SampleArgs& args) {
+  const tables::ParamTable table = tables::read_param_table(args.path);
+  const auto parameter = args.parameter.given();
+  if (!parameter) throw InputError("a parameter table needs --alpha A or --roughness R (its axis is " + table.axes[0].name + ")");
+  // The point on the table's axis: R = sqrt(alpha) on a roughness axis, alpha = R^2 on an alpha axis.
+  const bool same = parameter->first == table.axes[0].name;
+  const double x = same ? parameter->second
+                        : (parameter->first == tables::kAxisAlpha ? std::sqrt(parameter->second)
+                                                                  : parameter->second * parameter->second);
+  double mu = 0.0;
+  if (args.mu) {
+    if (args.directions.theta_i || !args.directions.i_text.empty()) throw InputError("give either --mu or --theta-i/--i");
+    if (!(*args.mu >= 0.0 && *args.mu <= 1.0))
+      throw InputError("--mu=" + format_number(*args.mu) + " is not allowed; allowed: cos theta_i in [0, 1]");
+    mu = *args.mu;
+  } else {
+    mu = args.directions.incident(Law::a).z;
+  }
+  nlohmann::ordered_json doc{{tables::kAxisAlpha, tables::alpha_of(table.axes[0].name, x)}, {"mu", mu},
+                             {"channels", nlohmann::ordered_json::array()}};
+  for (std::size_t c = 0; c < table.channels.size(); ++c) {
+    const tables::ParamSample s = tables::sample_param(table, c, x, mu);
+    doc["channels"].push_back({{"name", table.channels[c].name}, {"value", s.value}, {"node_error", s.error}});
+  }
+  if (args.json) {
+    std::cout << doc.dump(2) << "\n";
+    return 0;
+  }
+  std::printf("%s %s at alpha = %.9g, mu = %.9g (table %s):\n", table.preset.c_str(), table.model.c_str(),
+              doc["alpha"].get<double>(), mu, args.path.c_str());
+  for (const auto& c : doc["channels"])
+    std::printf("  %-8s = %.9g ± %.2g (the texels' error bound; interpolation between texels not included)\n",
+                c["name"].get<std::string>().c_str(), c["value"].get<double>(), c["node_error"].get<double>());
+  return 0;
+}
 }  // namespace
 
 void add_sample_command(CLI::App& app, Action& action) {
@@ -25,9 +70,15 @@ void add_sample_command(CLI::App& app, Action& action) {
   auto args = std::make_shared<SampleArgs>();
   cmd->add_option("FILE", args->path, "table written by `ganzfeld bake`")->required();
   args->directions.add_to(*cmd);
+  args->parameter.add_to(*cmd);
+  cmd->add_option("--mu", args->mu, "parameter tables: cos theta_i in [0, 1] (instead of --theta-i)");
   cmd->add_flag("--json", args->json, "print one JSON document");
   cmd->callback([&action, args] {
     action = [args] {
+      if (tables::format_version_of(args->path) == tables::kParamFormatVersion) return sample_param_table(*args);
+      if (args->parameter.alpha || args->parameter.roughness || args->mu)
+        throw InputError("--alpha, --roughness and --mu are for parameter tables (format version 3); '" + args->path +
+                         "' is not one");
       const tables::Table table = tables::read_table(args->path);
       const Law law = table.law;
       const bool needs_i = law == Law::g || law == Law::a;

@@ -9,6 +9,7 @@
 //   g2         choice      height-correlated | separable (Heitz 2014, section 6)
 // α = 0 would be a mirror (a delta, no BRDF): refused, as is roughness = 0.
 #include "laws/ggx.h"
+#include "laws/ggx_ms.h"
 
 #include <algorithm>
 #include <cmath>
@@ -199,6 +200,19 @@ void register_ggx_models(std::vector<ModelInfo>& c) {
          return std::make_shared<Ggx>(alpha_from(v, kDefaultAlpha), v.at("f0"),
                                       static_cast<ggx::G2Form>(static_cast<int>(v.at("g2"))));
        }});
+  // ggx-ms: the same parameters but isotropic only (its E(mu) table is over mu alone).
+  ModelInfo ms = c.back();
+  ms.name = "ggx-ms";
+  ms.summary = "GGX plus Kulla-Conty multiple-scattering compensation, f = f_ggx + F_ms (1 - E(i.n))(1 - E(j.n)) / "
+               "(pi (1 - E_avg)); E from ganzfeld's own table (laws/ggx_ms.h)";
+  ms.source = std::string(kSources) + "; Kulla & Conty 2017, Revisiting Physically Based Shading at Imageworks";
+  std::erase_if(ms.parameters, [](const ParamInfo& p) { return p.name == "alpha_x" || p.name == "alpha_y"; });
+  ms.closed_forms = {};
+  ms.make = [=](const ParamValues& v) -> ModelPtr {
+    return std::make_shared<GgxMs>(alpha_from(v, kDefaultAlpha).x, v.at("f0"),
+                                   static_cast<ggx::G2Form>(static_cast<int>(v.at("g2"))));
+  };
+  c.push_back(ms);
 }
 
 }  // namespace ganzfeld

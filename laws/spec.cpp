@@ -157,6 +157,31 @@ std::string spec_without_paths(const std::string& spec) {
   return out;
 }
 
+std::string with_parameter(const std::string& spec, const std::string& key, double value) {
+  const std::vector<std::string> terms = split_terms(spec);
+  if (terms.size() != 1)
+    throw InputError("--" + key + " applies to a single model, not to the mixture '" + spec + "'");
+  const std::string& term = terms.front();
+  const auto colon = term.find(':');
+  const std::string name = trim(term.substr(0, colon));
+  std::string known;
+  bool has = false;
+  for (const ParamInfo& p : find_model(name).parameters) {
+    has = has || p.name == key;
+    known += (known.empty() ? "" : ", ") + p.name;
+  }
+  if (!has)
+    throw InputError("model '" + name + "' has no parameter " + key + " for --" + key + "; its parameters: " +
+                     (known.empty() ? "none" : known));
+  std::string items;  // the spec's items without the roughness alternatives the flag replaces
+  if (colon != std::string::npos)
+    for (const std::string& item : split(term.substr(colon + 1), ',')) {
+      const std::string k = trim(item.substr(0, item.find('=')));
+      if (k != "alpha" && k != "roughness" && k != "alpha_x" && k != "alpha_y") items += item + ",";
+    }
+  return name + ":" + items + key + "=" + format_number(value);
+}
+
 ModelPtr parse_model(const std::string& spec) {
   auto lobes = parse_lobes(spec);
   if (lobes.size() == 1) return lobes.front().model;

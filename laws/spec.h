@@ -30,4 +30,10 @@ std::vector<Lobe> parse_lobes(const std::string& spec);
 /// identifies the data. "merl:file=a.binary,channel=3,lookup=1" -> "merl:channel=3,lookup=1".
 std::string spec_without_paths(const std::string& spec);
 
+/// The single-model spec with its roughness (alpha, roughness, alpha_x, alpha_y items) replaced
+/// by key=value: "ggx:roughness=0.2,f0=0.04" with ("alpha", 0.5) -> "ggx:f0=0.04,alpha=0.5".
+/// Throws InputError for a mixture or a model without a parameter named `key` (nothing is
+/// validated beyond that: parse_model judges the value).
+std::string with_parameter(const std::string& spec, const std::string& key, double value);
+
 }  // namespace ganzfeld

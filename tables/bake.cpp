@@ -21,8 +21,6 @@
 
 namespace ganzfeld::tables {
 
-namespace {
-
 /// The stored number nearest to x.
 float round_to_encoding(double x, Encoding encoding) noexcept {
   const float f = static_cast<float>(x);
@@ -38,6 +36,8 @@ float round_up_to_encoding(double x, Encoding encoding) noexcept {
   if (static_cast<float>(h) < f) h.setBits(static_cast<std::uint16_t>(h.bits() + 1));  // next half up (f >= 0)
   return static_cast<float>(h);
 }
+
+namespace {
 
 std::string gib(std::uint64_t bytes) {
   char buf[32];

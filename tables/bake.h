@@ -54,6 +54,11 @@ inline constexpr std::uint64_t kInterpolationSeed = 20190117;
 /// Seed of the random validation points (BakeOptions::random_checks).
 inline constexpr std::uint64_t kValidationSeed = 20240615;
 
+/// The stored number nearest to x in the encoding.
+float round_to_encoding(double x, Encoding encoding) noexcept;
+/// The smallest stored number >= x >= 0 in the encoding (error bounds may only round up).
+float round_up_to_encoding(double x, Encoding encoding) noexcept;
+
 /// Parses "N", "NxN" or "NxNxN" into node counts; a single N stands for every axis of the law
 /// (g: N x N x N). Throws InputError naming the text and the expected form.
 std::vector<int> parse_resolution(const std::string& text, Law law);

@@ -19,6 +19,10 @@ PY
 python3 -c "import json,sys; d=json.load(open('$tmp/b.json')); assert len(d['tables'])==2 and all(t['speedup_2_threads']>0 for t in d['tables'])"
 "$G" bench render --quick --json >"$tmp/r.json"
 python3 -c "import json; d=json.load(open('$tmp/r.json')); r=d['ratios']; assert r['tables_vs_lambert']>0 and r['direct_vs_tables']>0"
+# The real-time tables' report (issue 16): every section and a verdict on each target.
+"$G" bench realtime --quick --markdown "$tmp/realtime.md"
+for section in "Per-texel error bound" "Bake time" "White furnace" "independent estimator"; do grep -q "$section" "$tmp/realtime.md"; done
+[ "$(grep -cE '\*\*(met|missed)\*\*' "$tmp/realtime.md")" -ge 14 ]
 set +e; "$G" bench nonsense 2>"$tmp/err"; code=$?; set -e
 [ "$code" -eq 2 ] && [ "$(wc -l <"$tmp/err")" -eq 1 ]
 echo "bench smoke: 1 passed, 0 failed"

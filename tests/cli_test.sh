@@ -67,6 +67,39 @@ expect_bad "cannot write" plausibility --markdown "$tmp/no/such/dir/p.md"
 grep -q "minnaert.g.hyp2f1" "$tmp/errata.md" && ok || fail "errata markdown"
 ls -a "$tmp" | grep -q '\.tmp-' && fail "temporary file left behind" || ok
 
+# --- parameter tables (issue 16): bake --preset, info and sample at (alpha | roughness, mu), eval --alpha
+"$G" bake --preset dfg --model ggx --res 4x5 -o "$tmp/dfg.exr" >/dev/null && ok || fail "bake --preset dfg"
+[ "$(json_field <("$G" info "$tmp/dfg.exr" --json) "d['format_version']==3 and [a['name'] for a in d['axes']]==['roughness','cos_theta_i'] and [c['name'] for c in d['channels']]==['dfg_fc','dfg_e','charlie'] and d['axes'][1]['grid']=='texel' and d['max_error']<=1e-6")" = "True" ] \
+  && ok || fail "info of a dfg table"
+[ "$(json_field <("$G" sample "$tmp/dfg.exr" --roughness 0.5 --mu 0.5 --json) "abs(d['alpha']-0.25)<1e-15 and len(d['channels'])==3")" = "True" ] && ok || fail "sample --roughness"
+[ "$(json_field <("$G" sample "$tmp/dfg.exr" --alpha 0.25 --theta-i 60 --json) "abs(d['mu']-0.5)<1e-12")" = "True" ] && ok || fail "sample --alpha --theta-i"
+"$G" bake --preset kulla-conty --model ggx:g2=separable --res 3 --grid node --axis alpha -o "$tmp/kc.exr" >/dev/null && ok || fail "bake --preset kulla-conty"
+[ "$(json_field <("$G" info "$tmp/kc.exr" --json) "[c['name'] for c in d['channels']]==['e','e_avg'] and d['axes'][0]['name']=='alpha'")" = "True" ] && ok || fail "info of a kulla-conty table"
+[ "$(json_field <("$G" eval --model ggx:alpha=0.9,f0=1 --alpha 1 --law a --theta-i 0 --json) "d['model'].startswith('ggx:alpha=1,')")" = "True" ] && ok || fail "eval --alpha overrides"
+"$G" export-glsl "$tmp/dfg.exr" -o "$tmp/dfg.glsl" >/dev/null && grep -q "vec4 gz_dfg_filament(highp sampler2D table, float mu, float roughness)" "$tmp/dfg.glsl" \
+  && grep -q "gz_dfg_filament_texels\[60\]" "$tmp/dfg.h" && ok || fail "export-glsl of a dfg table"
+expect_bad "--texture ktx2 is not available for parameter tables" export-glsl "$tmp/dfg.exr" -o "$tmp/dfg2.glsl" --texture ktx2
+expect_bad "'lambert' has no parameter roughness" bake --preset dfg --model lambert -o "$tmp/bad.exr"
+expect_bad "is defined for ggx" bake --preset kulla-conty --model ggx-ms -o "$tmp/bad.exr"
+expect_bad "sets alpha" bake --preset dfg --model ggx:alpha=0.3 -o "$tmp/bad.exr"
+expect_bad "unknown preset 'dfgx'" bake --preset dfgx --model ggx -o "$tmp/bad.exr"
+expect_bad "--axis 'beta'" bake --preset dfg --model ggx --axis beta -o "$tmp/bad.exr"
+expect_bad "unknown grid" bake --preset dfg --model ggx --grid centre -o "$tmp/bad.exr"
+expect_bad "not a preset resolution" bake --preset dfg --model ggx --res 1 -o "$tmp/bad.exr"
+expect_bad "--dfg-layout is for --preset dfg" bake --preset kulla-conty --dfg-layout ue4 --model ggx -o "$tmp/bad.exr"
+expect_bad "cannot be combined with --preset" bake --preset dfg --model ggx --law a -o "$tmp/bad.exr"
+[ ! -e "$tmp/bad.exr" ] && ok || fail "a refused preset bake left a file"
+expect_bad "--alpha=0 " sample "$tmp/dfg.exr" --alpha 0 --mu 0.5
+expect_bad "--alpha=1.5" sample "$tmp/dfg.exr" --alpha 1.5 --mu 0.5
+expect_bad "--alpha=nan" sample "$tmp/dfg.exr" --alpha nan --mu 0.5
+expect_bad "--roughness=1.2" sample "$tmp/dfg.exr" --roughness 1.2 --mu 0.5
+expect_bad "--roughness=-0.1" sample "$tmp/dfg.exr" --roughness -0.1 --mu 0.5
+expect_bad "--mu=2" sample "$tmp/dfg.exr" --roughness 0.5 --mu 2
+expect_bad "needs --alpha A or --roughness R" sample "$tmp/dfg.exr" --mu 0.5
+expect_bad "has no parameter alpha" eval --model lambert --alpha 0.5 --law a --theta-i 10
+expect_bad "--alpha=-1" eval --model ggx --alpha -1 --law a --theta-i 10
+expect_bad "roughness=0" eval --model ggx --roughness 0 --law a --theta-i 10
+
 # --- bake --scene: only the tables the scene needs, cached; the second run bakes nothing
 scene="$(dirname "$0")/../examples/default.json"
 tiny=(--res-g 3x3x3 --res-h 5 --tol 1e-6)

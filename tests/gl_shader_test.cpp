@@ -32,7 +32,12 @@
 #include <optional>
 #include <string>
 
+#include <Imath/half.h>
+
+#include "export/param_export.h"
+#include "laws/spec.h"
 #include "tables/bake.h"
+#include "tables/preset.h"
 #include "export/glsl.h"
 #include "scene/plan.h"
 #include "scene/scene.h"
@@ -448,6 +453,127 @@ TEST(GlShader, Glsl430CoreHalfTablesMatchTheSoftwareRasterizer) { run_gl_compari
 TEST(GlShader, GlslEs300FloatTablesMatchTheSoftwareRasterizer) { run_gl_comparison(true, tables::Encoding::single); }
 TEST(GlShader, HardwareFilteringStaysWithinTheStatedTableError) {
   run_gl_comparison(false, tables::Encoding::single, true);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Parameter tables (issue 16): the exported GLSL lookup, reading the exported C header's half
+// texels, against tables::sample_param on the same half values, at points across and beyond
+// both axes (the clamping), in GLSL 4.30 core and ES 3.00.
+
+/// The header's texels, parsed back from its text (what an engine compiles in).
+std::vector<std::uint16_t> header_texels(const std::string& header) {
+  std::vector<std::uint16_t> bits;
+  const std::size_t start = header.find("_texels[");
+  for (std::size_t at = header.find("0x", start); at != std::string::npos; at = header.find("0x", at + 6))
+    bits.push_back(static_cast<std::uint16_t>(std::stoul(header.substr(at, 6), nullptr, 16)));
+  return bits;
+}
+
+void run_param_comparison(bool es, const tables::ParamTable& table) {
+  std::string error;
+  auto gl = make_context(es, error);
+  ASSERT_TRUE(gl) << error;
+  const std::string name = exporting::glsl_param_function_name(table);
+  const std::vector<std::uint16_t> bits = header_texels(exporting::param_c_header(table, name));
+  const int channels = static_cast<int>(table.channels.size()), width = table.axes[1].count, height = table.axes[0].count;
+  ASSERT_EQ(bits.size(), static_cast<std::size_t>(width * height * channels));
+  // The CPU lookup of exactly the header's values.
+  tables::ParamTable halfed = table;
+  for (std::size_t m = 0; m < table.entries(); ++m)
+    for (int c = 0; c < channels; ++c) {
+      Imath::half h;
+      h.setBits(bits[m * channels + c]);
+      halfed.channels[c].value[m] = h;
+      // The header holds the table's values, rounded to half: unit roundoff 2^-11 relative, and
+      // half the subnormal spacing 2^-24 below the normal range.
+      EXPECT_LE(std::abs(halfed.channels[c].value[m] - table.channels[c].value[m]),
+                0x1p-11 * std::abs(table.channels[c].value[m]) + 0x1p-25)
+          << table.channels[c].name << " texel " << m;
+    }
+  constexpr int kSize = 33;  // query points: a 33 x 33 grid over [-0.05, 1.05]^2
+  const std::string fragment = std::string("#version ") + (es ? "300 es\nprecision highp float;\n" : "430 core\n") +
+                               exporting::glsl_param_snippet(table) + R"(
+uniform highp sampler2D u_table;
+out vec4 out_color;
+void main() {
+  vec2 q = (gl_FragCoord.xy - 0.5) / 32.0 * 1.1 - 0.05;
+  out_color = )" + name + R"((u_table, q.x, q.y);
+}
+)";
+  std::string log;
+  const GLuint vs = compile(GL_VERTEX_SHADER, es ? kVertexEs : kVertexCore, log);
+  ASSERT_NE(vs, 0u) << log;
+  const GLuint fs = compile(GL_FRAGMENT_SHADER, fragment, log);
+  ASSERT_NE(fs, 0u) << log;
+  const GLuint program = glCreateProgram();
+  glAttachShader(program, vs);
+  glAttachShader(program, fs);
+  glLinkProgram(program);
+  glUseProgram(program);
+  GLuint texture = 0, fbo = 0, color = 0, vao = 0;
+  glGenTextures(1, &texture);
+  glActiveTexture(GL_TEXTURE0);
+  glBindTexture(GL_TEXTURE_2D, texture);
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  const GLenum internal = channels == 3 ? GL_RGB16F : GL_RG16F, format = channels == 3 ? GL_RGB : GL_RG;
+  glTexImage2D(GL_TEXTURE_2D, 0, internal, width, height, 0, format, GL_HALF_FLOAT, bits.data());
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  glUniform1i(glGetUniformLocation(program, "u_table"), 0);
+  glGenFramebuffers(1, &fbo);
+  glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+  glGenRenderbuffers(1, &color);
+  glBindRenderbuffer(GL_RENDERBUFFER, color);
+  glRenderbufferStorage(GL_RENDERBUFFER, GL_RGBA32F, kSize, kSize);
+  glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, color);
+  ASSERT_EQ(glCheckFramebufferStatus(GL_FRAMEBUFFER), static_cast<GLenum>(GL_FRAMEBUFFER_COMPLETE));
+  glGenVertexArrays(1, &vao);
+  glBindVertexArray(vao);
+  glViewport(0, 0, kSize, kSize);
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+  std::vector<float> pixels(kSize * kSize * 4);
+  glReadPixels(0, 0, kSize, kSize, GL_RGBA, GL_FLOAT, pixels.data());
+  ASSERT_EQ(glGetError(), static_cast<GLenum>(GL_NO_ERROR));
+  double max_difference = 0.0;
+  for (int y = 0; y < kSize; ++y)
+    for (int x = 0; x < kSize; ++x)
+      for (int c = 0; c < channels; ++c) {
+        // The same point in double (the GPU computes it in float: within an ulp of this).
+        const double mu = x / 32.0 * 1.1 - 0.05, p = y / 32.0 * 1.1 - 0.05;
+        const double cpu = tables::sample_param(halfed, c, p, mu).value;
+        const double gpu = pixels[(static_cast<std::size_t>(y) * kSize + x) * 4 + c];
+        max_difference = std::max(max_difference, std::abs(gpu - cpu));
+        EXPECT_LE(std::abs(gpu - cpu), kFloatRelative * std::abs(cpu) + kFloatAbsolute)
+            << table.channels[c].name << " at mu " << mu << ", " << table.axes[0].name << " " << p;
+      }
+  std::printf("%s, %s (%s grid): max |GPU - CPU| = %.3g over %d points x %d channels\n", es ? "GLSL ES 3.00" : "GLSL 4.30 core",
+              name.c_str(), to_string(table.grid), max_difference, kSize * kSize, channels);
+  glDeleteVertexArrays(1, &vao);
+  glDeleteRenderbuffers(1, &color);
+  glDeleteFramebuffers(1, &fbo);
+  glDeleteTextures(1, &texture);
+  glDeleteProgram(program);
+  glDeleteShader(vs);
+  glDeleteShader(fs);
+}
+
+tables::ParamTable small_preset(tables::Preset preset, tables::Grid grid, const char* axis) {
+  tables::PresetOptions o;
+  o.preset = preset;
+  o.grid = grid;
+  o.axis = axis;
+  o.resolution = {6, 8};
+  return tables::bake_preset(*parse_model("ggx"), o);
+}
+
+TEST(GlShader, DfgTableLookupMatchesTheCpu) {
+  const tables::ParamTable dfg = small_preset(tables::Preset::dfg, tables::Grid::texel, tables::kAxisRoughness);
+  run_param_comparison(false, dfg);
+  run_param_comparison(true, dfg);
+}
+
+TEST(GlShader, KullaContyNodeTableLookupMatchesTheCpu) {
+  run_param_comparison(false, small_preset(tables::Preset::kulla_conty, tables::Grid::node, tables::kAxisAlpha));
 }
 
 }  // namespace

@@ -214,6 +214,8 @@ TEST(SamplingChiSquare, GgxVisibleNormals) {
   expect_fits({"ggx:alpha=0.3,f0=0.04", -1.0}, {0.0, 40.0, 70.0, 85.0});
   expect_fits({"ggx:alpha=0.05,g2=separable", -1.0}, {30.0, 80.0});
   expect_fits({"ggx:alpha_x=0.1,alpha_y=0.5", -1.0}, {20.0, 60.0});
+  // ggx-ms: the visible-normal draw with probability E(mu_j), else a cosine draw (laws/ggx_ms.h).
+  expect_fits({"ggx-ms:alpha=0.5", -1.0}, {0.0, 60.0, 85.0});
 }
 
 TEST(SamplingChiSquare, DefaultCosineSamplingAndMixtures) {
@@ -273,7 +275,7 @@ TEST(SamplingWeights, MeanWeightEstimatesTheLawOfDarkening) {
   std::mt19937_64 rng(5);
   std::uniform_real_distribution<double> uniform(0.0, 1.0);
   for (const std::string spec : {"specular:alpha=8", "minnaert:xi=0.5", "asperity:alpha=2", "ward:rho_d=0.3,rho_s=0.5,alpha=0.15",
-                                 "ggx:alpha=0.3,f0=0.04", "ggx:alpha_x=0.1,alpha_y=0.5,g2=separable", "charlie:alpha=0.3",
+                                 "ggx:alpha=0.3,f0=0.04", "ggx:alpha_x=0.1,alpha_y=0.5,g2=separable", "charlie:alpha=0.3", "ggx-ms:alpha=0.5",
                                  "0.6*minnaert:xi=1 + 0.4*hvd-empirical:cd=0.5,f0=0.2,k=0.5,ns=20,nr=10"}) {
     const ModelPtr model = parse_model(spec);
     const Vec3 j = outgoing(50.0, 10.0);

@@ -1,0 +1,203 @@
+#include "tables/preset.h"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <mutex>
+
+#include <tbb/parallel_for.h>
+
+#include "integrate/laws.h"
+#include "laws/charlie.h"
+#include "laws/ggx.h"
+#include "laws/registry.h"
+#include "tables/bake.h"
+#include "util/error.h"
+
+namespace ganzfeld::tables {
+
+const char* to_string(Preset preset) { return preset == Preset::dfg ? "dfg" : "kulla-conty"; }
+
+Preset parse_preset(const std::string& text) {
+  if (text == "dfg") return Preset::dfg;
+  if (text == "kulla-conty") return Preset::kulla_conty;
+  throw InputError("unknown preset '" + text + "'; allowed: dfg, kulla-conty");
+}
+
+const char* to_string(DfgLayout layout) { return layout == DfgLayout::ue4 ? "ue4" : "filament"; }
+
+DfgLayout parse_dfg_layout(const std::string& text) {
+  if (text == "filament") return DfgLayout::filament;
+  if (text == "ue4") return DfgLayout::ue4;
+  throw InputError("unknown DFG layout '" + text + "'; allowed: filament, ue4");
+}
+
+std::string preset_family(const Model& model, const PresetOptions& options) {
+  const auto* ggx = dynamic_cast<const Ggx*>(&model);
+  if (!ggx) {
+    const std::string spec = model.spec(), name = spec.substr(0, spec.find(':'));
+    bool has_axis = false;  // the name of a mixture is no model's: it has no parameters either
+    for (const ModelInfo& info : model_catalogue())
+      for (const ParamInfo& p : info.parameters) has_axis = has_axis || (info.name == name && p.name == options.axis);
+    if (!has_axis)
+      throw InputError(std::string("--preset ") + to_string(options.preset) + " needs a ggx model: '" + spec +
+                       "' has no parameter " + options.axis + " for the table's axis");
+    throw InputError(std::string("--preset ") + to_string(options.preset) +
+                     " is defined for ggx (its channels are GGX and Charlie albedos), not for '" + spec + "'");
+  }
+  if (!model.traits().isotropic)
+    throw InputError(std::string("--preset ") + to_string(options.preset) + " needs an isotropic ggx model, not '" +
+                     model.spec() + "'");
+  const std::string spec = model.spec();
+  return "ggx:" + spec.substr(spec.find("g2="));
+}
+
+std::vector<int> parse_preset_resolution(const std::string& text) {
+  const std::string bad = "--res '" + text + "' is not a preset resolution; expected N or NPxNMU (parameter x "
+                          "cos_theta_i samples) with integers from 2 to 4096";
+  std::vector<int> counts;
+  try {  // each part is a one-axis resolution "N"
+    const std::size_t x = text.find('x');
+    counts.push_back(parse_resolution(text.substr(0, x), Law::a).front());
+    counts.push_back(x == std::string::npos ? counts[0] : parse_resolution(text.substr(x + 1), Law::a).front());
+  } catch (const InputError&) {
+    throw InputError(bad);
+  }
+  if (std::max(counts[0], counts[1]) > 4096) throw InputError(bad);
+  return counts;
+}
+
+namespace {
+
+/// The integrals a preset's channels are made of, per texel (α, μ).
+enum class Base { fc, e, charlie, e_avg };
+
+/// The integral `base` at (α > 0, μ), or its exact α → 0 limit (preset.h) at α = 0.
+Estimate integral(Base base, double alpha, double mu, ggx::G2Form g2, const CubatureOptions& c) {
+  if (alpha == 0.0) {
+    const double mirror_fc = std::pow(1.0 - mu, 5);
+    return {base == Base::fc ? mirror_fc : base == Base::charlie ? 0.0 : 1.0, 0.0, 0, true};
+  }
+  const Vec3 i = direction_from_cos(mu);
+  switch (base) {
+    case Base::fc: return albedo(Ggx({alpha, alpha}, 0.0, g2), i, c);
+    case Base::e: return albedo(Ggx({alpha, alpha}, 1.0, g2), i, c);
+    case Base::charlie: {
+      CubatureOptions tighter = c;  // see kCharlieTolerance
+      tighter.abs_tol *= kCharlieTolerance;
+      return albedo(Charlie(alpha), i, tighter);
+    }
+    case Base::e_avg: return double_diffuse(Ggx({alpha, alpha}, 1.0, g2), c);
+  }
+  return {};
+}
+
+/// A channel as a sum of base integrals with signs: value = Σ sign·base, error = Σ |errors|.
+struct ChannelRecipe {
+  const char* name;
+  const char* definition;
+  std::vector<std::pair<Base, double>> terms;
+};
+
+std::vector<ChannelRecipe> recipes(const PresetOptions& options) {
+  constexpr const char* kFc = "integral of f1 (1 - v.h)^5 cos (ggx:f0=0 albedo; f1: ggx with F = 1)";
+  constexpr const char* kE = "integral of f1 cos (ggx:f0=1 albedo, E(mu, alpha))";
+  if (options.preset == Preset::kulla_conty)
+    return {{"e", kE, {{Base::e, 1.0}}},
+            {"e_avg", "E_avg(alpha) = 2 integral of E(mu) mu dmu (law r of ggx:f0=1), constant along mu",
+             {{Base::e_avg, 1.0}}}};
+  if (options.layout == DfgLayout::ue4)
+    return {{"scale", "integral of f1 (1 - (1 - v.h)^5) cos (Unreal's scale)", {{Base::e, 1.0}, {Base::fc, -1.0}}},
+            {"bias", "integral of f1 (1 - v.h)^5 cos (Unreal's bias)", {{Base::fc, 1.0}}}};
+  return {{"dfg_fc", kFc, {{Base::fc, 1.0}}},
+          {"dfg_e", kE, {{Base::e, 1.0}}},
+          {"charlie", "integral of f cos of charlie:alpha=alpha (Neubelt-Pettineo visibility)", {{Base::charlie, 1.0}}}};
+}
+
+void check_options(const PresetOptions& options) {
+  if (options.axis != kAxisRoughness && options.axis != kAxisAlpha)
+    throw InputError("parameter axis '" + options.axis + "' is not allowed; allowed: roughness, alpha");
+  if (options.resolution.size() != 2 || std::min(options.resolution[0], options.resolution[1]) < 2)
+    throw InputError("a preset table needs 2 axes of at least 2 samples each");
+  if (!std::isfinite(options.tolerance) || !(options.tolerance > 0.0))
+    throw InputError("tolerance " + format_number(options.tolerance) + " is not allowed; expected a positive number");
+}
+
+}  // namespace
+
+ParamTable bake_preset(const Model& model, const PresetOptions& options) {
+  check_options(options);
+  ParamTable table;
+  table.model = preset_family(model, options);
+  const ggx::G2Form g2 = model.spec().find("g2=separable") != std::string::npos ? ggx::G2Form::separable
+                                                                               : ggx::G2Form::height_correlated;
+  table.preset = to_string(options.preset);
+  table.layout = options.preset == Preset::dfg ? to_string(options.layout) : "kulla-conty";
+  table.axes = {{options.axis, 0.0, 1.0, options.resolution[0], Mapping::linear},
+                {kAxisCosThetaI, 0.0, 1.0, options.resolution[1], Mapping::linear}};
+  table.grid = options.grid;
+  table.tolerance = options.tolerance;
+  table.encoding = options.encoding;
+  table.version = GANZFELD_VERSION;
+  const std::vector<ChannelRecipe> channel_recipes = recipes(options);
+  std::vector<Base> bases;
+  for (const ChannelRecipe& r : channel_recipes)
+    for (const auto& [base, sign] : r.terms)
+      if (std::find(bases.begin(), bases.end(), base) == bases.end()) bases.push_back(base);
+
+  const int n_p = options.resolution[0], n_mu = options.resolution[1];
+  const std::size_t n = static_cast<std::size_t>(n_p) * n_mu;
+  CubatureOptions cubature;
+  cubature.abs_tol = options.tolerance;
+  cubature.max_evaluations = options.max_evaluations;
+  // Every base integral at every texel (e_avg once per row), in parallel: independent integrals,
+  // so the bits do not depend on the thread count.
+  std::map<Base, std::vector<Estimate>> grid;
+  for (Base b : bases) grid[b].resize(n);
+  std::vector<std::pair<Base, std::size_t>> work;
+  for (Base b : bases)
+    for (std::size_t m = 0; m < n; ++m)
+      if (b != Base::e_avg || m % n_mu == 0) work.push_back({b, m});
+  std::atomic<std::uint64_t> done{0};
+  std::mutex progress_mutex;
+  tbb::parallel_for(std::size_t{0}, work.size(), [&](std::size_t w) {
+    const auto [b, m] = work[w];
+    const double alpha = alpha_of(options.axis, grid_coordinate(table.axes[0], table.grid, static_cast<int>(m / n_mu)));
+    const double mu = grid_coordinate(table.axes[1], table.grid, static_cast<int>(m % n_mu));
+    grid.at(b)[m] = integral(b, alpha, mu, g2, cubature);
+    const std::uint64_t d = ++done;
+    if (options.progress && (d % 64 == 0 || d == work.size())) {
+      std::lock_guard lock(progress_mutex);
+      options.progress(d, work.size());
+    }
+  });
+  if (grid.count(Base::e_avg))
+    for (std::size_t m = 0; m < n; ++m) grid[Base::e_avg][m] = grid[Base::e_avg][m - m % n_mu];
+
+  for (const ChannelRecipe& r : channel_recipes) {
+    Channel ch{r.name, r.definition, std::vector<float>(n), std::vector<float>(n), 0};
+    for (std::size_t m = 0; m < n; ++m) {
+      double value = 0.0, error = 0.0;
+      bool converged = true;
+      for (const auto& [base, sign] : r.terms) {
+        const Estimate& e = grid.at(base)[m];
+        value += sign * e.value;
+        error += kEstimateMargin * e.error;
+        converged = converged && e.converged;
+      }
+      if (!std::isfinite(value) || !std::isfinite(error))
+        throw InputError(std::string("channel ") + r.name + " is not finite at entry " + std::to_string(m) +
+                         " (the cubature met a non-finite integrand); nothing written");
+      ch.value[m] = round_to_encoding(value, options.encoding);
+      ch.error[m] = round_up_to_encoding(error + std::abs(value - static_cast<double>(ch.value[m])), options.encoding);
+      ch.unconverged += !converged;
+      table.max_error = std::max(table.max_error, static_cast<double>(ch.error[m]));
+    }
+    table.channels.push_back(std::move(ch));
+  }
+  return table;
+}
+
+}  // namespace ganzfeld::tables
