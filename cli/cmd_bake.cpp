@@ -115,11 +115,19 @@ int bake_preset_table(const BakeArgs& args) {
     channels += (channels.empty() ? "" : ", ") + ch.name;
     unconverged += ch.unconverged;
   }
+  std::string lookup;  // per channel: the validated lookup error, the headline
+  for (const tables::Channel& ch : table.channels) {
+    char number[32];
+    std::snprintf(number, sizeof number, "%.3g", ch.lookup_error);
+    lookup += (lookup.empty() ? "" : ", ") + ch.name + " " + number;
+  }
   std::printf("baked preset %s (%s) of %s, %dx%d %s-centred samples over (%s, cos_theta_i), channels %s, in %.2f s: "
-              "max per-texel error %.3g, %lld unconverged -> %s\n",
+              "lookup error %s (bilinear, validated at %lld points with alpha >= %s, cos_theta_i >= %s; per-texel "
+              "error %.3g), %lld unconverged -> %s\n",
               table.preset.c_str(), table.layout.c_str(), table.model.c_str(), table.axes[0].count,
               table.axes[1].count, to_string(table.grid), table.axes[0].name.c_str(), channels.c_str(), seconds,
-              table.max_error, unconverged, args.output.c_str());
+              lookup.c_str(), table.lookup_checks, format_number(tables::kMinValidatedAlpha).c_str(),
+              format_number(tables::kMinValidatedMu).c_str(), table.max_error, unconverged, args.output.c_str());
   if (unconverged > 0)
     std::cerr << "ganzfeld: warning: " << unconverged << " texels missed tolerance " << format_number(table.tolerance)
               << "; their achieved error is stored\n";

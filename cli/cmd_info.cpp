@@ -29,13 +29,17 @@ int param_info(const std::string& path, bool json) {
   for (const tables::Channel& ch : table.channels) {
     double max_error = 0.0;
     for (float e : ch.error) max_error = std::max(max_error, static_cast<double>(e));
-    channels.push_back({{"name", ch.name}, {"definition", ch.definition}, {"max_error", max_error},
-                        {"unconverged", ch.unconverged}});
+    channels.push_back({{"name", ch.name}, {"definition", ch.definition}, {"lookup_error", ch.lookup_error},
+                        {"max_error", max_error}, {"unconverged", ch.unconverged}});
   }
   if (json) {
     nlohmann::ordered_json doc{{"path", path}, {"format_version", tables::kParamFormatVersion},
                                {"preset", table.preset}, {"layout", table.layout}, {"model", table.model},
-                               {"axes", axes}, {"channels", channels}, {"max_error", table.max_error},
+                               {"axes", axes}, {"channels", channels}, {"lookup_error", table.lookup_error},
+                               {"lookup_checks", table.lookup_checks},
+                               {"validated_domain", {{"alpha_min", tables::kMinValidatedAlpha},
+                                                     {"cos_theta_i_min", tables::kMinValidatedMu}}},
+                               {"max_error", table.max_error},
                                {"tolerance", table.tolerance}, {"encoding", to_string(table.encoding)},
                                {"command", table.command}, {"version", table.version}};
     std::cout << doc.dump(2) << "\n";
@@ -49,11 +53,15 @@ int param_info(const std::string& path, bool json) {
                 format_number(a["min"].get<double>()).c_str(), format_number(a["max"].get<double>()).c_str(),
                 a["count"].get<int>(), a["mapping"].get<std::string>().c_str(), to_string(table.grid));
   for (const auto& c : channels)
-    std::printf("  channel      %-8s max error %.3g, %lld unconverged: %s\n", c["name"].get<std::string>().c_str(),
-                c["max_error"].get<double>(), c["unconverged"].get<long long>(),
-                c["definition"].get<std::string>().c_str());
-  std::printf("  error        %s (per texel: cubature + rounding; interpolation between texels not included)\n"
+    std::printf("  channel      %-8s lookup error %.3g (per texel %.3g), %lld unconverged: %s\n",
+                c["name"].get<std::string>().c_str(), c["lookup_error"].get<double>(), c["max_error"].get<double>(),
+                c["unconverged"].get<long long>(), c["definition"].get<std::string>().c_str());
+  std::printf("  error        %s (lookup error: validated bound of |bilinear lookup - integral| for alpha >= %s and "
+              "cos_theta_i >= %s, margin x the largest measured at %lld points between the samples)\n"
+              "  node error   %s (cubature + rounding at the samples only)\n"
               "  tolerance    %s\n  encoding     %s\n  command      %s\n",
+              format_number(table.lookup_error).c_str(), format_number(tables::kMinValidatedAlpha).c_str(),
+              format_number(tables::kMinValidatedMu).c_str(), table.lookup_checks,
               format_number(table.max_error).c_str(), format_number(table.tolerance).c_str(),
               to_string(table.encoding), table.command.c_str());
   return 0;

@@ -49,7 +49,8 @@ int sample_param_table(const SampleArgs& args) {
                              {"channels", nlohmann::ordered_json::array()}};
   for (std::size_t c = 0; c < table.channels.size(); ++c) {
     const tables::ParamSample s = tables::sample_param(table, c, x, mu);
-    doc["channels"].push_back({{"name", table.channels[c].name}, {"value", s.value}, {"node_error", s.error}});
+    doc["channels"].push_back({{"name", table.channels[c].name}, {"value", s.value},
+                               {"error", table.channels[c].lookup_error}, {"node_error", s.error}});
   }
   if (args.json) {
     std::cout << doc.dump(2) << "\n";
@@ -58,8 +59,9 @@ int sample_param_table(const SampleArgs& args) {
   std::printf("%s %s at alpha = %.9g, mu = %.9g (table %s):\n", table.preset.c_str(), table.model.c_str(),
               doc["alpha"].get<double>(), mu, args.path.c_str());
   for (const auto& c : doc["channels"])
-    std::printf("  %-8s = %.9g ± %.2g (the texels' error bound; interpolation between texels not included)\n",
-                c["name"].get<std::string>().c_str(), c["value"].get<double>(), c["node_error"].get<double>());
+    std::printf("  %-8s = %.9g ± %.2g (the channel's lookup error; the texels' own bound here %.2g)\n",
+                c["name"].get<std::string>().c_str(), c["value"].get<double>(), c["error"].get<double>(),
+                c["node_error"].get<double>());
   return 0;
 }
 }  // namespace

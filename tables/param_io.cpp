@@ -64,7 +64,8 @@ void write_param_table(const ParamTable& table, const std::string& path) {
   for (const Channel& ch : table.channels) {
     header.channels().insert(ch.name, Imf::Channel(type));
     header.channels().insert(ch.name + kErrorSuffix, Imf::Channel(type));
-    channels.push_back({{"name", ch.name}, {"definition", ch.definition}, {"unconverged", ch.unconverged}});
+    channels.push_back({{"name", ch.name}, {"definition", ch.definition}, {"unconverged", ch.unconverged},
+                        {"lookup_error", ch.lookup_error}});
   }
   auto attr = [&](const char* key, const std::string& v) { header.insert(attribute_name(key), Imf::StringAttribute(v)); };
   attr(kVersion, std::to_string(kParamFormatVersion));
@@ -75,6 +76,8 @@ void write_param_table(const ParamTable& table, const std::string& path) {
   attr("channels", channels.dump());
   attr("tolerance", format_number(table.tolerance));
   attr("max_error", format_number(table.max_error));
+  attr("lookup_error", format_number(table.lookup_error));
+  attr("lookup_checks", std::to_string(table.lookup_checks));
   attr("command", table.command);
   attr("version", table.version);
   attr("encoding", to_string(table.encoding));
@@ -152,10 +155,11 @@ struct ParamReader {
     std::set<std::string> expected;
     for (const auto& c : json_array(header, "channels")) {
       const bool ok = c.is_object() && c.contains("name") && c["name"].is_string() && c.contains("definition") &&
-                      c["definition"].is_string() && c.contains("unconverged") && c["unconverged"].is_number_integer();
-      if (!ok) refuse("ganzfeld.channels: each channel needs name, definition, unconverged (integer)");
+                      c["definition"].is_string() && c.contains("unconverged") && c["unconverged"].is_number_integer() &&
+                      c.contains("lookup_error") && c["lookup_error"].is_number();
+      if (!ok) refuse("ganzfeld.channels: each channel needs name, definition, unconverged (integer), lookup_error");
       Channel ch{c["name"].get<std::string>(), c["definition"].get<std::string>(), {}, {},
-                 c["unconverged"].get<long long>()};
+                 c["unconverged"].get<long long>(), c["lookup_error"].get<double>()};
       expected.insert(ch.name);
       expected.insert(ch.name + kErrorSuffix);
       table.channels.push_back(std::move(ch));
@@ -189,6 +193,8 @@ struct ParamReader {
       read_channels(header, table);
       table.tolerance = number(header, "tolerance");
       table.max_error = number(header, "max_error");
+      table.lookup_error = number(header, "lookup_error");
+      table.lookup_checks = static_cast<long long>(number(header, "lookup_checks"));
       table.command = attribute(header, "command");
       table.version = attribute(header, "version");
       const Imath::Box2i w = header.dataWindow();

@@ -66,7 +66,7 @@ void check_param_table(const ParamTable& table) {
   if (!std::isfinite(table.tolerance) || !(table.tolerance > 0.0))
     throw InputError("tolerance " + format_number(table.tolerance) + " is not a positive finite number");
   const std::size_t n = table.entries();
-  double max_error = 0.0;
+  double max_error = 0.0, lookup_error = 0.0;
   for (const Channel& ch : table.channels) {
     const bool plain = !ch.name.empty() && ch.name.find_first_not_of("abcdefghijklmnopqrstuvwxyz_") == std::string::npos;
     if (!plain) throw InputError("channel name '" + ch.name + "' is not allowed; expected [a-z_]+");
@@ -87,10 +87,20 @@ void check_param_table(const ParamTable& table) {
                          format_number(ch.error[m]) + "; every error must be finite and >= 0");
       max_error = std::max(max_error, static_cast<double>(ch.error[m]));
     }
+    double channel_max = 0.0;
+    for (float e : ch.error) channel_max = std::max(channel_max, static_cast<double>(e));
+    if (!std::isfinite(ch.lookup_error) || !(ch.lookup_error >= channel_max))
+      throw InputError("channel " + ch.name + ": lookup_error " + format_number(ch.lookup_error) +
+                       " is not a finite number >= its largest entry error " + format_number(channel_max));
+    lookup_error = std::max(lookup_error, ch.lookup_error);
   }
   if (table.max_error != max_error)
     throw InputError("max_error " + format_number(table.max_error) + " disagrees with the error data (max " +
                      format_number(max_error) + ")");
+  if (table.lookup_error != lookup_error || table.lookup_checks < 1)
+    throw InputError("lookup_error " + format_number(table.lookup_error) + " disagrees with the channels' (max " +
+                     format_number(lookup_error) + ") or lookup_checks " + std::to_string(table.lookup_checks) +
+                     " is not positive");
 }
 
 ParamSample sample_param(const ParamTable& table, std::size_t c, double x_param, double mu) noexcept {
@@ -113,6 +123,41 @@ ParamSample sample_param(const ParamTable& table, std::size_t c, double x_param,
       out.error += weight * ch.error[m];
     }
   return out;
+}
+
+namespace {
+
+/// The axis coordinates at sample positions s (in sample units; -0.5 and count - 0.5 are the
+/// ends of a texel axis) between the samples and at the ends, as param_validation_points says.
+std::vector<double> validation_coordinates(const Axis& axis, Grid grid) {
+  std::vector<double> positions;
+  if (grid == Grid::texel) positions.push_back(-0.5);
+  for (int k = 0; k + 1 < axis.count; ++k) positions.push_back(k + 0.5);
+  if (grid == Grid::texel) positions.push_back(axis.count - 0.5);
+  std::vector<double> out;
+  for (double s : positions)
+    out.push_back(axis.coordinate(grid == Grid::node ? s / (axis.count - 1) : (s + 0.5) / axis.count));
+  return out;
+}
+
+}  // namespace
+
+std::vector<std::pair<double, double>> param_validation_points(const ParamTable& table) {
+  const Axis& parameter = table.axes.at(0);
+  const double min_x = parameter.name == kAxisRoughness ? std::sqrt(kMinValidatedAlpha) : kMinValidatedAlpha;
+  // Each axis' coordinates, raised to the validated domain, with its lower end added.
+  auto within = [&](const Axis& axis, double lowest) {
+    std::vector<double> xs = validation_coordinates(axis, table.grid);
+    xs.push_back(lowest);
+    for (double& x : xs) x = std::max(x, lowest);
+    std::sort(xs.begin(), xs.end());
+    xs.erase(std::unique(xs.begin(), xs.end()), xs.end());
+    return xs;
+  };
+  std::vector<std::pair<double, double>> points;
+  for (double x : within(parameter, min_x))
+    for (double mu : within(table.axes.at(1), kMinValidatedMu)) points.push_back({x, mu});
+  return points;
 }
 
 }  // namespace ganzfeld::tables

@@ -7,6 +7,7 @@
 #include <cstddef>
 #include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "tables/table.h"
@@ -42,6 +43,12 @@ struct Channel {
   std::vector<float> value;  ///< entry index = k_param * n_mu + k_mu
   std::vector<float> error;  ///< per-entry bound: cubature estimate + storage rounding, rounded up
   long long unconverged = 0;
+  /// THE error of the channel: a bound of |sample_param - the integral| over the table's domain
+  /// (parameter alpha >= kMinValidatedAlpha), validated after baking at the points between the
+  /// samples and on the domain's edges (param_validation_points) against direct cubature:
+  /// kLookupMargin x the largest |lookup - cubature| + cubature error there, and never below the
+  /// largest entry of `error`.
+  double lookup_error = 0.0;
 };
 
 struct ParamTable {
@@ -52,7 +59,9 @@ struct ParamTable {
   Grid grid = Grid::texel;
   std::vector<Channel> channels;
   double tolerance = 0.0;   ///< the cubature's absolute tolerance per integral
-  double max_error = 0.0;   ///< max over every channel's error
+  double max_error = 0.0;   ///< max over every channel's per-texel error
+  double lookup_error = 0.0;      ///< max over every channel's lookup_error: the table's headline
+  long long lookup_checks = 0;    ///< validation points behind lookup_error (per channel)
   std::string command, version;
   Encoding encoding = Encoding::single;
 
@@ -72,6 +81,20 @@ struct ParamSample {
   double error = 0.0;
 };
 ParamSample sample_param(const ParamTable& table, std::size_t c, double x_param, double mu) noexcept;
+
+/// The domain over which a parameter table's lookup error is validated: alpha >= kMinValidatedAlpha
+/// (below it the charlie sheen has no limit) and cos_theta_i >= kMinValidatedMu (issue #15's
+/// domain for every table). Towards mu = 0 the albedos of small alpha fall to 0 in a layer about
+/// alpha wide that no bilinear table of a few dozen samples resolves (docs/lut-format.md,
+/// "Version 3").
+inline constexpr double kMinValidatedAlpha = 1e-3;
+inline constexpr double kMinValidatedMu = 0.02;
+
+/// The points (parameter coordinate, cos_theta_i) at which a table's lookup is validated: on each
+/// axis, the midpoints between consecutive samples, on the texel grid both ends of the axis
+/// (where the lookup clamps to the edge texel), and the lower end of the validated domain;
+/// every pair of them, each coordinate raised into the validated domain.
+std::vector<std::pair<double, double>> param_validation_points(const ParamTable& table);
 
 /// Writes the table as an OpenEXR file of format version 3 (docs/lut-format.md), atomically;
 /// check_param_table first, so nothing read_param_table refuses is ever written.

@@ -127,6 +127,121 @@ void check_options(const PresetOptions& options) {
 
 }  // namespace
 
+namespace {
+
+/// One base integral to compute: at (alpha, mu), stored at `slot` of its base's results.
+struct Task {
+  Base base;
+  double alpha, mu;
+  std::size_t slot;
+};
+
+/// The tasks' integrals, in parallel (independent integrals, so the bits do not depend on the
+/// thread count), with one progress count shared by every phase of the bake.
+class Integrator {
+ public:
+  Integrator(ggx::G2Form g2, const PresetOptions& options, std::uint64_t total)
+      : g2_(g2), options_(options), total_(total) {}
+
+  std::map<Base, std::vector<Estimate>> run(const std::vector<Task>& tasks, const CubatureOptions& cubature) {
+    std::map<Base, std::vector<Estimate>> out;
+    for (const Task& t : tasks) out[t.base].resize(std::max(out[t.base].size(), t.slot + 1));
+    tbb::parallel_for(std::size_t{0}, tasks.size(), [&](std::size_t w) {
+      const Task& t = tasks[w];
+      out.at(t.base)[t.slot] = integral(t.base, t.alpha, t.mu, g2_, cubature);
+      const std::uint64_t d = ++done_;
+      if (options_.progress && (d % 64 == 0 || d == total_)) {
+        std::lock_guard lock(progress_mutex_);
+        options_.progress(d, total_);
+      }
+    });
+    return out;
+  }
+
+ private:
+  ggx::G2Form g2_;
+  const PresetOptions& options_;
+  std::uint64_t total_;
+  std::atomic<std::uint64_t> done_{0};
+  std::mutex progress_mutex_;
+};
+
+/// The distinct bases of the channels.
+std::vector<Base> bases_of(const std::vector<ChannelRecipe>& channel_recipes) {
+  std::vector<Base> bases;
+  for (const ChannelRecipe& r : channel_recipes)
+    for (const auto& [base, sign] : r.terms)
+      if (std::find(bases.begin(), bases.end(), base) == bases.end()) bases.push_back(base);
+  return bases;
+}
+
+/// A channel's value and error bound at slot m from its bases' estimates (e_avg: at slot
+/// m_avg, it depends on the parameter only); `converged` is cleared when one term is not.
+std::pair<double, double> combine(const ChannelRecipe& r, const std::map<Base, std::vector<Estimate>>& estimates,
+                                  std::size_t m, std::size_t m_avg, bool& converged) {
+  double value = 0.0, error = 0.0;
+  for (const auto& [base, sign] : r.terms) {
+    const Estimate& e = estimates.at(base)[base == Base::e_avg ? m_avg : m];
+    value += sign * e.value;
+    error += kEstimateMargin * e.error;
+    converged = converged && e.converged;
+  }
+  return {value, error};
+}
+
+/// Tasks for every base at every texel (e_avg once per row, at the row's first slot).
+std::vector<Task> texel_tasks(const ParamTable& table, const std::vector<Base>& bases, const std::string& axis) {
+  const int n_mu = table.axes[1].count;
+  std::vector<Task> tasks;
+  for (Base b : bases)
+    for (std::size_t m = 0; m < table.entries(); ++m)
+      if (b != Base::e_avg || m % n_mu == 0)
+        tasks.push_back({b, alpha_of(axis, grid_coordinate(table.axes[0], table.grid, static_cast<int>(m / n_mu))),
+                         grid_coordinate(table.axes[1], table.grid, static_cast<int>(m % n_mu)), m});
+  return tasks;
+}
+
+/// Tasks for every base at every validation point (e_avg once per distinct parameter, at the
+/// slot of its first point).
+std::vector<Task> validation_tasks(const std::vector<std::pair<double, double>>& points,
+                                   const std::vector<Base>& bases, const std::string& axis) {
+  std::vector<Task> tasks;
+  for (Base b : bases)
+    for (std::size_t m = 0; m < points.size(); ++m)
+      if (b != Base::e_avg || m == 0 || points[m].first != points[m - 1].first)
+        tasks.push_back({b, alpha_of(axis, points[m].first), points[m].second, m});
+  return tasks;
+}
+
+/// Sets each channel's lookup_error (param_table.h) from direct cubature at the validation
+/// points, at kValidationToleranceRatio x the bake's tolerance: the interpolation error it
+/// measures is orders above that (docs/realtime.md).
+void validate_lookup(ParamTable& table, const std::vector<ChannelRecipe>& channel_recipes,
+                     const std::vector<std::pair<double, double>>& points,
+                     const std::map<Base, std::vector<Estimate>>& estimates) {
+  for (std::size_t c = 0; c < table.channels.size(); ++c) {
+    Channel& ch = table.channels[c];
+    double measured = 0.0, max_texel = 0.0;
+    for (float e : ch.error) max_texel = std::max(max_texel, static_cast<double>(e));
+    std::size_t m_avg = 0;
+    for (std::size_t m = 0; m < points.size(); ++m) {
+      if (m > 0 && points[m].first != points[m - 1].first) m_avg = m;
+      bool converged = true;
+      const auto [value, error] = combine(channel_recipes[c], estimates, m, m_avg, converged);
+      if (!std::isfinite(value) || !std::isfinite(error))
+        throw InputError(std::string("channel ") + ch.name + " is not finite at validation point " +
+                         std::to_string(m) + " (the cubature met a non-finite integrand); nothing written");
+      const double lookup = sample_param(table, c, points[m].first, points[m].second).value;
+      measured = std::max(measured, std::abs(lookup - value) + error);
+    }
+    ch.lookup_error = std::max(kLookupMargin * measured, max_texel);
+    table.lookup_error = std::max(table.lookup_error, ch.lookup_error);
+  }
+  table.lookup_checks = static_cast<long long>(points.size());
+}
+
+}  // namespace
+
 ParamTable bake_preset(const Model& model, const PresetOptions& options) {
   check_options(options);
   ParamTable table;
@@ -142,51 +257,26 @@ ParamTable bake_preset(const Model& model, const PresetOptions& options) {
   table.encoding = options.encoding;
   table.version = GANZFELD_VERSION;
   const std::vector<ChannelRecipe> channel_recipes = recipes(options);
-  std::vector<Base> bases;
-  for (const ChannelRecipe& r : channel_recipes)
-    for (const auto& [base, sign] : r.terms)
-      if (std::find(bases.begin(), bases.end(), base) == bases.end()) bases.push_back(base);
+  const std::vector<Base> bases = bases_of(channel_recipes);
+  const std::vector<Task> texels = texel_tasks(table, bases, options.axis);
+  const std::vector<std::pair<double, double>> points = param_validation_points(table);
+  const std::vector<Task> checks = validation_tasks(points, bases, options.axis);
 
-  const int n_p = options.resolution[0], n_mu = options.resolution[1];
-  const std::size_t n = static_cast<std::size_t>(n_p) * n_mu;
   CubatureOptions cubature;
   cubature.abs_tol = options.tolerance;
   cubature.max_evaluations = options.max_evaluations;
-  // Every base integral at every texel (e_avg once per row), in parallel: independent integrals,
-  // so the bits do not depend on the thread count.
-  std::map<Base, std::vector<Estimate>> grid;
-  for (Base b : bases) grid[b].resize(n);
-  std::vector<std::pair<Base, std::size_t>> work;
-  for (Base b : bases)
-    for (std::size_t m = 0; m < n; ++m)
-      if (b != Base::e_avg || m % n_mu == 0) work.push_back({b, m});
-  std::atomic<std::uint64_t> done{0};
-  std::mutex progress_mutex;
-  tbb::parallel_for(std::size_t{0}, work.size(), [&](std::size_t w) {
-    const auto [b, m] = work[w];
-    const double alpha = alpha_of(options.axis, grid_coordinate(table.axes[0], table.grid, static_cast<int>(m / n_mu)));
-    const double mu = grid_coordinate(table.axes[1], table.grid, static_cast<int>(m % n_mu));
-    grid.at(b)[m] = integral(b, alpha, mu, g2, cubature);
-    const std::uint64_t d = ++done;
-    if (options.progress && (d % 64 == 0 || d == work.size())) {
-      std::lock_guard lock(progress_mutex);
-      options.progress(d, work.size());
-    }
-  });
-  if (grid.count(Base::e_avg))
-    for (std::size_t m = 0; m < n; ++m) grid[Base::e_avg][m] = grid[Base::e_avg][m - m % n_mu];
+  CubatureOptions check_cubature = cubature;
+  check_cubature.abs_tol *= kValidationToleranceRatio;
+  Integrator integrator(g2, options, texels.size() + checks.size());
+  const std::map<Base, std::vector<Estimate>> grid = integrator.run(texels, cubature);
 
+  const int n_mu = options.resolution[1];
   for (const ChannelRecipe& r : channel_recipes) {
+    const std::size_t n = table.entries();
     Channel ch{r.name, r.definition, std::vector<float>(n), std::vector<float>(n), 0};
     for (std::size_t m = 0; m < n; ++m) {
-      double value = 0.0, error = 0.0;
       bool converged = true;
-      for (const auto& [base, sign] : r.terms) {
-        const Estimate& e = grid.at(base)[m];
-        value += sign * e.value;
-        error += kEstimateMargin * e.error;
-        converged = converged && e.converged;
-      }
+      const auto [value, error] = combine(r, grid, m, m - m % n_mu, converged);
       if (!std::isfinite(value) || !std::isfinite(error))
         throw InputError(std::string("channel ") + r.name + " is not finite at entry " + std::to_string(m) +
                          " (the cubature met a non-finite integrand); nothing written");
@@ -197,6 +287,7 @@ ParamTable bake_preset(const Model& model, const PresetOptions& options) {
     }
     table.channels.push_back(std::move(ch));
   }
+  validate_lookup(table, channel_recipes, points, integrator.run(checks, check_cubature));
   return table;
 }
 

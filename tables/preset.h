@@ -47,6 +47,9 @@ inline constexpr double kEstimateMargin = 10.0;
 /// its estimate was exceeded (16x at alpha = 0.48, mu = 0.49, tolerance 1e-8; docs/realtime.md),
 /// so its true error is pushed below the float rounding of its values instead.
 inline constexpr double kCharlieTolerance = 0.01;
+/// The lookup's validation (ParamTable::lookup_error) runs the cubature at this multiple of the
+/// bake's tolerance: it measures interpolation between samples, orders of magnitude above it.
+inline constexpr double kValidationToleranceRatio = 100.0;
 
 struct PresetOptions {
   Preset preset = Preset::dfg;

@@ -5,6 +5,8 @@
 #include <cmath>
 #include <filesystem>
 #include <numbers>
+#include <random>
+#include <vector>
 
 #include <boost/math/quadrature/gauss.hpp>
 #include <gtest/gtest.h>
@@ -146,7 +148,10 @@ ParamTable linear_table() {
                                             10.0 * grid_coordinate(t.axes[1], t.grid, k)));
       ch.error.push_back(1e-7f);
     }
+  ch.lookup_error = 2e-7;
   t.max_error = 1e-7f;
+  t.lookup_error = 2e-7;
+  t.lookup_checks = 1;
   t.channels.push_back(ch);
   return t;
 }
@@ -175,6 +180,9 @@ TEST(Preset, FileRoundTripAndVersionSeparation) {
   EXPECT_EQ(back.axes[1].count, 4);
   EXPECT_EQ(back.grid, Grid::texel);
   EXPECT_EQ(back.command, t.command);
+  EXPECT_EQ(back.channels[0].lookup_error, t.channels[0].lookup_error);
+  EXPECT_EQ(back.lookup_error, t.lookup_error);
+  EXPECT_EQ(back.lookup_checks, t.lookup_checks);
   EXPECT_THROW(read_table(path), InputError);  // the version 1/2 reader refuses version 3
   // Half tables: the baker rounds to half; the file holds exactly those numbers.
   PresetOptions half = options_for(Preset::kulla_conty, Grid::node, {2, 3}, kAxisAlpha);
@@ -185,9 +193,45 @@ TEST(Preset, FileRoundTripAndVersionSeparation) {
   EXPECT_EQ(h_back.encoding, Encoding::half);
   EXPECT_EQ(h_back.channels[0].value, h.channels[0].value);
   EXPECT_EQ(h_back.channels[1].error, h.channels[1].error);
+  ParamTable understated = t;  // a lookup error below the texels' own is refused, never written
+  understated.channels[0].lookup_error = understated.lookup_error = 0.5e-7;
+  EXPECT_THROW(write_param_table(understated, testing_support::temp_dir() + "/understated.exr"), InputError);
   t.channels[0].value[5] = std::nanf("");
   EXPECT_THROW(write_param_table(t, testing_support::temp_dir() + "/nan.exr"), InputError);
   EXPECT_FALSE(std::filesystem::exists(testing_support::temp_dir() + "/nan.exr"));
+}
+
+// The headline of a parameter table is its validated lookup error (issue #15's rule for every
+// table): at fresh seeded points over the validated domain, |bilinear lookup - independent
+// reference| stays within each channel's lookup_error at >= 99.9% of them (all of them, in
+// practice). A coarse 8 x 8 table so that interpolation, not the cubature, dominates.
+TEST(Preset, LookupErrorBoundsFreshPoints) {
+  constexpr int kPoints = 300;
+  constexpr double kCoverage = 0.999;  // issue #15: the bound holds at >= 99.9% of fresh points
+  for (const Grid grid : {Grid::texel, Grid::node}) {
+    const ParamTable t = bake_preset(*parse_model("ggx"), options_for(Preset::dfg, grid, {8, 8}));
+    std::mt19937_64 rng(20261125);
+    std::uniform_real_distribution<double> roughness(std::sqrt(kMinValidatedAlpha), 1.0), mu(kMinValidatedMu, 1.0);
+    std::vector<int> outside(t.channels.size(), 0);
+    double largest_ratio = 0.0;
+    for (int p = 0; p < kPoints; ++p) {
+      const double r = roughness(rng), m = mu(rng), alpha = r * r;
+      const ggx::ReferenceValue refs[] = {ggx_albedo_reference(m, alpha, 0.0, false),
+                                          ggx_albedo_reference(m, alpha, 1.0, false), charlie_albedo_reference(m, alpha)};
+      for (std::size_t c = 0; c < t.channels.size(); ++c) {
+        const double actual = std::abs(sample_param(t, c, r, m).value - refs[c].value);
+        largest_ratio = std::max(largest_ratio, actual / t.channels[c].lookup_error);
+        outside[c] += actual > t.channels[c].lookup_error + refs[c].error;
+      }
+    }
+    for (std::size_t c = 0; c < t.channels.size(); ++c) {
+      EXPECT_LE(outside[c], kPoints * (1.0 - kCoverage)) << t.channels[c].name << " on the " << to_string(grid) << " grid";
+      // The bound is a bound of this table's interpolation, not the per-texel cubature error.
+      EXPECT_GT(t.channels[c].lookup_error, 100 * t.max_error) << t.channels[c].name;
+    }
+    std::printf("%s grid 8x8: largest |lookup - reference| / lookup_error %.3f; lookup_error %.3g over %lld points\n",
+                to_string(grid), largest_ratio, t.lookup_error, t.lookup_checks);
+  }
 }
 
 TEST(Preset, Refusals) {
