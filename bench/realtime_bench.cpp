@@ -238,9 +238,7 @@ void lookup_section(std::ostringstream& md, const std::vector<const Timed*>& bak
         const auto held = std::count_if(slack.begin(), slack.end(), [](double s) { return s >= 0.0; });
         holds = num(100.0 * held / fresh_points) + "%";
       }
-      double per_texel = 0.0;
-      for (float e : ch.error) per_texel = std::max(per_texel, static_cast<double>(e));
-      md << "| " << t.preset << " | `" << ch.name << "` | " << num(ch.lookup_error) << " | " << num(per_texel) << " | "
+      md << "| " << t.preset << " | `" << ch.name << "` | " << num(ch.lookup_error) << " | " << num(ch.max_error()) << " | "
          << actual << " | " << holds << " |\n";
     }
   }

@@ -27,8 +27,7 @@ int param_info(const std::string& path, bool json) {
     axes.push_back({{"name", a.name}, {"min", a.min}, {"max", a.max}, {"count", a.count},
                     {"mapping", to_string(a.mapping)}, {"grid", to_string(table.grid)}});
   for (const tables::Channel& ch : table.channels) {
-    double max_error = 0.0;
-    for (float e : ch.error) max_error = std::max(max_error, static_cast<double>(e));
+    const double max_error = ch.max_error();
     channels.push_back({{"name", ch.name}, {"definition", ch.definition}, {"lookup_error", ch.lookup_error},
                         {"max_error", max_error}, {"unconverged", ch.unconverged}});
   }

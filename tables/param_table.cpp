@@ -30,6 +30,12 @@ double grid_position(const Axis& axis, Grid grid, double x) noexcept {
   return std::clamp(u * axis.count - 0.5, 0.0, last);
 }
 
+double Channel::max_error() const noexcept {
+  double largest = 0.0;
+  for (float e : error) largest = std::max(largest, static_cast<double>(e));
+  return largest;
+}
+
 std::size_t ParamTable::entries() const noexcept { return static_cast<std::size_t>(entry_count(axes)); }
 
 std::size_t ParamTable::channel_index(const std::string& name) const {
@@ -87,8 +93,7 @@ void check_param_table(const ParamTable& table) {
                          format_number(ch.error[m]) + "; every error must be finite and >= 0");
       max_error = std::max(max_error, static_cast<double>(ch.error[m]));
     }
-    double channel_max = 0.0;
-    for (float e : ch.error) channel_max = std::max(channel_max, static_cast<double>(e));
+    const double channel_max = ch.max_error();
     if (!std::isfinite(ch.lookup_error) || !(ch.lookup_error >= channel_max))
       throw InputError("channel " + ch.name + ": lookup_error " + format_number(ch.lookup_error) +
                        " is not a finite number >= its largest entry error " + format_number(channel_max));

@@ -49,6 +49,8 @@ struct Channel {
   /// kLookupMargin x the largest |lookup - cubature| + cubature error there, and never below the
   /// largest entry of `error`.
   double lookup_error = 0.0;
+
+  double max_error() const noexcept;  ///< the largest entry of `error`
 };
 
 struct ParamTable {

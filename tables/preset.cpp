@@ -221,8 +221,8 @@ void validate_lookup(ParamTable& table, const std::vector<ChannelRecipe>& channe
                      const std::map<Base, std::vector<Estimate>>& estimates) {
   for (std::size_t c = 0; c < table.channels.size(); ++c) {
     Channel& ch = table.channels[c];
-    double measured = 0.0, max_texel = 0.0;
-    for (float e : ch.error) max_texel = std::max(max_texel, static_cast<double>(e));
+    double measured = 0.0;
+    const double max_texel = ch.max_error();
     std::size_t m_avg = 0;
     for (std::size_t m = 0; m < points.size(); ++m) {
       if (m > 0 && points[m].first != points[m - 1].first) m_avg = m;
