@@ -101,7 +101,8 @@ std::string glsl_common() {
   // not used (their accuracy is implementation-defined): see gz_asin_sqrt.
   return R"(#ifndef GANZFELD_COMMON_GLSL
 #define GANZFELD_COMMON_GLSL 1
-// ganzfeld shared helpers: the axis mappings and the multilinear lookup of tables/sample.h.
+// ganzfeld shared helpers: the axis mappings, the lobe frame and the linear and Catmull-Rom
+// lookups of tables/sample.h.
 // GLSL 4.30 core and GLSL ES 3.00. Textures must be complete without mipmaps (set
 // GL_TEXTURE_MIN_FILTER to GL_NEAREST or GL_LINEAR, or GL_TEXTURE_MAX_LEVEL to 0), or texelFetch
 // returns 0.
