@@ -11,9 +11,11 @@
 #include "cli/commands.h"
 #include "util/atomic_file.h"
 #include "util/error.h"
+#include "laws/registry.h"
 #include "laws/spec.h"
 #include "tables/bake.h"
 #include "tables/exr_io.h"
+#include "reports/schemes.h"
 #include "reports/tradeoff.h"
 
 namespace ganzfeld::cli {
@@ -22,9 +24,10 @@ namespace {
 
 struct TradeoffArgs {
   std::string model, law, plot, markdown, resolutions, mappings;
-  bool json = false, quick = false;
+  bool json = false, quick = false, schemes = false;
   long long points = -1;  // -1: 2000, or 300 with --quick
   long long seed = 1;
+  int repeats = 3;  // --schemes: bake runs per row
 };
 
 constexpr long long kDefaultPoints = 2000;
@@ -64,6 +67,8 @@ reports::TradeoffPlan make_plan(Law law, const TradeoffArgs& args) {
 /// The command that reproduces the measurement (outputs omitted), with the model in canonical form.
 std::string measurement_command(const TradeoffArgs& args, const std::string& spec, Law law) {
   std::vector<std::string> words{"ganzfeld", "tradeoff", "--model", spec, "--law", to_string(law)};
+  if (args.schemes) words.push_back("--schemes");
+  if (args.schemes && args.repeats != 3) words.insert(words.end(), {"--repeats", std::to_string(args.repeats)});
   if (args.quick) words.push_back("--quick");
   if (args.points >= 0) words.insert(words.end(), {"--points", std::to_string(args.points)});
   if (args.seed != 1) words.insert(words.end(), {"--seed", std::to_string(args.seed)});
@@ -110,6 +115,63 @@ nlohmann::ordered_json to_json(const reports::TradeoffReport& report, bool quick
           {"rows", rows}};
 }
 
+nlohmann::ordered_json schemes_json(const reports::SchemeReport& report, const std::string& command) {
+  nlohmann::ordered_json rows = nlohmann::ordered_json::array();
+  for (const reports::SchemeRow& r : report.rows) {
+    const reports::Spread t = reports::bake_spread(r);
+    nlohmann::ordered_json row{{"kind", to_string(r.kind)}, {"label", reports::scheme_label(r)}};
+    if (r.kind == reports::SchemeKind::max_error) row.update({{"target", r.target}, {"target_bytes", r.target_bytes}});
+    if (!r.refused.empty()) {
+      row["refused"] = r.refused;
+    } else {
+      row.update({{"frame", to_string(r.frame)}, {"interpolation", to_string(r.interpolation)},
+                  {"encoding", to_string(r.encoding)}, {"resolution", r.resolution}, {"value_bytes", r.value_bytes},
+                  {"bake_seconds", r.bake_seconds}, {"bake_median", t.median}, {"bake_min", t.min}, {"bake_max", t.max},
+                  {"max_error", r.max_error}, {"rms_error", r.rms_error}, {"lookup_error", r.lookup_error},
+                  {"covered", r.covered}});
+    }
+    rows.push_back(row);
+  }
+  const reports::Reference& ref = report.reference;
+  return {{"model", report.model}, {"law", to_string(report.law)}, {"command", command},
+          {"reference", {{"points", ref.points.size()}, {"seed", ref.seed}, {"tolerance", ref.tolerance},
+                         {"min_cos", reports::kSchemeMinCos}, {"max_error", ref.max_error},
+                         {"unconverged", ref.unconverged}, {"seconds", ref.seconds}}},
+          {"repeats", report.repeats}, {"seconds", report.seconds}, {"rows", rows}};
+}
+
+/// --plot's file name as the Markdown links it (beside the Markdown).
+std::string plot_link(const std::string& plot) {
+  const std::size_t slash = plot.find_last_of('/');
+  return slash == std::string::npos ? plot : plot.substr(slash + 1);
+}
+
+/// `tradeoff --schemes`: reports/schemes.h.
+int run_schemes(const TradeoffArgs& args, const Model& model, Law law, long long points) {
+  reports::SchemeOptions options;
+  options.points = static_cast<int>(points);
+  options.seed = static_cast<std::uint64_t>(args.seed);
+  options.repeats = args.repeats;
+  options.quick = args.quick;
+  if (auto bar = util::progress_bar("tradeoff: schemes"))
+    options.progress = [bar](std::size_t done, std::size_t total) { bar(done, total); };
+  const reports::SchemeReport report = reports::measure_schemes(model, law, options);
+  const std::string command = measurement_command(args, model.spec(), law);
+  if (!args.plot.empty()) reports::write_schemes_plot(report, args.plot);
+  if (!args.markdown.empty())
+    write_text_atomically(args.markdown,
+                          reports::schemes_markdown(report, command, args.plot.empty() ? "" : plot_link(args.plot)));
+  if (args.json) {
+    std::cout << schemes_json(report, command).dump(2) << "\n";
+  } else {
+    for (const reports::SchemeRow& r : report.rows)
+      std::printf("%-36s %s\n", reports::scheme_label(r).c_str(),
+                  r.refused.empty() ? (std::to_string(r.value_bytes) + " B, max error " + format_number(r.max_error)).c_str()
+                                    : r.refused.c_str());
+  }
+  return 0;
+}
+
 void print_text(const reports::TradeoffReport& report) {
   std::printf("%s law %s: %zu reference points (tolerance %.0e), %.1f s\n", report.model.c_str(),
               to_string(report.law), report.reference.points.size(), report.reference.tolerance, report.seconds);
@@ -138,6 +200,10 @@ void add_tradeoff_command(CLI::App& app, Action& action) {
   cmd->add_option("--points", args->points, "random reference points (default 2000, 300 with --quick)");
   cmd->add_option("--seed", args->seed, "seed of the random reference points (default 1)");
   cmd->add_option("--res", args->resolutions, "only these resolutions, comma-separated, e.g. 17x17x9,33x33x17");
+  cmd->add_flag("--schemes", args->schemes,
+                "instead of the sweep: today's scheme vs format version 2's, what --max-error picks, linear vs "
+                "cubic, half vs float (reports/schemes.h)");
+  cmd->add_option("--repeats", args->repeats, "with --schemes: bake runs per row, for the median and spread (default 3)");
   cmd->add_option("--mapping", args->mappings,
                   "only these mapping sets, comma-separated, each default or M[xMxM] with M = linear, sqrt, cos");
   cmd->callback([&action, args] {
@@ -150,10 +216,16 @@ void add_tradeoff_command(CLI::App& app, Action& action) {
                          std::to_string(kMaxPoints) + "]");
       if (args->seed < 0)
         throw InputError("--seed=" + std::to_string(args->seed) + " is not allowed; expected an integer >= 0");
-      const reports::TradeoffPlan plan = make_plan(law, *args);
       // Refuse unwritable outputs before the measurement, not after.
       if (!args->plot.empty()) check_writable(args->plot);
       if (!args->markdown.empty()) check_writable(args->markdown);
+      if (!args->schemes && args->repeats != 3) throw InputError("--repeats needs --schemes (the sweep bakes once per row)");
+      if (args->schemes) {
+        if (!args->resolutions.empty() || !args->mappings.empty())
+          throw InputError("--res and --mapping narrow the sweep; --schemes measures fixed schemes (drop them)");
+        return run_schemes(*args, *model, law, points);
+      }
+      const reports::TradeoffPlan plan = make_plan(law, *args);
 
       reports::TradeoffOptions options;
       options.points = static_cast<int>(points);
@@ -164,14 +236,9 @@ void add_tradeoff_command(CLI::App& app, Action& action) {
       const std::string command = measurement_command(*args, model->spec(), law);
 
       if (!args->plot.empty()) reports::write_tradeoff_plot(report, args->plot);
-      if (!args->markdown.empty()) {
-        std::string plot_link;
-        if (!args->plot.empty()) {
-          const std::size_t slash = args->plot.find_last_of('/');
-          plot_link = slash == std::string::npos ? args->plot : args->plot.substr(slash + 1);
-        }
-        write_text_atomically(args->markdown, reports::tradeoff_markdown(report, command, plot_link));
-      }
+      if (!args->markdown.empty())
+        write_text_atomically(args->markdown, reports::tradeoff_markdown(report, command,
+                                                                         args->plot.empty() ? "" : plot_link(args->plot)));
       if (args->json)
         std::cout << to_json(report, args->quick, command).dump(2) << "\n";
       else

@@ -11,6 +11,7 @@
 #include "laws/mixture.h"
 #include "scene/plan.h"
 #include "tables/cache.h"
+#include "tables/sample.h"
 
 namespace ganzfeld::exporting {
 
@@ -35,9 +36,34 @@ std::string comment_text(const std::string& text) {
   return out;
 }
 
+/// The GLSL index coordinate u of x on `axis` (Axis::index_coordinate). The sinh mappings also take
+/// the width w and V (docs/lut-format.md), V computed here in double as the CPU does.
 std::string index_call(const Axis& axis, const std::string& x) {
-  return "gz_index_" + std::string(to_string(axis.mapping)) + "(" + x + ", " + literal(axis.min) + ", " +
-         literal(axis.max) + ")";
+  std::string call = "gz_index_" + std::string(to_string(axis.mapping)) + "(" + x + ", " + literal(axis.min) + ", " +
+                     literal(axis.max);
+  if (axis.has_width()) {
+    const double range = axis.mapping == Mapping::sinh ? 0.5 * (axis.max - axis.min) : axis.max - axis.min;
+    call += ", " + literal(axis.width) + ", " + literal(std::asinh(range / axis.width));
+  }
+  return call + ")";
+}
+
+/// "true"/"false" per axis: Catmull–Rom reflects at the ends of an even axis (tables::is_even_axis).
+std::string even_flags(const Table& table) {
+  std::string out;
+  for (const Axis& axis : table.axes) out += std::string(out.empty() ? "" : ", ") + (is_even_axis(axis) ? "true" : "false");
+  return table.axes.size() == 1 ? out : "bvec3(" + out + ")";
+}
+
+/// The lookup call of `table` at index coordinates `u` (tables::sample_axes: linear or Catmull–Rom).
+std::string lookup_call(const Table& table, const std::string& u) {
+  const bool cubic = table.interpolation == Interpolation::catmull_rom;
+  std::string count;
+  for (const Axis& axis : table.axes) count += (count.empty() ? "" : ", ") + std::to_string(axis.count);
+  if (table.axes.size() == 3) count = "ivec3(" + count + ")";
+  const std::string dims = table.axes.size() == 3 ? "3" : "1";
+  return "gz_lookup" + dims + (cubic ? "_catmull_rom" : "") + "(table, " + u + ", " + count +
+         (cubic ? ", " + even_flags(table) : "") + ")";
 }
 
 }  // namespace
@@ -76,7 +102,8 @@ std::string glsl_common() {
   // not used (their accuracy is implementation-defined): see gz_asin_sqrt.
   return R"(#ifndef GANZFELD_COMMON_GLSL
 #define GANZFELD_COMMON_GLSL 1
-// ganzfeld shared helpers: the axis mappings and the multilinear lookup of tables/sample.h.
+// ganzfeld shared helpers: the axis mappings, the lobe frame and the linear and Catmull-Rom
+// lookups of tables/sample.h.
 // GLSL 4.30 core and GLSL ES 3.00. Textures must be complete without mipmaps (set
 // GL_TEXTURE_MIN_FILTER to GL_NEAREST or GL_LINEAR, or GL_TEXTURE_MAX_LEVEL to 0), or texelFetch
 // returns 0.
@@ -125,6 +152,25 @@ float gz_index_cos(float x, float lo, float hi) {
   return 1.0 - 0.636619772 * gz_asin_sqrt(gz_unit(hi - x, 0.0, hi - lo));
 }
 
+// asinh(x), Cephes' single-precision kernel (asinhf.c: relative error ~9e-8 for |x| < 1/2, where
+// log(x + sqrt(x^2 + 1)) would lose x to cancellation); log above (|x| <= 1e18, far beyond any
+// axis: (x - c)/w <= pi/w).
+float gz_asinh(float x) {
+  float a = abs(x), z = a * a;
+  float p = a < 0.5 ? (((2.0122003309e-2 * z - 4.2699340972e-2) * z + 7.4847586088e-2) * z - 1.6666288134e-1) * z * a + a
+                    : log(a + sqrt(z + 1.0));
+  return x < 0.0 ? -p : p;
+}
+// The sinh mappings (version 2): w the axis' width, V = asinh(half range / w) (sinh) or
+// asinh(range / w) (sinh_max), both as stored/computed by tables/table.cpp.
+float gz_index_sinh(float x, float lo, float hi, float w, float V) {
+  float c = 0.5 * (lo + hi);
+  return clamp(0.5 * (gz_asinh((clamp(x, lo, hi) - c) / w) / V + 1.0), 0.0, 1.0);
+}
+float gz_index_sinh_max(float x, float lo, float hi, float w, float V) {
+  return clamp(1.0 - gz_asinh((hi - clamp(x, lo, hi)) / w) / V, 0.0, 1.0);
+}
+
 // cos of the angle between v and the unit normal n (1 for v = 0), as tables::coordinates.
 float gz_cos_theta(vec3 v, vec3 n) {
   float len = length(v);
@@ -137,6 +183,32 @@ float gz_relative_azimuth(vec3 i, vec3 j, vec3 n) {
   if (length(it) <= 0.0 || length(jt) <= 0.0) return 0.0;
   return gz_abs_angle(dot(cross(it, jt), n), dot(it, jt));
 }
+// sin of the angle between v and the unit normal n (0 for v = 0), from the cross product: exact to
+// float precision near the normal, where sqrt(1 - cos^2) would keep only half the digits.
+float gz_sin_theta(vec3 v, vec3 n) {
+  float len = length(v);
+  return len > 0.0 ? min(length(cross(v, n)) / len, 1.0) : 0.0;
+}
+// The lobe frame of version-2 g tables (tables/frame.h, lobe_coordinates): (theta_j, psi, beta)
+// of the sky's pole i and the viewing direction j about the lobe's peak p(j); s = -1 when p is
+// the mirror direction of j, +1 when it is j (retro). j below the horizon counts as on it, as on
+// the CPU (j.n clamped to 0). cos and sin of the relative azimuth phi come from the tangential
+// parts (phi = 0 when either is 0), the angles from gz_abs_angle.
+vec3 gz_lobe_coordinates(vec3 i, vec3 j, vec3 n, float s) {
+  float ci = gz_cos_theta(i, n), si = gz_sin_theta(i, n);
+  float cj = gz_cos_theta(j, n), sj = gz_sin_theta(j, n);
+  if (cj <= 0.0) { cj = 0.0; sj = 1.0; }
+  vec3 it = i - dot(i, n) * n, jt = j - dot(j, n) * n;
+  vec2 cs = vec2(dot(it, jt), abs(dot(cross(it, jt), n)));
+  float r = length(cs);
+  cs = r > 0.0 ? cs / r : vec2(1.0, 0.0);
+  float ip = s * si * sj * cs.x + ci * cj;
+  float ie1 = -s * si * cj * cs.x + ci * sj;
+  float ie2 = si * cs.y;
+  float beta = (ie1 == 0.0 && ie2 == 0.0) ? 0.0 : gz_abs_angle(ie2, ie1);
+  return vec3(gz_abs_angle(sj, cj), gz_abs_angle(length(vec2(ie1, ie2)), ip), beta);
+}
+
 // j moved onto the horizon when it is below it (interpolated normals at silhouettes), as the
 // rasterizer does for the sky and the Ganzfeld (rasterizer/shading.h).
 vec3 gz_clamp_to_horizon(vec3 j, vec3 n) {
@@ -184,51 +256,154 @@ float gz_lookup3(highp sampler3D table, vec3 u, ivec3 count) {
   return mix(mix(c00, c01, t1), mix(c10, c11, t1), t0);
 #endif
 }
+
+// Catmull–Rom (version 2, tables::axis_taps): the weights of nodes k-1 .. k+2 around index
+// coordinate u on an axis of count >= 4 nodes. A node beyond an end is folded into the real ones:
+// reflected on an even axis (an azimuth: p[-1] = p[1]), else extrapolated quadratically
+// (p[-1] = 3 p[0] - 3 p[1] + p[2]); its weight is then 0 and its (clamped) fetch harmless.
+void gz_catmull_rom(float u, int count, bool even, out int k, out vec4 w) {
+  float t;
+  gz_cell(u, count, k, t);
+  float t2 = t * t, t3 = t2 * t;
+  w = 0.5 * vec4(-t3 + 2.0 * t2 - t, 3.0 * t3 - 5.0 * t2 + 2.0, -3.0 * t3 + 4.0 * t2 + t, t3 - t2);
+  if (k == 0) {
+    if (even) w.z += w.x; else w += vec4(0.0, 3.0, -3.0, 1.0) * w.x;
+    w.x = 0.0;
+  }
+  if (k == count - 2) {
+    if (even) w.y += w.w; else w += vec4(1.0, -3.0, 3.0, 0.0) * w.w;
+    w.w = 0.0;
+  }
+}
+// For hardware filtering: the 4 taps as 3 texture coordinates and weights. The middle weights are
+// >= 0 for every t, also with an end folded in, so nodes k and k+1 are one linear fetch at
+// k + w2/(w1 + w2) (w1 + w2 >= 1): 3 fetches per axis instead of 4, 27 instead of 64 in 3-D.
+void gz_catmull_rom_linear(float u, int count, bool even, out vec3 x, out vec3 w) {
+  int k;
+  vec4 c;
+  gz_catmull_rom(u, count, even, k, c);
+  w = vec3(c.x, c.y + c.z, c.w);
+  x = (vec3(float(max(k - 1, 0)), float(k) + c.z / w.y, float(min(k + 2, count - 1))) + 0.5) / float(count);
+}
+// Catmull–Rom lookup of a 1-D table stored as a count x 1 texture.
+float gz_lookup1_catmull_rom(highp sampler2D table, float u, int count, bool even) {
+#ifdef GANZFELD_HARDWARE_FILTER
+  vec3 x, w;
+  gz_catmull_rom_linear(u, count, even, x, w);
+  return w.x * texture(table, vec2(x.x, 0.5)).r + w.y * texture(table, vec2(x.y, 0.5)).r +
+         w.z * texture(table, vec2(x.z, 0.5)).r;
+#else
+  int k;
+  vec4 w;
+  gz_catmull_rom(u, count, even, k, w);
+  vec4 p = vec4(texelFetch(table, ivec2(max(k - 1, 0), 0), 0).r, texelFetch(table, ivec2(k, 0), 0).r,
+                texelFetch(table, ivec2(k + 1, 0), 0).r, texelFetch(table, ivec2(min(k + 2, count - 1), 0), 0).r);
+  return dot(w, p);
+#endif
+}
+// Catmull–Rom lookup of a 3-D table (tensor product); u, count and even slowest axis first.
+float gz_lookup3_catmull_rom(highp sampler3D table, vec3 u, ivec3 count, bvec3 even) {
+  float sum = 0.0;
+#ifdef GANZFELD_HARDWARE_FILTER
+  vec3 x0, x1, x2, w0, w1, w2;
+  gz_catmull_rom_linear(u.x, count.x, even.x, x0, w0);
+  gz_catmull_rom_linear(u.y, count.y, even.y, x1, w1);
+  gz_catmull_rom_linear(u.z, count.z, even.z, x2, w2);
+  for (int a = 0; a < 3; ++a)
+    for (int b = 0; b < 3; ++b) {
+      vec3 row = vec3(texture(table, vec3(x2.x, x1[b], x0[a])).r, texture(table, vec3(x2.y, x1[b], x0[a])).r,
+                      texture(table, vec3(x2.z, x1[b], x0[a])).r);
+      sum += w0[a] * w1[b] * dot(w2, row);
+    }
+#else
+  int k0, k1, k2;
+  vec4 w0, w1, w2;
+  gz_catmull_rom(u.x, count.x, even.x, k0, w0);
+  gz_catmull_rom(u.y, count.y, even.y, k1, w1);
+  gz_catmull_rom(u.z, count.z, even.z, k2, w2);
+  ivec4 n2 = clamp(ivec4(k2 - 1, k2, k2 + 1, k2 + 2), 0, count.z - 1);
+  for (int a = 0; a < 4; ++a) {
+    int n0 = clamp(k0 - 1 + a, 0, count.x - 1);
+    float plane = 0.0;
+    for (int b = 0; b < 4; ++b) {
+      int n1 = clamp(k1 - 1 + b, 0, count.y - 1);
+      vec4 row = vec4(texelFetch(table, ivec3(n2.x, n1, n0), 0).r, texelFetch(table, ivec3(n2.y, n1, n0), 0).r,
+                      texelFetch(table, ivec3(n2.z, n1, n0), 0).r, texelFetch(table, ivec3(n2.w, n1, n0), 0).r);
+      plane += w1[b] * dot(w2, row);
+    }
+    sum += w0[a] * plane;
+  }
+#endif
+  return sum;
+}
 #endif  // GANZFELD_COMMON_GLSL
 )";
 }
 
-std::string glsl_table_function(const Table& table) {
-  check_table(table);
-  // The lookup below is the cosines frame with linear blending (format version 1's); the lobe
-  // frame and Catmull–Rom of version 2 are not emitted yet: refuse rather than mis-sample.
-  if (table.frame != Frame::cosines || table.interpolation != Interpolation::linear)
-    throw InputError(std::string("GLSL export of ") + to_string(table.frame) + "-frame, " +
-                     to_string(table.interpolation) + " tables is not implemented yet (law " + to_string(table.law) +
-                     " of '" + table.model + "'); bake it with --res (cosines frame, linear lookup)");
-  const std::string name = glsl_function_name(table.model, table.law);
+namespace {
+
+/// The comment block above a table's function: metadata, the table's error, axes and texture.
+std::string table_comment(const Table& table) {
   std::ostringstream s;
   s << "// ---------------------------------------------------------------------------------------------\n"
     << "// ganzfeld table: law " << to_string(table.law) << " of " << comment_text(table.model) << "\n"
     << "// made by: " << comment_text(table.command) << "\n"
-    << "// ganzfeld " << comment_text(table.version) << ", format version " << kFormatVersion << ", encoding "
-    << to_string(table.encoding) << ", cubature tolerance " << literal(table.tolerance) << "\n"
-    << "// error: nodes <= " << literal(table.max_error);
+    << "// ganzfeld " << comment_text(table.version) << ", format version " << table.format_version << ", encoding "
+    << to_string(table.encoding) << ", frame " << to_string(table.frame);
+  if (table.frame == Frame::lobe) s << " (peak " << to_string(table.peak) << ")";
+  s << ", " << to_string(table.interpolation) << " lookup, cubature tolerance " << literal(table.tolerance) << "\n"
+    << "// error: lookup <= " << literal(table.lookup_error);
   if (table.interpolation_checks > 0)
-    s << ", between nodes (measured at " << table.interpolation_checks << " cell centres) <= "
-      << literal(table.interpolation_error);
-  s << "\n// axes, slowest first:\n";
-  for (const Axis& axis : table.axes)
+    s << " (validated at " << table.interpolation_checks << " points: largest measured "
+      << literal(table.interpolation_error) << ")";
+  s << "; node_error <= " << literal(table.max_error) << "\n// axes, slowest first:\n";
+  for (const Axis& axis : table.axes) {
     s << "//   " << axis.name << " in [" << literal(axis.min) << ", " << literal(axis.max) << "], " << axis.count
-      << " nodes, " << to_string(axis.mapping) << " mapping\n";
+      << " nodes, " << to_string(axis.mapping) << " mapping";
+    if (axis.has_width()) s << " (width " << literal(axis.width) << ")";
+    s << "\n";
+  }
+  s << "// texture: " << glsl_sampler_type(table.law) << ", one channel (R32F or R16F), ";
+  if (table.law == Law::g)
+    s << "width " << table.axes[2].count << " (" << table.axes[2].name << "), height " << table.axes[1].count << " ("
+      << table.axes[1].name << "), depth " << table.axes[0].count << " (" << table.axes[0].name << ")\n";
+  else
+    s << "width " << table.axes[0].count << ", height 1\n";
+  return s.str();
+}
+
+/// The body of a g function: the axis coordinates (cosines or lobe frame), their index
+/// coordinates, the lookup.
+std::string g_body(const Table& table) {
+  std::ostringstream s;
+  std::string x[3] = {"gz_cos_theta(i, n)", "gz_cos_theta(j, n)", "gz_relative_azimuth(i, j, n)"};
+  if (table.frame == Frame::lobe) {
+    s << "  vec3 y = gz_lobe_coordinates(i, j, n, " << (table.peak == PeakKind::retro ? "1.0" : "-1.0") << ");\n";
+    x[0] = "y.x", x[1] = "y.y", x[2] = "y.z";
+  }
+  s << "  vec3 u = vec3(" << index_call(table.axes[0], x[0]) << ",\n"
+    << "                " << index_call(table.axes[1], x[1]) << ",\n"
+    << "                " << index_call(table.axes[2], x[2]) << ");\n"
+    << "  return " << lookup_call(table, "u") << ";\n";
+  return s.str();
+}
+
+}  // namespace
+
+std::string glsl_table_function(const Table& table) {
+  check_table(table);
+  const std::string name = glsl_function_name(table.model, table.law);
+  std::ostringstream s;
+  s << table_comment(table);
   if (table.law == Law::g) {
-    s << "// texture: " << glsl_sampler_type(table.law) << ", one channel (R32F or R16F), width " << table.axes[2].count
-      << " (" << table.axes[2].name << "), height " << table.axes[1].count << " (" << table.axes[1].name << "), depth "
-      << table.axes[0].count << " (" << table.axes[0].name << ")\n"
-      << "// i: the sky's pole, j: towards the viewer, n: unit normal (any common frame)\n"
+    s << "// i: the sky's pole, j: towards the viewer, n: unit normal (any common frame)\n"
       << "float " << name << "(highp sampler3D table, vec3 i, vec3 j, vec3 n) {\n"
-      << "  vec3 u = vec3(" << index_call(table.axes[0], "gz_cos_theta(i, n)") << ",\n"
-      << "                " << index_call(table.axes[1], "gz_cos_theta(j, n)") << ",\n"
-      << "                " << index_call(table.axes[2], "gz_relative_azimuth(i, j, n)") << ");\n"
-      << "  return gz_lookup3(table, u, ivec3(" << table.axes[0].count << ", " << table.axes[1].count << ", "
-      << table.axes[2].count << "));\n}\n";
+      << g_body(table) << "}\n";
   } else {
     const bool h = table.law == Law::h;
-    s << "// texture: " << glsl_sampler_type(table.law) << ", one channel (R32F or R16F), width "
-      << table.axes[0].count << ", height 1\n"
-      << "float " << name << "(highp sampler2D table, vec3 " << (h ? "j" : "i") << ", vec3 n) {\n"
-      << "  return gz_lookup1(table, " << index_call(table.axes[0], h ? "gz_cos_theta(j, n)" : "gz_cos_theta(i, n)")
-      << ", " << table.axes[0].count << ");\n}\n";
+    s << "float " << name << "(highp sampler2D table, vec3 " << (h ? "j" : "i") << ", vec3 n) {\n"
+      << "  return " << lookup_call(table, index_call(table.axes[0], h ? "gz_cos_theta(j, n)" : "gz_cos_theta(i, n)"))
+      << ";\n}\n";
   }
   return s.str();
 }

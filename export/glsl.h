@@ -3,13 +3,17 @@
 // snippet without #version, to be included in the user's shader (docs/shaders.md).
 //
 // What the shader reproduces, step for step, is tables/sample.h:
-//   coordinates  g: (i·n, j·n, relative azimuth in [0, pi]);  h: j·n;  a: i·n   (tables::coordinates)
+//   coordinates  g: (i·n, j·n, relative azimuth in [0, pi]) (tables::coordinates), for a
+//                lobe-frame table then (theta_j, psi, beta) (tables::lobe_coordinates);  h: j·n;  a: i·n
 //   index u      per axis: the mapping inverted, clamped to [0, 1]          (Axis::index_coordinate)
 //   cell         s = u (count - 1), k = min(floor s, count - 2), t = s - k
-//   value        multilinear blend of the 2^d nodes, fetched with texelFetch
-// so the GPU result differs from tables::sample only by float arithmetic. Hardware filtering
-// (define GANZFELD_HARDWARE_FILTER) samples at the texel centre rule (u (count-1) + 0.5)/count
-// instead; it is faster but GPUs blend with low-precision weights (docs/shaders.md).
+//   value        linear: multilinear blend of the 2^d nodes; catmull-rom: the 4^d nodes with the
+//                weights of tables::axis_taps (the same end rules), fetched with texelFetch
+// so the GPU result differs from tables::sample only by float arithmetic (tests/gl_shader_test.cpp
+// compares them point by point). Hardware filtering (define GANZFELD_HARDWARE_FILTER) samples at
+// the texel centre rule (u (count-1) + 0.5)/count instead: one fetch for linear, 3 per axis for
+// Catmull–Rom (the two middle nodes in one linear fetch); faster, but GPUs blend with
+// low-precision weights (docs/shaders.md).
 //
 // Texture layout: a table of axes (slowest first) n0 [x n1 x n2] is a 3-D texture of width n2,
 // height n1, depth n0 (texel (k2, k1, k0) = node (k0, k1, k2)), or for 1-D laws a 2-D texture of
@@ -39,7 +43,7 @@ std::string glsl_function_name(const std::string& spec, Law law);
 /// The sampler type of a table's texture: "sampler3D" for g, "sampler2D" for h and a.
 const char* glsl_sampler_type(Law law);
 
-/// Shared helpers (index mappings, coordinates, multilinear fetch) once, inside an include guard
+/// Shared helpers (index mappings, coordinates, the lobe frame, linear and Catmull–Rom fetches) once, inside an include guard
 /// so that several exported snippets can be pasted into one shader.
 std::string glsl_common();
 

@@ -45,6 +45,12 @@ void pad4(std::vector<std::uint8_t>& out) {
   while (out.size() % 4) out.push_back(0);
 }
 
+std::string number_text(double x) {
+  char buffer[40];
+  std::snprintf(buffer, sizeof buffer, "%.17g", x);
+  return buffer;
+}
+
 std::string axes_text(const Table& table) {
   std::string text;
   for (const Axis& axis : table.axes) {
@@ -52,14 +58,9 @@ std::string axes_text(const Table& table) {
     std::snprintf(buffer, sizeof buffer, "%s%s %.17g %.17g %d %s", text.empty() ? "" : "; ", axis.name.c_str(), axis.min,
                   axis.max, axis.count, to_string(axis.mapping));
     text += buffer;
+    if (axis.has_width()) text += " width " + number_text(axis.width);  // the sinh mappings' scale
   }
   return text;
-}
-
-std::string number_text(double x) {
-  char buffer[40];
-  std::snprintf(buffer, sizeof buffer, "%.17g", x);
-  return buffer;
 }
 
 }  // namespace
@@ -121,12 +122,16 @@ std::vector<std::uint8_t> ktx2_bytes(const Table& table) {
       {"ganzfeld.command", table.command},
       {"ganzfeld.encoding", to_string(table.encoding)},
       {"ganzfeld.format_version", std::to_string(kFormatVersion)},
+      {"ganzfeld.frame", to_string(table.frame)},
+      {"ganzfeld.interpolation", to_string(table.interpolation)},
       {"ganzfeld.interpolation_error", number_text(table.interpolation_error)},
+      {"ganzfeld.lookup_error", number_text(table.lookup_error)},
       {"ganzfeld.law", to_string(table.law)},
       {"ganzfeld.max_error", number_text(table.max_error)},
       {"ganzfeld.model", table.model},
       {"ganzfeld.tolerance", number_text(table.tolerance)},
   };
+  if (table.frame == Frame::lobe) kv["ganzfeld.peak"] = to_string(table.peak);
   const std::size_t kvd_at = out.size();
   for (const auto& [key, value] : kv) {
     put32(out, static_cast<std::uint32_t>(key.size() + 1 + value.size() + 1));
@@ -220,8 +225,10 @@ std::string c_header(const Table& table, const std::string& symbol) {
   std::ostringstream s;
   s << "// ganzfeld table as a C array (generated; docs/shaders.md): law " << to_string(table.law) << " of "
     << table.model << "\n// made by: " << table.command << "\n// axes: " << axes_text(table)
-    << "\n// error: nodes <= " << number_text(table.max_error) << ", between nodes (measured) <= "
-    << number_text(table.interpolation_error) << "\n// texels: x (width) fastest, then y (height), then z (depth); "
+    << "\n// frame " << to_string(table.frame) << (table.frame == Frame::lobe ? std::string(" (peak ") + to_string(table.peak) + ")" : "")
+    << ", " << to_string(table.interpolation) << " lookup (export-glsl's GLSL implements it)"
+    << "\n// error: lookup <= " << number_text(table.lookup_error) << "; nodes <= " << number_text(table.max_error)
+    << ", between nodes (measured) <= " << number_text(table.interpolation_error) << "\n// texels: x (width) fastest, then y (height), then z (depth); "
     << (half ? "IEEE half bits (upload as GL_R16F / GL_HALF_FLOAT)" : "float (upload as GL_R32F / GL_FLOAT)") << "\n"
     << "#pragma once\n#include <stdint.h>\n\n"
     << "enum { " << symbol << "_width = " << size.width << ", " << symbol << "_height = " << size.height << ", "

@@ -96,18 +96,19 @@ Direction direction_of(Law law, std::span<const double> x) {
   return law == Law::h ? Direction{{0, 0, 1}, d} : Direction{d, {0, 0, 1}};
 }
 
-std::vector<Direction> reference_directions(Law law, int random_points, std::uint64_t seed) {
+std::vector<Direction> reference_directions(Law law, int random_points, std::uint64_t seed, bool extremes,
+                                            double min_cos) {
   require_tabulated(law);
   std::vector<Direction> out;
   // Extremes: the ends of every axis and grazing angles just inside them.
-  if (law == Law::g) {
+  if (extremes && law == Law::g) {
     for (double ci : {-1.0, -0.5, 0.0, 0.999999, 1.0})
       for (double cj : {0.0, 1e-6, 1.0})
         for (double phi : {0.0, pi / 2, pi}) {
           const double x[3] = {ci, cj, phi};
           out.push_back(direction_of(law, x));
         }
-  } else {
+  } else if (extremes) {
     for (double c : {0.0, 1e-8, 1e-4, 1e-2, 1.0}) {
       const double x[1] = {c};
       out.push_back(direction_of(law, x));
@@ -121,12 +122,12 @@ std::vector<Direction> reference_directions(Law law, int random_points, std::uin
   for (int k = 0; k < random_points; ++k) {
     if (law == Law::g) {
       const double ci = -1.0 + 2.0 * uniform();
-      const double cj = uniform();
+      const double cj = min_cos + (1.0 - min_cos) * uniform();
       const double phi = pi * uniform();
       const double x[3] = {ci, cj, phi};
       out.push_back(direction_of(law, x));
     } else {
-      const double x[1] = {uniform()};
+      const double x[1] = {min_cos + (1.0 - min_cos) * uniform()};
       out.push_back(direction_of(law, x));
     }
   }
@@ -137,7 +138,8 @@ namespace {
 int extreme_count(Law law) { return law == Law::g ? 45 : 5; }
 }  // namespace
 
-Reference compute_reference(const Model& model, Law law, int random_points, std::uint64_t seed, double tolerance) {
+Reference compute_reference(const Model& model, Law law, int random_points, std::uint64_t seed, double tolerance,
+                            bool extremes, double min_cos) {
   require_tabulated(law);
   if (random_points < 1)
     throw InputError("--points=" + std::to_string(random_points) + " is not allowed; expected an integer >= 1");
@@ -145,8 +147,8 @@ Reference compute_reference(const Model& model, Law law, int random_points, std:
   Reference ref;
   ref.seed = seed;
   ref.tolerance = tolerance;
-  ref.extreme_points = extreme_count(law);
-  const std::vector<Direction> dirs = reference_directions(law, random_points, seed);
+  ref.extreme_points = extremes ? extreme_count(law) : 0;
+  const std::vector<Direction> dirs = reference_directions(law, random_points, seed, extremes, min_cos);
   ref.points.resize(dirs.size());
   CubatureOptions options;
   options.abs_tol = tolerance;

@@ -61,7 +61,10 @@ TradeoffPlan quick_plan(Law law);
 struct Direction {
   Vec3 i, j;
 };
-std::vector<Direction> reference_directions(Law law, int random_points, std::uint64_t seed);
+/// With extremes = false only the random ones; min_cos (< 1) lower-bounds the random j·n of g and
+/// the cosine of h and a (issue #15's targets: j·n in [0.02, 1]).
+std::vector<Direction> reference_directions(Law law, int random_points, std::uint64_t seed, bool extremes = true,
+                                            double min_cos = 0.0);
 
 /// Directions i, j of law coordinates x (g: i·n, j·n, φ; h: j·n; a: i·n), as the baker places
 /// them (docs/lut-format.md).
@@ -87,7 +90,7 @@ struct Reference {
 /// Evaluates the law at reference_directions(law, random_points, seed) (in parallel,
 /// deterministically).
 Reference compute_reference(const Model& model, Law law, int random_points, std::uint64_t seed,
-                            double tolerance = kReferenceTolerance);
+                            double tolerance = kReferenceTolerance, bool extremes = true, double min_cos = 0.0);
 
 /// Max and RMS |lookup − reference| of a table over the reference points, and where the max is.
 struct LookupError {

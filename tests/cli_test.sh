@@ -154,6 +154,10 @@ expect_bad "cannot reach --max-error" bake --model specular:alpha=100 --law g --
 [ "$(json_field <("$G" bake --scene "$scene" --out "$tmp/err_cache" --max-error 1e-3 --json) "all(t['status']=='reused' for t in d['tables'])")" = "True" ] \
   && ok || fail "scene --max-error not reused"
 expect_bad "drop --res-g or --max-error" bake --scene "$scene" --out "$tmp/err_cache" --max-error 1e-3 --res-g 9
+# tradeoff --schemes (docs/tradeoff.md part 1): refusals before any bake
+expect_bad "--schemes measures fixed schemes" tradeoff --schemes --model specular:alpha=8 --law g --res 9x9x5
+expect_bad "--repeats needs --schemes" tradeoff --model specular:alpha=8 --law g --repeats 2
+expect_bad "--repeats=0 is not allowed" tradeoff --schemes --model specular:alpha=8 --law g --repeats 0 --quick
 
 # --- one planner: a cache baked with non-default table options is what render and export-glsl
 # reach with the same options (nothing baked again), and tables from the cache shade exactly as

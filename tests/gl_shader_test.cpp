@@ -30,6 +30,8 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <random>
+#include <span>
 #include <string>
 
 #include <Imath/half.h>
@@ -37,7 +39,9 @@
 #include "export/param_export.h"
 #include "laws/spec.h"
 #include "tables/bake.h"
+#include "tables/frame.h"
 #include "tables/preset.h"
+#include "tables/sample.h"
 #include "export/glsl.h"
 #include "scene/plan.h"
 #include "scene/scene.h"
@@ -72,6 +76,19 @@ constexpr const char* kSceneJson = R"({
              {"type": "hemispherical", "pole": [0.2, 0.9, 0.4],    "radiance": [0.3, 0.3, 0.3]},
              {"type": "ganzfeld",                                  "radiance": [0.1, 0.1, 0.1]}]
 })";
+
+/// The same scene with lobes whose tables `--max-error` bakes in format version 2: the lobe frame
+/// (specular alpha = 100: mirror peak, backscatter alpha = 8: retro) and the cosines frame
+/// (Minnaert, asperity), all Catmull–Rom (bake --scene ... --max-error 1e-2). Minnaert xi = 0.3's
+/// g cannot reach 1e-2 in the default byte cap, so the chalk becomes xi = 1.
+std::string lobe_scene_json() {
+  std::string json = kSceneJson;
+  for (auto [from, to] : {std::pair{"specular:alpha=8", "specular:alpha=100"}, std::pair{"backscatter:alpha=2", "backscatter:alpha=8"},
+                          std::pair{"minnaert:xi=0.3", "minnaert:xi=1"}})
+    json.replace(json.find(from), std::string(from).size(), to);
+  return json;
+}
+constexpr double kLobeSceneMaxError = 1e-2;
 
 // ---------------------------------------------------------------------------------------------
 // EGL + GL plumbing
@@ -223,6 +240,71 @@ void main() {
 }
 )";
 
+/// A linked program of a vertex and a fragment shader (0 and `log` on failure).
+GLuint link_program(const std::string& vertex, const std::string& fragment, std::string& log) {
+  const GLuint vs = compile(GL_VERTEX_SHADER, vertex, log);
+  if (vs == 0) return 0;
+  const GLuint fs = compile(GL_FRAGMENT_SHADER, fragment, log);
+  if (fs == 0) return 0;
+  const GLuint program = glCreateProgram();
+  glAttachShader(program, vs);
+  glAttachShader(program, fs);
+  glLinkProgram(program);
+  glDeleteShader(vs);  // flagged; freed with the program
+  glDeleteShader(fs);
+  GLint linked = 0;
+  glGetProgramiv(program, GL_LINK_STATUS, &linked);
+  if (linked) return program;
+  log = "the program does not link";
+  glDeleteProgram(program);
+  return 0;
+}
+
+/// Exports `table` as KTX2 (what a user gets), reads the file back and uploads it to texture
+/// unit `unit`, bound to the program's sampler uniform `sampler`; the texture's name.
+GLuint upload_table(const tables::Table& table, const std::filesystem::path& dir, const std::string& sampler,
+                    GLuint program, int unit, bool hardware_filter) {
+  const auto file = dir / (sampler + ".ktx2");
+  exporting::write_texture(table, exporting::TextureFormat::ktx2, file.string(), sampler);
+  const exporting::TextureData data = exporting::read_ktx2(file.string());
+  EXPECT_EQ(data.key_values.at("ganzfeld.model"), table.model);
+  const GLenum internal = data.vk_format == exporting::kVkFormatR16Sfloat ? GL_R16F : GL_R32F;
+  GLuint texture = 0;
+  glGenTextures(1, &texture);
+  glActiveTexture(GL_TEXTURE0 + unit);
+  const GLenum target = table.law == Law::g ? GL_TEXTURE_3D : GL_TEXTURE_2D;
+  glBindTexture(target, texture);
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  if (target == GL_TEXTURE_3D)
+    glTexImage3D(target, 0, internal, data.size.width, data.size.height, data.size.depth, 0, GL_RED, GL_FLOAT,
+                 data.texels.data());
+  else
+    glTexImage2D(target, 0, internal, data.size.width, data.size.height, 0, GL_RED, GL_FLOAT, data.texels.data());
+  // Complete without mipmaps, so texelFetch reads level 0 (export/glsl.h).
+  const GLint filter = hardware_filter ? GL_LINEAR : GL_NEAREST;
+  glTexParameteri(target, GL_TEXTURE_MIN_FILTER, filter);
+  glTexParameteri(target, GL_TEXTURE_MAG_FILTER, filter);
+  for (GLenum wrap : {GL_TEXTURE_WRAP_S, GL_TEXTURE_WRAP_T, GL_TEXTURE_WRAP_R}) glTexParameteri(target, wrap, GL_CLAMP_TO_EDGE);
+  const GLint location = glGetUniformLocation(program, sampler.c_str());
+  EXPECT_GE(location, 0) << sampler << " is not a uniform of the exported shader";
+  glUniform1i(location, unit);
+  return texture;
+}
+
+/// An RGBA32F framebuffer of width x height, bound; its names (framebuffer, renderbuffer).
+std::array<GLuint, 2> float_framebuffer(int width, int height) {
+  GLuint fbo = 0, color = 0;
+  glGenFramebuffers(1, &fbo);
+  glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+  glGenRenderbuffers(1, &color);
+  glBindRenderbuffer(GL_RENDERBUFFER, color);
+  glRenderbufferStorage(GL_RENDERBUFFER, GL_RGBA32F, width, height);
+  glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, color);
+  EXPECT_EQ(glCheckFramebufferStatus(GL_FRAMEBUFFER), static_cast<GLenum>(GL_FRAMEBUFFER_COMPLETE));
+  glViewport(0, 0, width, height);
+  return {fbo, color};
+}
+
 // ---------------------------------------------------------------------------------------------
 
 struct Baked {
@@ -231,11 +313,14 @@ struct Baked {
   std::map<std::pair<std::string, Law>, std::shared_ptr<const tables::Table>> tables;
 };
 
-Baked bake_scene(const std::filesystem::path& dir, tables::Encoding encoding) {
+/// The scene's tables at the test's resolutions, or baked to `max_error` (> 0) as bake --scene
+/// --max-error does.
+Baked bake_scene(const std::filesystem::path& dir, tables::Encoding encoding, const std::string& json, double max_error) {
   const auto scene_path = dir / "scene.json";
-  std::ofstream(scene_path) << kSceneJson;
+  std::ofstream(scene_path) << json;
   Baked out{load_scene(scene_path.string()), {}, {}};
-  const scene::TableOptions options{{17, 17, 9}, {33}, 1e-7, CubatureOptions{}.max_evaluations, encoding};
+  scene::TableOptions options{{17, 17, 9}, {33}, 1e-7, CubatureOptions{}.max_evaluations, encoding};
+  options.max_error = max_error;
   out.plan = scene::plan_shading(out.scene, options, scene::TableStore{});
   for (const scene::PlannedTable& t : out.plan.tables) out.tables[{t.request.spec, t.request.law}] = t.table;
   return out;
@@ -270,7 +355,10 @@ std::array<double, 2> pixel_bound(const Baked& baked, const CpuPicture& cpu, int
       if (light.type == Light::Type::hemispherical) law = Law::g;
       if (light.type == Light::Type::ganzfeld) law = Law::h;
       const auto it = baked.tables.find({lobe.spec, law});
-      if (it != baked.tables.end()) stated += scale * (it->second->max_error + it->second->interpolation_error);
+      if (it != baked.tables.end()) {
+        const tables::Table& t = *it->second;
+        stated += scale * std::max(t.lookup_error, t.max_error + t.interpolation_error);
+      }
       magnitude += scale;
     }
   }
@@ -286,7 +374,9 @@ struct Comparison {
 
 /// hardware_filter: the GPU's own linear filter (export/glsl.h) instead of texelFetch; it blends
 /// with low-precision weights, so only the stated bound is asserted and the difference reported.
-void run_gl_comparison(bool es, tables::Encoding encoding, bool hardware_filter = false) {
+/// json, max_error: the scene and bake_scene's max_error.
+void run_gl_comparison(bool es, tables::Encoding encoding, bool hardware_filter = false, const std::string& json = kSceneJson,
+                       double max_error = 0.0) {
   std::string error;
   auto gl = make_context(es, error);
   ASSERT_TRUE(gl) << error;
@@ -294,60 +384,25 @@ void run_gl_comparison(bool es, tables::Encoding encoding, bool hardware_filter 
               reinterpret_cast<const char*>(glGetString(GL_VERSION)));
 
   const auto dir = std::filesystem::path(testing_support::temp_dir()) /
-                   (std::string(es ? "es" : "core") + "_" + to_string(encoding));
+                   (std::string(es ? "es" : "core") + "_" + to_string(encoding) + (max_error > 0.0 ? "_v2" : ""));
   std::filesystem::create_directories(dir);
-  const Baked baked = bake_scene(dir, encoding);
+  const Baked baked = bake_scene(dir, encoding, json, max_error);
   const CpuPicture cpu = cpu_render(baked);
 
   // Export exactly what a user gets: the scene shader and one KTX2 per table, read back from disk.
   const std::string scene_glsl = exporting::glsl_scene_shader(baked.scene, baked.plan, "gl_shader_test scene");
 
   std::string log;
-  const GLuint vs = compile(GL_VERTEX_SHADER, es ? kVertexEs : kVertexCore, log);
-  ASSERT_NE(vs, 0u) << log;
-  const GLuint fs = compile(GL_FRAGMENT_SHADER, fragment_source(es ? "300 es" : "430 core", hardware_filter, scene_glsl), log);
-  ASSERT_NE(fs, 0u) << log;
-  const GLuint program = glCreateProgram();
-  glAttachShader(program, vs);
-  glAttachShader(program, fs);
-  glLinkProgram(program);
-  GLint linked = 0;
-  glGetProgramiv(program, GL_LINK_STATUS, &linked);
-  ASSERT_TRUE(linked);
+  const GLuint program = link_program(es ? kVertexEs : kVertexCore,
+                                      fragment_source(es ? "300 es" : "430 core", hardware_filter, scene_glsl), log);
+  ASSERT_NE(program, 0u) << log;
   glUseProgram(program);
 
   int unit = 0;
   std::vector<GLuint> textures;
-  for (const auto& [key, table] : baked.tables) {
-    const std::string sampler = exporting::glsl_sampler_name(key.first, key.second);
-    const auto file = dir / (sampler + ".ktx2");
-    exporting::write_texture(*table, exporting::TextureFormat::ktx2, file.string(), sampler);
-    const exporting::TextureData data = exporting::read_ktx2(file.string());
-    ASSERT_EQ(data.key_values.at("ganzfeld.model"), key.first);
-    const GLenum internal = data.vk_format == exporting::kVkFormatR16Sfloat ? GL_R16F : GL_R32F;
-    GLuint texture = 0;
-    glGenTextures(1, &texture);
-    textures.push_back(texture);
-    glActiveTexture(GL_TEXTURE0 + unit);
-    const GLenum target = key.second == Law::g ? GL_TEXTURE_3D : GL_TEXTURE_2D;
-    glBindTexture(target, texture);
-    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-    if (target == GL_TEXTURE_3D)
-      glTexImage3D(target, 0, internal, data.size.width, data.size.height, data.size.depth, 0, GL_RED, GL_FLOAT,
-                   data.texels.data());
-    else
-      glTexImage2D(target, 0, internal, data.size.width, data.size.height, 0, GL_RED, GL_FLOAT, data.texels.data());
-    // Complete without mipmaps, so texelFetch reads level 0 (export/glsl.h).
-    const GLint filter = hardware_filter ? GL_LINEAR : GL_NEAREST;
-    glTexParameteri(target, GL_TEXTURE_MIN_FILTER, filter);
-    glTexParameteri(target, GL_TEXTURE_MAG_FILTER, filter);
-    for (GLenum wrap : {GL_TEXTURE_WRAP_S, GL_TEXTURE_WRAP_T, GL_TEXTURE_WRAP_R})
-      glTexParameteri(target, wrap, GL_CLAMP_TO_EDGE);
-    const GLint location = glGetUniformLocation(program, sampler.c_str());
-    ASSERT_GE(location, 0) << sampler << " is not a uniform of the exported shader";
-    glUniform1i(location, unit);
-    ++unit;
-  }
+  for (const auto& [key, table] : baked.tables)
+    textures.push_back(upload_table(*table, dir, exporting::glsl_sampler_name(key.first, key.second), program, unit++,
+                                    hardware_filter));
 
   const Camera& camera = baked.scene.camera;
   const Vec3 forward = glm::normalize(camera.target - camera.eye);
@@ -375,17 +430,10 @@ void run_gl_comparison(bool es, tables::Encoding encoding, bool hardware_filter 
   glUniform4fv(glGetUniformLocation(program, "u_spheres"), static_cast<GLsizei>(materials.size()), spheres.data());
   glUniform1iv(glGetUniformLocation(program, "u_materials"), static_cast<GLsizei>(materials.size()), materials.data());
 
-  GLuint fbo = 0, color = 0, vao = 0;
-  glGenFramebuffers(1, &fbo);
-  glBindFramebuffer(GL_FRAMEBUFFER, fbo);
-  glGenRenderbuffers(1, &color);
-  glBindRenderbuffer(GL_RENDERBUFFER, color);
-  glRenderbufferStorage(GL_RENDERBUFFER, GL_RGBA32F, camera.width, camera.height);
-  glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, color);
-  ASSERT_EQ(glCheckFramebufferStatus(GL_FRAMEBUFFER), static_cast<GLenum>(GL_FRAMEBUFFER_COMPLETE));
+  const auto [fbo, color] = float_framebuffer(camera.width, camera.height);
+  GLuint vao = 0;
   glGenVertexArrays(1, &vao);
   glBindVertexArray(vao);
-  glViewport(0, 0, camera.width, camera.height);
   glClearColor(0, 0, 0, 0);
   glClear(GL_COLOR_BUFFER_BIT);
   glDrawArrays(GL_TRIANGLES, 0, 3);
@@ -444,13 +492,223 @@ void run_gl_comparison(bool es, tables::Encoding encoding, bool hardware_filter 
   glDeleteFramebuffers(1, &fbo);
   glDeleteTextures(static_cast<GLsizei>(textures.size()), textures.data());
   glDeleteProgram(program);
-  glDeleteShader(vs);
-  glDeleteShader(fs);
+}
+
+// ---------------------------------------------------------------------------------------------
+// One table's exported lookup against tables::sample, point by point (format version 2: the lobe
+// frame, the sinh mappings, Catmull–Rom with its end rules; and linear lookup).
+//
+// Both sample the same stored numbers, so they differ only by float32 arithmetic. Its bound at a
+// point x, from the CPU lookup S itself (double):
+//   sum over axes d of max |S(y with y_d moved) - S(y)| over y_d +- kCoordinateError and over
+//       the index coordinate u_d +- kIndexError,   + kSumError x max |value|
+// y = the table's axis coordinates of x (tables::axis_coordinates). A wrong frame, mapping,
+// width, end rule or node order moves a lookup by a sizeable part of a node step, far above it.
+
+/// Angles (radians) and cosines computed in float from float vectors: ~20 roundings of 2^-24
+/// relative on unit quantities and the Cephes atan kernel (2e-7 relative) within ~1e-6 absolute.
+constexpr double kCoordinateError = 1e-6;
+/// Index coordinates: the sinh mappings' log (GLSL ES 3.00 §4.5.1: absolute error < 2^-21 near
+/// 1, 3 ulp elsewhere) divided by V (> 1.3 for these tables), a few ulps of u for the others.
+constexpr double kIndexError = 1e-6;
+/// The blend: up to 64 products with float weights (each a few roundings of O(1) polynomials),
+/// summed in float: < 64 x 2^-24 of the largest |value| blended (Catmull–Rom's |weights| sum to
+/// < 2 in 3-D).
+constexpr double kSumError = 64.0 / (1 << 24);
+/// Points per table: a 64 x 64 framebuffer, one lookup per pixel.
+constexpr int kPointsSide = 64;
+constexpr std::uint64_t kPointSeed = 15;  // seeded points (tables::validation_points) and frames
+
+/// The float bound (above) at law coordinates x.
+double float_bound(const tables::Table& table, std::span<const double> x) {
+  const std::vector<double> y = tables::axis_coordinates(table, x);
+  const double at = tables::sample_axes(table, y).value;
+  double bound = 0.0, largest = 0.0;
+  for (float v : table.value) largest = std::max(largest, static_cast<double>(std::abs(v)));
+  for (std::size_t d = 0; d < y.size(); ++d) {
+    const tables::Axis& axis = table.axes[d];
+    const double u = axis.index_coordinate(y[d]);
+    double worst = 0.0;
+    for (double moved : {y[d] - kCoordinateError, y[d] + kCoordinateError, axis.coordinate(u - kIndexError),
+                         axis.coordinate(u + kIndexError)}) {
+      std::vector<double> z = y;
+      z[d] = moved;
+      worst = std::max(worst, std::abs(tables::sample_axes(table, z).value - at));
+    }
+    bound += worst;
+  }
+  return bound + kSumError * largest;
+}
+
+/// The lookup points: seeded (i·n, j·n, phi) (tables::validation_points of law g), as vectors in
+/// a seeded random frame (n any unit vector, i and j of random lengths: the functions take any
+/// frame and need not-unit i and j), and the law's coordinates the CPU samples at.
+struct LookupPoints {
+  std::vector<float> i, j, n;      // RGBA per point, for the input textures
+  std::vector<std::vector<double>> x;  // tables::coordinates in the local frame
+};
+
+LookupPoints lookup_points(Law law) {
+  const int count = kPointsSide * kPointsSide;
+  const std::vector<double> g = tables::validation_points(Law::g, count, kPointSeed);
+  std::mt19937_64 random(kPointSeed);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0), length(0.5, 2.0);
+  LookupPoints out;
+  for (int p = 0; p < count; ++p) {
+    const double ci = g[3 * p], cj = g[3 * p + 1], phi = g[3 * p + 2];
+    const double si = std::sqrt(1.0 - ci * ci), sj = std::sqrt(1.0 - cj * cj);
+    const Vec3 i{si, 0.0, ci}, j{sj * std::cos(phi), sj * std::sin(phi), cj};
+    out.x.push_back(tables::coordinates(law, i, j));
+    Vec3 n{unit(random), unit(random), unit(random)};
+    n = glm::length(n) > 0.1 ? glm::normalize(n) : Vec3{0.0, 0.0, 1.0};
+    const Vec3 a = std::abs(n.x) < 0.9 ? Vec3{1.0, 0.0, 0.0} : Vec3{0.0, 1.0, 0.0};
+    const Vec3 t = glm::normalize(a - glm::dot(a, n) * n), b = glm::cross(n, t);
+    auto world = [&](const Vec3& v, double scale) {
+      const Vec3 w = scale * (v.x * t + v.y * b + v.z * n);
+      return std::array<float, 4>{static_cast<float>(w.x), static_cast<float>(w.y), static_cast<float>(w.z), 0.0f};
+    };
+    for (auto [to, v] : {std::pair{&out.i, world(i, length(random))}, std::pair{&out.j, world(j, length(random))},
+                         std::pair{&out.n, world(Vec3{0.0, 0.0, 1.0}, 1.0)}})
+      to->insert(to->end(), v.begin(), v.end());
+  }
+  return out;
+}
+
+/// A kPointsSide^2 RGBA32F texture of `texels` on texture unit `unit`, bound to sampler `name`.
+GLuint point_texture(const std::vector<float>& texels, GLuint program, int unit, const char* name) {
+  GLuint texture = 0;
+  glGenTextures(1, &texture);
+  glActiveTexture(GL_TEXTURE0 + unit);
+  glBindTexture(GL_TEXTURE_2D, texture);
+  glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA32F, kPointsSide, kPointsSide, 0, GL_RGBA, GL_FLOAT, texels.data());
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  glUniform1i(glGetUniformLocation(program, name), unit);
+  return texture;
+}
+
+/// The exported function of `table` evaluated on the GL implementation at `points`, one pixel each.
+std::vector<float> gpu_lookups(const tables::Table& table, const LookupPoints& points, bool es, bool hardware_filter) {
+  const std::string function = exporting::glsl_function_name(table.model, table.law);
+  const std::string args = table.law == Law::g ? "(gz_table, i, j, n)" : table.law == Law::h ? "(gz_table, j, n)" : "(gz_table, i, n)";
+  const std::string fragment = std::string("#version ") + (es ? "300 es" : "430 core") + "\n" +
+                               (hardware_filter ? "#define GANZFELD_HARDWARE_FILTER\n" : "") +
+                               exporting::glsl_table_snippet(table) + "uniform highp " +
+                               exporting::glsl_sampler_type(table.law) + " gz_table;\n" + R"(
+uniform highp sampler2D u_i;
+uniform highp sampler2D u_j;
+uniform highp sampler2D u_n;
+out vec4 out_value;
+void main() {
+  ivec2 p = ivec2(gl_FragCoord.xy);
+  vec3 i = texelFetch(u_i, p, 0).xyz, j = texelFetch(u_j, p, 0).xyz, n = texelFetch(u_n, p, 0).xyz;
+  out_value = vec4()" + function + args + R"(, 0.0, 0.0, 1.0);
+}
+)";
+  std::string log;
+  const GLuint program = link_program(es ? kVertexEs : kVertexCore, fragment, log);
+  EXPECT_NE(program, 0u) << log;
+  if (program == 0) return {};
+  glUseProgram(program);
+  const auto dir = std::filesystem::path(testing_support::temp_dir()) / "lookups";
+  std::filesystem::create_directories(dir);
+  std::vector<GLuint> textures{upload_table(table, dir, "gz_table", program, 0, hardware_filter),
+                               point_texture(points.i, program, 1, "u_i"), point_texture(points.j, program, 2, "u_j"),
+                               point_texture(points.n, program, 3, "u_n")};
+  const auto [fbo, color] = float_framebuffer(kPointsSide, kPointsSide);
+  GLuint vao = 0;
+  glGenVertexArrays(1, &vao);
+  glBindVertexArray(vao);
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+  std::vector<float> pixels(4 * kPointsSide * kPointsSide);
+  glReadPixels(0, 0, kPointsSide, kPointsSide, GL_RGBA, GL_FLOAT, pixels.data());
+  EXPECT_EQ(glGetError(), static_cast<GLenum>(GL_NO_ERROR));
+  std::vector<float> values(kPointsSide * kPointsSide);
+  for (std::size_t p = 0; p < values.size(); ++p) values[p] = pixels[4 * p];  // row p / side is y: as the inputs
+  glDeleteVertexArrays(1, &vao);
+  glDeleteRenderbuffers(1, &color);
+  glDeleteFramebuffers(1, &fbo);
+  glDeleteTextures(static_cast<GLsizei>(textures.size()), textures.data());
+  glDeleteProgram(program);
+  return values;
+}
+
+/// A table of `spec` baked at a small resolution with the given frame and lookup (its numbers do
+/// not matter here beyond being a real law's: both sides read the same stored values).
+tables::Table small_table(const std::string& spec, Law law, std::vector<int> resolution,
+                          tables::Interpolation interpolation, bool lobe) {
+  const auto model = parse_model(spec);
+  tables::BakeOptions options;
+  options.resolution = std::move(resolution);
+  options.tolerance = 1e-6;
+  options.interpolation = interpolation;
+  if (lobe) options.lobe = tables::lobe_frame_of(*model);
+  EXPECT_EQ(options.lobe.has_value(), lobe) << spec << " has no lobe frame";
+  tables::Table table = tables::bake(*model, law, options);
+  table.command = "gl_shader_test";
+  return table;
+}
+
+/// Every point's GPU lookup within the float bound of tables::sample. Hardware filtering (one
+/// linear fetch, or 3 per Catmull–Rom axis) too on llvmpipe, which filters float textures with
+/// full-precision weights (docs/shaders.md); elsewhere within the table's stated lookup error (a
+/// GPU may round filter weights to 8 bits).
+void compare_lookups(const tables::Table& table, bool es, bool hardware_filter = false) {
+  std::string error;
+  auto gl = make_context(es, error);
+  ASSERT_TRUE(gl) << error;
+  const bool exact_filter = std::string(reinterpret_cast<const char*>(glGetString(GL_RENDERER))).find("llvmpipe") != std::string::npos;
+  const LookupPoints points = lookup_points(table.law);
+  const std::vector<float> gpu = gpu_lookups(table, points, es, hardware_filter);
+  ASSERT_EQ(gpu.size(), points.x.size());
+  int over = 0;
+  double largest = 0.0, largest_bound = 0.0;
+  for (std::size_t p = 0; p < gpu.size(); ++p) {
+    const double cpu = tables::sample(table, points.x[p]).value;
+    const double difference = std::abs(gpu[p] - cpu);
+    const double bound = hardware_filter && !exact_filter ? table.lookup_error : float_bound(table, points.x[p]);
+    largest = std::max(largest, difference);
+    largest_bound = std::max(largest_bound, difference / bound);
+    if (difference > bound && over++ < 5)
+      ADD_FAILURE() << "point " << p << " (" << points.x[p][0] << (points.x[p].size() > 1 ? ", " + std::to_string(points.x[p][1]) + ", " + std::to_string(points.x[p][2]) : "")
+                    << "): GPU " << gpu[p] << ", CPU " << cpu << ", difference " << difference << " > " << bound;
+  }
+  std::printf("%s, law %s of %s, %s frame, %s%s: %zu points, max |GPU - CPU| = %.3g, %.3g of the bound\n",
+              es ? "GLSL ES 3.00" : "GLSL 4.30 core", to_string(table.law), table.model.c_str(),
+              to_string(table.frame), to_string(table.interpolation), hardware_filter ? " (hardware filter)" : "",
+              gpu.size(), largest, largest_bound);
+  EXPECT_EQ(over, 0);
+}
+
+TEST(GlShaderLookup, LobeFrameCatmullRomSpecularG) {
+  const tables::Table table = small_table("specular:alpha=100", Law::g, {10, 24, 8}, tables::Interpolation::catmull_rom, true);
+  compare_lookups(table, false);
+  compare_lookups(table, true);
+  compare_lookups(table, false, true);
+}
+TEST(GlShaderLookup, LobeFrameCatmullRomBackscatterG) {
+  compare_lookups(small_table("backscatter:alpha=100", Law::g, {10, 24, 8}, tables::Interpolation::catmull_rom, true), false);
+}
+TEST(GlShaderLookup, LobeFrameLinearSpecularG) {
+  compare_lookups(small_table("specular:alpha=100", Law::g, {10, 24, 8}, tables::Interpolation::linear, true), true);
+}
+TEST(GlShaderLookup, CosinesFrameCatmullRomAsperityG) {
+  compare_lookups(small_table("asperity:alpha=4", Law::g, {8, 8, 6}, tables::Interpolation::catmull_rom, false), false);
+}
+TEST(GlShaderLookup, CatmullRomH) {
+  const tables::Table table = small_table("specular:alpha=100", Law::h, {12}, tables::Interpolation::catmull_rom, false);
+  compare_lookups(table, false);
+  compare_lookups(table, false, true);
 }
 
 TEST(GlShader, Glsl430CoreFloatTablesMatchTheSoftwareRasterizer) { run_gl_comparison(false, tables::Encoding::single); }
 TEST(GlShader, Glsl430CoreHalfTablesMatchTheSoftwareRasterizer) { run_gl_comparison(false, tables::Encoding::half); }
 TEST(GlShader, GlslEs300FloatTablesMatchTheSoftwareRasterizer) { run_gl_comparison(true, tables::Encoding::single); }
+// Format version 2 scene tables (lobe frame, Catmull–Rom), with texelFetch and hardware filtering.
+TEST(GlShader, MaxErrorTablesMatchTheSoftwareRasterizer) {
+  run_gl_comparison(false, tables::Encoding::single, false, lobe_scene_json(), kLobeSceneMaxError);
+  run_gl_comparison(true, tables::Encoding::single, true, lobe_scene_json(), kLobeSceneMaxError);
+}
 TEST(GlShader, HardwareFilteringStaysWithinTheStatedTableError) {
   run_gl_comparison(false, tables::Encoding::single, true);
 }

@@ -44,6 +44,19 @@ for version in "430 core" "300 es"; do
     compile "$tmp/a.glsl" "$version" "$defines" "gz_minnaert_xi_0_5_a(tab, vec3(0.3, 0.0, 0.9), vec3(0.0, 0.0, 1.0))" sampler2D
   done
 done
+# Format version 2 (bake --max-error): lobe frame (sinh mappings) and Catmull–Rom, g and h.
+"$G" bake --model specular:alpha=100 --law g --max-error 1e-2 -o "$tmp/g2.exr" --quiet >/dev/null || fail "bake g v2"
+"$G" bake --model specular:alpha=100 --law h --max-error 1e-4 -o "$tmp/h2.exr" --quiet >/dev/null || fail "bake h v2"
+"$G" export-glsl "$tmp/g2.exr" -o "$tmp/g2.glsl" --quiet && ok || fail "export g v2"
+"$G" export-glsl "$tmp/h2.exr" -o "$tmp/h2.glsl" --quiet && ok || fail "export h v2"
+grep -q "gz_lobe_coordinates(i, j, n, -1.0)" "$tmp/g2.glsl" && grep -q "gz_lookup3_catmull_rom" "$tmp/g2.glsl" \
+  && ok || fail "v2 g snippet without the lobe frame or Catmull–Rom"
+for version in "430 core" "300 es"; do
+  for defines in "" GANZFELD_HARDWARE_FILTER; do
+    compile "$tmp/g2.glsl" "$version" "$defines" "gz_specular_alpha_100_g(tab, vec3(0.3, 0.0, 0.9), vec3(-0.2, 0.1, 0.9), vec3(0.0, 0.0, 1.0))" sampler3D
+    compile "$tmp/h2.glsl" "$version" "$defines" "gz_specular_alpha_100_h(tab, vec3(0.3, 0.0, 0.9), vec3(0.0, 0.0, 1.0))" sampler2D
+  done
+done
 # Two snippets in one shader: the shared helpers are guarded.
 cat "$tmp/g.glsl" "$tmp/h.glsl" >"$tmp/both.glsl"
 compile "$tmp/both.glsl" "430 core" "" "gz_specular_alpha_8_g(tab, vec3(0.0, 0.0, 1.0), vec3(0.0, 0.0, 1.0), vec3(0.0, 0.0, 1.0))" sampler3D
@@ -80,8 +93,13 @@ for t in d["textures"]:
 m = json.load(open(os.path.join(sys.argv[2], "manifest.json")))
 assert m["textures"] == d["textures"]
 EOF
+# The same scene with every table baked to an error (format version 2 tables).
+"$G" export-glsl --scene "$tmp/scene.json" --out "$tmp/scene_v2" --max-error 1e-2 --texture none --quiet \
+  && ok || fail "export --scene --max-error"
+grep -q "gz_lookup3_catmull_rom" "$tmp/scene_v2/ganzfeld_scene.glsl" && ok || fail "scene v2 shader without Catmull–Rom"
 for version in "430 core" "300 es"; do
   compile "$tmp/scene_out/ganzfeld_scene.glsl" "$version" "" "gz_scene_radiance(1, vec3(0.0, 0.0, 1.0), vec3(0.0, 0.6, 0.8)), 1.0" ""
+  compile "$tmp/scene_v2/ganzfeld_scene.glsl" "$version" "" "gz_scene_radiance(1, vec3(0.0, 0.0, 1.0), vec3(0.0, 0.6, 0.8)), 1.0" ""
 done
 
 # --- refusals: exit 2, one line, no output

@@ -12,6 +12,7 @@
 #include "util/error.h"
 #include "laws/spec.h"
 #include "tables/bake.h"
+#include "tables/frame.h"
 #include "export/glsl.h"
 #include "export/texture_file.h"
 #include "tests/temp_dir.h"
@@ -68,6 +69,29 @@ TEST(Ktx2, FloatAndHalfTablesRoundTripExactly) {
       EXPECT_EQ(data.key_values.count("KTXwriter"), 1u);
     }
   }
+}
+
+TEST(Ktx2, CarriesTheVersion2LookupAndItsError) {
+  BakeOptions options;
+  options.resolution = {5, 6, 4};
+  options.tolerance = 1e-6;
+  options.interpolation = Interpolation::catmull_rom;
+  options.lobe = LobeFrame{PeakKind::retro, 0.1};
+  Table table = bake(*parse_model("backscatter:alpha=100"), Law::g, options);
+  table.command = "test";
+  const std::string path = temp_file("v2.ktx2");
+  write_texture(table, TextureFormat::ktx2, path, "t");
+  const TextureData data = read_ktx2(path);
+  EXPECT_EQ(data.key_values.at("ganzfeld.frame"), "lobe");
+  EXPECT_EQ(data.key_values.at("ganzfeld.peak"), "retro");
+  EXPECT_EQ(data.key_values.at("ganzfeld.interpolation"), "catmull-rom");
+  EXPECT_EQ(std::stod(data.key_values.at("ganzfeld.lookup_error")), table.lookup_error);
+  EXPECT_NE(data.key_values.at("ganzfeld.axes").find("psi 0 3.1415926535897931 6 sinh width 0.10000000000000001"),
+            std::string::npos)
+      << data.key_values.at("ganzfeld.axes");
+  const std::string glsl = glsl_table_snippet(table);
+  EXPECT_NE(glsl.find("gz_lobe_coordinates(i, j, n, 1.0)"), std::string::npos);  // retro: s = +1
+  EXPECT_NE(glsl.find("gz_lookup3_catmull_rom(table, u, ivec3(5, 6, 4), bvec3(false, false, true))"), std::string::npos);
 }
 
 TEST(Ktx2, LayoutFollowsTheSpecification) {
