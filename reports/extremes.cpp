@@ -100,7 +100,7 @@ reference::Value reference_law(const Model& model, Law law, const Vec3& i, const
     case Law::g: return reference::vignetting(model, i, j, options);
     case Law::h: return reference::darkening(model, j, options);
     case Law::a: return reference::albedo(model, i, options);
-    default: return {model.f(i, j), 0.0, 0.0};  // f: the formula, directly
+    default: return {model.f(i, j), 0.0, 0.0};  // f is not judged (judge_case)
   }
 }
 
@@ -117,7 +117,10 @@ ExtremesCase judge_case(const Model& model, Law law, const Vec3& i, const Vec3& 
   c.engine = evaluate_law(model, law, i, j, options);
   c.finite = std::isfinite(c.engine.value);
   c.converged = c.engine.converged;
-  if (!c.finite || !c.converged) return c;
+  // f is the formula itself (error 0): only its finiteness is judged. Compared with f at the
+  // unnormalized directions it would measure the formula's conditioning at grazing (1/(i·n)
+  // factors turn the last bit of a direction into 1e-10 relative), not an estimate's honesty.
+  if (law == Law::f || !c.finite || !c.converged) return c;
   const reference::Value first = reference_law(model, law, i, j, false);
   c.reference = first.value;
   c.reference_error = first.total_error();
@@ -305,7 +308,8 @@ std::string extremes_markdown(const std::vector<ExtremesRow>& rows, const Extrem
         "computed; if the engine agrees with that one, the case counts as *references disagree* instead, and is "
         "listed. A case whose reference ran out of its budget of "
      << number(double(kExtremesReferenceBudget)) << " evaluations, or whose error exceeds the engine's tolerance, is "
-        "*reference unresolved*: not judged, counted and listed. f is the formula evaluated directly. Measured models (merl, tabulated) need a data file and "
+        "*reference unresolved*: not judged, counted and listed. f is the formula itself (error 0): only its "
+        "finiteness is judged. Measured models (merl, tabulated) need a data file and "
         "are not in this grid.\n\n"
      << "| model | specs | cases | non-finite | not converged | dishonest | references disagree | reference unresolved | "
         "seconds (summed over cases) |\n"
