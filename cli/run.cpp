@@ -38,6 +38,7 @@ int run_cli(int argc, const char* const* argv, bool parse_only) {
   add_export_brdf_command(app, action);
   add_plausibility_command(app, action);
   add_serve_command(app, action);
+  add_extremes_command(app, action);
   try {
     app.parse(argc, argv);
   } catch (const CLI::Success& e) {  // --help, --version

@@ -1,0 +1,94 @@
+// ganzfeld extremes: the extremes grid of issue #20 (reports/extremes.h) — every model at the ends
+// of its parameters' ranges and the laws at extreme directions, judged against the independent
+// reference; --markdown prints the section of docs/reliability.md (scripts/docs --reliability).
+#include <cstdio>
+#include <iostream>
+
+#include <nlohmann/json.hpp>
+
+#include "cli/args.h"
+#include "cli/commands.h"
+#include "laws/registry.h"
+#include "reports/extremes.h"
+#include "util/timing.h"
+
+namespace ganzfeld::cli {
+
+namespace {
+
+struct ExtremesArgs {
+  bool json = false, markdown = false, quick = false, defaults_only = false;
+  double tol = 1e-8;
+  std::vector<std::string> models;
+};
+
+nlohmann::ordered_json vector_json(const Vec3& v) { return {v.x, v.y, v.z}; }
+
+nlohmann::ordered_json extremes_json(const std::vector<ExtremesRow>& rows, const ExtremesOptions& options, double seconds) {
+  nlohmann::ordered_json doc{{"tolerance", options.engine_tolerance}, {"seconds", seconds}, {"models", nlohmann::ordered_json::array()}};
+  for (const auto& r : rows) {
+    nlohmann::ordered_json flagged = nlohmann::ordered_json::array();
+    for (const ExtremesCase& c : r.flagged)
+      flagged.push_back({{"spec", c.spec}, {"law", to_string(c.law)}, {"i", vector_json(c.i)}, {"j", vector_json(c.j)},
+                         {"value", c.engine.value}, {"error", c.engine.error}, {"converged", c.converged},
+                         {"finite", c.finite}, {"reference", c.reference}, {"reference_error", c.reference_error},
+                         {"second_reference", c.second_reference}, {"second_reference_error", c.second_reference_error},
+                         {"dishonest", c.dishonest}, {"references_disagree", c.references_disagree},
+                         {"reference_unresolved", c.reference_unresolved}});
+    doc["models"].push_back({{"model", r.model}, {"specs", r.specs}, {"refused", r.refused}, {"cases", r.cases},
+                             {"non_finite", r.non_finite}, {"not_converged", r.not_converged},
+                             {"dishonest", r.dishonest}, {"references_disagree", r.references_disagree},
+                             {"reference_unresolved", r.unresolved}, {"seconds", r.seconds}, {"flagged", flagged}});
+  }
+  return doc;
+}
+
+}  // namespace
+
+void add_extremes_command(CLI::App& app, Action& action) {
+  auto* cmd = app.add_subcommand("extremes",
+                                 "the extremes grid: every model at its parameters' ends and extreme directions, "
+                                 "the engine's estimates judged against the independent reference");
+  auto args = std::make_shared<ExtremesArgs>();
+  cmd->add_flag("--json", args->json, "print one JSON document");
+  cmd->add_flag("--markdown", args->markdown, "print the Markdown section of docs/reliability.md");
+  cmd->add_flag("--quick", args->quick, "the slice ctest runs: default specs, the grid's corners");
+  cmd->add_flag("--defaults-only", args->defaults_only,
+                "every model at its defaults only (the whole direction grid; about ten times faster)");
+  cmd->add_option("--tol", args->tol, "the engine's absolute tolerance (default 1e-8)");
+  cmd->add_option("--model", args->models, "only these models (catalogue names, or 'mixture'); repeatable");
+  cmd->callback([&action, args] {
+    action = [args] {
+      validate_tolerance(args->tol);
+      for (const std::string& name : args->models)
+        if (name != "mixture") find_model(name);  // InputError naming the unknown model
+      ExtremesOptions options;
+      options.engine_tolerance = args->tol;
+      options.models = args->models;
+      options.quick = args->quick;
+      options.defaults_only = args->defaults_only;
+      const util::Stopwatch watch;
+      const auto rows = extremes_report(options);
+      const double seconds = watch.seconds();
+      if (args->markdown) {
+        std::vector<std::string> words{"ganzfeld", "extremes", "--markdown"};
+        if (args->quick) words.push_back("--quick");
+        if (args->defaults_only) words.push_back("--defaults-only");
+        if (args->tol != 1e-8) words.insert(words.end(), {"--tol", format_number(args->tol)});
+        for (const std::string& name : args->models) words.insert(words.end(), {"--model", name});
+        std::cout << extremes_markdown(rows, options, shell_line(words), seconds);
+      } else if (args->json) {
+        std::cout << extremes_json(rows, options, seconds).dump(2) << "\n";
+      } else {
+        for (const auto& r : rows)
+          std::printf("%-24s specs %3d cases %5d non-finite %d not-converged %d dishonest %d refs-disagree %d "
+                      "unresolved %d  %.1f s\n",
+                      r.model.c_str(), r.specs, r.cases, r.non_finite, r.not_converged, r.dishonest,
+                      r.references_disagree, r.unresolved, r.seconds);
+      }
+      return 0;  // a report: its targets are met or missed in what it prints
+    };
+  });
+}
+
+}  // namespace ganzfeld::cli

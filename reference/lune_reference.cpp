@@ -1,0 +1,178 @@
+#include "reference/lune_reference.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+
+#include <boost/math/quadrature/gauss_kronrod.hpp>
+
+namespace ganzfeld::reference {
+
+namespace {
+using std::numbers::pi;
+const Vec3 kNormal{0, 0, 1};
+const Vec3 kHemisphereEdge{1, 0, 0};  // any horizontal axis; the break points find the lobes
+}  // namespace
+
+LuneCoordinates::LuneCoordinates(const Vec3& pole, const Vec3& hemisphere_edge) {
+  const Vec3 axis = glm::cross(n, pole);
+  empty = glm::length(axis) <= 1e-12 && pole.z < 0.0;
+  e = glm::length(axis) > 1e-12 ? glm::normalize(axis) : hemisphere_edge;
+  b = glm::cross(e, n);
+  const double psi_pole = std::atan2(glm::dot(pole, b), glm::dot(pole, n));
+  psi_lo = std::max(-pi / 2, psi_pole - pi / 2);
+  psi_hi = std::min(pi / 2, psi_pole + pi / 2);
+}
+
+Vec3 LuneCoordinates::direction(double t, double psi) const {
+  return std::cos(t) * (std::cos(psi) * n + std::sin(psi) * b) + std::sin(t) * e;
+}
+
+std::pair<double, double> LuneCoordinates::coordinates(const Vec3& k) const {
+  return {std::asin(std::clamp(glm::dot(k, e), -1.0, 1.0)), std::atan2(glm::dot(k, b), glm::dot(k, n))};
+}
+
+std::vector<double> cuts(double lo, double hi, const std::vector<double>& centres) {
+  std::vector<double> out{lo, hi};
+  for (double c : centres)
+    for (double w : {-0.2, -0.05, 0.0, 0.05, 0.2})
+      if (c + w > lo && c + w < hi) out.push_back(c + w);
+  std::sort(out.begin(), out.end());
+  // Merge cuts closer than 1e-9 (a peak on the edge axis lands at t = 1e-17, not 0).
+  out.erase(std::unique(out.begin(), out.end(), [](double a, double b) { return b - a < 1e-9; }), out.end());
+  return out;
+}
+
+namespace {
+
+/// ∫ over the panels of `cut` by gauss_kronrod<Points>; adds Boost's error estimates to *error.
+/// Boost stops bisecting a panel when its error is below tolerance × |that panel's integral|; with
+/// options.global_tolerance the tolerance is made relative to the whole range's L1 norm instead
+/// (from one unrefined pass over the panels), so that a sliver panel next to a peak on the edge,
+/// whose integral is below the rounding of its own error estimate, is not bisected to full depth.
+template <unsigned Points, class F>
+double panels(F&& f, const std::vector<double>& cut, const Options& options, double* error) {
+  using Rule = boost::math::quadrature::gauss_kronrod<double, Points>;
+  const std::size_t count = cut.size() - 1;
+  std::vector<double> tolerance(count, options.tolerance);
+  if (options.global_tolerance) {
+    std::vector<double> rough(count);
+    double l1 = 0.0;
+    for (std::size_t k = 0; k < count; ++k) {
+      double panel_l1 = 0.0;
+      rough[k] = std::abs(Rule::integrate(f, cut[k], cut[k + 1], 0, options.tolerance, nullptr, &panel_l1));
+      l1 += panel_l1;
+    }
+    for (std::size_t k = 0; k < count; ++k)
+      if (rough[k] > 0.0) tolerance[k] = std::max(options.tolerance, options.tolerance * l1 / rough[k]);
+  }
+  double sum = 0.0;
+  for (std::size_t k = 0; k < count; ++k) {
+    double panel_error = 0.0;
+    sum += Rule::integrate(f, cut[k], cut[k + 1], options.max_depth, tolerance[k], &panel_error);
+    *error += panel_error;
+  }
+  return sum;
+}
+
+/// Nested: outer over `outer_cut`, inner over `inner_cut`; point(outer, inner) is the integrand.
+template <unsigned Points, class F>
+Value nested(F&& point, const std::vector<double>& outer_cut, const std::vector<double>& inner_cut,
+             const Options& options) {
+  Value out;
+  double worst_inner = 0.0;
+  auto inner = [&](double x) {
+    double error = 0.0;
+    const double value = panels<Points>([&](double y) { return point(x, y); }, inner_cut, options, &error);
+    worst_inner = std::max(worst_inner, error);
+    return value;
+  };
+  out.value = panels<Points>(inner, outer_cut, options, &out.error);
+  out.inner_error = worst_inner * (outer_cut.back() - outer_cut.front());
+  return out;
+}
+
+}  // namespace
+
+Value lune_integral(const std::function<double(const Vec3&)>& f, const LuneCoordinates& lune,
+                    const std::vector<double>& t_cuts, const std::vector<double>& psi_cuts, const Options& options) {
+  if (lune.empty) return {};
+  struct OutOfBudget {};
+  long long evaluations = 0;
+  auto point = [&](double t, double psi) {
+    if (++evaluations > options.max_evaluations) throw OutOfBudget{};
+    const Vec3 k = lune.direction(t, psi);
+    return std::cos(t) * std::max(k.z, 0.0) * f(k);
+  };
+  try {
+    Value out = options.swapped
+                    ? nested<31>([&](double psi, double t) { return point(t, psi); }, psi_cuts, t_cuts, options)
+                    : nested<61>(point, t_cuts, psi_cuts, options);
+    out.evaluations = evaluations;
+    return out;
+  } catch (const OutOfBudget&) {
+    return {0.0, std::numeric_limits<double>::infinity(), 0.0, evaluations, false};
+  }
+}
+
+namespace {
+
+/// Break points of the law's integrand over k with `fixed` held: the mirror of fixed and fixed
+/// itself (K&P's lobes), and with options.use_mass_hints every peak of the model's hints with
+/// lines at ±1 and ±2 of its widths, and its horizon layer at delta and 4 delta from the horizon.
+std::pair<std::vector<double>, std::vector<double>> break_points(const Model& model, const LuneCoordinates& lune,
+                                                                 const Vec3& fixed, Varying varying,
+                                                                 const Options& options) {
+  std::vector<double> t_centres, psi_centres;
+  for (const Vec3& peak : {mirror(fixed), fixed}) {
+    const auto [t, psi] = lune.coordinates(peak);
+    t_centres.push_back(t);
+    psi_centres.push_back(psi);
+  }
+  std::vector<double> t_cut = cuts(-pi / 2, pi / 2, t_centres), psi_cut = cuts(lune.psi_lo, lune.psi_hi, psi_centres);
+  if (!options.use_mass_hints) return {t_cut, psi_cut};
+  const MassHints hints = model.mass_hints(fixed, varying);
+  auto add = [](std::vector<double>& cut, double x) {
+    if (x > cut.front() && x < cut.back()) cut.push_back(x);
+  };
+  for (const Peak& peak : hints.peaks) {
+    const auto [t, psi] = lune.coordinates(peak.direction);
+    for (double w : {peak.width, peak.across > 0.0 ? peak.across : peak.width})
+      for (double m : {-2.0, -1.0, 0.0, 1.0, 2.0}) add(t_cut, t + m * w), add(psi_cut, psi + m * w);
+  }
+  for (double m : {1.0, 4.0}) {
+    const double delta = m * hints.horizon_layer;
+    if (delta <= 0.0) continue;
+    add(t_cut, -pi / 2 + delta), add(t_cut, pi / 2 - delta), add(psi_cut, pi / 2 - delta);
+    if (lune.psi_lo == -pi / 2) add(psi_cut, -pi / 2 + delta);
+  }
+  for (auto* cut : {&t_cut, &psi_cut}) {
+    std::sort(cut->begin(), cut->end());
+    cut->erase(std::unique(cut->begin(), cut->end(), [](double a, double b) { return b - a < 1e-12; }), cut->end());
+  }
+  return {t_cut, psi_cut};
+}
+
+}  // namespace
+
+Value vignetting(const Model& model, const Vec3& i, const Vec3& j, const Options& options) {
+  const LuneCoordinates lune(i, kHemisphereEdge);
+  if (lune.empty) return {};
+  const auto [t_cut, psi_cut] = break_points(model, lune, j, Varying::incident, options);
+  return lune_integral([&](const Vec3& k) { return model.f(k, j); }, lune, t_cut, psi_cut,
+                       options);
+}
+
+Value darkening(const Model& model, const Vec3& j, const Options& options) {
+  return vignetting(model, kNormal, j, options);
+}
+
+Value albedo(const Model& model, const Vec3& i, const Options& options) {
+  const LuneCoordinates lune(kNormal, kHemisphereEdge);
+  const auto [t_cut, psi_cut] = break_points(model, lune, i, Varying::outgoing, options);
+  return lune_integral([&](const Vec3& k) { return model.f(i, k); }, lune, t_cut, psi_cut,
+                       options);
+}
+
+}  // namespace ganzfeld::reference

@@ -1,0 +1,340 @@
+#include "reports/extremes.h"
+
+#include <algorithm>
+#include <cmath>
+#include <exception>
+#include <map>
+#include <numbers>
+#include <set>
+#include <sstream>
+
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include "laws/registry.h"
+#include "laws/spec.h"
+#include "reference/lune_reference.h"
+#include "util/error.h"
+#include "util/timing.h"
+
+namespace ganzfeld {
+
+namespace {
+
+using std::numbers::pi;
+
+/// Rounding allowed on top of both error estimates: the engine and the reference each sum ~10^4
+/// panel values, so their last bits differ by ~10^4 ulps of the result (~1e-12 relative); the
+/// 1e-13 of tests/independent_reference_test.cpp, relative to the value when it exceeds 1.
+constexpr double kRoundingSlack = 1e-13;
+
+// The grid of the issue: cosines of the incident direction (sky pole) and of the view, azimuths
+// of the view about n.
+constexpr double kIncidentCos[] = {-1.0, -0.999, 0.0, 1e-9, 1e-6, 1.0};
+constexpr double kViewCos[] = {0.0, 1e-9, 1e-6, 1.0};
+constexpr double kPhi[] = {0.0, pi / 2, pi};
+/// The halfway-vector-disk models' own extremes: theta_o = 89.99 degrees and j·n = 1e-4, where
+/// issue #20 found their estimates dishonest.
+const double kHvdViewCos[] = {1e-4, std::cos(89.99 * pi / 180)};
+// The quick slice (ctest): the corners that break the most.
+constexpr double kQuickIncidentCos[] = {-0.999, 1e-6, 1.0};
+constexpr double kQuickViewCos[] = {1e-6, 1.0};
+constexpr double kQuickPhi[] = {pi / 2};
+
+/// Extra specs beyond each parameter's ends: shapes no single parameter at an end makes.
+struct Extra {
+  const char* model;
+  const char* spec;
+  const char* why;
+};
+constexpr Extra kExtras[] = {
+    {"hvd-empirical", "hvd-empirical:ns=1000,rsu=1,rsv=0.1,rru=0.1,rrv=1,k=0.5", "anisotropic radii, sharp"},
+    {"hvd-empirical", "hvd-empirical:rsu=0.001,rsv=1,k=1,nr=1000", "anisotropic radii, retro only"},
+    {"ggx", "ggx:alpha_x=0.001,alpha_y=1", "anisotropic, alpha ends"},
+    {"ward-aniso", "ward-aniso:alpha_x=0.01,alpha_y=1", "anisotropic, alpha ends"},
+    {"mixture", "0.5*lambert+0.5*specular:alpha=1000", "diffuse + sharp specular"},
+    {"mixture", "0.3*hvd-empirical:k=0.5+0.4*ggx:alpha=0.01+0.3*asperity:alpha=1000", "three families"},
+};
+
+bool wanted(const ExtremesOptions& options, const std::string& model) {
+  return options.models.empty() || std::find(options.models.begin(), options.models.end(), model) != options.models.end();
+}
+
+/// A parameter's ends as spec values: min (just above it when excluded), max capped for exponents.
+std::vector<std::pair<std::string, std::string>> ends(const ParamInfo& p) {
+  if (p.type == ParamType::choice) return {{"min", p.choices.front()}, {"max", p.choices.back()}};
+  const double lo = p.min_exclusive ? p.min + 1e-3 * (p.max - p.min) : p.min;
+  const double hi = std::min(p.max, std::max(lo, kExtremesExponentCap));
+  return {{"min", format_number(lo)}, {"max", format_number(hi)}};
+}
+
+}  // namespace
+
+std::vector<ExtremesSpec> extremes_specs(const ExtremesOptions& options) {
+  std::vector<ExtremesSpec> out;
+  for (const ModelInfo& m : model_catalogue()) {
+    if (m.make_with_file && !m.file_optional) continue;  // measured: needs a data file
+    if (!wanted(options, m.name)) continue;
+    out.push_back({m.name, m.name, "default"});
+    if (options.quick || options.defaults_only) continue;
+    for (const ParamInfo& p : m.parameters)
+      for (const auto& [end, value] : ends(p)) out.push_back({m.name, m.name + ":" + p.name + "=" + value, p.name + " " + end});
+  }
+  for (const Extra& e : kExtras)
+    if (wanted(options, e.model) && (!options.quick || std::string(e.model) == "mixture"))
+      out.push_back({e.model, e.spec, e.why});
+  return out;
+}
+
+namespace {
+
+bool honest(double value, double error, double reference, double reference_error) {
+  return std::abs(value - reference) <= error + reference_error + kRoundingSlack * std::max(1.0, std::abs(reference));
+}
+
+reference::Value reference_law(const Model& model, Law law, const Vec3& i, const Vec3& j, bool second) {
+  reference::Options options;
+  options.swapped = second;
+  options.max_evaluations = kExtremesReferenceBudget;
+  switch (law) {
+    case Law::g: return reference::vignetting(model, i, j, options);
+    case Law::h: return reference::darkening(model, j, options);
+    case Law::a: return reference::albedo(model, i, options);
+    default: return {model.f(i, j), 0.0, 0.0};  // f is not judged (judge_case)
+  }
+}
+
+}  // namespace
+
+ExtremesCase judge_case(const Model& model, Law law, const Vec3& i, const Vec3& j, double engine_tolerance) {
+  ExtremesCase c;
+  c.spec = model.spec();
+  c.law = law;
+  c.i = i;
+  c.j = j;
+  CubatureOptions options;
+  options.abs_tol = engine_tolerance;
+  c.engine = evaluate_law(model, law, i, j, options);
+  c.finite = std::isfinite(c.engine.value);
+  c.converged = c.engine.converged;
+  // f is the formula itself (error 0): only its finiteness is judged. Compared with f at the
+  // unnormalized directions it would measure the formula's conditioning at grazing (1/(i·n)
+  // factors turn the last bit of a direction into 1e-10 relative), not an estimate's honesty.
+  if (law == Law::f || !c.finite || !c.converged) return c;
+  const reference::Value first = reference_law(model, law, i, j, false);
+  c.reference = first.value;
+  c.reference_error = first.total_error();
+  c.reference_unresolved = !first.resolved || !std::isfinite(first.value) || !(c.reference_error <= engine_tolerance);
+  if (c.reference_unresolved || honest(c.engine.value, c.engine.error, c.reference, c.reference_error)) return c;
+  const reference::Value second = reference_law(model, law, i, j, true);
+  c.second_reference = second.value;
+  c.second_reference_error = second.total_error();
+  c.references_disagree = honest(c.engine.value, c.engine.error, second.value, second.total_error());
+  c.dishonest = !c.references_disagree;
+  return c;
+}
+
+namespace {
+
+struct Job {
+  std::size_t spec;  // index into the specs
+  ModelPtr model;
+  Law law;
+  Vec3 i, j;
+  std::string where;
+};
+
+std::string where_text(Law law, double cos_i, double cos_j, double phi) {
+  std::ostringstream s;
+  s.precision(4);
+  if (law != Law::h) s << "i·n=" << cos_i;
+  if (law != Law::a) s << (law != Law::h ? ", " : "") << "j·n=" << cos_j;
+  s << ", φ=" << phi * 180 / pi << "°";
+  return s.str();
+}
+
+/// The cases of one model: the grid for each law, without repeats (an isotropic model's laws
+/// depend on i·n, j·n and i·j only; h and a on one direction only).
+void add_jobs(std::size_t spec, const ModelPtr& model, bool hvd, bool quick, std::vector<Job>& jobs) {
+  std::vector<double> incident(std::begin(kIncidentCos), std::end(kIncidentCos));
+  std::vector<double> view(std::begin(kViewCos), std::end(kViewCos)), phis(std::begin(kPhi), std::end(kPhi));
+  if (hvd) view.insert(view.end(), std::begin(kHvdViewCos), std::end(kHvdViewCos));
+  if (quick) {
+    incident.assign(std::begin(kQuickIncidentCos), std::end(kQuickIncidentCos));
+    view.assign(std::begin(kQuickViewCos), std::end(kQuickViewCos));
+    phis.assign(std::begin(kQuickPhi), std::end(kQuickPhi));
+  }
+  const bool isotropic = model->traits().isotropic;
+  std::set<std::array<double, 7>> seen;
+  auto add = [&](Law law, double ci, double cj, double phi) {
+    const Vec3 i = law == Law::a ? direction_from_cos(ci, phi) : direction_from_cos(ci, 0.0);
+    const Vec3 j = direction_from_cos(cj, phi);
+    const Vec3 i_used = law == Law::h ? Vec3{0, 0, 1} : i, j_used = law == Law::a ? Vec3{0, 0, 1} : j;
+    const std::array<double, 7> key =
+        isotropic ? std::array<double, 7>{double(law), i_used.z, j_used.z, glm::dot(i_used, j_used), 0, 0, 0}
+                  : std::array<double, 7>{double(law), i_used.x, i_used.y, i_used.z, j_used.x, j_used.y, j_used.z};
+    if (seen.insert(key).second) jobs.push_back({spec, model, law, i_used, j_used, where_text(law, ci, cj, phi)});
+  };
+  for (double phi : phis) {
+    for (double ci : incident)
+      for (double cj : view) add(Law::f, ci, cj, phi), add(Law::g, ci, cj, phi);
+    for (double cj : view) add(Law::h, 1.0, cj, phi);
+    for (double ci : incident)
+      if (ci >= 0.0) add(Law::a, ci, 1.0, phi);
+  }
+}
+
+}  // namespace
+
+std::vector<ExtremesRow> extremes_report(const ExtremesOptions& options) {
+  const std::vector<ExtremesSpec> specs = extremes_specs(options);
+  std::vector<ExtremesRow> rows;
+  std::map<std::string, std::size_t> row_of;
+  std::vector<Job> jobs;
+  for (std::size_t s = 0; s < specs.size(); ++s) {
+    if (!row_of.count(specs[s].model)) {
+      row_of[specs[s].model] = rows.size();
+      ExtremesRow row;
+      row.model = specs[s].model;
+      rows.push_back(row);
+    }
+    ExtremesRow& row = rows[row_of[specs[s].model]];
+    try {
+      const ModelPtr model = parse_model(specs[s].spec);
+      ++row.specs;
+      add_jobs(s, model, specs[s].model.rfind("hvd", 0) == 0, options.quick, jobs);
+    } catch (const InputError& e) {
+      row.refused.push_back(specs[s].spec + " (" + e.what() + ")");
+    }
+  }
+  std::vector<ExtremesCase> results(jobs.size());
+  std::vector<double> seconds(jobs.size());
+  tbb::parallel_for(std::size_t{0}, jobs.size(), [&](std::size_t k) {
+    const util::Stopwatch watch;
+    results[k] = judge_case(*jobs[k].model, jobs[k].law, jobs[k].i, jobs[k].j, options.engine_tolerance);
+    results[k].where = jobs[k].where;
+    seconds[k] = watch.seconds();
+  });
+  for (std::size_t k = 0; k < jobs.size(); ++k) {
+    ExtremesRow& row = rows[row_of[specs[jobs[k].spec].model]];
+    const ExtremesCase& c = results[k];
+    ++row.cases;
+    row.seconds += seconds[k];
+    row.non_finite += !c.finite;
+    row.not_converged += c.finite && !c.converged;
+    row.dishonest += c.dishonest;
+    row.references_disagree += c.references_disagree;
+    row.unresolved += c.reference_unresolved;
+    if (!c.finite || !c.converged || c.dishonest || c.references_disagree || c.reference_unresolved)
+      row.flagged.push_back(c);
+  }
+  return rows;
+}
+
+namespace {
+
+std::string number(double x, int digits = 3) {
+  std::ostringstream s;
+  s.precision(digits);
+  s << x;
+  return s.str();
+}
+
+int tbb_threads() { return tbb::this_task_arena::max_concurrency(); }
+
+std::string verdict(const ExtremesCase& c) {
+  if (!c.finite) return "non-finite";
+  if (!c.converged) return "not converged";
+  if (c.reference_unresolved) return "reference unresolved";
+  return c.dishonest ? "dishonest" : "references disagree";
+}
+
+void flagged_table(std::ostringstream& md, const std::vector<ExtremesRow>& rows) {
+  md << "\n### Flagged cases\n\n";
+  std::size_t count = 0;
+  for (const auto& r : rows) count += r.flagged.size();
+  if (count == 0) {
+    md << "None: every case is finite, converged and honest.\n";
+    return;
+  }
+  md << "Every case that is non-finite, not converged, dishonest, unresolved by the reference, or where the two "
+        "references disagree "
+        "(the second reference is computed only when the first disagrees with the engine).\n\n"
+     << "| spec | law | where | engine ± estimate | reference ± error | second reference ± error | verdict |\n"
+     << "|---|---|---|---|---|---|---|\n";
+  for (const auto& r : rows)
+    for (const ExtremesCase& c : r.flagged) {
+      const bool judged = c.finite && c.converged;
+      md << "| `" << c.spec << "` | " << to_string(c.law) << " | " << c.where << " | " << number(c.engine.value, 12)
+         << " ± " << number(c.engine.error, 2) << " | "
+         << (judged ? number(c.reference, 12) + " ± " + number(c.reference_error, 2) : std::string("—")) << " | "
+         << (judged ? number(c.second_reference, 12) + " ± " + number(c.second_reference_error, 2) : std::string("—"))
+         << " | " << verdict(c) << " |\n";
+    }
+}
+
+void refused_list(std::ostringstream& md, const std::vector<ExtremesRow>& rows) {
+  std::vector<std::string> refused;
+  for (const auto& r : rows) refused.insert(refused.end(), r.refused.begin(), r.refused.end());
+  if (refused.empty()) return;
+  md << "\n### Specs the parser refused\n\nA parameter at an end of its own range can break a joint "
+        "constraint (kd + ks <= 1, ...); these are left out of the grid, as a user could not ask for them "
+        "either.\n\n";
+  for (const auto& text : refused) md << "- `" << text << "`\n";
+}
+
+}  // namespace
+
+std::string extremes_markdown(const std::vector<ExtremesRow>& rows, const ExtremesOptions& options,
+                              const std::string& command, double seconds) {
+  std::ostringstream md;
+  md << "## Extremes grid: every model at its extremes\n\n"
+     << "Generated by `" << command << "` (do not edit by hand); the run took " << number(seconds)
+     << " s of wall time on " << tbb_threads() << " threads.\n\n"
+     << (options.defaults_only || options.quick
+             ? "Every registered model at its defaults only (this run leaves out the parameters' ends), with "
+               "anisotropic radii and mixtures; "
+             : "Every registered model at its defaults, with each parameter at either end of its documented range "
+               "(exponents capped at " + number(kExtremesExponentCap) + "), anisotropic radii and mixtures; ")
+     << (options.quick ? "this run is the quick slice (the grid's corners); " : "") << "the laws f, g, h, a at i·n ∈ {−1, −0.999, 0, 1e-9, 1e-6, 1}, "
+        "j·n ∈ {0, 1e-9, 1e-6, 1} (the halfway-vector-disk models also at 1e-4 and θ_o = 89.99°), "
+        "φ ∈ {0°, 90°, 180°} (h: j only; a: i·n ≥ 0; repeats that an isotropic model cannot tell apart are run "
+        "once). The engine runs at an absolute tolerance of "
+     << number(options.engine_tolerance)
+     << ". Each converged result is judged against the independent reference (reference/: Boost "
+        "gauss_kronrod<61> nested on the lune, relative 1e-10, break points at the model's peaks, written apart "
+        "from integrate/): *dishonest* when |engine − reference| exceeds the engine's estimate plus the "
+        "reference's error. When it does, a second reference (gauss_kronrod<31>, the nesting swapped) is "
+        "computed; if the engine agrees with that one, the case counts as *references disagree* instead, and is "
+        "listed. A case whose reference ran out of its budget of "
+     << number(double(kExtremesReferenceBudget)) << " evaluations, or whose error exceeds the engine's tolerance, is "
+        "*reference unresolved*: not judged, counted and listed. f is the formula itself (error 0): only its "
+        "finiteness is judged. Measured models (merl, tabulated) need a data file and "
+        "are not in this grid.\n\n"
+     << "| model | specs | cases | non-finite | not converged | dishonest | references disagree | reference unresolved | "
+        "seconds (summed over cases) |\n"
+     << "|---|---|---|---|---|---|---|---|---|\n";
+  ExtremesRow total;
+  total.model = "**total**";
+  for (const auto& r : rows) {
+    md << "| " << r.model << " | " << r.specs << " | " << r.cases << " | " << r.non_finite << " | "
+       << r.not_converged << " | " << r.dishonest << " | " << r.references_disagree << " | " << r.unresolved << " | "
+       << number(r.seconds) << " |\n";
+    total.specs += r.specs, total.cases += r.cases, total.non_finite += r.non_finite;
+    total.not_converged += r.not_converged, total.dishonest += r.dishonest;
+    total.references_disagree += r.references_disagree, total.unresolved += r.unresolved;
+    total.seconds += r.seconds;
+  }
+  md << "| " << total.model << " | " << total.specs << " | " << total.cases << " | " << total.non_finite << " | "
+     << total.not_converged << " | " << total.dishonest << " | " << total.references_disagree << " | "
+     << total.unresolved << " | " << number(total.seconds) << " |\n\n"
+     << "- 0 non-finite results: **" << (total.non_finite == 0 ? "met" : "missed") << "** (" << total.non_finite
+     << " of " << total.cases << ").\n"
+     << "- 0 dishonest results: **" << (total.dishonest == 0 ? "met" : "missed") << "** (" << total.dishonest
+     << " of " << total.cases << "; " << total.references_disagree << " more where the references disagree, " << total.unresolved << " not judged: reference unresolved).\n";
+  flagged_table(md, rows);
+  refused_list(md, rows);
+  return md.str();
+}
+
+}  // namespace ganzfeld

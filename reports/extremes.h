@@ -1,0 +1,79 @@
+// The extremes grid (issue #20, section 2): every registered model (and mixtures) with its
+// parameters at the ends of their documented ranges, the laws f, g, h, a at extreme directions
+// (i·n ∈ {−1, −0.999, 0, 1e-9, 1e-6, 1}, j·n ∈ {0, 1e-9, 1e-6, 1}, φ ∈ {0, π/2, π}), the engine
+// at a fixed absolute tolerance judged against the independent reference (reference/, Boost
+// quadrature written apart from integrate/). Each result is finite or not; converged or not; and
+// when converged, honest (|engine − reference| ≤ engine estimate + reference error) or dishonest.
+// Where the engine disagrees with the reference, a second, differently built reference decides:
+// if that one agrees with the engine the case counts as "references disagree", listed, not dropped.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "integrate/laws.h"
+
+namespace ganzfeld {
+
+struct ExtremesOptions {
+  double engine_tolerance = 1e-8;  ///< the engine's absolute tolerance on every integral
+  /// Only these catalogue model names ("mixture" for the mixtures); empty: every model.
+  std::vector<std::string> models;
+  /// The slice ctest runs: the default spec of each model and the grid's corners only.
+  bool quick = false;
+  /// The whole direction grid, but each model at its defaults (and the extra specs) only: the
+  /// parameters' ends multiply the run time by about ten.
+  bool defaults_only = false;
+};
+
+/// One spec of the grid and why it is there ("default", "alpha=min", ...).
+struct ExtremesSpec {
+  std::string model, spec, why;
+};
+
+/// The specs of the grid: each model's defaults, each parameter at either end of its range (an
+/// exponent's end is capped at kExtremesExponentCap), and the extra cases listed in extremes.cpp
+/// (anisotropic radii, mixtures). Measured models need a data file and are skipped here.
+std::vector<ExtremesSpec> extremes_specs(const ExtremesOptions& options);
+/// The issue's α ∈ {min, 1000}: beyond 1000 a lobe is narrower than the reference resolves.
+inline constexpr double kExtremesExponentCap = 1000.0;
+/// Evaluations of f the reference may spend on one case (about a second) before the case is
+/// reported as unresolved.
+inline constexpr long long kExtremesReferenceBudget = 5'000'000;
+
+struct ExtremesCase {
+  std::string spec;
+  Law law = Law::f;
+  Vec3 i{0, 0, 1}, j{0, 0, 1};
+  std::string where;  ///< "i·n=..., j·n=..., phi=..."
+  Estimate engine;
+  double reference = 0.0, reference_error = 0.0;
+  double second_reference = 0.0, second_reference_error = 0.0;  ///< computed only when the first disagrees
+  bool finite = true, converged = true, dishonest = false, references_disagree = false;
+  /// The reference ran out of its budget or its error exceeds the engine's tolerance: this case
+  /// is not judged (counted and listed, not dropped).
+  bool reference_unresolved = false;
+};
+
+struct ExtremesRow {
+  std::string model;
+  int specs = 0;
+  std::vector<std::string> refused;  ///< specs the parser refused (e.g. kd + ks > 1), with its message
+  int cases = 0, non_finite = 0, not_converged = 0, dishonest = 0, references_disagree = 0, unresolved = 0;
+  double seconds = 0.0;             ///< wall time of the model's cases
+  std::vector<ExtremesCase> flagged;  ///< every non-finite, not converged, dishonest or doubtful case
+};
+
+/// Runs the grid (cases in parallel; rows in catalogue order).
+std::vector<ExtremesRow> extremes_report(const ExtremesOptions& options);
+
+/// Judges one case: engine at the tolerance against the reference (and the second reference when
+/// they disagree). Exposed for the tests.
+ExtremesCase judge_case(const Model& model, Law law, const Vec3& i, const Vec3& j, double engine_tolerance);
+
+/// The section of docs/reliability.md: the method, the per-model table, the targets met or
+/// missed and every flagged case; `command` is the stamp, `seconds` the run's wall time.
+std::string extremes_markdown(const std::vector<ExtremesRow>& rows, const ExtremesOptions& options,
+                              const std::string& command, double seconds);
+
+}  // namespace ganzfeld
