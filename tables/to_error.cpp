@@ -156,14 +156,13 @@ Table bake_to_error(const Model& model, Law law, const BakeOptions& requested) {
     options.resolution = next;
     options.interpolation = next_interpolation;
   }
-  // The best error B allows, extrapolated from the last estimates (error ~ bytes^(-p/dims)).
-  const double reachable =
-      best_bytes > 0.0 ? best_error * std::pow(static_cast<double>(cap) / best_bytes, -order(options.interpolation) / dims)
-                       : best_error;
+  // Only what was measured: an extrapolation to the cap said "about X within the cap" with X
+  // below E while refusing E (issue #15's note), i.e. a number no bake had checked.
   throw InputError("cannot reach --max-error " + format_number(E) + " for law " + to_string(law) + " of '" +
                    model.spec() + "' within " + std::to_string(cap) + " value bytes (" +
                    (requested.max_bytes ? "--max-bytes" : "the default cap") + "); the best this search found is " +
-                   format_number(best_error) + ", about " + format_number(reachable) + " within the cap");
+                   format_number(best_error) + " in " + format_number(best_bytes) + " value bytes (the search bakes at most " +
+                   std::to_string(kMaxSearchBakes) + " tables)");
 }
 
 }  // namespace ganzfeld::tables
