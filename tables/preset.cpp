@@ -201,6 +201,13 @@ std::vector<Task> texel_tasks(const ParamTable& table, const std::vector<Base>& 
   return tasks;
 }
 
+/// Whether validation point m is the first of its parameter value (the points come sorted by
+/// parameter): e_avg depends on the parameter only, so it is integrated there once and every
+/// later point of that parameter reads it from there.
+bool starts_parameter(const std::vector<std::pair<double, double>>& points, std::size_t m) {
+  return m == 0 || points[m].first != points[m - 1].first;
+}
+
 /// Tasks for every base at every validation point (e_avg once per distinct parameter, at the
 /// slot of its first point).
 std::vector<Task> validation_tasks(const std::vector<std::pair<double, double>>& points,
@@ -208,7 +215,7 @@ std::vector<Task> validation_tasks(const std::vector<std::pair<double, double>>&
   std::vector<Task> tasks;
   for (Base b : bases)
     for (std::size_t m = 0; m < points.size(); ++m)
-      if (b != Base::e_avg || m == 0 || points[m].first != points[m - 1].first)
+      if (b != Base::e_avg || starts_parameter(points, m))
         tasks.push_back({b, alpha_of(axis, points[m].first), points[m].second, m});
   return tasks;
 }
@@ -225,7 +232,7 @@ void validate_lookup(ParamTable& table, const std::vector<ChannelRecipe>& channe
     const double max_texel = ch.max_error();
     std::size_t m_avg = 0;
     for (std::size_t m = 0; m < points.size(); ++m) {
-      if (m > 0 && points[m].first != points[m - 1].first) m_avg = m;
+      if (starts_parameter(points, m)) m_avg = m;
       bool converged = true;
       const auto [value, error] = combine(channel_recipes[c], estimates, m, m_avg, converged);
       if (!std::isfinite(value) || !std::isfinite(error))
