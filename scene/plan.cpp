@@ -66,7 +66,13 @@ PlannedTable obtain_table(TableRequest request, const TableStore& store) {
   PlannedTable out;
   if (store.before_bake) store.before_bake(request);
   if (store.cache_dir.empty()) {
-    out.table = std::make_shared<const tables::Table>(tables::bake(*request.model, request.law, request.options));
+    // Not stored, but stamped all the same: what exports and renders say made their tables
+    // (the file name is the one the cache would give it).
+    tables::Table table = tables::bake(*request.model, request.law, request.options);
+    if (store.command_line)
+      table.command = store.command_line(
+          bake_command(request, tables::cache_path("", *request.model, request.law, request.options)));
+    out.table = std::make_shared<const tables::Table>(std::move(table));
   } else {
     const std::string path = tables::cache_path(store.cache_dir, *request.model, request.law, request.options);
     const std::string command = store.command_line ? store.command_line(bake_command(request, path)) : "";

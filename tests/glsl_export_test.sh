@@ -97,6 +97,10 @@ EOF
 "$G" export-glsl --scene "$tmp/scene.json" --out "$tmp/scene_v2" --max-error 1e-2 --texture none --quiet \
   && ok || fail "export --scene --max-error"
 grep -q "gz_lookup3_catmull_rom" "$tmp/scene_v2/ganzfeld_scene.glsl" && ok || fail "scene v2 shader without Catmull–Rom"
+# Tables baked in memory (no --cache) still say which command bakes them: six "made by" lines,
+# each a bake of one of the scene's lobes to the requested error.
+[ "$(grep -c '^// made by: ganzfeld bake --model [a-z-]*:[a-z]*=[0-9]* --law [gh] --max-error 0.01 ' \
+  "$tmp/scene_v2/ganzfeld_scene.glsl")" = 6 ] && ok || fail "scene tables baked in memory lack their bake command"
 for version in "430 core" "300 es"; do
   compile "$tmp/scene_out/ganzfeld_scene.glsl" "$version" "" "gz_scene_radiance(1, vec3(0.0, 0.0, 1.0), vec3(0.0, 0.6, 0.8)), 1.0" ""
   compile "$tmp/scene_v2/ganzfeld_scene.glsl" "$version" "" "gz_scene_radiance(1, vec3(0.0, 0.0, 1.0), vec3(0.0, 0.6, 0.8)), 1.0" ""
