@@ -29,8 +29,6 @@ namespace ganzfeld::bench {
 namespace {
 
 using std::numbers::pi;
-constexpr double kErrorFloor = 1e-16;  // achieved errors below double rounding count as this
-
 
 struct Case {
   ModelPtr model;
@@ -175,7 +173,7 @@ using BreakPoints = std::array<std::vector<double>, 2>;
 /// Independent reference (reference/): Boost gauss_kronrod<61>, nested, with break points at the
 /// lobe, to a relative 1e-12 at depth 6, on the same rectangle as ours (the hemisphere's edge axis
 /// as our lune puts it, so that both see the same coordinates).
-double boost_reference(const Case& c, const Lune& lune) {
+reference::Value boost_reference(const Case& c, const Lune& lune) {
   reference::Options options;
   options.tolerance = 1e-12;
   options.max_depth = 6;
@@ -184,8 +182,7 @@ double boost_reference(const Case& c, const Lune& lune) {
   const auto [t_lobe, phi_lobe] = coordinates.coordinates(c.lobe);
   return reference::lune_integral([&](const Vec3& k) { return c.model->f(k, c.j); }, coordinates,
                                   reference::cuts(-pi / 2, pi / 2, {t_lobe}),
-                                  reference::cuts(coordinates.psi_lo, coordinates.psi_hi, {phi_lobe}), options)
-      .value;
+                                  reference::cuts(coordinates.psi_lo, coordinates.psi_hi, {phi_lobe}), options);
 }
 
 int cubature_callback(unsigned, const double* x, void* data, unsigned, double* out) {
@@ -194,7 +191,8 @@ int cubature_callback(unsigned, const double* x, void* data, unsigned, double* o
   return 0;
 }
 
-Run run_libcubature(const Case& c, const Lune& lune, double tol, long long cap, bool naive, bool p_adaptive, double ref) {
+Run run_libcubature(const Case& c, const Lune& lune, double tol, long long cap, bool naive, bool p_adaptive,
+                    const Reference& ref) {
   Integrand in{&c, lune, 0, cap, false};
   std::pair<Integrand*, bool> data{&in, naive};
   const double lo_lune[2] = {-pi / 2, lune.phi_lo}, hi_lune[2] = {pi / 2, pi / 2};
@@ -204,34 +202,31 @@ Run run_libcubature(const Case& c, const Lune& lune, double tol, long long cap, 
   auto fn = p_adaptive ? pcubature : hcubature;
   const int status = fn(1, cubature_callback, &data, 2, naive ? lo_hemi : lo_lune, naive ? hi_hemi : hi_lune,
                         static_cast<size_t>(cap), tol, 0.0, ERROR_INDIVIDUAL, &value, &error);
-  Run r;
-  r.competitor = naive ? "hcubature_naive" : (p_adaptive ? "pcubature_lune" : "hcubature_lune");
-  r.tolerance = tol;
+  Run r = measured(naive ? "hcubature_naive" : (p_adaptive ? "pcubature_lune" : "hcubature_lune"), value, error,
+                   tol, ref);
   r.seconds = start.seconds();
   r.evaluations = in.count;
-  r.estimate = error;
-  r.achieved_error = std::max(std::abs(value - ref), kErrorFloor);
   r.capped = in.count >= cap;
   r.claimed = status == 0 && !r.capped && error <= tol;
   return r;
 }
 
 template <class Nested>
-Run run_boost(const std::string& name, const Case& c, const Lune& lune, double tol, long long cap, double ref, Nested nested) {
+Run run_boost(const std::string& name, const Case& c, const Lune& lune, double tol, long long cap, const Reference& ref,
+              Nested nested) {
   Integrand in{&c, lune, 0, cap, true};
-  Run r;
-  r.competitor = name;
-  r.tolerance = tol;
+  // No value: the error is infinite (and the estimate too, so that no verdict calls it dishonest).
+  const double inf = std::numeric_limits<double>::infinity();
+  Run r = measured(name, inf, inf, tol, ref);
   const util::Stopwatch start;
   try {
-    const double value = nested(in, tol, r.estimate);
-    r.achieved_error = std::max(std::abs(value - ref), kErrorFloor);
+    double estimate = 0.0;
+    const double value = nested(in, tol, estimate);
+    r = measured(name, value, estimate, tol, ref);
     r.claimed = r.estimate <= tol;
   } catch (const CappedOut&) {
     r.capped = true;
-    r.achieved_error = std::numeric_limits<double>::infinity();
   } catch (const std::exception&) {  // e.g. tanh_sinh refusing a non-finite value
-    r.achieved_error = std::numeric_limits<double>::infinity();
   }
   r.seconds = start.seconds();
   r.evaluations = in.count;
@@ -280,10 +275,11 @@ const GaussLegendre& gauss_legendre(int n) {
 }
 
 /// The oracle: composite n×n Gauss–Legendre on our initial grid, n as small as hindsight allows.
-Run run_oracle(const Case& c, const Lune& lune, const BreakPoints& cuts, double target, double ref) {
+Run run_oracle(const Case& c, const Lune& lune, const BreakPoints& cuts, double target, const Reference& ref) {
   Run r;
   r.competitor = "oracle";
   r.tolerance = target;
+  r.resolution = ref.resolution();
   const util::Stopwatch start;
   for (int n : {2, 3, 4, 5, 6, 7, 8, 10, 12, 14, 16, 20, 24, 28, 32, 40, 48, 64, 80, 96, 128, 160, 192, 256}) {
     const GaussLegendre& gl = gauss_legendre(n);
@@ -298,7 +294,7 @@ Run run_oracle(const Case& c, const Lune& lune, const BreakPoints& cuts, double 
             sum += ht * hp * gl.w[p] * gl.w[q] * in.lune_point(ct + ht * gl.x[p], cp + hp * gl.x[q]);
       }
     r.evaluations = in.count;
-    r.achieved_error = std::max(std::abs(sum - ref), kErrorFloor);
+    r.achieved_error = std::abs(sum - ref.value);
     if (r.achieved_error <= target) break;
   }
   r.capped = r.achieved_error > target;
@@ -307,7 +303,7 @@ Run run_oracle(const Case& c, const Lune& lune, const BreakPoints& cuts, double 
 }
 
 /// Monte Carlo as real-time engines bake: cosine-weighted directions, estimator pi f [k·i > 0].
-Run run_monte_carlo(const Case& c, double budget_seconds, double ref, std::uint64_t seed) {
+Run run_monte_carlo(const Case& c, double budget_seconds, const Reference& ref, std::uint64_t seed) {
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> u(0.0, 1.0);
   auto sample = [&] {
@@ -326,9 +322,10 @@ Run run_monte_carlo(const Case& c, double budget_seconds, double ref, std::uint6
   } while (start.seconds() < budget_seconds && n < 100'000'000);
   Run r;
   r.competitor = "mc";
+  r.resolution = ref.resolution();
   r.evaluations = n;
   r.seconds = start.seconds();
-  r.achieved_error = std::abs(sum / n - ref);  // no floor: MC's error is what it is
+  r.achieved_error = std::abs(sum / n - ref.value);  // no floor: MC's error is what it is
   return r;
 }
 
@@ -342,6 +339,28 @@ std::pair<double, bool> cost_to_reach(const std::vector<Run>& runs, const std::s
 }
 
 }  // namespace
+
+double Reference::resolution() const {
+  return error + doubt + kRoundingUlps * std::numeric_limits<double>::epsilon() * std::abs(value);
+}
+
+Run measured(const std::string& competitor, double value, double estimate, double tolerance, const Reference& reference) {
+  Run r;
+  r.competitor = competitor;
+  r.tolerance = tolerance;
+  r.estimate = estimate;
+  r.achieved_error = std::abs(value - reference.value);  // no floor: see resolution()
+  r.resolution = reference.resolution();
+  return r;
+}
+
+// The resolution is added to the bound, never to (nor as a floor under) the error: an error the
+// references cannot tell from 0 passes any bound, a real one is judged as measured.
+Verdict judge(const Run& run) {
+  return {run.achieved_error > run.tolerance + run.resolution, run.achieved_error > run.estimate + run.resolution};
+}
+
+double Miss::excess() const { return achieved_error / (std::min(tolerance, estimate) + resolution); }
 
 CubatureBenchOptions quick_options() {
   CubatureBenchOptions o;
@@ -363,7 +382,7 @@ struct CaseResult {
   bool skipped = false;
   std::vector<Run> runs;
   std::map<std::string, std::pair<double, bool>> ratio;  // (ratio, capped)
-  double mc_ratio = 0.0;
+  std::optional<double> mc_ratio;  // none when both MC and ours are exact
   int missed = 0, dishonest = 0, ours = 0;
   std::vector<Miss> misses;
   std::map<std::string, Failures> failures;
@@ -371,51 +390,56 @@ struct CaseResult {
 };
 
 /// Our run at `tol` through the counting wrapper, capped like the peers.
-Run run_ours(const Case& c, double tol, long long cap, double ref, bool hints) {
+Run run_ours(const Case& c, double tol, long long cap, const Reference& ref, bool hints) {
   const CountingModel counted(*c.model, hints);
   CubatureOptions o;
   o.abs_tol = tol;
   o.max_evaluations = cap;
   const util::Stopwatch start;
   const Estimate e = vignetting(counted, c.i, c.j, o);
-  Run r{hints ? "ours" : "ours_no_hints", tol, std::max(std::abs(e.value - ref), kErrorFloor), e.error,
-        start.seconds(), counted.count(), false, e.converged};
+  Run r = measured(hints ? "ours" : "ours_no_hints", e.value, e.error, tol, ref);
+  r.seconds = start.seconds();
+  r.evaluations = counted.count();
+  r.claimed = e.converged;
   r.capped = !e.converged && counted.count() >= cap;
   return r;
 }
 
-/// Counts a run's failure; `doubt` is the references' disagreement, which no verdict may blame
-/// on the competitor.
-void count_failure(const Run& r, double doubt, std::map<std::string, Failures>& failures) {
+/// Counts a run's failure and its verdicts (judge(): beyond the case's resolution).
+void count_failure(const Run& r, std::map<std::string, Failures>& failures) {
   Failures& f = failures[r.competitor];
+  const Verdict v = judge(r);
   ++f.runs;
+  f.missed += v.missed;
+  f.dishonest += v.dishonest;
   if (r.capped) ++f.over_cap;
   else if (!r.claimed) ++f.not_converged;
-  else if (r.achieved_error > r.tolerance + doubt) ++f.silently_wrong;
+  else if (v.missed) ++f.silently_wrong;
 }
 
-/// Ours: missed (error above the tolerance) or dishonest (error above the estimate), beyond doubt.
-void judge_ours(const Case& c, const Run& r, double doubt, CaseResult& out) {
+/// Ours: missed (error above the tolerance) or dishonest (error above the estimate), beyond the
+/// case's resolution; each such run is kept with its case, to be reproduced with `ganzfeld eval`.
+void judge_ours(const Case& c, const Run& r, CaseResult& out) {
   ++out.ours;
-  const bool missed = r.achieved_error > r.tolerance + doubt, dishonest = r.achieved_error > r.estimate + doubt;
-  out.missed += missed;
-  out.dishonest += dishonest;
-  if (missed || dishonest)
+  const Verdict v = judge(r);
+  out.missed += v.missed;
+  out.dishonest += v.dishonest;
+  if (v.missed || v.dishonest)
     out.misses.push_back({c.model->spec(), {c.i.x, c.i.y, c.i.z}, {c.j.x, c.j.y, c.j.z}, r.tolerance,
-                          r.achieved_error, r.estimate, r.evaluations});
+                          r.achieved_error, r.estimate, r.resolution, r.evaluations});
 }
 
 /// The references of a case: Boost GK61 (independent, the one every competitor is judged by) and
 /// ours at 1e-13; their difference is the doubt every verdict allows.
-std::pair<double, double> references(const Case& c, const Lune& lu, CaseResult& out) {
+Reference references(const Case& c, const Lune& lu, CaseResult& out) {
   CubatureOptions ref_options;
   ref_options.abs_tol = 1e-13;
   ref_options.max_evaluations = 500'000'000;
   const double ours = vignetting(*c.model, c.i, c.j, ref_options).value;
-  const double boost = boost_reference(c, lu);
-  if (std::abs(ours - boost) > kReferenceAgreement)
-    out.disagreement = Disagreement{c.model->spec(), {c.i.x, c.i.y, c.i.z}, {c.j.x, c.j.y, c.j.z}, boost, ours};
-  return {boost, std::abs(ours - boost)};
+  const reference::Value boost = boost_reference(c, lu);
+  if (std::abs(ours - boost.value) > kReferenceAgreement)
+    out.disagreement = Disagreement{c.model->spec(), {c.i.x, c.i.y, c.i.z}, {c.j.x, c.j.y, c.j.z}, boost.value, ours};
+  return {boost.value, std::abs(ours - boost.value), boost.total_error()};
 }
 
 CaseResult run_case(const Case& c, const CubatureBenchOptions& options, std::uint64_t mc_seed) {
@@ -425,7 +449,7 @@ CaseResult run_case(const Case& c, const CubatureBenchOptions& options, std::uin
     out.skipped = true;
     return out;
   }
-  const auto [ref, doubt] = references(c, lu, out);
+  const Reference ref = references(c, lu, out);
   const long long cap = options.competitor_cap;
   for (double tol : options.tolerances) {
     std::vector<Run> runs{run_ours(c, tol, cap, ref, true), run_ours(c, tol, cap, ref, false),
@@ -434,8 +458,8 @@ CaseResult run_case(const Case& c, const CubatureBenchOptions& options, std::uin
                           run_libcubature(c, lu, tol, cap, false, true, ref),
                           run_boost("boost_gauss_kronrod", c, lu, tol, cap, ref, nested_gauss_kronrod),
                           run_boost("boost_tanh_sinh", c, lu, tol, cap, ref, nested_tanh_sinh)};
-    judge_ours(c, runs.front(), doubt, out);
-    for (const Run& r : runs) count_failure(r, doubt, out.failures);
+    judge_ours(c, runs.front(), out);
+    for (const Run& r : runs) count_failure(r, out.failures);
     out.runs.insert(out.runs.end(), runs.begin(), runs.end());
   }
   const double target = options.ratio_tolerance;
@@ -445,13 +469,15 @@ CaseResult run_case(const Case& c, const CubatureBenchOptions& options, std::uin
     const auto [cost, capped] = cost_to_reach(out.runs, who, target, cap);
     out.ratio[who] = {cost / ours_cost, capped};
   }
-  // Monte Carlo with our wall time at the ratio tolerance; ours floored at what the references
-  // resolve (below that our error is not measured, and a smaller floor would inflate the ratio).
+  // Monte Carlo with our wall time at the ratio tolerance. Neither error is floored; ours counts
+  // as at least the case's resolution, below which it is not measured (a smaller divisor would
+  // inflate the ratio). Both exact (0 / 0) leaves the ratio undefined: the case is left out.
   for (const Run& r : std::vector<Run>(out.runs))
     if (r.competitor == "ours" && r.tolerance == target) {
       const Run mc = run_monte_carlo(c, std::max(r.seconds, 1e-4), ref, mc_seed);
       out.runs.push_back(mc);
-      out.mc_ratio = mc.achieved_error / std::max({r.achieved_error, doubt, kReferenceResolution});
+      const double ours = std::max(r.achieved_error, r.resolution);
+      if (ours > 0.0 && mc.achieved_error > 0.0) out.mc_ratio = mc.achieved_error / ours;
     }
   return out;
 }
@@ -462,6 +488,7 @@ FamilyResult summarize(const std::string& name, const std::vector<CaseResult>& p
   fr.name = name;
   std::map<std::string, double> log_sum;
   double mc_log_sum = 0.0;
+  int mc_cases = 0;
   int total_ours = 0, missed = 0, dishonest = 0;
   for (const CaseResult& cr : per_case) {
     if (cr.skipped) {
@@ -476,19 +503,19 @@ FamilyResult summarize(const std::string& name, const std::vector<CaseResult>& p
       log_sum[who] += std::log(rc.first);
       if (rc.second) ++fr.capped[who];
     }
-    mc_log_sum += std::log(std::max(cr.mc_ratio, 1e-300));
+    if (cr.mc_ratio) mc_log_sum += std::log(*cr.mc_ratio), ++mc_cases;
     fr.runs.insert(fr.runs.end(), cr.runs.begin(), cr.runs.end());
     fr.misses.insert(fr.misses.end(), cr.misses.begin(), cr.misses.end());
     for (const auto& [who, f] : cr.failures) {
       Failures& sum = fr.failures[who];
       sum.runs += f.runs, sum.silently_wrong += f.silently_wrong, sum.not_converged += f.not_converged,
-          sum.over_cap += f.over_cap;
+          sum.over_cap += f.over_cap, sum.missed += f.missed, sum.dishonest += f.dishonest;
     }
     if (cr.disagreement) fr.disagreements.push_back(*cr.disagreement);
   }
   if (fr.cases > 0) {
     for (const auto& [who, s] : log_sum) fr.evals_ratio[who] = std::exp(s / fr.cases);
-    fr.mc_error_ratio_equal_time = std::exp(mc_log_sum / fr.cases);
+    fr.mc_error_ratio_equal_time = mc_cases ? std::exp(mc_log_sum / mc_cases) : 0.0;
     fr.missed_rate = double(missed) / total_ours;
     fr.dishonest_rate = double(dishonest) / total_ours;
   }
@@ -524,7 +551,9 @@ std::map<std::string, std::vector<std::pair<double, double>>> work_precision(con
       if (r.competitor == "mc" || r.competitor == "oracle" || !std::isfinite(r.achieved_error) || r.evaluations <= 0) continue;
       auto& a = acc[r.competitor][r.tolerance];
       a[0] += std::log(double(r.evaluations));
-      a[1] += std::log(r.achieved_error);
+      // A geometric mean cannot take an exact 0: an error below the case's resolution is plotted
+      // at the resolution (what it is measured to), the same rule as the Monte Carlo ratio's.
+      a[1] += std::log(std::max({r.achieved_error, r.resolution, std::numeric_limits<double>::min()}));
       a[2] += 1;
     }
   std::map<std::string, std::vector<std::pair<double, double>>> out;
@@ -571,8 +600,16 @@ void method_section(std::ostringstream& md, const CubatureBenchOptions& options,
         "lobe, written in reference/ apart from integrate/ (it shares only the lune's parametrization). Ours at "
         "1e-13 is computed too; where the two differ by more than "
      << number(kReferenceAgreement)
-     << " the case is kept and listed below, and every verdict (missed, silently wrong, dishonest) allows for "
-        "the references' difference, so that no competitor is blamed for a doubtful reference.\n\n"
+     << " the case is kept and listed below.\n\n"
+        "**Verdicts.** Achieved errors are |value − reference|, never floored. A run *missed* when its error "
+        "exceeds the requested tolerance, and is *dishonest* when it exceeds the run's own error estimate, each "
+        "beyond the case's resolution: the reference's own stated error (Boost's estimates) plus the references' "
+        "difference plus "
+     << number(kRoundingUlps)
+     << " ulps of |reference| (the rounding the engine allows for its own sums, granted to the reference; the "
+        "integrands are nonnegative, so |reference| is their L1 norm). So an answer exact to rounding on a value "
+        "of about 0 is not called dishonest for stating a tinier estimate, and no competitor is blamed for a "
+        "doubtful reference.\n\n"
         "**Ratios** are (competitor's evaluations) / (ours) to reach an achieved error ≤ "
      << number(options.ratio_tolerance)
      << ", each taking its cheapest run that does (geometric mean over the cases); a competitor that never gets "
@@ -580,8 +617,8 @@ void method_section(std::ostringstream& md, const CubatureBenchOptions& options,
         "our engine with the model's mass hints hidden: the information the peers get. The *oracle* is the "
         "cheapest *uniform* composite Gauss–Legendre rule on our initial grid (our cuts), n chosen in hindsight: "
         "what a well-placed fixed rule costs, not a lower bound for adaptive rules. *MC error ratio* is "
-        "(Monte Carlo error) / (ours) at equal wall time, ours floored at "
-     << number(kReferenceResolution) << " (what the references resolve).\n\n";
+        "(Monte Carlo error) / (ours) at equal wall time, neither floored; ours counts as at least the case's "
+        "resolution, below which it is not measured (cases where both are exact are left out).\n\n";
 }
 
 void ratio_table(std::ostringstream& md, const std::vector<FamilyResult>& families) {
@@ -685,16 +722,73 @@ void disagreements_section(std::ostringstream& md, const std::vector<FamilyResul
           "| family | model | i | j | Boost GK61 | ours at 1e-13 | difference |\n|---|---|---|---|---|---|---|", rows);
 }
 
+/// The competitors judged for missed / dishonest (each states an error estimate), in table order.
+const std::vector<std::string> kJudged{"ours", "ours_no_hints", "hcubature_lune", "pcubature_lune", "hcubature_naive",
+                                       "boost_gauss_kronrod", "boost_tanh_sinh"};
+
+/// Our listed runs stay in the page when there are at most this many; more go in a collapsed block.
+constexpr std::size_t kListedRunsInline = 30;
+
+std::string eval_command(const Miss& m) {
+  return "ganzfeld eval --model " + m.model + " --law g --i " + triple(m.i, 17) + " --j " + triple(m.j, 17) +
+         " --tol " + number(m.tolerance);
+}
+
+void verdict_table(std::ostringstream& md, const std::vector<FamilyResult>& families) {
+  md << "Runs judged as in *Verdicts* above; a cell is *missed / dishonest* out of the family's runs of that "
+        "competitor (every case at every tolerance). The oracle and Monte Carlo state no estimate and are not "
+        "judged here.\n\n| family | runs each |";
+  for (const auto& who : kJudged) md << " " << who << " |";
+  md << "\n|---|---|";
+  for (std::size_t k = 0; k < kJudged.size(); ++k) md << "---|";
+  md << "\n";
+  for (const auto& f : families) {
+    const auto ours = f.failures.find("ours");
+    md << "| " << f.name << " | " << (ours == f.failures.end() ? 0 : ours->second.runs) << " |";
+    for (const auto& who : kJudged) {
+      const auto it = f.failures.find(who);
+      md << " " << (it == f.failures.end() ? std::string("—") : std::to_string(it->second.missed) + " / " +
+                                                                    std::to_string(it->second.dishonest))
+         << " |";
+    }
+    md << "\n";
+  }
+}
+
+void worst_of_ours(std::ostringstream& md, const std::vector<FamilyResult>& families) {
+  md << "\nThe worst of our runs per family (largest error / (what it promised, min(tol, estimate), + resolution)), "
+        "reproducible with the command shown:\n\n";
+  bool any = false;
+  for (const auto& f : families) {
+    if (f.misses.empty()) continue;
+    any = true;
+    const Miss& m = *std::max_element(f.misses.begin(), f.misses.end(),
+                                      [](const Miss& a, const Miss& b) { return a.excess() < b.excess(); });
+    md << "- " << f.name << ": error " << number(m.achieved_error) << ", estimate " << number(m.estimate)
+       << ", tol " << number(m.tolerance) << ", resolution " << number(m.resolution) << " (" << number(m.excess())
+       << "×): `" << eval_command(m) << "`\n";
+  }
+  if (!any) md << "- none: no run of ours missed or was dishonest in this run.\n";
+}
+
 void misses_section(std::ostringstream& md, const std::vector<FamilyResult>& families) {
+  md << "\n## Missed tolerances and dishonest estimates, per family\n\n";
+  verdict_table(md, families);
+  worst_of_ours(md, families);
   std::vector<std::string> rows;
   for (const auto& f : families)
     for (const auto& m : f.misses)
       rows.push_back("| " + f.name + " | `" + m.model + "` | " + triple(m.i, 17) + " | " + triple(m.j, 17) + " | " +
                      number(m.tolerance) + " | " + number(m.achieved_error) + " | " + number(m.estimate) + " | " +
-                     std::to_string(m.evaluations) + " |");
-  listing(md, "Our missed tolerances and dishonest estimates",
-          "Each reproducible with `ganzfeld eval --model SPEC --law g --i I --j J --tol TOL`.",
-          "| family | model | i | j | tol | achieved error | estimate | evaluations |\n|---|---|---|---|---|---|---|---|", rows);
+                     number(m.resolution) + " | " + std::to_string(m.evaluations) + " |");
+  if (rows.empty()) return;
+  const bool collapsed = rows.size() > kListedRunsInline;
+  md << "\n" << (collapsed ? "<details><summary>All " + std::to_string(rows.size()) + " of our listed runs</summary>\n\n"
+                            : std::string("All of our listed runs:\n\n"))
+     << "| family | model | i | j | tol | achieved error | estimate | resolution | evaluations |\n"
+        "|---|---|---|---|---|---|---|---|---|\n";
+  for (const std::string& row : rows) md << row << "\n";
+  if (collapsed) md << "\n</details>\n";
 }
 
 void bake_section(std::ostringstream& md, const std::vector<BakeTiming>& bakes) {
@@ -721,7 +815,10 @@ std::string performance_markdown(const std::vector<FamilyResult>& families, cons
      << "# Cubature performance against the peers\n\n";
   method_section(md, options, command);
   ratio_table(md, families);
-  if (!plot_file.empty()) md << "\n![work-precision](" << plot_file << ")\n";
+  if (!plot_file.empty())
+    md << "\n![work-precision](" << plot_file
+       << ")\n\nIn the plot, an error below its case's resolution is drawn at the resolution (a geometric mean "
+          "cannot take an exact 0).\n";
   failure_table(md, families);
   targets_section(md, families, bakes);
   disagreements_section(md, families);

@@ -20,8 +20,9 @@
 // The reference of every case is independent of integrate/: Boost gauss_kronrod<61>, nested, with
 // break points at the lobe (bench/, written apart from the engine). Ours at 1e-13 is computed
 // too; where the two differ by more than kReferenceAgreement the case is *kept* and listed
-// (FamilyResult::disagreements), and every verdict allows for their difference: a run counts as
-// missed / silently wrong only when its error exceeds the tolerance by more than |ref1 - ref2|.
+// (FamilyResult::disagreements). Every verdict (judge()) compares the unfloored achieved error
+// with the tolerance or the run's estimate plus the case's resolution (Reference::resolution():
+// Boost's stated error + |ref1 - ref2| + kRoundingUlps of |ref|).
 #pragma once
 
 #include <map>
@@ -34,9 +35,21 @@ namespace ganzfeld::bench {
 using Vec3Triple = std::array<double, 3>;  // a direction, without pulling GLM into this header
 
 inline constexpr double kReferenceAgreement = 1e-12;
-/// Errors below this are not measured: the references themselves are known to about this (their
-/// typical difference), so ours is floored here in the Monte Carlo ratio.
-inline constexpr double kReferenceResolution = 1e-14;
+/// Rounding no double-precision cubature resolves on an integral of L1 norm `scale`: 50 ulps of
+/// it, the allowance the engine makes for its own sums (integrate/cubature.cpp, the panel's
+/// rounding term) granted to the reference's sums too. The benchmark's integrands are
+/// nonnegative ((k·n) f(k, j) cos t, f a BRDF), so their L1 norm is |reference|.
+inline constexpr double kRoundingUlps = 50.0;
+
+/// A case's reference: the independent value (Boost GK61, reference/), the doubt about it (its
+/// difference from ours at 1e-13) and its own stated error (Boost's estimates, outer + inner).
+struct Reference {
+  double value = 0.0, doubt = 0.0, error = 0.0;
+  /// What an achieved error is measured to on this case: the reference's stated error plus the
+  /// doubt plus kRoundingUlps of |value|. An error below it is not resolved; a verdict never
+  /// blames a run for less.
+  double resolution() const;
+};
 
 struct CubatureBenchOptions {
   int cases_per_family = 200;
@@ -49,11 +62,23 @@ CubatureBenchOptions quick_options();
 
 struct Run {  // one competitor at one requested tolerance on one case
   std::string competitor;
-  double tolerance = 0.0, achieved_error = 0.0, estimate = 0.0, seconds = 0.0;
+  /// achieved_error = |value - reference| exactly, no floor; resolution = Reference::resolution()
+  double tolerance = 0.0, achieved_error = 0.0, estimate = 0.0, seconds = 0.0, resolution = 0.0;
   long long evaluations = 0;
   bool capped = false;
   bool claimed = false;  ///< the competitor says it met the tolerance (converged, estimate <= tol)
 };
+
+/// A run's value measured against the case's reference (no floor on the error).
+Run measured(const std::string& competitor, double value, double estimate, double tolerance, const Reference& reference);
+
+/// The verdicts on one run, each beyond the case's resolution: missed = the achieved error
+/// exceeds the requested tolerance; dishonest = it exceeds the run's own error estimate. So an
+/// answer exact to rounding on a value of about 0 is neither, whatever tiny estimate it states.
+struct Verdict {
+  bool missed = false, dishonest = false;
+};
+Verdict judge(const Run& run);
 
 /// How a competitor's runs failed, counted over all requested tolerances of a family's cases.
 struct Failures {
@@ -61,6 +86,8 @@ struct Failures {
   int silently_wrong = 0;  ///< claimed the tolerance but missed it (beyond the references' doubt)
   int not_converged = 0;   ///< said it did not meet the tolerance, within the cap
   int over_cap = 0;        ///< stopped by the evaluation cap
+  int missed = 0;          ///< judge(): error above the tolerance, whatever the run claimed
+  int dishonest = 0;       ///< judge(): error above the run's own estimate (runs that state one)
 };
 
 /// A case whose two references differ by more than kReferenceAgreement: kept, and shown.
@@ -75,8 +102,10 @@ struct Disagreement {
 struct Miss {
   std::string model;
   Vec3Triple i{}, j{};
-  double tolerance = 0.0, achieved_error = 0.0, estimate = 0.0;
+  double tolerance = 0.0, achieved_error = 0.0, estimate = 0.0, resolution = 0.0;
   long long evaluations = 0;
+  /// How far the error exceeds what the run promised, min(tolerance, estimate), plus resolution.
+  double excess() const;
 };
 
 struct FamilyResult {
@@ -86,8 +115,9 @@ struct FamilyResult {
   double dishonest_rate = 0.0;   ///< fraction of our runs whose estimate < actual error
   std::map<std::string, double> evals_ratio;  ///< geometric mean over cases, at ratio_tolerance
   std::map<std::string, int> capped;          ///< cases where the competitor hit the cap (ratio is a lower bound)
-  double mc_error_ratio_equal_time = 0.0;     ///< geometric mean of MC error / our error (floored at
-                                              ///< what the references resolve, kReferenceResolution)
+  double mc_error_ratio_equal_time = 0.0;     ///< geometric mean of MC error / our error (ours taken
+                                              ///< as at least the case's resolution: below it, it is not
+                                              ///< measured); cases where both are exact are left out
   std::map<std::string, Failures> failures;   ///< per competitor (ours included)
   std::vector<Disagreement> disagreements;
   std::vector<Run> runs;                      ///< every run, for the work–precision plot

@@ -62,14 +62,15 @@ nlohmann::ordered_json cubature_report(const BenchArgs& args) {
     nlohmann::ordered_json misses = nlohmann::ordered_json::array();
     for (const auto& m : f.misses)
       misses.push_back({{"model", m.model}, {"i", m.i}, {"j", m.j}, {"tolerance", m.tolerance},
-                        {"achieved_error", m.achieved_error}, {"estimate", m.estimate}, {"evaluations", m.evaluations}});
+                        {"achieved_error", m.achieved_error}, {"estimate", m.estimate}, {"resolution", m.resolution},
+                        {"evaluations", m.evaluations}});
     nlohmann::ordered_json runs = nlohmann::ordered_json::array();
     for (const auto& r : f.runs)
       runs.push_back({r.competitor, r.tolerance, r.achieved_error, r.evaluations, r.seconds, r.capped, r.claimed});
     nlohmann::ordered_json failures;
     for (const auto& [who, x] : f.failures)
       failures[who] = {{"runs", x.runs}, {"silently_wrong", x.silently_wrong}, {"not_converged", x.not_converged},
-                       {"over_cap", x.over_cap}};
+                       {"over_cap", x.over_cap}, {"missed", x.missed}, {"dishonest", x.dishonest}};
     nlohmann::ordered_json disagreements = nlohmann::ordered_json::array();
     for (const auto& d : f.disagreements)
       disagreements.push_back({{"model", d.model}, {"i", d.i}, {"j", d.j}, {"boost_reference", d.boost_reference},

@@ -6,9 +6,10 @@
 //     widths and boundary layers of the integrand: design.md, "hints"), so that the first nodes
 //     cannot all miss a sharp lobe.
 //  2. On each panel apply the 15-point Kronrod rule in every axis (15^D nodes) and its embedded
-//     7-point Gauss rule; the panel's error is |K⊗K − G⊗G|, deliberately the raw, pessimistic
-//     difference (no QUADPACK power-law rescaling) so that the estimate bounds the true error.
-//     The per-axis differences |K⊗K − G⊗K| and |K⊗K − K⊗G| say which axis to split.
+//     7-point Gauss rule; the panel's error is the larger of |K⊗K − G⊗G| and the sum of the
+//     per-axis differences |K⊗K − G⊗K| + |K⊗K − K⊗G| (whose signs can cancel in the former),
+//     deliberately raw and pessimistic (no QUADPACK power-law rescaling) so that the estimate
+//     bounds the true error. The per-axis differences also say which axis to split.
 //  3. Repeatedly bisect the panel with the largest error along its worst axis until the summed
 //     error is below the absolute tolerance or the evaluation budget is spent. Not converging is
 //     a result (converged = false), never an exception and never a silent wrong value.

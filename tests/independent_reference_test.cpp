@@ -43,12 +43,11 @@ const std::vector<std::string>& models() {
   return specs;
 }
 
-/// Cases where the engine's estimate is below its actual error against this reference, found by
-/// this test and confirmed by the engine itself at 1e-12 (0.284666909227624 ± 9.9e-13 vs the
-/// reference's 0.284666909226393 ± 2.2e-12). Listed, not hidden: the test fails if the list
-/// changes either way (a new dishonest case, or this one fixed), and docs/architecture.md
-/// names it. The engine's raw |K - G| estimate undershoots here by 30%.
-const std::set<std::string> kKnownDishonest{"cook-torrance g at theta_i 35, theta_j 70, phi 0"};
+/// Cases where the engine's estimate is below its actual error against this reference. Listed,
+/// not hidden: the test fails if the list changes either way. Empty since the panel estimate
+/// became the larger of |K⊗K − G⊗G| and the per-axis differences' sum (integrate/cubature.cpp):
+/// the raw difference undershot cook-torrance g at theta_i 35, theta_j 70, phi 0 by 30%.
+const std::set<std::string> kKnownDishonest{};
 
 /// Records `what` in `dishonest` when the engine's answer is further from the reference than
 /// the engine's own estimate plus the reference's; a non-converged answer fails outright.
