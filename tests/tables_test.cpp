@@ -799,6 +799,10 @@ TEST(lut, MaxErrorBakeReportsAnHonestLookupError) {
 }
 
 TEST(lut, MaxErrorRefusesWhatCannotBeMet) {
+  // unorm16's floor is one code step of a range-1 table, 1/65535 (checked first and directly: a
+  // wrong floor would otherwise start a long search below it).
+  ASSERT_THROW(check_error_target(1.0 / 65536, 0, Law::g, Encoding::unorm16), InputError);
+  ASSERT_NO_THROW(check_error_target(1.0 / 65534, 0, Law::g, Encoding::unorm16));
   const ModelPtr model = parse_model("specular:alpha=100");
   auto refused = [&](double e, std::uint64_t bytes, Encoding enc, const std::string& fragment) {
     BakeOptions options;
