@@ -165,7 +165,7 @@ void TableOptionArgs::add_to(CLI::App& app, const scene::TableOptions& defaults)
   app.add_option("--res-h", res_h, "nodes of every h table (default " + tables::resolution_text(defaults.resolution_h) + ")");
   app.add_option("--tol", tol, "absolute tolerance of every table entry's cubature (default " +
                                    format_number(defaults.tolerance) + ")");
-  app.add_option("--encoding", encoding, "stored precision of the tables: float (default) or half");
+  app.add_option("--encoding", encoding, "stored precision of the tables: float (default), half, or unorm16 (16-bit codes over the table's range, docs/lut-format.md)");
   app.add_option("--max-evals", max_evaluations,
                  "evaluation budget per table entry; beyond it the entry is kept and counted as unconverged");
   app.add_option("--max-error", max_error,

@@ -97,9 +97,13 @@ void add_info_command(CLI::App& app, Action& action) {
         std::printf("  axis         %-12s [%s, %s] %d nodes, %s%s\n", a.name.c_str(), format_number(a.min).c_str(),
                     format_number(a.max).c_str(), a.count, to_string(a.mapping),
                     a.has_width() ? (" (width " + format_number(a.width) + ")").c_str() : "");
-      std::printf("  encoding     %s, %llu value bytes\n  node error   %s (cubature + rounding at the nodes only)\n"
+      const std::string unorm = table.encoding == tables::Encoding::unorm16
+                                    ? " (value = " + format_number(table.unorm.offset) + " + " +
+                                          format_number(table.unorm.scale) + " u / 65535)"
+                                    : "";
+      std::printf("  encoding     %s%s, %llu value bytes\n  node error   %s (cubature + rounding at the nodes only)\n"
                   "  tolerance    %s\n  unconverged  %lld of %zu\n  command      %s\n",
-                  to_string(table.encoding), static_cast<unsigned long long>(tables::value_bytes(table)),
+                  to_string(table.encoding), unorm.c_str(), static_cast<unsigned long long>(tables::value_bytes(table)),
                   format_number(table.max_error).c_str(), format_number(table.tolerance).c_str(), table.unconverged,
                   table.entries(), table.command.c_str());
       return 0;

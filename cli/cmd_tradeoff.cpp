@@ -120,7 +120,8 @@ nlohmann::ordered_json schemes_json(const reports::SchemeReport& report, const s
   for (const reports::SchemeRow& r : report.rows) {
     const reports::Spread t = reports::bake_spread(r);
     nlohmann::ordered_json row{{"kind", to_string(r.kind)}, {"label", reports::scheme_label(r)}};
-    if (r.kind == reports::SchemeKind::max_error) row.update({{"target", r.target}, {"target_bytes", r.target_bytes}});
+    if (r.kind == reports::SchemeKind::max_error)  // encoding here too: refused rows name what was asked
+      row.update({{"target", r.target}, {"target_bytes", r.target_bytes}, {"encoding", to_string(r.encoding)}});
     if (!r.refused.empty()) {
       row["refused"] = r.refused;
     } else {

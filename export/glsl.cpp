@@ -62,8 +62,12 @@ std::string lookup_call(const Table& table, const std::string& u) {
   for (const Axis& axis : table.axes) count += (count.empty() ? "" : ", ") + std::to_string(axis.count);
   if (table.axes.size() == 3) count = "ivec3(" + count + ")";
   const std::string dims = table.axes.size() == 3 ? "3" : "1";
-  return "gz_lookup" + dims + (cubic ? "_catmull_rom" : "") + "(table, " + u + ", " + count +
-         (cubic ? ", " + even_flags(table) : "") + ")";
+  const std::string call = "gz_lookup" + dims + (cubic ? "_catmull_rom" : "") + "(table, " + u + ", " + count +
+                           (cubic ? ", " + even_flags(table) : "") + ")";
+  if (table.encoding != Encoding::unorm16) return call;
+  // unorm16: the texture holds u / 65535 (R16 normalized); both lookups are affine (weights sum
+  // to 1), so offset + scale x lookup(codes) = lookup(offset + scale x codes), tables::sample's value.
+  return literal(table.unorm.offset) + " + " + literal(table.unorm.scale) + " * " + call;
 }
 
 }  // namespace
@@ -363,7 +367,8 @@ std::string table_comment(const Table& table) {
     if (axis.has_width()) s << " (width " << literal(axis.width) << ")";
     s << "\n";
   }
-  s << "// texture: " << glsl_sampler_type(table.law) << ", one channel (R32F or R16F), ";
+  s << "// texture: " << glsl_sampler_type(table.law) << ", one channel ("
+    << (table.encoding == Encoding::unorm16 ? "R16, normalized unsigned 16-bit codes" : "R32F or R16F") << "), ";
   if (table.law == Law::g)
     s << "width " << table.axes[2].count << " (" << table.axes[2].name << "), height " << table.axes[1].count << " ("
       << table.axes[1].name << "), depth " << table.axes[0].count << " (" << table.axes[0].name << ")\n";

@@ -18,7 +18,8 @@
 // Texture layout: a table of axes (slowest first) n0 [x n1 x n2] is a 3-D texture of width n2,
 // height n1, depth n0 (texel (k2, k1, k0) = node (k0, k1, k2)), or for 1-D laws a 2-D texture of
 // width n0 and height 1 (GLSL ES has no 1-D textures). One channel: R32F (float tables) or R16F
-// (half tables; the stored values are exactly representable either way).
+// (half tables; the stored values are exactly representable either way), or R16 (unorm16 tables:
+// the codes, normalized to u / 65535 by the GPU; the function returns offset + scale x lookup).
 #pragma once
 
 #include <map>

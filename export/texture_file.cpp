@@ -83,10 +83,11 @@ TextureSize texture_size(const Table& table) {
 std::vector<std::uint8_t> ktx2_bytes(const Table& table) {
   check_table(table);
   const bool half = table.encoding == Encoding::half;
-  const std::uint32_t type_size = half ? 2 : 4;
+  const bool unorm = table.encoding == Encoding::unorm16;
+  const std::uint32_t type_size = bytes_per_value(table.encoding);
   const TextureSize size = texture_size(table);
   std::vector<std::uint8_t> out(std::begin(kKtx2Identifier), std::end(kKtx2Identifier));
-  put32(out, half ? kVkFormatR16Sfloat : kVkFormatR32Sfloat);
+  put32(out, half ? kVkFormatR16Sfloat : unorm ? kVkFormatR16Unorm : kVkFormatR32Sfloat);
   put32(out, type_size);
   put32(out, static_cast<std::uint32_t>(size.width));
   put32(out, static_cast<std::uint32_t>(size.height));
@@ -109,10 +110,10 @@ std::vector<std::uint8_t> ktx2_bytes(const Table& table) {
   out.push_back(0);  // bitOffset (16 bits)
   out.push_back(0);
   out.push_back(static_cast<std::uint8_t>(8 * type_size - 1));  // bitLength - 1
-  out.push_back(0x00 | 0x80 | 0x40);                            // channel R | FLOAT | SIGNED
+  out.push_back(unorm ? 0x00 : 0x00 | 0x80 | 0x40);             // channel R (| FLOAT | SIGNED)
   out.insert(out.end(), {0, 0, 0, 0});                          // samplePosition
-  put32(out, 0xBF800000u);                                      // sampleLower: -1.0f
-  put32(out, 0x3F800000u);                                      // sampleUpper: 1.0f
+  put32(out, unorm ? 0u : 0xBF800000u);                         // sampleLower: 0 or -1.0f
+  put32(out, unorm ? 0xFFFFu : 0x3F800000u);                    // sampleUpper: 65535 or 1.0f
   const std::size_t dfd_length = out.size() - dfd_at;
 
   // Key/value data, sorted by key (byte order), each entry padded to 4 bytes.
@@ -132,6 +133,10 @@ std::vector<std::uint8_t> ktx2_bytes(const Table& table) {
       {"ganzfeld.tolerance", number_text(table.tolerance)},
   };
   if (table.frame == Frame::lobe) kv["ganzfeld.peak"] = to_string(table.peak);
+  if (unorm) {  // value = offset + scale x texel (docs/lut-format.md)
+    kv["ganzfeld.unorm16_offset"] = number_text(table.unorm.offset);
+    kv["ganzfeld.unorm16_scale"] = number_text(table.unorm.scale);
+  }
   const std::size_t kvd_at = out.size();
   for (const auto& [key, value] : kv) {
     put32(out, static_cast<std::uint32_t>(key.size() + 1 + value.size() + 1));
@@ -146,8 +151,8 @@ std::vector<std::uint8_t> ktx2_bytes(const Table& table) {
   pad4(out);  // level data aligned to lcm(texel size, 4)
   const std::size_t level_at = out.size();
   for (float v : table.value) {
-    if (half) {
-      const std::uint16_t bits = Imath::half(v).bits();
+    if (half || unorm) {
+      const std::uint16_t bits = unorm ? table.unorm.code(v) : Imath::half(v).bits();
       out.push_back(static_cast<std::uint8_t>(bits));
       out.push_back(static_cast<std::uint8_t>(bits >> 8));
     } else {
@@ -178,9 +183,11 @@ TextureData read_ktx2(const std::string& path) {
   TextureData data;
   data.vk_format = get32(bytes, 12);
   const std::uint32_t type_size = get32(bytes, 16);
-  if (!((data.vk_format == kVkFormatR32Sfloat && type_size == 4) || (data.vk_format == kVkFormatR16Sfloat && type_size == 2)))
+  const bool unorm = data.vk_format == kVkFormatR16Unorm && type_size == 2;
+  if (!((data.vk_format == kVkFormatR32Sfloat && type_size == 4) || (data.vk_format == kVkFormatR16Sfloat && type_size == 2) ||
+        unorm))
     throw fail("vkFormat " + std::to_string(data.vk_format) + " with typeSize " + std::to_string(type_size) +
-               "; allowed: 100 (R32_SFLOAT, 4) or 76 (R16_SFLOAT, 2)");
+               "; allowed: 100 (R32_SFLOAT, 4), 76 (R16_SFLOAT, 2) or 70 (R16_UNORM, 2)");
   const std::uint32_t w = get32(bytes, 20), h = get32(bytes, 24), d = get32(bytes, 28);
   if (get32(bytes, 32) != 0 || get32(bytes, 36) != 1 || get32(bytes, 40) != 1 || get32(bytes, 44) != 0)
     throw fail("layers, faces, levels or supercompression other than 0, 1, 1, none");
@@ -209,9 +216,15 @@ TextureData read_ktx2(const std::string& path) {
   for (std::uint64_t k = 0; k < texels; ++k) {
     if (type_size == 4) {
       data.texels[k] = std::bit_cast<float>(get32(bytes, level_at + 4 * k));
+      continue;
+    }
+    const auto bits = static_cast<std::uint16_t>(bytes[level_at + 2 * k] | (bytes[level_at + 2 * k + 1] << 8));
+    if (unorm) {
+      data.codes.push_back(bits);
+      data.texels[k] = static_cast<float>(bits / tables::Unorm16::kMaxCode);
     } else {
       Imath::half value;
-      value.setBits(static_cast<std::uint16_t>(bytes[level_at + 2 * k] | (bytes[level_at + 2 * k + 1] << 8)));
+      value.setBits(bits);
       data.texels[k] = static_cast<float>(value);
     }
   }
@@ -221,7 +234,13 @@ TextureData read_ktx2(const std::string& path) {
 std::string c_header(const Table& table, const std::string& symbol) {
   check_table(table);
   const bool half = table.encoding == Encoding::half;
+  const bool unorm = table.encoding == Encoding::unorm16;
   const TextureSize size = texture_size(table);
+  const std::string upload = unorm ? "16-bit codes (upload as GL_R16 / GL_UNSIGNED_SHORT; value = " +
+                                         number_text(table.unorm.offset) + " + " + number_text(table.unorm.scale) +
+                                         " x texel, texel = code / 65535)"
+                             : half ? "IEEE half bits (upload as GL_R16F / GL_HALF_FLOAT)"
+                                    : "float (upload as GL_R32F / GL_FLOAT)";
   std::ostringstream s;
   s << "// ganzfeld table as a C array (generated; docs/shaders.md): law " << to_string(table.law) << " of "
     << table.model << "\n// made by: " << table.command << "\n// axes: " << axes_text(table)
@@ -229,14 +248,15 @@ std::string c_header(const Table& table, const std::string& symbol) {
     << ", " << to_string(table.interpolation) << " lookup (export-glsl's GLSL implements it)"
     << "\n// error: lookup <= " << number_text(table.lookup_error) << "; nodes <= " << number_text(table.max_error)
     << ", between nodes (measured) <= " << number_text(table.interpolation_error) << "\n// texels: x (width) fastest, then y (height), then z (depth); "
-    << (half ? "IEEE half bits (upload as GL_R16F / GL_HALF_FLOAT)" : "float (upload as GL_R32F / GL_FLOAT)") << "\n"
+    << upload << "\n"
     << "#pragma once\n#include <stdint.h>\n\n"
     << "enum { " << symbol << "_width = " << size.width << ", " << symbol << "_height = " << size.height << ", "
     << symbol << "_depth = " << size.depth << " };\n"
-    << "static const " << (half ? "uint16_t " : "float ") << symbol << "_texels[" << table.value.size() << "] = {";
+    << "static const " << (half || unorm ? "uint16_t " : "float ") << symbol << "_texels[" << table.value.size() << "] = {";
   for (std::size_t k = 0; k < table.value.size(); ++k) {
     char buffer[40];
-    if (half) std::snprintf(buffer, sizeof buffer, "0x%04x", Imath::half(table.value[k]).bits());
+    if (unorm) std::snprintf(buffer, sizeof buffer, "%u", static_cast<unsigned>(table.unorm.code(table.value[k])));
+    else if (half) std::snprintf(buffer, sizeof buffer, "0x%04x", Imath::half(table.value[k]).bits());
     else std::snprintf(buffer, sizeof buffer, "%.9gf", static_cast<double>(table.value[k]));
     s << (k % 8 == 0 ? "\n  " : " ") << buffer << (k + 1 < table.value.size() ? "," : "");
   }

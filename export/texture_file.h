@@ -1,6 +1,8 @@
 // A table's values as a texture file for real-time engines (docs/shaders.md):
 //   KTX2 (Khronos; what glTF/Vulkan/GL engines load): one mip level, one channel,
-//         VK_FORMAT_R32_SFLOAT for float tables, VK_FORMAT_R16_SFLOAT for half tables;
+//         VK_FORMAT_R32_SFLOAT for float tables, VK_FORMAT_R16_SFLOAT for half tables,
+//         VK_FORMAT_R16_UNORM for unorm16 tables (the codes; "ganzfeld.unorm16_offset" and
+//         "ganzfeld.unorm16_scale" give value = offset + scale x texel);
 //         g tables are 3-D textures (width = phi, height = cos_theta_j, depth = cos_theta_i),
 //         h and a tables 2-D textures of height 1; the table's metadata in key/value data
 //         ("ganzfeld.model", "ganzfeld.law", "ganzfeld.axes", "ganzfeld.max_error", ...).
@@ -33,6 +35,7 @@ struct TextureSize {
 TextureSize texture_size(const tables::Table& table);
 
 /// Vulkan format numbers written to KTX2.
+inline constexpr std::uint32_t kVkFormatR16Unorm = 70;
 inline constexpr std::uint32_t kVkFormatR16Sfloat = 76;
 inline constexpr std::uint32_t kVkFormatR32Sfloat = 100;
 
@@ -43,10 +46,11 @@ std::vector<std::uint8_t> ktx2_bytes(const tables::Table& table);
 struct TextureData {
   std::uint32_t vk_format = 0;
   TextureSize size;
-  std::vector<float> texels;  ///< x fastest, then y, then z
+  std::vector<float> texels;  ///< x fastest, then y, then z (R16_UNORM: code / 65535, as a GPU reads it)
+  std::vector<std::uint16_t> codes;  ///< R16_UNORM only: the codes, in the order of texels
   std::map<std::string, std::string> key_values;
 };
-/// Reads the KTX2 files ktx2_bytes writes (one level, R16/R32 SFLOAT, no supercompression);
+/// Reads the KTX2 files ktx2_bytes writes (one level, R16/R32 SFLOAT or R16 UNORM, no supercompression);
 /// throws InputError naming the file and the first problem for anything else.
 TextureData read_ktx2(const std::string& path);
 

@@ -35,6 +35,7 @@ namespace {
 struct SchemePlan {
   std::vector<std::vector<int>> today, trilinear;
   std::vector<double> targets;
+  std::vector<double> unorm16_targets;  ///< bake --max-error E --encoding unorm16 (issue #15's 16-bit target)
   double stretch = 0.0;
   std::uint64_t stretch_bytes = 0;
 };
@@ -47,6 +48,7 @@ SchemePlan scheme_plan(Law law, bool quick) {
     plan.trilinear = quick ? std::vector<std::vector<int>>{{9, 17, 5}}
                            : std::vector<std::vector<int>>{{13, 25, 9}, {17, 33, 13}, {25, 49, 17}};
     plan.targets = quick ? std::vector<double>{1e-2} : std::vector<double>{1e-3, 1e-4};
+    plan.unorm16_targets = quick ? std::vector<double>{1e-2} : std::vector<double>{1e-4};  // <= 128 kB in 16 bits
     if (!quick) plan.stretch = 1e-5, plan.stretch_bytes = 2'000'000;  // issue #15's stretch: 1e-5 in 2 MB
   } else {
     plan.today = quick ? std::vector<std::vector<int>>{{9}} : std::vector<std::vector<int>>{{33}, {129}};
@@ -125,8 +127,8 @@ SchemeReport measure_schemes(const Model& model, Law law, const SchemeOptions& o
                                        /*extremes=*/false, kSchemeMinCos);
   const SchemePlan plan = scheme_plan(law, options.quick);
   const std::optional<LobeFrame> lobe = law == Law::g ? lobe_frame_of(model) : std::nullopt;
-  const std::size_t total = plan.today.size() + plan.targets.size() + 2 + (plan.stretch > 0) + plan.trilinear.size() +
-                            !plan.trilinear.empty();
+  const std::size_t total = plan.today.size() + plan.targets.size() + plan.unorm16_targets.size() + 2 +
+                            (plan.stretch > 0) + plan.trilinear.size() + !plan.trilinear.empty();
   auto add = [&](const SchemeRow& row) {
     report.rows.push_back(row);
     if (options.progress) options.progress(report.rows.size(), total);
@@ -138,18 +140,26 @@ SchemeReport measure_schemes(const Model& model, Law law, const SchemeOptions& o
     add(row);
   }
   std::optional<Table> pick;
-  std::vector<std::pair<double, std::uint64_t>> targets;
-  for (double target : plan.targets) targets.push_back({target, 0});
-  if (plan.stretch > 0) targets.push_back({plan.stretch, plan.stretch_bytes});
-  for (const auto& [target, bytes] : targets) {
+  struct Target {
+    double error;
+    std::uint64_t bytes;
+    Encoding encoding;
+  };
+  std::vector<Target> targets;
+  for (double target : plan.targets) targets.push_back({target, 0, Encoding::single});
+  if (plan.stretch > 0) targets.push_back({plan.stretch, plan.stretch_bytes, Encoding::single});
+  for (double target : plan.unorm16_targets) targets.push_back({target, 0, Encoding::unorm16});
+  for (const auto& [target, bytes, encoding] : targets) {
     SchemeRow row = row_of(SchemeKind::max_error, {});
     row.target = target;
     row.target_bytes = bytes;
+    row.encoding = encoding;
     BakeOptions bake_options;
     bake_options.max_error = target;
     bake_options.max_bytes = bytes;
+    bake_options.encoding = encoding;
     std::optional<Table> table = measure_row(model, law, bake_options, options.repeats, report.reference, row);
-    if (table && target == plan.targets.back()) pick = std::move(table);
+    if (table && encoding == Encoding::single && target == plan.targets.back()) pick = std::move(table);
     add(row);
   }
   if (pick) {  // the pick with the other interpolation, and in half floats
@@ -207,7 +217,8 @@ std::string number(const char* format, double x) {
 std::string scheme_label(const SchemeRow& row) {
   if (row.kind == SchemeKind::max_error)
     return "--max-error " + number("%g", row.target) +
-           (row.target_bytes ? " --max-bytes " + std::to_string(row.target_bytes) : std::string());
+           (row.target_bytes ? " --max-bytes " + std::to_string(row.target_bytes) : std::string()) +
+           (row.encoding == Encoding::unorm16 ? " --encoding unorm16" : "");
   if (row.kind == SchemeKind::today || row.kind == SchemeKind::trilinear)
     return std::string(to_string(row.kind)) + " " + resolution_text(row.resolution) +
            (row.encoding == Encoding::half ? " half" : "");

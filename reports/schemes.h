@@ -1,6 +1,7 @@
 // The table schemes side by side (issue #15, `ganzfeld tradeoff --schemes`): for one model and
 // law, format version 1's scheme (cosines frame, linear lookup) against version 2's (lobe frame,
-// Catmull–Rom) and what `bake --max-error` picks, linear vs cubic and half vs float at that pick,
+// Catmull–Rom) and what `bake --max-error` picks (float, and for g `--encoding unorm16`: issue
+// #15's 16-bit target), linear vs cubic and half vs float at that pick,
 // and for g the plain trilinear lookup (one hardware-filtered fetch) in the lobe frame, each
 // measured for error, value bytes and bake time.
 //

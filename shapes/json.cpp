@@ -121,6 +121,8 @@ nlohmann::ordered_json info_json(const std::string& path, const tables::Table& t
                              {"command", table.command},
                              {"version", table.version}};
   if (table.frame == tables::Frame::lobe) doc["peak"] = to_string(table.peak);
+  if (table.encoding == tables::Encoding::unorm16)  // value = offset + scale u / 65535
+    doc["unorm16"] = {{"offset", table.unorm.offset}, {"scale", table.unorm.scale}};
   if (table.target_error > 0.0) {
     doc["target_error"] = table.target_error;
     doc["target_bytes"] = table.target_bytes;

@@ -21,7 +21,7 @@
 
 namespace ganzfeld::tables {
 
-/// The stored number nearest to x.
+/// The stored number nearest to x (unorm16: the float nearest; its codes need the table's range).
 float round_to_encoding(double x, Encoding encoding) noexcept {
   const float f = static_cast<float>(x);
   return encoding == Encoding::half ? static_cast<float>(Imath::half(f)) : f;
@@ -31,7 +31,7 @@ float round_to_encoding(double x, Encoding encoding) noexcept {
 float round_up_to_encoding(double x, Encoding encoding) noexcept {
   float f = static_cast<float>(x);
   if (static_cast<double>(f) < x) f = std::nextafter(f, std::numeric_limits<float>::infinity());
-  if (encoding == Encoding::single) return f;
+  if (encoding != Encoding::half) return f;  // unorm16 errors are stored as floats
   Imath::half h(f);
   if (static_cast<float>(h) < f) h.setBits(static_cast<std::uint16_t>(h.bits() + 1));  // next half up (f >= 0)
   return static_cast<float>(h);
@@ -92,7 +92,7 @@ std::uint64_t table_bytes(const std::vector<int>& resolution) noexcept {
 }
 
 std::uint64_t value_bytes(const Table& table) noexcept {
-  return static_cast<std::uint64_t>(table.entries()) * (table.encoding == Encoding::half ? 2u : 4u);
+  return static_cast<std::uint64_t>(table.entries()) * bytes_per_value(table.encoding);
 }
 
 std::vector<Axis> bake_axes(Law law, const BakeOptions& options) {
@@ -174,6 +174,20 @@ struct LawAt {
   }
 };
 
+/// Rounds the float values of `table` to 16-bit codes over their range (Unorm16::covering of
+/// the smallest and largest value) and adds that rounding to each entry's error bound.
+void quantize_unorm16(Table& table) {
+  if (table.value.empty()) return;
+  const auto [lo, hi] = std::minmax_element(table.value.begin(), table.value.end());
+  table.unorm = Unorm16::covering(*lo, *hi);
+  for (std::size_t m = 0; m < table.value.size(); ++m) {
+    const float v = table.unorm.value(table.unorm.code(table.value[m]));
+    const double bound = static_cast<double>(table.error[m]) + std::abs(static_cast<double>(table.value[m]) - v);
+    table.value[m] = v;
+    table.error[m] = round_up_to_encoding(bound, Encoding::unorm16);
+  }
+}
+
 /// Bakes every node (in parallel, deterministic): value rounded to the encoding, error = the
 /// cubature estimate + that rounding, rounded up. Reports progress; refuses values the encoding
 /// cannot hold.
@@ -225,6 +239,7 @@ void bake_nodes(Table& table, const LawAt& law_at, const BakeOptions& options, c
     throw InputError("law " + std::string(to_string(table.law)) + " of '" + table.model + "' has values outside the " +
                      (options.encoding == Encoding::half ? "half range (|x| <= 65504); use --encoding float"
                                                          : "float range"));
+  if (options.encoding == Encoding::unorm16) quantize_unorm16(table);
   table.unconverged = unconverged;
   table.max_error = 0.0;
   for (float e : table.error) table.max_error = std::max(table.max_error, static_cast<double>(e));

@@ -52,6 +52,16 @@ constexpr const char* kAttrInterpolation = "ganzfeld.interpolation";
 constexpr const char* kAttrLookupError = "ganzfeld.lookup_error";
 constexpr const char* kAttrTargetError = "ganzfeld.target_error";  // optional: --max-error bakes
 constexpr const char* kAttrTargetBytes = "ganzfeld.target_bytes";  // with target_error
+// unorm16 encoding only: value = offset + scale u / 65535 for the UINT code u of the value channel.
+constexpr const char* kAttrUnormOffset = "ganzfeld.unorm16_offset";
+constexpr const char* kAttrUnormScale = "ganzfeld.unorm16_scale";
+
+/// The pixel type of the value channel (unorm16: UINT codes) and of the error channel.
+Imf::PixelType value_type(Encoding encoding) {
+  return encoding == Encoding::half ? Imf::HALF : encoding == Encoding::unorm16 ? Imf::UINT : Imf::FLOAT;
+}
+Imf::PixelType error_type(Encoding encoding) { return encoding == Encoding::half ? Imf::HALF : Imf::FLOAT; }
+const char* type_name(Imf::PixelType type) { return type == Imf::HALF ? "HALF" : type == Imf::UINT ? "UINT" : "FLOAT"; }
 
 /// OpenEXR messages may span lines; ours may not.
 std::string one_line(std::string text) {
@@ -90,11 +100,12 @@ void write_table(const Table& table, const std::string& path) {
   check_table(table);  // never write what read_table would refuse
   const auto [width, height] = image_shape(table);
   const bool half = table.encoding == Encoding::half;
-  const Imf::PixelType type = half ? Imf::HALF : Imf::FLOAT;
+  const bool unorm = table.encoding == Encoding::unorm16;
+  const Imf::PixelType type = error_type(table.encoding);
 
   Imf::Header header(width, height);
   header.compression() = Imf::ZIP_COMPRESSION;  // lossless
-  header.channels().insert(kValueChannel, Imf::Channel(type));
+  header.channels().insert(kValueChannel, Imf::Channel(value_type(table.encoding)));
   header.channels().insert(kErrorChannel, Imf::Channel(type));
   auto attr = [&](const char* name, const std::string& v) { header.insert(name, Imf::StringAttribute(v)); };
   attr(kAttrVersion, std::to_string(kFormatVersion));
@@ -110,6 +121,10 @@ void write_table(const Table& table, const std::string& path) {
   attr(kAttrCommand, table.command);
   attr(kAttrGanzfeldVersion, table.version);
   attr(kAttrEncoding, to_string(table.encoding));
+  if (unorm) {
+    attr(kAttrUnormOffset, format_number(table.unorm.offset));  // shortest text that reads back exactly
+    attr(kAttrUnormScale, format_number(table.unorm.scale));
+  }
   attr(kAttrFrame, to_string(table.frame));
   if (table.frame == Frame::lobe) attr(kAttrPeak, to_string(table.peak));
   attr(kAttrInterpolation, to_string(table.interpolation));
@@ -121,9 +136,15 @@ void write_table(const Table& table, const std::string& path) {
 
   // Half data are exact in float, so the conversion below loses nothing.
   std::vector<Imath::half> value_half, error_half;
+  std::vector<std::uint32_t> codes;
   Imf::FrameBuffer frame;
   const std::size_t stride = half ? sizeof(Imath::half) : sizeof(float);
-  if (half) {
+  if (unorm) {
+    for (float v : table.value) codes.push_back(table.unorm.code(v));  // exact: check_table above
+    frame.insert(kValueChannel, Imf::Slice(Imf::UINT, reinterpret_cast<char*>(codes.data()), stride, stride * width));
+    frame.insert(kErrorChannel,
+                 Imf::Slice(type, reinterpret_cast<char*>(const_cast<float*>(table.error.data())), stride, stride * width));
+  } else if (half) {
     value_half.assign(table.value.begin(), table.value.end());
     error_half.assign(table.error.begin(), table.error.end());
     frame.insert(kValueChannel, Imf::Slice(type, reinterpret_cast<char*>(value_half.data()), stride, stride * width));
@@ -171,6 +192,16 @@ struct Reader {
     if (text.empty() || *end != '\0' || !std::isfinite(x) || x < 0.0)
       refuse(std::string(name) + " '" + text + "' is not a finite number >= 0");
     return x;
+  }
+
+  /// A finite number that a float holds exactly (the unorm16 offset and scale).
+  float float_attribute(const Imf::Header& header, const char* name) const {
+    const std::string text = attribute(header, name);
+    char* end = nullptr;
+    const double x = std::strtod(text.c_str(), &end);
+    if (text.empty() || *end != '\0' || !std::isfinite(x) || static_cast<double>(static_cast<float>(x)) != x)
+      refuse(std::string(name) + " '" + text + "' is not a finite number a float holds exactly");
+    return static_cast<float>(x);
   }
 
   std::vector<Axis> axes(const std::string& text) const {
@@ -232,6 +263,10 @@ struct Reader {
     } catch (const InputError& e) {
       refuse(std::string(e.what()));
     }
+    if (table.encoding == Encoding::unorm16) {
+      table.unorm.offset = float_attribute(header, kAttrUnormOffset);
+      table.unorm.scale = float_attribute(header, kAttrUnormScale);
+    }
     table.axes = axes(attribute(header, kAttrAxes));
     table.tolerance = number(header, kAttrTolerance);
     table.max_error = number(header, kAttrMaxError);
@@ -272,14 +307,15 @@ struct Reader {
     }
   }
 
-  /// Exactly the channels "value" and "error", both of the encoding's pixel type.
-  void check_channels(const Imf::Header& header, Imf::PixelType type, Encoding encoding) const {
+  /// Exactly the channels "value" and "error", of the encoding's pixel types.
+  void check_channels(const Imf::Header& header, Encoding encoding) const {
     std::set<std::string> names;
     for (auto it = header.channels().begin(); it != header.channels().end(); ++it) {
       names.insert(it.name());
+      const Imf::PixelType type = it.name() == std::string(kValueChannel) ? value_type(encoding) : error_type(encoding);
       if (it.channel().type != type)
-        refuse(std::string("channel '") + it.name() + "' is not " + (type == Imf::HALF ? "HALF" : "FLOAT") +
-               " as ganzfeld.encoding=" + to_string(encoding) + " says");
+        refuse(std::string("channel '") + it.name() + "' is not " + type_name(type) + " as ganzfeld.encoding=" +
+               to_string(encoding) + " says");
       if (it.channel().xSampling != 1 || it.channel().ySampling != 1)
         refuse(std::string("channel '") + it.name() + "' is subsampled");
     }
@@ -308,16 +344,24 @@ struct Reader {
              " (width = count of the last axis, height = product of the others)");
   }
 
-  /// The value and error channels into the table (half converted to float).
-  static void read_pixels(Imf::InputFile& file, const Imath::Box2i& window, Imf::PixelType type, Table& table) {
+  /// The value and error channels into the table (half converted to float, unorm16 codes to
+  /// their values; a code above 65535 is refused).
+  void read_pixels(Imf::InputFile& file, const Imath::Box2i& window, Encoding encoding, Table& table) const {
+    const Imf::PixelType type = error_type(encoding);
     const std::size_t w = static_cast<std::size_t>(window.max.x - window.min.x + 1);
     const std::size_t n = w * static_cast<std::size_t>(window.max.y - window.min.y + 1);
     table.value.resize(n);
     table.error.resize(n);
     Imf::FrameBuffer frame;
     std::vector<Imath::half> value_half, error_half;
+    std::vector<std::uint32_t> codes;
     auto slice = [&](char* base, std::size_t size) { return Imf::Slice(type, base, size, size * w); };
-    if (type == Imf::HALF) {
+    if (encoding == Encoding::unorm16) {
+      codes.resize(n);
+      frame.insert(kValueChannel, Imf::Slice(Imf::UINT, reinterpret_cast<char*>(codes.data()), sizeof(std::uint32_t),
+                                             sizeof(std::uint32_t) * w));
+      frame.insert(kErrorChannel, slice(reinterpret_cast<char*>(table.error.data()), sizeof(float)));
+    } else if (type == Imf::HALF) {
       value_half.resize(n);
       error_half.resize(n);
       frame.insert(kValueChannel, slice(reinterpret_cast<char*>(value_half.data()), sizeof(Imath::half)));
@@ -333,6 +377,11 @@ struct Reader {
         table.value[m] = value_half[m];
         table.error[m] = error_half[m];
       }
+    for (std::size_t m = 0; m < codes.size(); ++m) {
+      if (codes[m] > Unorm16::kMaxCode)
+        refuse("value code " + std::to_string(codes[m]) + " at entry " + std::to_string(m) + " is above 65535");
+      table.value[m] = table.unorm.value(static_cast<std::uint16_t>(codes[m]));
+    }
   }
 
   Table read() const {
@@ -345,11 +394,10 @@ struct Reader {
       const Imf::Header& header = file.header();
       Table table;
       read_metadata(header, table);
-      const Imf::PixelType type = table.encoding == Encoding::half ? Imf::HALF : Imf::FLOAT;
-      check_channels(header, type, table.encoding);
+      check_channels(header, table.encoding);
       check_shape(header.dataWindow(), table.axes);
       if (!file.isComplete()) refuse("truncated file (not all scanlines are present)");
-      read_pixels(file, header.dataWindow(), type, table);
+      read_pixels(file, header.dataWindow(), table.encoding, table);
       try {
         check_table(table);
       } catch (const InputError& e) {

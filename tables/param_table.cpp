@@ -69,6 +69,8 @@ void check_axes(const std::vector<Axis>& axes) {
 void check_param_table(const ParamTable& table) {
   check_axes(table.axes);
   if (table.channels.empty()) throw InputError("a parameter table needs at least one channel");
+  if (table.encoding == Encoding::unorm16)
+    throw InputError("encoding unorm16 is for law tables; a parameter table allows: half, float");
   if (!std::isfinite(table.tolerance) || !(table.tolerance > 0.0))
     throw InputError("tolerance " + format_number(table.tolerance) + " is not a positive finite number");
   const std::size_t n = table.entries();

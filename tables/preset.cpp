@@ -123,6 +123,8 @@ void check_options(const PresetOptions& options) {
     throw InputError("a preset table needs 2 axes of at least 2 samples each");
   if (!std::isfinite(options.tolerance) || !(options.tolerance > 0.0))
     throw InputError("tolerance " + format_number(options.tolerance) + " is not allowed; expected a positive number");
+  if (options.encoding == Encoding::unorm16)
+    throw InputError("encoding unorm16 is for law tables (bake); a preset table allows: half, float");
 }
 
 }  // namespace

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 #include "util/error.h"
@@ -76,12 +77,42 @@ struct SinhAxis {
 };
 }  // namespace
 
-const char* to_string(Encoding encoding) { return encoding == Encoding::half ? "half" : "float"; }
+const char* to_string(Encoding encoding) {
+  switch (encoding) {
+    case Encoding::half: return "half";
+    case Encoding::unorm16: return "unorm16";
+    case Encoding::single: break;
+  }
+  return "float";
+}
 
 Encoding parse_encoding(const std::string& text) {
   if (text == "half") return Encoding::half;
   if (text == "float") return Encoding::single;
-  throw InputError("unknown encoding '" + text + "'; allowed: half, float");
+  if (text == "unorm16") return Encoding::unorm16;
+  throw InputError("unknown encoding '" + text + "'; allowed: half, float, unorm16");
+}
+
+unsigned bytes_per_value(Encoding encoding) noexcept { return encoding == Encoding::single ? 4u : 2u; }
+
+Unorm16 Unorm16::covering(double lo, double hi) noexcept {
+  Unorm16 u;
+  u.offset = static_cast<float>(lo);
+  if (static_cast<double>(u.offset) > lo) u.offset = std::nextafter(u.offset, -std::numeric_limits<float>::infinity());
+  u.scale = static_cast<float>(hi - static_cast<double>(u.offset));
+  if (static_cast<double>(u.offset) + static_cast<double>(u.scale) < hi)
+    u.scale = std::nextafter(u.scale, std::numeric_limits<float>::infinity());
+  return u;
+}
+
+float Unorm16::value(std::uint16_t code) const noexcept {
+  return static_cast<float>(static_cast<double>(offset) + static_cast<double>(scale) * (code / kMaxCode));
+}
+
+std::uint16_t Unorm16::code(double x) const noexcept {
+  if (!(scale > 0.0f) || !(x == x)) return 0;
+  const double u = std::round((x - static_cast<double>(offset)) / static_cast<double>(scale) * kMaxCode);
+  return static_cast<std::uint16_t>(std::clamp(u, 0.0, kMaxCode));
 }
 
 double Axis::coordinate(double u) const noexcept {
@@ -245,6 +276,23 @@ void check_model_content(const std::string& digest) {
 
 }  // namespace
 
+namespace {
+/// A unorm16 table's offset and scale are finite (scale >= 0) and every value is exactly one
+/// code's value: what the file's codes, a shader and `sample` all read.
+void check_unorm16(const Table& table) {
+  if (table.encoding != Encoding::unorm16) return;
+  const Unorm16& u = table.unorm;
+  if (!std::isfinite(u.offset) || !std::isfinite(u.scale) || u.scale < 0.0f ||
+      !std::isfinite(static_cast<double>(u.offset) + u.scale))
+    throw InputError("unorm16 offset " + format_number(u.offset) + " and scale " + format_number(u.scale) +
+                     " are not allowed; expected finite numbers, scale >= 0");
+  for (std::size_t m = 0; m < table.value.size(); ++m)
+    if (u.value(u.code(table.value[m])) != table.value[m])
+      throw InputError("entry " + std::to_string(m) + " has value " + format_number(table.value[m]) +
+                       ", not offset + scale u / 65535 for a 16-bit code u");
+}
+}  // namespace
+
 void check_table(const Table& table) {
   check_model_text(table.model);
   check_model_content(table.model_content);
@@ -296,6 +344,7 @@ void check_table(const Table& table) {
   if (table.unconverged < 0 || static_cast<std::uint64_t>(table.unconverged) > n)
     throw InputError("unconverged count " + std::to_string(table.unconverged) + " is outside [0, " +
                      std::to_string(n) + "]");
+  check_unorm16(table);
   double max_error = 0.0;
   for (std::size_t m = 0; m < n; ++m) {
     if (!std::isfinite(table.value[m]))

@@ -62,11 +62,30 @@ enum class PeakKind { mirror, retro };
 const char* to_string(PeakKind peak);  ///< "mirror" or "retro"
 PeakKind parse_peak(const std::string& text);
 
-/// How the stored numbers are rounded: IEEE half or single precision (EXR HALF / FLOAT).
-enum class Encoding { half, single };
-const char* to_string(Encoding encoding);  ///< "half" or "float"
-/// Accepts "half" and "float"; throws InputError otherwise.
+/// How the stored numbers are rounded: IEEE half or single precision (EXR HALF / FLOAT), or
+/// unorm16: a 16-bit code u per value, value = offset + scale u / 65535 with the table's offset
+/// and scale (Unorm16; docs/lut-format.md, "Encodings"; EXR UINT codes).
+enum class Encoding { half, single, unorm16 };
+const char* to_string(Encoding encoding);  ///< "half", "float" or "unorm16"
+/// Accepts "half", "float" and "unorm16"; throws InputError otherwise.
 Encoding parse_encoding(const std::string& text);
+/// Bytes of one stored value on a GPU: 2 (half, unorm16) or 4 (float).
+unsigned bytes_per_value(Encoding encoding) noexcept;
+
+/// The scale of a unorm16 table: value = offset + scale u / 65535 for the code u in [0, 65535],
+/// evaluated in double and rounded to float (a GPU computes the same in float: R16 normalized
+/// texels are u / 65535). offset and scale are floats so that a shader holds them exactly.
+struct Unorm16 {
+  static constexpr double kMaxCode = 65535.0;
+  float offset = 0.0f;
+  float scale = 0.0f;  ///< >= 0; 0 when every value is the offset
+  /// offset <= lo and offset + scale >= hi (both rounded outwards to float), so that rounding
+  /// to the nearest code errs by <= scale / 131070 (+ float rounding of the value).
+  static Unorm16 covering(double lo, double hi) noexcept;
+  float value(std::uint16_t code) const noexcept;
+  /// The nearest code to x (clamped to [0, 65535]; 0 for x NaN or scale 0).
+  std::uint16_t code(double x) const noexcept;
+};
 
 /// One node-centred axis: node 0 is exactly min, node count-1 exactly max.
 struct Axis {
@@ -160,6 +179,7 @@ struct Table {
   std::string command;         ///< the command line that made the table
   std::string version;         ///< ganzfeld version that made it
   Encoding encoding = Encoding::single;
+  Unorm16 unorm;  ///< unorm16 only: value[m] = unorm.value(code m) exactly
   Interpolation interpolation = Interpolation::linear;
   Frame frame = Frame::cosines;
   PeakKind peak = PeakKind::mirror;  ///< lobe frame only

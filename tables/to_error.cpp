@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <utility>
+#include <vector>
 
 #include "util/error.h"
 #include "laws/registry.h"
@@ -57,7 +59,7 @@ std::vector<double> axis_error_estimates(const Table& table, Interpolation inter
 std::uint64_t bytes_of(const std::vector<int>& counts, Encoding encoding) {
   double n = 1.0;
   for (int c : counts) n *= c;
-  n *= encoding == Encoding::half ? 2.0 : 4.0;
+  n *= bytes_per_value(encoding);
   return n > 1.8e19 ? std::numeric_limits<std::uint64_t>::max() : static_cast<std::uint64_t>(n);
 }
 
@@ -74,10 +76,33 @@ std::vector<int> counts_for(const std::vector<int>& counts, const std::vector<do
   return out;
 }
 
+/// `counts` shrunk by one common factor per axis (the shape the estimates chose, at least 4 nodes
+/// per axis) until the table fits `cap` value bytes: where the predicted counts overshoot the
+/// cap, the largest table of that shape within it is the best the search can still bake.
+std::vector<int> fit_to_cap(std::vector<int> counts, Encoding encoding, std::uint64_t cap) {
+  while (bytes_of(counts, encoding) > cap) {
+    const double ratio = std::pow(static_cast<double>(cap) / static_cast<double>(bytes_of(counts, encoding)),
+                                  1.0 / static_cast<double>(counts.size()));
+    bool shrunk = false;
+    for (int& c : counts) {
+      const int n = std::max(4, static_cast<int>(std::floor((c - 1) * ratio)) + 1);  // ratio < 1: n < c unless 4
+      shrunk = shrunk || n < c;
+      c = n;
+    }
+    if (!shrunk) break;  // every axis at its minimum; check_error_target refused caps below it
+  }
+  return counts;
+}
+
 }  // namespace
 
 double min_max_error(Encoding encoding) noexcept {
-  return encoding == Encoding::half ? std::ldexp(1.0, -10) : std::ldexp(1.0, -23);
+  switch (encoding) {
+    case Encoding::half: return std::ldexp(1.0, -10);
+    case Encoding::unorm16: return 1.0 / Unorm16::kMaxCode;  // 2 x 1/131070, the rounding of a range-1 table
+    case Encoding::single: break;
+  }
+  return std::ldexp(1.0, -23);
 }
 
 void check_error_target(double max_error, std::uint64_t max_bytes, Law law, Encoding encoding) {
@@ -86,7 +111,7 @@ void check_error_target(double max_error, std::uint64_t max_bytes, Law law, Enco
   if (max_error < min_max_error(encoding))
     throw InputError("--max-error " + format_number(max_error) + " is below what a " + to_string(encoding) +
                      " table can hold (its rounding alone); allowed: >= " + format_number(min_max_error(encoding)) +
-                     (encoding == Encoding::half ? " (use --encoding float for less)" : ""));
+                     (encoding == Encoding::single ? "" : " (use --encoding float for less)"));
   const std::uint64_t smallest = bytes_of(std::vector<int>(law == Law::g ? 3 : 1, 4), encoding);
   if (max_bytes != 0 && max_bytes < smallest)
     throw InputError("--max-bytes " + std::to_string(max_bytes) + " is too small; the smallest " +
@@ -114,8 +139,12 @@ Table bake_to_error(const Model& model, Law law, const BakeOptions& requested) {
   const double share = E / (kLookupMargin * dims) * 0.8;
 
   double best_error = std::numeric_limits<double>::infinity(), best_bytes = 0.0;
+  std::vector<std::pair<std::vector<int>, Interpolation>> baked;
   for (int attempt = 0; attempt < kMaxSearchBakes; ++attempt) {
-    if (bytes_of(options.resolution, options.encoding) > cap) break;
+    options.resolution = fit_to_cap(options.resolution, options.encoding, cap);
+    const std::pair<std::vector<int>, Interpolation> key{options.resolution, options.interpolation};
+    if (std::find(baked.begin(), baked.end(), key) != baked.end()) break;  // capped to a table already measured
+    baked.push_back(key);
     Table table = bake_resolution(model, law, options);
     if (table.lookup_error < best_error) {
       best_error = table.lookup_error;

@@ -14,7 +14,10 @@
 //     validated error calibrates these estimates; each axis then gets the count that brings its
 //     share to E/(margin x axes) (the product of the counts is smallest when the shares are
 //     equal), and the interpolation (linear or Catmull–Rom) whose predicted bytes are fewer.
-//     Bake again; stop when lookup_error <= E; at most kMaxSearchBakes bakes.
+//     Counts whose table would exceed B shrink by one common factor to the largest table of
+//     that shape within B (a search that gave up there refused with its coarse first bake).
+//     Bake again; stop when lookup_error <= E, when the capped counts repeat a bake, or after
+//     kMaxSearchBakes bakes.
 #pragma once
 
 #include <cstdint>
@@ -36,7 +39,9 @@ inline constexpr std::uint64_t kSearchChecks = 2000;
 inline constexpr int kMaxSearchBakes = 6;
 
 /// The smallest E an encoding can hold: twice its unit roundoff at 1 (laws are of order 1), so
-/// that storage rounding alone never uses more than half of E. float: 2^-23; half: 2^-10.
+/// that storage rounding alone never uses more than half of E. float: 2^-23; half: 2^-10;
+/// unorm16: 1/65535 (a code step of a table whose values span [0, 1]; a wider range rounds
+/// more, and the bake's node error, which includes the rounding, says so).
 double min_max_error(Encoding encoding) noexcept;
 
 /// Refuses (InputError, one line) E that is not a finite number above min_max_error(encoding)

@@ -146,7 +146,14 @@ expect_bad "mutually exclusive" bake --model specular:alpha=8 --law h --res 9 --
 expect_bad "--max-bytes needs --max-error" bake --model specular:alpha=8 --law h --res 9 --max-bytes 100000 -o "$tmp/bad_e.exr"
 expect_bad "--max-bytes 8 is too small" bake --model specular:alpha=8 --law g --max-error 1e-3 --max-bytes 8 -o "$tmp/bad_e.exr"
 expect_bad "cannot reach --max-error" bake --model specular:alpha=100 --law g --max-error 1e-6 --max-bytes 4096 -o "$tmp/bad_e.exr"
+expect_bad "below what a unorm16 table can hold" bake --model specular:alpha=8 --law h --max-error 1e-5 --encoding unorm16 -o "$tmp/bad_e.exr"
+expect_bad "unknown encoding 'unorm8'; allowed: half, float, unorm16" bake --model specular:alpha=8 --law h --res 9 --encoding unorm8 -o "$tmp/bad_e.exr"
+expect_bad "a preset table allows: half, float" bake --preset dfg --model ggx --res 8 --encoding unorm16 -o "$tmp/bad_e.exr"
 [ ! -e "$tmp/bad_e.exr" ] && ok || fail "a refused --max-error bake left a file"
+# unorm16 (issue 15's 16-bit encoding): 2 value bytes per entry, offset and scale in info --json
+"$G" bake --model specular:alpha=8 --law h --res 33 --encoding unorm16 -o "$tmp/unorm16.exr" >/dev/null && ok || fail "bake --encoding unorm16"
+[ "$(json_field <("$G" info "$tmp/unorm16.exr" --json) "(d['encoding'], d['value_bytes'], d['unorm16']['scale'] > 0)")" = "('unorm16', 66, True)" ] \
+  && ok || fail "info --json of a unorm16 table: $("$G" info "$tmp/unorm16.exr" --json)"
 # scenes honour --max-error (and it is in the cache key: a second run reuses everything)
 "$G" bake --scene "$scene" --out "$tmp/err_cache" --max-error 1e-3 --json >"$tmp/err_scene.json" && ok || fail "scene --max-error"
 [ "$(json_field "$tmp/err_scene.json" "all(t['lookup_error'] <= 1e-3 for t in d['tables']) and len(d['tables'])==6")" = "True" ] \

@@ -268,7 +268,11 @@ GLuint upload_table(const tables::Table& table, const std::filesystem::path& dir
   exporting::write_texture(table, exporting::TextureFormat::ktx2, file.string(), sampler);
   const exporting::TextureData data = exporting::read_ktx2(file.string());
   EXPECT_EQ(data.key_values.at("ganzfeld.model"), table.model);
-  const GLenum internal = data.vk_format == exporting::kVkFormatR16Sfloat ? GL_R16F : GL_R32F;
+  const bool unorm = data.vk_format == exporting::kVkFormatR16Unorm;
+  // unorm16: the codes as GL_R16 (normalized: the shader reads code / 65535), as docs/shaders.md says.
+  const GLenum internal = unorm ? GL_R16 : data.vk_format == exporting::kVkFormatR16Sfloat ? GL_R16F : GL_R32F;
+  const GLenum type = unorm ? GL_UNSIGNED_SHORT : GL_FLOAT;
+  const void* texels = unorm ? static_cast<const void*>(data.codes.data()) : static_cast<const void*>(data.texels.data());
   GLuint texture = 0;
   glGenTextures(1, &texture);
   glActiveTexture(GL_TEXTURE0 + unit);
@@ -276,10 +280,9 @@ GLuint upload_table(const tables::Table& table, const std::filesystem::path& dir
   glBindTexture(target, texture);
   glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
   if (target == GL_TEXTURE_3D)
-    glTexImage3D(target, 0, internal, data.size.width, data.size.height, data.size.depth, 0, GL_RED, GL_FLOAT,
-                 data.texels.data());
+    glTexImage3D(target, 0, internal, data.size.width, data.size.height, data.size.depth, 0, GL_RED, type, texels);
   else
-    glTexImage2D(target, 0, internal, data.size.width, data.size.height, 0, GL_RED, GL_FLOAT, data.texels.data());
+    glTexImage2D(target, 0, internal, data.size.width, data.size.height, 0, GL_RED, type, texels);
   // Complete without mipmaps, so texelFetch reads level 0 (export/glsl.h).
   const GLint filter = hardware_filter ? GL_LINEAR : GL_NEAREST;
   glTexParameteri(target, GL_TEXTURE_MIN_FILTER, filter);
@@ -515,6 +518,9 @@ constexpr double kIndexError = 1e-6;
 /// summed in float: < 64 x 2^-24 of the largest |value| blended (Catmull–Rom's |weights| sum to
 /// < 2 in 3-D).
 constexpr double kSumError = 64.0 / (1 << 24);
+/// unorm16: the GPU's code / 65535 (one rounding) inside the blend above, then offset + scale x
+/// blend: two more roundings of 2^-24 relative to the largest |value|.
+constexpr double kDequantizeError = 2.0 / (1 << 24);
 /// Points per table: a 64 x 64 framebuffer, one lookup per pixel.
 constexpr int kPointsSide = 64;
 constexpr std::uint64_t kPointSeed = 15;  // seeded points (tables::validation_points) and frames
@@ -537,7 +543,8 @@ double float_bound(const tables::Table& table, std::span<const double> x) {
     }
     bound += worst;
   }
-  return bound + kSumError * largest;
+  const double dequantize = table.encoding == tables::Encoding::unorm16 ? kDequantizeError : 0.0;
+  return bound + (kSumError + dequantize) * largest;
 }
 
 /// The lookup points: seeded (i·n, j·n, phi) (tables::validation_points of law g), as vectors in
@@ -636,9 +643,11 @@ void main() {
 /// A table of `spec` baked at a small resolution with the given frame and lookup (its numbers do
 /// not matter here beyond being a real law's: both sides read the same stored values).
 tables::Table small_table(const std::string& spec, Law law, std::vector<int> resolution,
-                          tables::Interpolation interpolation, bool lobe) {
+                          tables::Interpolation interpolation, bool lobe,
+                          tables::Encoding encoding = tables::Encoding::single) {
   const auto model = parse_model(spec);
   tables::BakeOptions options;
+  options.encoding = encoding;
   options.resolution = std::move(resolution);
   options.tolerance = 1e-6;
   options.interpolation = interpolation;
@@ -695,6 +704,20 @@ TEST(GlShaderLookup, LobeFrameLinearSpecularG) {
 TEST(GlShaderLookup, CosinesFrameCatmullRomAsperityG) {
   compare_lookups(small_table("asperity:alpha=4", Law::g, {8, 8, 6}, tables::Interpolation::catmull_rom, false), false);
 }
+// unorm16 (GL_R16 codes, offset + scale in the function): desktop GL (GLSL ES 3.00 has R16 only
+// with EXT_texture_norm16), texelFetch and hardware filtering.
+TEST(GlShaderLookup, Unorm16LobeFrameCatmullRomSpecularG) {
+  const tables::Table table = small_table("specular:alpha=100", Law::g, {10, 24, 8}, tables::Interpolation::catmull_rom,
+                                          true, tables::Encoding::unorm16);
+  ASSERT_GT(table.unorm.offset + table.unorm.scale, 0.0f);
+  compare_lookups(table, false);
+  compare_lookups(table, false, true);
+}
+TEST(GlShaderLookup, Unorm16LinearH) {
+  compare_lookups(small_table("specular:alpha=100", Law::h, {12}, tables::Interpolation::linear, false,
+                              tables::Encoding::unorm16),
+                  false);
+}
 TEST(GlShaderLookup, CatmullRomH) {
   const tables::Table table = small_table("specular:alpha=100", Law::h, {12}, tables::Interpolation::catmull_rom, false);
   compare_lookups(table, false);
@@ -704,6 +727,7 @@ TEST(GlShaderLookup, CatmullRomH) {
 TEST(GlShader, Glsl430CoreFloatTablesMatchTheSoftwareRasterizer) { run_gl_comparison(false, tables::Encoding::single); }
 TEST(GlShader, Glsl430CoreHalfTablesMatchTheSoftwareRasterizer) { run_gl_comparison(false, tables::Encoding::half); }
 TEST(GlShader, GlslEs300FloatTablesMatchTheSoftwareRasterizer) { run_gl_comparison(true, tables::Encoding::single); }
+TEST(GlShader, Glsl430CoreUnorm16TablesMatchTheSoftwareRasterizer) { run_gl_comparison(false, tables::Encoding::unorm16); }
 // Format version 2 scene tables (lobe frame, Catmull–Rom), with texelFetch and hardware filtering.
 TEST(GlShader, MaxErrorTablesMatchTheSoftwareRasterizer) {
   run_gl_comparison(false, tables::Encoding::single, false, lobe_scene_json(), kLobeSceneMaxError);

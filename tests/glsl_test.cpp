@@ -71,6 +71,30 @@ TEST(Ktx2, FloatAndHalfTablesRoundTripExactly) {
   }
 }
 
+// unorm16: the KTX2 level holds the codes (R16_UNORM) and the offset and scale that turn a
+// texel code/65535 back into the table's value; the GLSL applies the same offset and scale.
+TEST(Ktx2, Unorm16TablesCarryTheirCodesOffsetAndScale) {
+  for (Law law : {Law::g, Law::h}) {
+    const Table table = small_table("specular:alpha=8", law, Encoding::unorm16);
+    const std::string path = temp_file(std::string("t_") + to_string(law) + "_unorm16.ktx2");
+    write_texture(table, TextureFormat::ktx2, path, "t");
+    const TextureData data = read_ktx2(path);
+    EXPECT_EQ(data.vk_format, kVkFormatR16Unorm);
+    const float offset = std::stof(data.key_values.at("ganzfeld.unorm16_offset"));
+    const float scale = std::stof(data.key_values.at("ganzfeld.unorm16_scale"));
+    EXPECT_EQ(offset, table.unorm.offset);
+    EXPECT_EQ(scale, table.unorm.scale);
+    ASSERT_EQ(data.codes.size(), table.value.size());
+    for (std::size_t k = 0; k < table.value.size(); ++k) {
+      EXPECT_EQ(data.codes[k], table.unorm.code(table.value[k])) << k;
+      EXPECT_EQ(table.unorm.value(data.codes[k]), table.value[k]) << k;
+    }
+    const std::string glsl = glsl_table_snippet(table);
+    EXPECT_NE(glsl.find(" * gz_lookup"), std::string::npos) << glsl;  // offset + scale x lookup
+    EXPECT_NE(c_header(table, "t").find("static const uint16_t t_texels"), std::string::npos);
+  }
+}
+
 TEST(Ktx2, CarriesTheVersion2LookupAndItsError) {
   BakeOptions options;
   options.resolution = {5, 6, 4};

@@ -233,6 +233,49 @@ TEST(lut, HalfEncodingRoundsValuesAndBoundsTheirError) {
   EXPECT_LT(single.max_error, 1e-6);  // float: cubature + 2^-24 relative
 }
 
+// unorm16: value = offset + scale u / 65535; rounding to the nearest code errs by at most half a
+// step, scale / 131070, plus the float rounding of the value (2^-24 relative; values <= 1 here).
+constexpr double kUnormHalfStep = 1.0 / 131070;
+constexpr double kFloatRounding = 1.0 / (1 << 24);
+TEST(lut, Unorm16EncodingRoundTripsExactCodesAndBoundsItsRounding) {
+  // h of specular:alpha=8 spans [0.21, 1]: an offset and a scale other than 0 and 1.
+  const Table single = bake_table("specular:alpha=8", Law::h, {30});
+  const Table baked = bake_table("specular:alpha=8", Law::h, {30}, Encoding::unorm16);
+  const Table unorm = round_trip(baked, "specular_h_unorm16.exr");
+  EXPECT_GT(unorm.unorm.offset, 0.0f);
+  EXPECT_LT(unorm.unorm.scale, 1.0f);
+  EXPECT_EQ(unorm.encoding, Encoding::unorm16);
+  EXPECT_EQ(unorm.unorm.offset, baked.unorm.offset);
+  EXPECT_EQ(unorm.unorm.scale, baked.unorm.scale);
+  EXPECT_EQ(unorm.value, baked.value);  // bit for bit: the file holds the codes
+  EXPECT_EQ(unorm.error, baked.error);
+  EXPECT_EQ(value_bytes(unorm), 2 * unorm.entries());
+  // The range spans the codes: the smallest node is code 0, the largest 65535.
+  const auto [lo, hi] = std::minmax_element(single.value.begin(), single.value.end());
+  EXPECT_LE(unorm.unorm.offset, *lo);
+  EXPECT_GE(static_cast<double>(unorm.unorm.offset) + unorm.unorm.scale, *hi);
+  EXPECT_EQ(unorm.unorm.code(*lo), 0);
+  EXPECT_EQ(unorm.unorm.code(*hi), 65535);
+  bool any_different = false;
+  for (std::size_t m = 0; m < unorm.value.size(); ++m) {
+    EXPECT_NEAR(unorm.value[m], single.value[m], unorm.unorm.scale * kUnormHalfStep + kFloatRounding) << "entry " << m;
+    EXPECT_EQ(unorm.unorm.value(unorm.unorm.code(unorm.value[m])), unorm.value[m]) << "entry " << m;
+    // The law is within single.error of the float value, so a bound of |unorm - law| must be at
+    // least |unorm - single| - single.error: the rounding to the code is in the error channel.
+    EXPECT_GE(unorm.error[m] + single.error[m], std::abs(unorm.value[m] - single.value[m])) << "entry " << m;
+    any_different = any_different || unorm.value[m] != single.value[m];
+  }
+  EXPECT_TRUE(any_different) << "unorm16 encoding did not round anything";
+}
+
+TEST(lut, Unorm16ValueOffTheCodesIsRefused) {
+  Table table = bake_table("minnaert:xi=1", Law::a, {30}, Encoding::unorm16);
+  table.value[5] = std::nextafter(table.value[5], 2.0f);  // between two codes' values
+  EXPECT_THROW(check_table(table), InputError);
+  EXPECT_THROW(write_table(table, temp_file("unorm16_off_codes.exr")), InputError);
+  EXPECT_FALSE(fs::exists(temp_file("unorm16_off_codes.exr")));
+}
+
 TEST(lut, BakeIsDeterministicAcrossThreadCounts) {
   const Table parallel = bake_table("specular:alpha=8", Law::g, {9, 9, 5});
   Table serial;
@@ -708,12 +751,16 @@ TEST(lut, MaxErrorBakeReportsAnHonestLookupError) {
     const char* spec;
     Law law;
     double max_error;
+    Encoding encoding = Encoding::single;
   };
+  // unorm16 at 5e-5: its rounding (<= 7.6e-6 for a range of 1) is a visible part of E.
   for (const Case& c : {Case{"specular:alpha=100", Law::g, 1e-3}, Case{"backscatter:alpha=20", Law::g, 1e-3},
-                        Case{"specular:alpha=1000", Law::h, 1e-6}}) {
+                        Case{"specular:alpha=1000", Law::h, 1e-6},
+                        Case{"specular:alpha=1000", Law::h, 5e-5, Encoding::unorm16}}) {
     const ModelPtr model = parse_model(c.spec);
     BakeOptions options;
     options.max_error = c.max_error;
+    options.encoding = c.encoding;
     const Table baked = bake(*model, c.law, options);
     const Table table = round_trip(baked, "to_error.exr");
     EXPECT_LE(table.lookup_error, c.max_error) << c.spec;
@@ -721,6 +768,7 @@ TEST(lut, MaxErrorBakeReportsAnHonestLookupError) {
     EXPECT_EQ(table.lookup_error, baked.lookup_error) << c.spec;
     EXPECT_EQ(table.target_error, c.max_error) << c.spec;
     EXPECT_EQ(table.frame, c.law == Law::g ? Frame::lobe : Frame::cosines) << c.spec;
+    EXPECT_EQ(table.encoding, c.encoding) << c.spec;
     const std::vector<double> x = validation_points(c.law, kFreshPoints, /*seed=*/4242);
     const std::size_t dims = c.law == Law::g ? 3 : 1;
     std::vector<double> miss(kFreshPoints, 0.0), err(kFreshPoints, 0.0);
@@ -751,6 +799,10 @@ TEST(lut, MaxErrorBakeReportsAnHonestLookupError) {
 }
 
 TEST(lut, MaxErrorRefusesWhatCannotBeMet) {
+  // unorm16's floor is one code step of a range-1 table, 1/65535 (checked first and directly: a
+  // wrong floor would otherwise start a long search below it).
+  ASSERT_THROW(check_error_target(1.0 / 65536, 0, Law::g, Encoding::unorm16), InputError);
+  ASSERT_NO_THROW(check_error_target(1.0 / 65534, 0, Law::g, Encoding::unorm16));
   const ModelPtr model = parse_model("specular:alpha=100");
   auto refused = [&](double e, std::uint64_t bytes, Encoding enc, const std::string& fragment) {
     BakeOptions options;
@@ -769,8 +821,40 @@ TEST(lut, MaxErrorRefusesWhatCannotBeMet) {
   refused(std::nan(""), 0, Encoding::single, "expected a positive number");
   refused(1e-8, 0, Encoding::single, "below what a float table can hold");
   refused(1e-4, 0, Encoding::half, "below what a half table can hold");
+  refused(1e-5, 0, Encoding::unorm16, "below what a unorm16 table can hold");
   refused(1e-3, 100, Encoding::single, "--max-bytes 100 is too small");
   refused(1e-6, 4096, Encoding::single, "cannot reach --max-error 1e-06");
+}
+
+// --max-error under a tight --max-bytes: when the counts the search predicts exceed the cap, it
+// bakes the largest table of that shape within the cap, and the refusal names what that reached.
+// specular alpha=8 g, E = 1e-5, B = 200000: the first bake (17x17x9 lobe frame, 10 kB) measures
+// 1.45e-3; a table within B reaches ~4.3e-5 (issue #15's report), so a refusal naming an error
+// above kCappedBest kept the coarse first bake.
+constexpr double kCappedBest = 1e-4;
+constexpr std::uint64_t kCap = 200000;
+TEST(lut, MaxErrorUnderATightCapBakesUpToTheCap) {
+  BakeOptions options;
+  options.max_error = 1e-5;
+  options.max_bytes = kCap;
+  try {
+    bake_to_error(*parse_model("specular:alpha=8"), Law::g, options);
+    ADD_FAILURE() << "1e-5 within " << kCap << " bytes accepted";
+  } catch (const InputError& error) {
+    const std::string what = error.what();
+    const std::string lead = "the best this search found is ";
+    const std::size_t at = what.find(lead);
+    ASSERT_NE(at, std::string::npos) << what;
+    std::size_t used = 0;
+    const double best = std::stod(what.substr(at + lead.size()), &used);
+    const std::string rest = what.substr(at + lead.size() + used);
+    ASSERT_EQ(rest.rfind(" in ", 0), 0u) << what;
+    const double bytes = std::stod(rest.substr(4));
+    std::printf("refused: %s\n", what.c_str());
+    EXPECT_LT(best, kCappedBest) << what;
+    EXPECT_GT(best, options.max_error) << what;
+    EXPECT_LE(bytes, static_cast<double>(kCap)) << what;
+  }
 }
 
 }  // namespace

@@ -318,6 +318,20 @@ TEST(tradeoff_schemes, TheMaxErrorPickMeetsItsTargetAtFreshPoints) {
     }
 }
 
+// The 16-bit row (issue #15: "a 16-bit unsigned-normalized encoding with a scale"): the same
+// target met at fresh points, 2 value bytes per entry.
+TEST(tradeoff_schemes, TheUnorm16PickMeetsItsTargetInTwoBytesPerValue) {
+  const SchemeRow& unorm = only_row(SchemeKind::max_error, Encoding::unorm16);
+  EXPECT_EQ(unorm.target, kQuickTarget);
+  ASSERT_TRUE(unorm.refused.empty()) << unorm.refused;
+  EXPECT_LE(unorm.max_error, kQuickTarget);
+  EXPECT_GE(unorm.covered, kCoverage);
+  std::uint64_t entries = 1;
+  for (int c : unorm.resolution) entries *= static_cast<std::uint64_t>(c);
+  EXPECT_EQ(unorm.value_bytes, 2 * entries);
+  EXPECT_NE(scheme_label(unorm).find("--encoding unorm16"), std::string::npos) << scheme_label(unorm);
+}
+
 TEST(tradeoff_schemes, VariantsChangeOnlyWhatTheyName) {
   const SchemeRow& pick = only_row(SchemeKind::max_error);
   const SchemeRow& swapped = only_row(SchemeKind::swapped);
