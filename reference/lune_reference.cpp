@@ -162,6 +162,10 @@ std::pair<std::vector<double>, std::vector<double>> break_points(const Model& mo
     const auto [lo, hi] = &cut == &t_cut ? t_range : psi_range;
     if (x > lo && x < hi) cut.push_back(x);
   };
+  // Creases on half great circles through ±crease_axis (MassHints): when the lune's edge axis is
+  // crease_axis (the hemisphere's, kHemisphereEdge) they are the lines psi = longitude, cut exactly.
+  if (glm::dot(lune.e, hints.crease_axis) > 1.0 - 1e-12)
+    for (double longitude : hints.crease_longitudes) add(psi_cut, longitude);
   for (const Peak& peak : hints.peaks) {
     const auto [t, psi] = lune.coordinates(peak.direction);
     for (double w : {peak.width, peak.across > 0.0 ? peak.across : peak.width})
