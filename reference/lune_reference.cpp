@@ -46,26 +46,41 @@ std::vector<double> cuts(double lo, double hi, const std::vector<double>& centre
 
 namespace {
 
+/// The L1 norm of f over the panels of `cut` by one unrefined gauss_kronrod<Points> per panel
+/// (each panel's |integral| appended to *panel_integral when given): the size tolerances refer to.
+template <unsigned Points, class F>
+double rough_l1(F&& f, const std::vector<double>& cut, std::vector<double>* panel_integral = nullptr) {
+  using Rule = boost::math::quadrature::gauss_kronrod<double, Points>;
+  double l1 = 0.0;
+  for (std::size_t k = 0; k + 1 < cut.size(); ++k) {
+    double panel_l1 = 0.0;
+    const double value = Rule::integrate(f, cut[k], cut[k + 1], 0, 1.0, nullptr, &panel_l1);
+    if (panel_integral) panel_integral->push_back(std::abs(value));
+    l1 += panel_l1;
+  }
+  return l1;
+}
+
 /// ∫ over the panels of `cut` by gauss_kronrod<Points>; adds Boost's error estimates to *error.
 /// Boost stops bisecting a panel when its error is below tolerance × |that panel's integral|; with
 /// options.global_tolerance the tolerance is made relative to the whole range's L1 norm instead
 /// (from one unrefined pass over the panels), so that a sliver panel next to a peak on the edge,
 /// whose integral is below the rounding of its own error estimate, is not bisected to full depth.
+/// `absolute` (0: none) is an error the whole range may have whatever its own size: an inner
+/// integral near the lune's pole, 1e-90 in size and all cancellation noise (specular at j·n = 1e-6,
+/// where (1 + k·mirror(j))/2 ~ 1e-12 is raised to the 8th power), then stops at the share of the
+/// outer integral's tolerance that it can affect instead of bisecting noise to full depth.
 template <unsigned Points, class F>
-double panels(F&& f, const std::vector<double>& cut, const Options& options, double* error) {
+double panels(F&& f, const std::vector<double>& cut, const Options& options, double absolute, double* error) {
   using Rule = boost::math::quadrature::gauss_kronrod<double, Points>;
   const std::size_t count = cut.size() - 1;
   std::vector<double> tolerance(count, options.tolerance);
   if (options.global_tolerance) {
-    std::vector<double> rough(count);
-    double l1 = 0.0;
-    for (std::size_t k = 0; k < count; ++k) {
-      double panel_l1 = 0.0;
-      rough[k] = std::abs(Rule::integrate(f, cut[k], cut[k + 1], 0, options.tolerance, nullptr, &panel_l1));
-      l1 += panel_l1;
-    }
+    std::vector<double> rough;
+    const double l1 = rough_l1<Points>(f, cut, &rough);
     for (std::size_t k = 0; k < count; ++k)
-      if (rough[k] > 0.0) tolerance[k] = std::max(options.tolerance, options.tolerance * l1 / rough[k]);
+      if (rough[k] > 0.0)
+        tolerance[k] = std::max({options.tolerance, options.tolerance * l1 / rough[k], absolute / count / rough[k]});
   }
   double sum = 0.0;
   for (std::size_t k = 0; k < count; ++k) {
@@ -77,19 +92,27 @@ double panels(F&& f, const std::vector<double>& cut, const Options& options, dou
 }
 
 /// Nested: outer over `outer_cut`, inner over `inner_cut`; point(outer, inner) is the integrand.
+/// Each inner integral may err by tolerance × (the whole integral's L1 norm) / (the outer span):
+/// summed by the outer rule, that is the tolerance relative to the whole. The L1 norm comes from a
+/// cheap gauss_kronrod<15> pass, unrefined at both levels (it only scales the inner stopping rule;
+/// the errors reported are Boost's own estimates either way).
 template <unsigned Points, class F>
 Value nested(F&& point, const std::vector<double>& outer_cut, const std::vector<double>& inner_cut,
              const Options& options) {
   Value out;
+  const double span = outer_cut.back() - outer_cut.front();
+  const double l1 = rough_l1<15>(
+      [&](double x) { return rough_l1<15>([&](double y) { return point(x, y); }, inner_cut); }, outer_cut);
+  const double inner_absolute = options.global_tolerance ? options.tolerance * l1 / span : 0.0;
   double worst_inner = 0.0;
   auto inner = [&](double x) {
     double error = 0.0;
-    const double value = panels<Points>([&](double y) { return point(x, y); }, inner_cut, options, &error);
+    const double value = panels<Points>([&](double y) { return point(x, y); }, inner_cut, options, inner_absolute, &error);
     worst_inner = std::max(worst_inner, error);
     return value;
   };
-  out.value = panels<Points>(inner, outer_cut, options, &out.error);
-  out.inner_error = worst_inner * (outer_cut.back() - outer_cut.front());
+  out.value = panels<Points>(inner, outer_cut, options, 0.0, &out.error);
+  out.inner_error = worst_inner * span;
   return out;
 }
 
@@ -133,9 +156,16 @@ std::pair<std::vector<double>, std::vector<double>> break_points(const Model& mo
   std::vector<double> t_cut = cuts(-pi / 2, pi / 2, t_centres), psi_cut = cuts(lune.psi_lo, lune.psi_hi, psi_centres);
   if (!options.use_mass_hints) return {t_cut, psi_cut};
   const MassHints hints = model.mass_hints(fixed, varying);
-  auto add = [](std::vector<double>& cut, double x) {
-    if (x > cut.front() && x < cut.back()) cut.push_back(x);
+  // Inside the range only; its ends are fixed now (cut.back() moves as cuts are appended).
+  const std::pair<double, double> t_range{t_cut.front(), t_cut.back()}, psi_range{psi_cut.front(), psi_cut.back()};
+  auto add = [&](std::vector<double>& cut, double x) {
+    const auto [lo, hi] = &cut == &t_cut ? t_range : psi_range;
+    if (x > lo && x < hi) cut.push_back(x);
   };
+  // Creases on half great circles through ±crease_axis (MassHints): when the lune's edge axis is
+  // crease_axis (the hemisphere's, kHemisphereEdge) they are the lines psi = longitude, cut exactly.
+  if (glm::dot(lune.e, hints.crease_axis) > 1.0 - 1e-12)
+    for (double longitude : hints.crease_longitudes) add(psi_cut, longitude);
   for (const Peak& peak : hints.peaks) {
     const auto [t, psi] = lune.coordinates(peak.direction);
     for (double w : {peak.width, peak.across > 0.0 ? peak.across : peak.width})

@@ -60,5 +60,18 @@ TEST(Extremes, SharpLobeAtTheTipOfAThinLuneIsHonest) {
   }
 }
 
+/// Poulin–Fournier's cylinder shadowing jumps across half great circles through its crease axis
+/// (laws/model.h MassHints::crease_axis). On the hemisphere the reference's coordinates have that
+/// axis as their edge axis, so the jumps are lines psi = longitude, cut exactly; without the cuts
+/// Boost bisected towards them until the grid's budget ran out (h at j = n: "0 ± inf").
+TEST(Extremes, PoulinFournierCreasesAreCutInTheReference) {
+  const ModelPtr model = parse_model("poulin-fournier");
+  const ExtremesCase c = judge_case(*model, Law::h, Vec3{0, 0, 1}, Vec3{0, 0, 1}, kEngineTol);
+  EXPECT_TRUE(c.converged && c.finite);
+  EXPECT_FALSE(c.reference_unresolved) << "reference " << c.reference << " ± " << c.reference_error;
+  EXPECT_FALSE(c.dishonest) << "engine " << c.engine.value << " ± " << c.engine.error << ", reference " << c.reference
+                            << " ± " << c.reference_error;
+}
+
 }  // namespace
 }  // namespace ganzfeld

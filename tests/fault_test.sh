@@ -3,8 +3,13 @@
 # a file-size limit, a full disk, a read-only or impossible output, and eight processes sharing
 # one cache, every target path holds nothing or a complete valid file, the cache holds only
 # valid entries, and refusals are one line with exit 2.
-# Usage: fault_test.sh PATH/TO/ganzfeld [TRIALS] [SEED]
+# Usage: fault_test.sh [--markdown] PATH/TO/ganzfeld [TRIALS] [SEED]
+#   --markdown  print the "faults" section of docs/reliability.md on stdout (the trials per command
+#               and their outcomes, each refusal and concurrency check); the log goes to stderr
+#               (scripts/docs --reliability pipes it into scripts/doc-section)
 set -u
+markdown=0
+[ "${1:-}" = "--markdown" ] && { markdown=1; shift; exec 3>&1 1>&2; }
 G="$1"
 TRIALS="${2:-200}"
 SEED="${3:-20261125}"
@@ -12,6 +17,14 @@ RANDOM=$SEED  # seeds bash's generator: the trial sequence is reproducible
 . "$(dirname "$0")/harness.sh"
 scene="$(dirname "$0")/../examples/default.json"
 small=(--res-g 9x9x5 --res-h 17 --tol 1e-6)
+
+# --- the summary's rows: note LABEL closes a check (passed when no fail since the previous note)
+checks=() noted_failed=0
+note() {
+  checks+=("| $1 | $([ "$failed" -eq "$noted_failed" ] && echo passed || echo "**failed** ($((failed - noted_failed)))") |")
+  noted_failed=$failed
+}
+skip() { checks+=("| $1 | skipped: $2 |"); echo "SKIP: $1: $2"; }
 
 # --- validators: a complete file of each kind, read back the way a user would
 valid_table() { "$G" info "$1" >/dev/null 2>&1; }
@@ -49,7 +62,19 @@ valid_cache() {  # every entry the cache would serve reads cleanly
 
 # --- kill -9 at a random moment (seeded), TRIALS times over five writers
 cache="$tmp/kill_cache"
-kills=0 outcomes_nothing=0 outcomes_complete=0 bad=0
+writers=("bake" "bake --scene (cache)" "export-glsl --scene" "export-brdf" "render")
+declare -a runs killed nothing complete invalid
+for k in 0 1 2 3 4; do runs[k]=0 killed[k]=0 nothing[k]=0 complete[k]=0 invalid[k]=0; done
+# outcome KIND: what the killed writer left, one of nothing / complete (read back whole) / invalid
+outcome() {
+  case $1 in
+    0) [ ! -e "$target" ] && echo nothing && return; valid_table "$target" ;;
+    1) [ -z "$(ls "$cache"/*.exr 2>/dev/null)" ] && echo nothing && return; valid_cache "$cache" ;;
+    2) valid_glsl_dir "$target" || { echo invalid; return; }; [ -e "$target/manifest.json" ] || { echo nothing; return; } ;;
+    3) [ ! -e "$target" ] && echo nothing && return; valid_brdf "$target" ;;
+    4) [ ! -e "$target" ] && echo nothing && return; valid_png "$target" ;;
+  esac && echo complete || echo invalid
+}
 for ((trial = 0; trial < TRIALS; trial++)); do
   kind=$((trial % 5))
   case $kind in
@@ -64,27 +89,28 @@ for ((trial = 0; trial < TRIALS; trial++)); do
   "$G" "${cmd[@]}" >/dev/null 2>&1 &
   pid=$!
   sleep "$(printf '0.%03d' "$delay_ms")"
-  kill -9 "$pid" 2>/dev/null && kills=$((kills + 1))
+  kill -9 "$pid" 2>/dev/null
   wait "$pid" 2>/dev/null
-  case $kind in
-    0) { [ ! -e "$target" ] && outcomes_nothing=$((outcomes_nothing + 1)); } ||
-         { valid_table "$target" && outcomes_complete=$((outcomes_complete + 1)); } ||
-         { bad=$((bad + 1)); echo "FAIL: trial $trial (bake, killed after ${delay_ms} ms): invalid $target"; } ;;
-    1) valid_cache "$cache" || { bad=$((bad + 1)); echo "FAIL: trial $trial (bake --scene, ${delay_ms} ms): invalid cache entry"; } ;;
-    2) valid_glsl_dir "$target" || { bad=$((bad + 1)); echo "FAIL: trial $trial (export-glsl, ${delay_ms} ms): incomplete $target"; } ;;
-    3) { [ ! -e "$target" ] || valid_brdf "$target"; } ||
-         { bad=$((bad + 1)); echo "FAIL: trial $trial (export-brdf, ${delay_ms} ms): invalid $target"; } ;;
-    4) { [ ! -e "$target" ] || valid_png "$target"; } ||
-         { bad=$((bad + 1)); echo "FAIL: trial $trial (render, ${delay_ms} ms): invalid $target"; } ;;
+  [ $? -eq 137 ] && killed[kind]=$((killed[kind] + 1))  # 128 + SIGKILL: it was still running
+  runs[kind]=$((runs[kind] + 1))
+  left=$(outcome "$kind")
+  case $left in
+    nothing) nothing[kind]=$((nothing[kind] + 1)) ;;
+    complete) complete[kind]=$((complete[kind] + 1)) ;;
+    *) invalid[kind]=$((invalid[kind] + 1)); fail "trial $trial (${writers[kind]}, killed after ${delay_ms} ms): invalid $target" ;;
   esac
 done
-[ "$bad" -eq 0 ] && ok || fail "$bad of $TRIALS kill -9 trials left an invalid file"
+note "kill -9: every target holds nothing or a complete valid file"
 # The next run over a killed cache reads or re-bakes every entry and leaves it valid.
 "$G" bake --scene "$scene" --out "$cache" --res-g 17x17x9 --res-h 33 --tol 1e-6 --quiet >/dev/null && valid_cache "$cache" \
   && ok || fail "a killed cache is not usable by the next bake"
+note "kill -9: the next \`bake --scene\` over the killed cache leaves every entry valid"
 leftovers=$(find "$tmp" -name '.*.tmp-*' | wc -l)
-echo "kill -9: $TRIALS trials (seed $SEED), $kills killed while running; table target: nothing $outcomes_nothing," \
-     "complete $outcomes_complete; invalid files: $bad; temporary files left by killed processes: $leftovers"
+for k in 0 1 2 3 4; do
+  echo "kill -9, ${writers[k]}: ${runs[k]} trials, ${killed[k]} killed while running; nothing ${nothing[k]}," \
+       "complete ${complete[k]}, invalid ${invalid[k]}"
+done
+echo "kill -9: $TRIALS trials (seed $SEED); temporary files left by killed processes: $leftovers"
 
 # --- file-size limit (ulimit -f): one line, exit 2, no target and no temporary file
 limited() { (ulimit -f 8; "$G" "$@"); }  # 8 KiB
@@ -101,6 +127,7 @@ for writer in table render brdf glsl; do
   [ -z "$(find "$tmp/lim" -name '.*.tmp-*')" ] && [ ! -e "$tmp/lim/g.exr" ] && [ ! -e "$tmp/lim/r.png" ] &&
     [ ! -e "$tmp/lim/m.binary" ] && [ ! -e "$tmp/lim/out/ganzfeld_scene.glsl" ] \
     && ok || fail "ulimit -f, $writer left: $(find "$tmp/lim" -type f)"
+  note "file-size limit (\`ulimit -f 8\`), $writer: one line, exit 2, no target or temporary file"
 done
 
 # --- a full disk: a 64 KiB tmpfs where mounting is permitted (root in a container, not always in CI)
@@ -114,8 +141,9 @@ if mount -t tmpfs -o size=64k tmpfs "$full" 2>/dev/null; then
   { [ -e "$full/r.png" ] && valid_png "$full/r.png"; } || { [ -z "$(ls -A "$full")" ] && [ "$(wc -l <"$tmp/full.err")" -eq 1 ]; } \
     && ok || fail "disk full, render: $(ls -A "$full") $(cat "$tmp/full.err")"
   umount "$full"
+  note "disk full (a 64 KiB tmpfs), bake and render: one line, exit 2, nothing left (or a whole PNG)"
 else
-  echo "SKIP: disk full (mounting a tmpfs is not permitted here); ulimit -f above covers the writers"
+  skip "disk full (a 64 KiB tmpfs)" "mounting a tmpfs is not permitted here; the file-size limit covers the writers"
 fi
 
 # --- read-only output and cache directories (as an unprivileged user: root may write anywhere)
@@ -128,14 +156,16 @@ if command -v setpriv >/dev/null && [ "$(id -u)" -eq 0 ]; then
   as_nobody bake --scene "$scene" --out "$ro" "${small[@]}" >/dev/null 2>"$tmp/ro.err"
   [ $? -eq 2 ] && grep -q "not a writable directory" "$tmp/ro.err" && ok || fail "read-only cache: $(cat "$tmp/ro.err")"
   [ -z "$(ls -A "$ro")" ] && ok || fail "read-only directory gained: $(ls -A "$ro")"
+  note "read-only output and cache directories: one line, exit 2, the directory unchanged"
 else
-  echo "SKIP: read-only directories (needs root to drop to an unprivileged user)"
+  skip "read-only output and cache directories" "needs root to drop to an unprivileged user"
 fi
 
 # --- an output path that is a directory
 mkdir -p "$tmp/adir.exr"
 expect_bad "is a directory" bake --model specular:alpha=8 --law h --res 9 -o "$tmp/adir.exr"
 expect_bad "is a directory" render --scene "$scene" "${small[@]}" -o "$tmp/adir.exr"
+note "output path that is a directory, bake and render: one line, exit 2"
 
 # --- eight processes, one cache: the same and different tables at once
 shared="$tmp/shared"; mkdir -p "$shared"
@@ -151,6 +181,45 @@ for p in 1 2 3 4 5 6 7 8; do
     && ok || fail "process $p: $(cat "$tmp/shared$p.json")"
 done
 [ -z "$(find "$shared" -name '.*.tmp-*')" ] && ok || fail "temporary files left in the shared cache"
+statuses=$(cat "$tmp"/shared?.json | python3 -c "import json, sys
+d = json.JSONDecoder(); s = sys.stdin.read().strip(); n = {}
+while s:
+    doc, end = d.raw_decode(s); s = s[end:].strip()
+    for t in doc['tables']: n[t['status']] = n.get(t['status'], 0) + 1
+print(', '.join(f'{v} {k}' for k, v in sorted(n.items())))" 2>/dev/null)
+note "8 processes, one cache (4 x 2 table sets): 9 valid tables, every process's 6 tables baked or reused ($statuses)"
+
+if [ "$markdown" -eq 1 ]; then
+  {
+    echo "## Fault trials: every file ganzfeld writes"
+    echo
+    echo "Generated by \`tests/fault_test.sh --markdown build/ganzfeld $TRIALS $SEED\` (do not edit by hand; ctest runs"
+    echo "the same trials as \`fault_test\`) on $(date -u +%Y-%m-%d), commit $(git -C "$(dirname "$0")" rev-parse --short HEAD 2>/dev/null || echo unknown)."
+    echo
+    echo "kill -9 at a random moment (bash's RANDOM seeded with $SEED): $TRIALS trials, the five writers in turn, each"
+    echo "killed after a random delay below its typical run time. *Killed while running* counts the trials whose"
+    echo "process died of the signal (the others had finished); the split between *nothing* and *complete* depends"
+    echo "on the machine's speed, *invalid* (a partial or unreadable file, or an invalid cache entry) must be 0."
+    echo "For \`bake --scene\` the target is the cache directory (complete: every entry reads back); for"
+    echo "\`export-glsl --scene\` it is the output directory (complete: manifest, shader and every listed texture)."
+    echo
+    echo "| command | trials | killed while running | nothing | complete and valid | invalid |"
+    echo "|---|---|---|---|---|---|"
+    for k in 0 1 2 3 4; do
+      echo "| \`${writers[k]}\` | ${runs[k]} | ${killed[k]} | ${nothing[k]} | ${complete[k]} | ${invalid[k]} |"
+    done
+    echo
+    echo "Temporary files left behind by killed processes: $leftovers (a later write of the same target replaces"
+    echo "them; readers never open them)."
+    echo
+    echo "| check | outcome |"
+    echo "|---|---|"
+    printf '%s\n' "${checks[@]}"
+    echo
+    echo "- 0 invalid files after $TRIALS kill -9 trials: **$([ "$(( ${invalid[0]} + ${invalid[1]} + ${invalid[2]} + ${invalid[3]} + ${invalid[4]} ))" -eq 0 ] && echo met || echo missed)**."
+    echo "- every refusal and the concurrency check passed: **$([ "$failed" -eq 0 ] && echo met || echo missed)** ($passed checks passed, $failed failed)."
+  } >&3
+fi
 
 echo "fault: $passed passed, $failed failed"
 [ "$failed" -eq 0 ]
