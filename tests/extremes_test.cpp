@@ -103,6 +103,22 @@ TEST(Extremes, PhongGrazingLayerIsHonest) {
     }
 }
 
+/// The grid's reference (with the model's hints: lines at 1e-6 and 4e-6 from the horizon) judges
+/// the same layer at j·n = 0 and 1e-6. Boost 1.74 reports a leaf's |K - G| unscaled by its
+/// half-width, so the 3e-6-wide panel between those lines claimed 1.4e-6 of error for 1e-12 and
+/// every such case was "reference unresolved" until reference/ scaled it.
+TEST(Extremes, PhongGrazingLayerIsJudgedByTheGridsReference) {
+  const ModelPtr model = parse_model("phong");
+  for (const double cos_j : {0.0, 1e-6}) {
+    const ExtremesCase c = judge_case(*model, Law::g, direction_from_cos(0.0, 0.0),
+                                      direction_from_cos(cos_j, std::numbers::pi), kEngineTol);
+    EXPECT_TRUE(c.converged && c.finite);
+    EXPECT_FALSE(c.reference_unresolved) << "j·n=" << cos_j << ": reference " << c.reference << " ± " << c.reference_error;
+    EXPECT_FALSE(c.dishonest) << "j·n=" << cos_j << ": engine " << c.engine.value << " ± " << c.engine.error
+                              << ", reference " << c.reference << " ± " << c.reference_error;
+  }
+}
+
 /// Blinn–Phong's halfway-vector lobe is (v·n) times thinner across the plane of incidence than
 /// along it; with the view v on the horizon it is a cone with its apex at -v on the horizon,
 /// (k·n)/sqrt(n) wide at height k·n. In the thin lune of g (sky pole at i·n = -0.999, view
