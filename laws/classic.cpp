@@ -59,9 +59,20 @@ double Phong::f(const Vec3& i, const Vec3& j) const noexcept {
   return kd_ / pi + ks_ * cosine_power(glm::dot(mirror(i), j), n_) / std::max(i.z, kGrazingCosFloor);
 }
 
-MassHints Phong::mass_hints(const Vec3& fixed, Varying) const {
+MassHints Phong::mass_hints(const Vec3& fixed, Varying varying) const {
   // cos^n psi ~ exp(-n psi^2 / 2): a Gaussian of standard deviation 1/sqrt(n) about the mirror.
-  return {{{mirror(fixed), 1.0 / std::sqrt(n_)}}, 0.0};
+  // Over incident directions k the specular part of (k·n) f is ks cos^n psi min(1, (k·n) /
+  // kGrazingCosFloor): it falls linearly to 0 across the layer k·n < kGrazingCosFloor. With the
+  // mirror lobe on the horizon (view at j·n <= 1e-6) the layer takes ks/2 kGrazingCosFloor times
+  // the lobe's length along the horizon, ~1.4e-7 at n = 20, which no node saw (ganzfeld extremes:
+  // g 1.4e-7 off with 8.5e-9 estimated). The layer holds at most ks/2 kGrazingCosFloor 2 pi
+  // cos^n(e), e the mirror's elevation: it is declared when the lobe reaches the horizon, within
+  // 4 widths of it (as ggx's layer).
+  const double w = 1.0 / std::sqrt(n_);
+  MassHints hints{{{mirror(fixed), w}}, 0.0};
+  if (varying == Varying::incident && std::asin(std::clamp(fixed.z, 0.0, 1.0)) < 4.0 * w + 0.05)
+    hints.horizon_layer = kGrazingCosFloor;
+  return hints;
 }
 
 PhongLewis::PhongLewis(double kd, double ks, double n)
@@ -102,7 +113,17 @@ double BlinnPhong::f(const Vec3& i, const Vec3& j) const noexcept {
 
 MassHints BlinnPhong::mass_hints(const Vec3& fixed, Varying) const {
   // (h·n)^n ~ exp(-n delta^2 / 2) and delta ~ psi/2 near the mirror: width 2/sqrt(n) in psi.
-  return {{{mirror(fixed), 2.0 / std::sqrt(n_)}}, 0.0};
+  // Across the plane of n and the fixed direction v, tilting h by delta moves k = 2(v·h)h - v by
+  // 2(v·n) delta only: the lobe is (v·n) times thinner across. With v on the horizon it is a cone
+  // with its apex at mirror(v) = -v, where h = (k + v)/|k + v| turns vertical: (k·n)/sqrt(n) wide
+  // at height k·n. The across width grades the grid towards the apex; without it the lobe went
+  // unseen in the thin lune of g at i·n = -0.999 (ganzfeld extremes: 4.1e-5 off at n = 1000).
+  // Floored (across = 0 would mean "as along"): the cone is self-similar about its apex, which
+  // the grid's centre lines put on a panel corner, so below the finest line the bisection sees it
+  // as at that scale. On the 88-case grid of blinn-phong (n = 1, 20, 1000, tolerance 1e-8) a
+  // floor of 1e-9 cost 4.6-8.7x the evaluations, 1e-3 1.5-1.9x; both honest.
+  const double along = 2.0 / std::sqrt(n_);
+  return {{{mirror(fixed), along, along * std::max(fixed.z, 1e-3)}}, 0.0};
 }
 
 // ---------------------------------------------------------------------------------------------

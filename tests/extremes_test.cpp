@@ -2,12 +2,14 @@
 // corners for the models whose reference is quick — must be finite and honest against the
 // independent reference (reference/). The whole grid is docs/reliability.md (scripts/docs
 // --reliability, tens of minutes).
+#include <cmath>
 #include <numbers>
 #include <string>
 
 #include <gtest/gtest.h>
 
 #include "laws/spec.h"
+#include "reference/lune_reference.h"
 #include "reports/extremes.h"
 
 namespace ganzfeld {
@@ -71,6 +73,69 @@ TEST(Extremes, PoulinFournierCreasesAreCutInTheReference) {
   EXPECT_FALSE(c.reference_unresolved) << "reference " << c.reference << " ± " << c.reference_error;
   EXPECT_FALSE(c.dishonest) << "engine " << c.engine.value << " ± " << c.engine.error << ", reference " << c.reference
                             << " ± " << c.reference_error;
+}
+
+/// Phong's specular term is divided by max(i·n, kGrazingCosFloor), so over incident directions
+/// its integrand falls linearly to 0 across the layer k·n < 1e-6 at the horizon. With the mirror
+/// lobe on the horizon (view at j·n = 1e-6, sky pole opposite) the engine missed the layer: g
+/// 1.4e-7 off with 8.5e-9 estimated at n = 20, 2e-8 with 4.4e-10 at n = 1000. The reference here
+/// ignores the model's mass hints (which now declare the layer): its break line at the mirror
+/// direction, psi = pi/2 - 1e-6, lies on the layer's edge where the lobe peaks, so it resolves the
+/// layer on its own (Boost's estimate ~1e-14), independently of the hint under test.
+TEST(Extremes, PhongGrazingLayerIsHonest) {
+  constexpr double kViewAboveHorizon = 1e-6;  // the grid's j·n = 1e-6: the mirror lobe on the layer's edge
+  reference::Options options;
+  options.use_mass_hints = false;
+  options.max_evaluations = kExtremesReferenceBudget;
+  for (const char* spec : {"phong", "phong:n=1000"})
+    for (const double cos_i : {0.0, -0.999}) {
+      const ModelPtr model = parse_model(spec);
+      const Vec3 i = direction_from_cos(cos_i, 0.0), j = direction_from_cos(kViewAboveHorizon, std::numbers::pi);
+      CubatureOptions engine_options;
+      engine_options.abs_tol = kEngineTol;
+      const Estimate engine = vignetting(*model, i, j, engine_options);
+      const reference::Value ref = reference::vignetting(*model, i, j, options);
+      ASSERT_TRUE(ref.resolved && ref.total_error() <= kEngineTol) << spec << " " << cos_i;
+      EXPECT_TRUE(engine.converged);
+      EXPECT_LE(std::abs(engine.value - ref.value), engine.error + ref.total_error())
+          << spec << " i·n=" << cos_i << ": engine " << engine.value << " ± " << engine.error << ", reference "
+          << ref.value << " ± " << ref.total_error();
+    }
+}
+
+/// The grid's reference (with the model's hints: lines at 1e-6 and 4e-6 from the horizon) judges
+/// the same layer at j·n = 0 and 1e-6. Boost 1.74 reports a leaf's |K - G| unscaled by its
+/// half-width, so the 3e-6-wide panel between those lines claimed 1.4e-6 of error for 1e-12 and
+/// every such case was "reference unresolved" until reference/ scaled it.
+TEST(Extremes, PhongGrazingLayerIsJudgedByTheGridsReference) {
+  const ModelPtr model = parse_model("phong");
+  for (const double cos_j : {0.0, 1e-6}) {
+    const ExtremesCase c = judge_case(*model, Law::g, direction_from_cos(0.0, 0.0),
+                                      direction_from_cos(cos_j, std::numbers::pi), kEngineTol);
+    EXPECT_TRUE(c.converged && c.finite);
+    EXPECT_FALSE(c.reference_unresolved) << "j·n=" << cos_j << ": reference " << c.reference << " ± " << c.reference_error;
+    EXPECT_FALSE(c.dishonest) << "j·n=" << cos_j << ": engine " << c.engine.value << " ± " << c.engine.error
+                              << ", reference " << c.reference << " ± " << c.reference_error;
+  }
+}
+
+/// Blinn–Phong's halfway-vector lobe is (v·n) times thinner across the plane of incidence than
+/// along it; with the view v on the horizon it is a cone with its apex at -v on the horizon,
+/// (k·n)/sqrt(n) wide at height k·n. In the thin lune of g (sky pole at i·n = -0.999, view
+/// opposite) the apex sits at the lune's widest point and the lobe is all the specular mass:
+/// the engine saw it only in part (n = 20: 7.7e-9 off with 3.8e-9 estimated) or not at all
+/// (n = 1000: 4.1e-5 off with 6.4e-10 estimated) until the hint declared the across width.
+TEST(Extremes, BlinnPhongGrazingConeIsHonest) {
+  for (const char* spec : {"blinn-phong", "blinn-phong:n=1000"})
+    for (const double cos_j : {0.0, 1e-6}) {
+      const ModelPtr model = parse_model(spec);
+      const ExtremesCase c = judge_case(*model, Law::g, direction_from_cos(-0.999, 0.0),
+                                        direction_from_cos(cos_j, std::numbers::pi), kEngineTol);
+      EXPECT_TRUE(c.converged && c.finite);
+      EXPECT_FALSE(c.reference_unresolved) << spec << " j·n=" << cos_j;
+      EXPECT_FALSE(c.dishonest) << spec << " j·n=" << cos_j << ": engine " << c.engine.value << " ± " << c.engine.error
+                                << ", reference " << c.reference << " ± " << c.reference_error;
+    }
 }
 
 }  // namespace
