@@ -141,6 +141,10 @@ Table bake_to_error(const Model& model, Law law, const BakeOptions& requested) {
   double best_error = std::numeric_limits<double>::infinity(), best_bytes = 0.0;
   std::vector<std::pair<std::vector<int>, Interpolation>> baked;
   for (int attempt = 0; attempt < kMaxSearchBakes; ++attempt) {
+    // Far over the cap, the capped table would miss E by far and could take hours to bake (at
+    // the default cap, 64 MiB of hvd-empirical's g): refuse with what was measured instead.
+    if (static_cast<double>(bytes_of(options.resolution, options.encoding)) > kCapFitReach * static_cast<double>(cap))
+      break;
     options.resolution = fit_to_cap(options.resolution, options.encoding, cap);
     const std::pair<std::vector<int>, Interpolation> key{options.resolution, options.interpolation};
     if (std::find(baked.begin(), baked.end(), key) != baked.end()) break;  // capped to a table already measured

@@ -37,6 +37,9 @@ inline constexpr double kCheckToleranceRatio = 1000.0;
 /// Random validation points of a --max-error bake (besides the cell centres).
 inline constexpr std::uint64_t kSearchChecks = 2000;
 inline constexpr int kMaxSearchBakes = 6;
+/// A predicted table at most this many times the byte cap is shrunk to fit it and baked (the
+/// best the search can still do); one further over it ends the search.
+inline constexpr double kCapFitReach = 8.0;
 
 /// The smallest E an encoding can hold: twice its unit roundoff at 1 (laws are of order 1), so
 /// that storage rounding alone never uses more than half of E. float: 2^-23; half: 2^-10;
