@@ -792,7 +792,7 @@ void main() {
   glAttachShader(program, fs);
   glLinkProgram(program);
   glUseProgram(program);
-  GLuint texture = 0, fbo = 0, color = 0, vao = 0;
+  GLuint texture = 0, vao = 0;
   glGenTextures(1, &texture);
   glActiveTexture(GL_TEXTURE0);
   glBindTexture(GL_TEXTURE_2D, texture);
@@ -802,16 +802,10 @@ void main() {
   glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
   glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
   glUniform1i(glGetUniformLocation(program, "u_table"), 0);
-  glGenFramebuffers(1, &fbo);
-  glBindFramebuffer(GL_FRAMEBUFFER, fbo);
-  glGenRenderbuffers(1, &color);
-  glBindRenderbuffer(GL_RENDERBUFFER, color);
-  glRenderbufferStorage(GL_RENDERBUFFER, GL_RGBA32F, kSize, kSize);
-  glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, color);
-  ASSERT_EQ(glCheckFramebufferStatus(GL_FRAMEBUFFER), static_cast<GLenum>(GL_FRAMEBUFFER_COMPLETE));
+  const auto [fbo, color] = float_framebuffer(kSize, kSize);
+  ASSERT_FALSE(::testing::Test::HasFailure()) << "the framebuffer is not complete";  // float_framebuffer EXPECTs it
   glGenVertexArrays(1, &vao);
   glBindVertexArray(vao);
-  glViewport(0, 0, kSize, kSize);
   glDrawArrays(GL_TRIANGLES, 0, 3);
   std::vector<float> pixels(kSize * kSize * 4);
   glReadPixels(0, 0, kSize, kSize, GL_RGBA, GL_FLOAT, pixels.data());
