@@ -10,6 +10,7 @@
 #include "cli/commands.h"
 #include "laws/registry.h"
 #include "reports/extremes.h"
+#include "util/progress.h"
 #include "util/timing.h"
 
 namespace ganzfeld::cli {
@@ -43,6 +44,18 @@ nlohmann::ordered_json extremes_json(const std::vector<ExtremesRow>& rows, const
   return doc;
 }
 
+/// The progress bar (on a terminal) and, at once, one line per dishonest or non-finite case.
+std::function<void(const ExtremesCase&, std::size_t, std::size_t)> extremes_progress() {
+  auto bar = util::progress_bar("extremes");
+  return [bar](const ExtremesCase& c, std::size_t done, std::size_t total) {
+    if (c.dishonest || !c.finite)
+      std::fprintf(stderr, "\rextremes: %s: %s %s at %s: %.12g ± %.2g, reference %.12g ± %.2g\n",
+                   c.finite ? "dishonest" : "non-finite", c.spec.c_str(), to_string(c.law), c.where.c_str(),
+                   c.engine.value, c.engine.error, c.reference, c.reference_error);
+    if (bar) bar(done, total);
+  };
+}
+
 }  // namespace
 
 void add_extremes_command(CLI::App& app, Action& action) {
@@ -67,6 +80,7 @@ void add_extremes_command(CLI::App& app, Action& action) {
       options.models = args->models;
       options.quick = args->quick;
       options.defaults_only = args->defaults_only;
+      options.on_case = extremes_progress();
       const util::Stopwatch watch;
       const auto rows = extremes_report(options);
       const double seconds = watch.seconds();

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <exception>
 #include <map>
+#include <mutex>
 #include <numbers>
 #include <set>
 #include <sstream>
@@ -209,11 +210,16 @@ std::vector<ExtremesRow> extremes_report(const ExtremesOptions& options) {
   }
   std::vector<ExtremesCase> results(jobs.size());
   std::vector<double> seconds(jobs.size());
+  std::mutex reporting;
+  std::size_t done = 0;
   tbb::parallel_for(std::size_t{0}, jobs.size(), [&](std::size_t k) {
     const util::Stopwatch watch;
     results[k] = judge_case(*jobs[k].model, jobs[k].law, jobs[k].i, jobs[k].j, options.engine_tolerance);
     results[k].where = jobs[k].where;
     seconds[k] = watch.seconds();
+    if (!options.on_case) return;
+    const std::lock_guard lock(reporting);
+    options.on_case(results[k], ++done, jobs.size());
   });
   for (std::size_t k = 0; k < jobs.size(); ++k) {
     ExtremesRow& row = rows[row_of[specs[jobs[k].spec].model]];

@@ -8,12 +8,16 @@
 // if that one agrees with the engine the case counts as "references disagree", listed, not dropped.
 #pragma once
 
+#include <cstddef>
+#include <functional>
 #include <string>
 #include <vector>
 
 #include "integrate/laws.h"
 
 namespace ganzfeld {
+
+struct ExtremesCase;
 
 struct ExtremesOptions {
   double engine_tolerance = 1e-8;  ///< the engine's absolute tolerance on every integral
@@ -24,6 +28,9 @@ struct ExtremesOptions {
   /// The whole direction grid, but each model at its defaults (and the extra specs) only: the
   /// parameters' ends multiply the run time by about ten.
   bool defaults_only = false;
+  /// Called after each case (serialized, in completion order) with the cases done and the total:
+  /// a grid at the parameters' ends runs for hours, and a dishonest case should not wait for it.
+  std::function<void(const ExtremesCase&, std::size_t done, std::size_t total)> on_case;
 };
 
 /// One spec of the grid and why it is there ("default", "alpha=min", ...).
