@@ -108,6 +108,10 @@ double lobe_width(double R, double n, double height) {
 
 std::string num(double x) { return format_number(x); }
 
+/// Layers thicker than this are left to the initial grid and adaptivity (integrate/ uses layer
+/// hints below 0.3 only; grazing is where the scaling projection's layer is thin).
+constexpr double kScalingLayerCeiling = 0.05;
+
 }  // namespace
 
 // ---------------------------------------------------------------------------------------------
@@ -203,6 +207,12 @@ MassHints HvdEmpirical::mass_hints(const Vec3& fixed, Varying) const {
   }
   // Towards grazing the specular lobe hugs the horizon, within a few widths of it.
   if (p_.k < 1.0 && height < 4.0 * w_s + 0.05) hints.horizon_layer = std::max(w_s, 1e-9);
+  // The scaling projection's Jacobian j_z² |H|²/(2 H_z³) and its uv = (j_z/H_z) H_xy change within
+  // k·n ~ fixed·n of the horizon (H_z = k_z + fixed_z): a layer of that thickness holding O(1) of
+  // either lump's mass, whatever k. Retro only (k = 1) had no layer: g at i·n = 1e-6, view at
+  // 89.99° opposite, was 8.1e-7 off with 9.6e-9 estimated (ganzfeld extremes, issue #20).
+  if (height > 0.0 && height < kScalingLayerCeiling)
+    hints.horizon_layer = hints.horizon_layer > 0.0 ? std::min(hints.horizon_layer, height) : height;
   return hints;
 }
 
