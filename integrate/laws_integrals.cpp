@@ -50,6 +50,7 @@ constexpr double kCentreLineOnly = 0.02;  // lobes at least this wide get only a
 // 0.27 layer cost 17% more graded, so thicker layers are not graded.
 constexpr double kGradedLayer = 0.02;
 constexpr double kNearHorizonEdge = 0.1;  // a sky edge this close to the horizon is graded too
+constexpr double kPoleLadderEnd = 1e-12;  // a pole's ladder of lines stops this close to it (radians)
 
 }  // namespace
 
@@ -82,6 +83,17 @@ Lune lune(const Vec3& pole, const Vec3& fixed) {
 
 namespace {
 
+/// Adds lines to sorted cuts as exact lines (after tidy_cuts, which could otherwise drop one next
+/// to a hint line): crease longitudes, a pole's ladder.
+void add_exact_lines(std::vector<double>& cuts, const std::vector<double>& lines) {
+  constexpr double kSameLine = 1e-12;
+  for (double c : lines) {
+    if (!(c > cuts.front() + kSameLine && c < cuts.back() - kSameLine)) continue;
+    const auto at = std::lower_bound(cuts.begin(), cuts.end(), c);
+    if (std::abs(*at - c) > kSameLine && std::abs(*(at - 1) - c) > kSameLine) cuts.insert(at, c);
+  }
+}
+
 /// Initial cut lines from the model's mass hints: each peak (clamped into the rectangle) gets
 /// lines at its centre and, when sharper than kCentreLineOnly, at ±2 widths (measured: 15% fewer
 /// evaluations than ±1, ±4, as honest),
@@ -96,6 +108,10 @@ std::array<std::vector<double>, 2> cuts_from_hints(const MassHints& hints, const
   std::vector<double> t_lines{first_axis(0.0, 0.0)}, phi_lines{0.5 * (fr.phi_lo + pi / 2)};  // 2x2 at least: a 1x1 start
   // misses asperity horizon layers below the hint threshold (measured: 6% dishonest estimates)
   double min_scale = 1.0;
+  struct PoleLadder {
+    double side, width, phi;  // which pole (±1), the lobe's width, its longitude
+  };
+  std::vector<PoleLadder> pole_ladders;
   for (const Peak& peak : hints.peaks) {
     const double across = peak.across > 0.0 ? peak.across : peak.width;
     if (!(std::min(peak.width, across) < kBroadLobe)) continue;
@@ -113,6 +129,7 @@ std::array<std::vector<double>, 2> cuts_from_hints(const MassHints& hints, const
       // panels meet around it: it needs its ±2w lines whatever its width (ganzfeld extremes found
       // specular:alpha=1000 at i·n = -0.99, j on the horizon, 2e-6 off with 2e-11 estimated).
       const bool at_pole = std::abs(t_d) + 4.0 * w > pi / 2;
+      if (at_pole) pole_ladders.push_back({t_d < 0.0 ? -1.0 : 1.0, w, phi_d});
       for (double m : {-2.0, 0.0, 2.0}) {
         // A lobe wider than kCentreLineOnly is seen by the nodes of the panels that meet at its
         // centre (their first Kronrod node lies within 0.0043 panel widths of an edge, < 0.014
@@ -144,22 +161,22 @@ std::array<std::vector<double>, 2> cuts_from_hints(const MassHints& hints, const
     min_scale = std::min(min_scale, delta);
   }
   const double gap = 0.25 * min_scale;
-  return {tidy_cuts(t_lines, first_lo, first_hi, gap), tidy_cuts(phi_lines, fr.phi_lo, pi / 2, gap)};
+  std::array<std::vector<double>, 2> cuts{tidy_cuts(t_lines, first_lo, first_hi, gap),
+                                          tidy_cuts(phi_lines, fr.phi_lo, pi / 2, gap)};
+  // A lobe at a pole t = ±pi/2 of the coordinates: every longitude meets there, so the part of
+  // the lobe inside the domain can be far smaller than the lobe (a thin lune's tip cuts a sliver
+  // 1e-8 wide from a lobe 1e-2 wide: cook-torrance m=0.01 at i·n = -0.999, j·n = 1e-6, where the
+  // ±2w lines left the whole sliver to one panel and the engine reported 2.7e-18 for 1e-12 missed,
+  // found by ganzfeld extremes). A geometric ladder of lines towards the pole, w/8, w/64, ... down
+  // to 1e-12 rad, gives the refinement a panel at every scale there.
+  for (const PoleLadder& ladder : pole_ladders)
+    for (double offset = ladder.width / 8.0; offset > kPoleLadderEnd; offset /= 8.0)
+      add_exact_lines(cuts[0], {first_axis(ladder.side * (pi / 2 - offset), ladder.phi)});
+  return cuts;
 }
 
 std::array<std::vector<double>, 2> cuts_from_hints(const MassHints& hints, const Lune& fr) {
   return cuts_from_hints(hints, fr, [](double t, double) { return t; }, -pi / 2, pi / 2);
-}
-
-/// Adds the crease longitudes to the longitude cuts as exact lines (after tidy_cuts, which
-/// could otherwise drop one next to a hint line).
-void add_creases(std::vector<double>& phi_cuts, const std::vector<double>& creases) {
-  constexpr double kSameLine = 1e-12;
-  for (double c : creases) {
-    if (!(c > phi_cuts.front() + kSameLine && c < phi_cuts.back() - kSameLine)) continue;
-    const auto at = std::lower_bound(phi_cuts.begin(), phi_cuts.end(), c);
-    if (std::abs(*at - c) > kSameLine && std::abs(*(at - 1) - c) > kSameLine) phi_cuts.insert(at, c);
-  }
 }
 
 }  // namespace
@@ -313,7 +330,7 @@ Estimate integrate_creased(const Model& model, const Vec3& pole, const Vec3& fix
     fr.phi_lo = std::atan2(sin_pole, pole.z) - pi / 2;
     if (!(fr.phi_lo < pi / 2)) return {};
     auto cuts = cuts_from_hints(hints, fr);
-    add_creases(cuts[1], creases);
+    add_exact_lines(cuts[1], creases);
     return integrate_on_lune(model, fr, cuts, fixed, varying, options, false);
   }
   if (p_e < 0.0) flip();
@@ -332,7 +349,7 @@ Estimate integrate_creased(const Model& model, const Vec3& pole, const Vec3& fix
   const double radius = std::hypot(p_n, p_u), phi_p = std::atan2(p_u, p_n);
   if (radius > 0.0)
     for (double centre : {phi_p - pi / 2, phi_p + pi / 2}) add_step_lines(cuts[1], centre, p_e_abs / radius);
-  add_creases(cuts[1], creases);
+  add_exact_lines(cuts[1], creases);
   return integrate_rectangle(model, fixed, varying, cuts, options,
                              [&](const std::array<std::span<const double>, 2>& nodes, PanelDirections& k_dirs,
                                  PanelWeights& weights) {
