@@ -128,7 +128,7 @@ MassHints Ggx::mass_hints(const Vec3& fixed, Varying) const {
   if (g2_ == ggx::G2Form::height_correlated && fixed.z > 0.0) {
     const double r_fixed = ggx::projected_root(fixed, alpha_);
     const double layer = fixed.z * std::max(alpha_.x, alpha_.y) / r_fixed;  // r_k of a grazing k <= max alpha
-    if (layer < kVisibilityLayerCeiling) hints.horizon_layer = hints.horizon_layer > 0.0 ? std::min(hints.horizon_layer, layer) : layer;
+    if (layer < kVisibilityLayerCeiling) hints.add_horizon_layer(layer);
   }
   return hints;
 }

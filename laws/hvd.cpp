@@ -211,8 +211,7 @@ MassHints HvdEmpirical::mass_hints(const Vec3& fixed, Varying) const {
   // k·n ~ fixed·n of the horizon (H_z = k_z + fixed_z): a layer of that thickness holding O(1) of
   // either lump's mass, whatever k. Retro only (k = 1) had no layer: g at i·n = 1e-6, view at
   // 89.99° opposite, was 8.1e-7 off with 9.6e-9 estimated (ganzfeld extremes, issue #20).
-  if (height > 0.0 && height < kScalingLayerCeiling)
-    hints.horizon_layer = hints.horizon_layer > 0.0 ? std::min(hints.horizon_layer, height) : height;
+  if (height < kScalingLayerCeiling) hints.add_horizon_layer(height);
   return hints;
 }
 

@@ -77,9 +77,7 @@ MassHints Mixture::mass_hints(const Vec3& fixed, Varying varying) const {
   for (const auto& lobe : lobes_) {
     MassHints h = lobe.model->mass_hints(fixed, varying);
     all.peaks.insert(all.peaks.end(), h.peaks.begin(), h.peaks.end());
-    if (h.horizon_layer > 0.0)
-      all.horizon_layer = all.horizon_layer > 0.0 ? std::min(all.horizon_layer, h.horizon_layer)
-                                                  : h.horizon_layer;
+    all.add_horizon_layer(h.horizon_layer);
     all.rough_horizon = all.rough_horizon || h.rough_horizon;
     // One crease frame per integral: lobes creased about the same axis share it (every
     // cylinder model puts its cylinders along x); a lobe creased about another axis would be

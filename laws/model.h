@@ -6,6 +6,7 @@
 // unit vectors. f(i, j) is the BRDF ("law of shading") in 1/sr.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <memory>
 #include <optional>
@@ -49,6 +50,10 @@ struct MassHints {
   /// Thickness in k·n of a layer of mass hugging the horizon (asperity lobes, the
   /// 1/((i+j)·n) factor of perfect backscatter); 0 when there is none.
   double horizon_layer = 0.0;
+  /// Declares one more layer: of several, the thinnest is the one the grid must resolve.
+  void add_horizon_layer(double thickness) {
+    if (thickness > 0.0) horizon_layer = horizon_layer > 0.0 ? std::min(horizon_layer, thickness) : thickness;
+  }
   /// The integrand behaves like (k·n)^nu at the horizon with a non-integer nu < 2 (Minnaert's
   /// (k·n)^(1+xi)): a weak singularity at the edge of the domain, which the integrator grades.
   bool rough_horizon = false;
