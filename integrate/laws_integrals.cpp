@@ -108,10 +108,7 @@ std::array<std::vector<double>, 2> cuts_from_hints(const MassHints& hints, const
   std::vector<double> t_lines{first_axis(0.0, 0.0)}, phi_lines{0.5 * (fr.phi_lo + pi / 2)};  // 2x2 at least: a 1x1 start
   // misses asperity horizon layers below the hint threshold (measured: 6% dishonest estimates)
   double min_scale = 1.0;
-  struct PoleLadder {
-    double side, width, phi;  // which pole (±1), the lobe's width, its longitude
-  };
-  std::vector<PoleLadder> pole_ladders;
+  std::vector<double> pole_ladder;  // exact lines towards a coordinate pole (added after tidy_cuts)
   for (const Peak& peak : hints.peaks) {
     const double across = peak.across > 0.0 ? peak.across : peak.width;
     if (!(std::min(peak.width, across) < kBroadLobe)) continue;
@@ -129,7 +126,15 @@ std::array<std::vector<double>, 2> cuts_from_hints(const MassHints& hints, const
       // panels meet around it: it needs its ±2w lines whatever its width (ganzfeld extremes found
       // specular:alpha=1000 at i·n = -0.99, j on the horizon, 2e-6 off with 2e-11 estimated).
       const bool at_pole = std::abs(t_d) + 4.0 * w > pi / 2;
-      if (at_pole) pole_ladders.push_back({t_d < 0.0 ? -1.0 : 1.0, w, phi_d});
+      // A lobe at a pole t = ±pi/2 of the coordinates: every longitude meets there, so the part
+      // of the lobe inside the domain can be far smaller than the lobe (a thin lune's tip cuts a
+      // sliver 1e-8 wide from a lobe 1e-2 wide: cook-torrance m=0.01 at i·n = -0.999, j·n = 1e-6,
+      // where the ±2w lines left the whole sliver to one panel and the engine reported 2.7e-18 for
+      // 1e-12 missed, found by ganzfeld extremes). A geometric ladder of lines towards the pole,
+      // w/8, w/64, ... down to 1e-12 rad, gives the refinement a panel at every scale there.
+      if (at_pole)
+        for (double offset = w / 8.0; offset > kPoleLadderEnd; offset /= 8.0)
+          pole_ladder.push_back(first_axis((t_d < 0.0 ? -1.0 : 1.0) * (pi / 2 - offset), phi_d));
       for (double m : {-2.0, 0.0, 2.0}) {
         // A lobe wider than kCentreLineOnly is seen by the nodes of the panels that meet at its
         // centre (their first Kronrod node lies within 0.0043 panel widths of an edge, < 0.014
@@ -163,15 +168,7 @@ std::array<std::vector<double>, 2> cuts_from_hints(const MassHints& hints, const
   const double gap = 0.25 * min_scale;
   std::array<std::vector<double>, 2> cuts{tidy_cuts(t_lines, first_lo, first_hi, gap),
                                           tidy_cuts(phi_lines, fr.phi_lo, pi / 2, gap)};
-  // A lobe at a pole t = ±pi/2 of the coordinates: every longitude meets there, so the part of
-  // the lobe inside the domain can be far smaller than the lobe (a thin lune's tip cuts a sliver
-  // 1e-8 wide from a lobe 1e-2 wide: cook-torrance m=0.01 at i·n = -0.999, j·n = 1e-6, where the
-  // ±2w lines left the whole sliver to one panel and the engine reported 2.7e-18 for 1e-12 missed,
-  // found by ganzfeld extremes). A geometric ladder of lines towards the pole, w/8, w/64, ... down
-  // to 1e-12 rad, gives the refinement a panel at every scale there.
-  for (const PoleLadder& ladder : pole_ladders)
-    for (double offset = ladder.width / 8.0; offset > kPoleLadderEnd; offset /= 8.0)
-      add_exact_lines(cuts[0], {first_axis(ladder.side * (pi / 2 - offset), ladder.phi)});
+  add_exact_lines(cuts[0], pole_ladder);
   return cuts;
 }
 
