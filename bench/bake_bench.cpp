@@ -6,7 +6,7 @@
 #include <tbb/global_control.h>
 
 #include "bench/cubature_bench.h"
-#include "laws/spec.h"
+#include "models/spec.h"
 #include "tables/bake.h"
 #include "util/timing.h"
 
@@ -26,7 +26,7 @@ std::vector<BakeTiming> run_bake_benchmark(bool quick, int repeats) {
       (threads == 1 ? timing.seconds_1 : timing.seconds_2) = util::time_runs(repeats, [&] {
         const tables::Table table = tables::bake(*model, Law::g, options);
         timing.unconverged = table.unconverged;
-        timing.max_error = table.max_error;
+        timing.max_error = table.node_error;
       });
     }
     out.push_back(std::move(timing));

@@ -19,7 +19,7 @@
 #include <tbb/parallel_for.h>
 
 #include "integrate/laws.h"
-#include "laws/spec.h"
+#include "models/spec.h"
 #include "reference/lune_reference.h"
 #include "reports/plot.h"
 #include "util/timing.h"

@@ -12,9 +12,9 @@
 
 #include "bench/cubature_bench.h"
 #include "integrate/laws.h"
-#include "laws/ggx_energy.h"
-#include "laws/ggx_ms.h"
-#include "laws/spec.h"
+#include "models/ggx_energy.h"
+#include "models/ggx_ms.h"
+#include "models/spec.h"
 #include "tables/param_table.h"
 #include "tables/preset.h"
 #include "util/timing.h"
@@ -100,7 +100,7 @@ void furnace_section(std::ostringstream& md, const RealtimeOptions& options) {
   const std::vector<double> mus{0.05, 0.2, 0.4, 0.6, 0.8, 1.0};
   md << "\n## White furnace: ggx-ms against plain GGX\n\nAlbedo a(μ) with f0 = 1 by the cubature (tolerance 1e-9) at "
         "μ ∈ {0.05, 0.2, 0.4, 0.6, 0.8, 1}: ggx-ms should give 1 (target |a − 1| ≤ 1e-5); plain ggx gives E(μ), "
-        "losing 1 − E. Its E table (laws/ggx_ms.h) comes from laws/ggx_energy's rule, so each row is two "
+        "losing 1 − E. Its E table (models/ggx_ms.h) comes from models/ggx_energy's rule, so each row is two "
         "integrators agreeing.\n\n"
         "| α | ggx-ms max \\|a − 1\\| | its E table's error | ggx: max loss 1 − E(μ) | ggx: 1 − E_avg | target |\n"
         "|---|---|---|---|---|---|\n";
@@ -167,10 +167,10 @@ ggx::ReferenceValue e_avg_reference(double alpha) {
 }
 
 void comparison_section(std::ostringstream& md, const ParamTable& dfg, const ParamTable& kc) {
-  md << "\n## Against an independent estimator\n\nThe reference is laws/ggx_energy.h: a tensor Gauss–Legendre rule "
+  md << "\n## Against an independent estimator\n\nThe reference is models/ggx_energy.h: a tensor Gauss–Legendre rule "
         "(Boost.Math's 20 points) over the half vector (θ_h, φ_h), the horizon cut exactly at θ* = δ/2 + π/4, panels "
         "graded towards the lobe and the horizon crossing, D and Smith Λ written out again: no code of integrate/ or "
-        "laws/ggx. Its error is |level 1 − level 2| (twice the panels). A texel agrees when |table − reference| ≤ "
+        "models/ggx. Its error is |level 1 − level 2| (twice the panels). A texel agrees when |table − reference| ≤ "
         "the table's bound + the reference's error; `ratio` is the largest |table − reference| / (that sum).\n\n"
         "| channel | texels | max \\|table − reference\\| | max ratio | max reference error | all within bounds |\n"
         "|---|---|---|---|---|---|\n";
@@ -210,7 +210,7 @@ void lookup_section(std::ostringstream& md, const std::vector<const Timed*>& bak
         "resolves). `holds` is the fraction of "
      << fresh_points
      << " seeded random points (roughness, μ) in that domain where |lookup − independent reference| ≤ lookup "
-        "error + the reference's error (laws/ggx_energy.h, as below).\n\n"
+        "error + the reference's error (models/ggx_energy.h, as below).\n\n"
         "| preset | channel | lookup error | per-texel bound | max \\|lookup − reference\\| | holds |\n"
         "|---|---|---|---|---|---|\n";
   for (const Timed* b : bakes) {
@@ -238,7 +238,7 @@ void lookup_section(std::ostringstream& md, const std::vector<const Timed*>& bak
         const auto held = std::count_if(slack.begin(), slack.end(), [](double s) { return s >= 0.0; });
         holds = num(100.0 * held / fresh_points) + "%";
       }
-      md << "| " << t.preset << " | `" << ch.name << "` | " << num(ch.lookup_error) << " | " << num(ch.max_error()) << " | "
+      md << "| " << t.preset << " | `" << ch.name << "` | " << num(ch.lookup_error) << " | " << num(ch.node_error()) << " | "
          << actual << " | " << holds << " |\n";
     }
   }

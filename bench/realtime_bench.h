@@ -2,7 +2,7 @@
 // `ganzfeld bench realtime --markdown docs/realtime.md`): the per-texel error bounds of the DFG
 // and Kulla–Conty presets, their 64x64 bake time (repeated: median and spread), the ggx-ms white
 // furnace against plain GGX's energy loss, and the tables against an independent estimator
-// (laws/ggx_energy.h: Gauss–Legendre over the half vector, written apart from integrate/).
+// (models/ggx_energy.h: Gauss–Legendre over the half vector, written apart from integrate/).
 #pragma once
 
 #include <string>

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <vector>
 
-#include "laws/spec.h"
+#include "models/spec.h"
 #include "scene/plan.h"
 #include "rasterizer/shading.h"
 #include "util/timing.h"

@@ -11,7 +11,7 @@
 #include <sstream>
 
 #include "util/error.h"
-#include "laws/registry.h"
+#include "models/registry.h"
 #include "util/progress.h"
 
 namespace ganzfeld::cli {
@@ -204,7 +204,7 @@ scene::TableOptions TableOptionArgs::options(const scene::TableOptions& defaults
       throw InputError(std::string("--max-error chooses the resolution and the tolerance itself; drop ") +
                        (!res_g.empty() ? "--res-g" : !res_h.empty() ? "--res-h" : "--tol") + " or --max-error");
     tables::check_error_target(*max_error, max_bytes.value_or(0), Law::g, out.encoding);
-    out.max_error = *max_error;
+    out.target_error = *max_error;
     out.max_bytes = max_bytes.value_or(0);
   }
   return out;
@@ -232,7 +232,7 @@ void warn_unconverged(const tables::Table& t, tables::CacheStatus status) {
   std::cerr << "ganzfeld: warning: " << t.unconverged << " of " << t.entries() << " entries of " << to_string(t.law)
             << " of " << t.model << " did not reach tolerance " << format_number(t.tolerance)
             << " within the evaluation budget; their achieved error is stored (max error "
-            << format_number(t.max_error) << ")\n";
+            << format_number(t.node_error) << ")\n";
 }
 
 void warn_unconverged(const scene::ShadingPlan& plan) {

@@ -15,8 +15,8 @@
 #include "cli/commands.h"
 #include "cli/library.h"
 #include "util/error.h"
-#include "laws/registry.h"
-#include "laws/spec.h"
+#include "models/registry.h"
+#include "models/spec.h"
 #include "tables/bake.h"
 #include "tables/cache.h"
 #include "tables/exr_io.h"
@@ -127,7 +127,7 @@ int bake_preset_table(const BakeArgs& args) {
               table.preset.c_str(), table.layout.c_str(), table.model.c_str(), table.axes[0].count,
               table.axes[1].count, to_string(table.grid), table.axes[0].name.c_str(), channels.c_str(), seconds,
               lookup.c_str(), table.lookup_checks, format_number(tables::kMinValidatedAlpha).c_str(),
-              format_number(tables::kMinValidatedMu).c_str(), table.max_error, unconverged, args.output.c_str());
+              format_number(tables::kMinValidatedMu).c_str(), table.node_error, unconverged, args.output.c_str());
   if (unconverged > 0)
     std::cerr << "ganzfeld: warning: " << unconverged << " texels missed tolerance " << format_number(table.tolerance)
               << "; their achieved error is stored\n";
@@ -157,7 +157,7 @@ int bake_one(const BakeArgs& args) {
   const scene::TableOptions table_options = args.table.options(defaults);
   tables::BakeOptions options = table_options.bake_options(law);
   if (!to_error) options.resolution = tables::parse_resolution(args.res, law);
-  else tables::check_error_target(options.max_error, options.max_bytes, law, options.encoding);
+  else tables::check_error_target(options.target_error, options.max_bytes, law, options.encoding);
   if (!args.mapping.empty()) options.mappings = tables::parse_mappings(args.mapping, law);
   if (!args.interpolation.empty()) options.interpolation = tables::parse_interpolation(args.interpolation);
   if (!args.frame.empty() && tables::parse_frame(args.frame) == tables::Frame::lobe) {
@@ -190,7 +190,7 @@ int bake_one(const BakeArgs& args) {
                 to_string(law), table.model.c_str(), nodes.c_str(), to_string(table.frame),
                 to_string(table.interpolation), table.entries(), to_string(table.encoding),
                 static_cast<unsigned long long>(tables::value_bytes(table)), r.seconds, table.lookup_error,
-                table.interpolation_checks, table.max_error, table.unconverged, args.output.c_str());
+                table.interpolation_checks, table.node_error, table.unconverged, args.output.c_str());
   }
   warn_unconverged(r.table, r.status);
   return 0;
@@ -207,7 +207,7 @@ std::vector<int> axis_counts(const tables::Table& table) {
 void print_table_line(const scene::PlannedTable& t) {
   std::printf("%s %s of %s, %s nodes: lookup error %.3g (validated; node error %.3g) -> %s\n",
               tables::to_string(t.status), to_string(t.request.law), t.request.spec.c_str(),
-              tables::resolution_text(axis_counts(*t.table)).c_str(), t.table->lookup_error, t.table->max_error,
+              tables::resolution_text(axis_counts(*t.table)).c_str(), t.table->lookup_error, t.table->node_error,
               t.path.c_str());
 }
 

@@ -11,7 +11,7 @@
 #include "cli/args.h"
 #include "cli/commands.h"
 #include "util/error.h"
-#include "laws/spec.h"
+#include "models/spec.h"
 #include "util/atomic_file.h"
 #include "tables/bake.h"
 #include "util/timing.h"

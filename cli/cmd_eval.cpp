@@ -4,7 +4,7 @@
 #include "cli/args.h"
 #include "cli/commands.h"
 #include "util/error.h"
-#include "laws/spec.h"
+#include "models/spec.h"
 #include "shapes/json.h"
 #include "util/timing.h"
 

@@ -5,7 +5,7 @@
 
 #include "cli/commands.h"
 #include "util/error.h"
-#include "laws/spec.h"
+#include "models/spec.h"
 #include "tables/bake.h"
 #include "export/brdf_export.h"
 

@@ -17,8 +17,8 @@
 #include "cli/args.h"
 #include "cli/commands.h"
 #include "util/error.h"
-#include "laws/registry.h"
-#include "laws/spec.h"
+#include "models/registry.h"
+#include "models/spec.h"
 #include "util/atomic_file.h"
 #include "tables/exr_io.h"
 #include "export/glsl.h"
@@ -129,7 +129,7 @@ int export_scene(const ExportArgs& args) {
                                  {"model", planned.request.spec},
                                  {"law", to_string(planned.request.law)},
                                  {"lookup_error", table->lookup_error},
-                                 {"node_error", table->max_error}};
+                                 {"node_error", table->node_error}};
     if (format) {
       const std::string file = sampler + exporting::texture_extension(*format);
       exporting::write_texture(*table, *format, (std::filesystem::path(dir) / file).string(), sampler);

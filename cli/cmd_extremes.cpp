@@ -8,7 +8,7 @@
 
 #include "cli/args.h"
 #include "cli/commands.h"
-#include "laws/registry.h"
+#include "models/registry.h"
 #include "reports/extremes.h"
 #include "util/progress.h"
 #include "util/timing.h"

@@ -9,7 +9,7 @@
 #include "cli/args.h"
 #include "cli/commands.h"
 #include "util/error.h"
-#include "laws/spec.h"
+#include "models/spec.h"
 #include "tables/exr_io.h"
 #include "rasterizer/figure.h"
 #include "util/timing.h"

@@ -5,7 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/commands.h"
-#include "laws/registry.h"
+#include "models/registry.h"
 #include "shapes/json.h"
 #include "tables/bake.h"
 #include "tables/exr_io.h"
@@ -27,7 +27,7 @@ int param_info(const std::string& path, bool json) {
     axes.push_back({{"name", a.name}, {"min", a.min}, {"max", a.max}, {"count", a.count},
                     {"mapping", to_string(a.mapping)}, {"grid", to_string(table.grid)}});
   for (const tables::Channel& ch : table.channels) {
-    const double max_error = ch.max_error();
+    const double max_error = ch.node_error();
     channels.push_back({{"name", ch.name}, {"definition", ch.definition}, {"lookup_error", ch.lookup_error},
                         {"max_error", max_error}, {"unconverged", ch.unconverged}});
   }
@@ -38,7 +38,7 @@ int param_info(const std::string& path, bool json) {
                                {"lookup_checks", table.lookup_checks},
                                {"validated_domain", {{"alpha_min", tables::kMinValidatedAlpha},
                                                      {"cos_theta_i_min", tables::kMinValidatedMu}}},
-                               {"max_error", table.max_error},
+                               {"max_error", table.node_error},
                                {"tolerance", table.tolerance}, {"encoding", to_string(table.encoding)},
                                {"command", table.command}, {"version", table.version}};
     std::cout << doc.dump(2) << "\n";
@@ -61,7 +61,7 @@ int param_info(const std::string& path, bool json) {
               "  tolerance    %s\n  encoding     %s\n  command      %s\n",
               format_number(table.lookup_error).c_str(), format_number(tables::kMinValidatedAlpha).c_str(),
               format_number(tables::kMinValidatedMu).c_str(), table.lookup_checks,
-              format_number(table.max_error).c_str(), format_number(table.tolerance).c_str(),
+              format_number(table.node_error).c_str(), format_number(table.tolerance).c_str(),
               to_string(table.encoding), table.command.c_str());
   return 0;
 }
@@ -104,7 +104,7 @@ void add_info_command(CLI::App& app, Action& action) {
       std::printf("  encoding     %s%s, %llu value bytes\n  node error   %s (cubature + rounding at the nodes only)\n"
                   "  tolerance    %s\n  unconverged  %lld of %zu\n  command      %s\n",
                   to_string(table.encoding), unorm.c_str(), static_cast<unsigned long long>(tables::value_bytes(table)),
-                  format_number(table.max_error).c_str(), format_number(table.tolerance).c_str(), table.unconverged,
+                  format_number(table.node_error).c_str(), format_number(table.tolerance).c_str(), table.unconverged,
                   table.entries(), table.command.c_str());
       return 0;
     };

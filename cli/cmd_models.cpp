@@ -3,7 +3,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/commands.h"
-#include "laws/registry.h"
+#include "models/registry.h"
 #include "shapes/json.h"
 #include "util/atomic_file.h"
 

@@ -11,7 +11,7 @@
 #include "reports/plausibility.h"
 #include "util/atomic_file.h"
 #include "tables/exr_io.h"
-#include "laws/registry.h"
+#include "models/registry.h"
 
 namespace ganzfeld::cli {
 

@@ -12,7 +12,7 @@
 #include "cli/args.h"
 #include "cli/commands.h"
 #include "util/error.h"
-#include "laws/registry.h"
+#include "models/registry.h"
 #include "tables/bake.h"
 #include "tables/cache.h"
 #include "tables/exr_io.h"

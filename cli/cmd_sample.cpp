@@ -11,7 +11,7 @@
 #include "tables/exr_io.h"
 #include "tables/param_table.h"
 #include "util/error.h"
-#include "laws/registry.h"
+#include "models/registry.h"
 #include "tables/sample.h"
 
 namespace ganzfeld::cli {

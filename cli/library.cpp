@@ -5,7 +5,7 @@
 #include <set>
 
 #include "cli/args.h"
-#include "laws/registry.h"
+#include "models/registry.h"
 #include "scene/json_file.h"
 #include "tables/cache.h"
 #include "tables/to_error.h"
@@ -132,7 +132,7 @@ class LibraryParser {
   void add(scene::TableRequest request, const std::string& where) {
     const tables::BakeOptions& o = request.options;
     const tables::TableKey key = at(where, [&] {
-      if (o.max_error > 0.0) tables::check_error_target(o.max_error, o.max_bytes, request.law, o.encoding);
+      if (o.target_error > 0.0) tables::check_error_target(o.target_error, o.max_bytes, request.law, o.encoding);
       return tables::table_key(*request.model, request.law, o);
     });
     if (keys_.insert(tables::key_text(key)).second) tables_.push_back(std::move(request));
@@ -142,7 +142,7 @@ class LibraryParser {
 /// Entries of a table baked at a fixed resolution; tables baked to an error target count as
 /// larger than any (their size is chosen while baking).
 std::uint64_t size_rank(const scene::TableRequest& r) {
-  if (r.options.max_error > 0.0) return UINT64_MAX;
+  if (r.options.target_error > 0.0) return UINT64_MAX;
   return tables::table_bytes(r.options.resolution) / tables::kBytesPerEntry;
 }
 

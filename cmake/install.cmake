@@ -1,9 +1,9 @@
-# `cmake --install` puts the CLI in bin/ and the C++ library a user links (util, laws, integrate,
+# `cmake --install` puts the CLI in bin/ and the C++ library a user links (util, models, integrate,
 # tables) with its headers in include/ganzfeld/ and lib/; `find_package(ganzfeld)` then gives
-# the targets ganzfeld::laws, ganzfeld::integrate, ganzfeld::tables (tests/consumer/ builds one).
+# the targets ganzfeld::models, ganzfeld::integrate, ganzfeld::tables (tests/consumer/ builds one).
 include(GNUInstallDirs)
 include(CMakePackageConfigHelpers)
-set(GANZFELD_INSTALLED_MODULES util laws integrate tables)
+set(GANZFELD_INSTALLED_MODULES util models integrate tables)
 foreach(module ${GANZFELD_INSTALLED_MODULES})
   install(DIRECTORY ${PROJECT_SOURCE_DIR}/${module} DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/ganzfeld
           FILES_MATCHING PATTERN "*.h")

@@ -1,4 +1,4 @@
-// Writes any model as measured data (laws/measured.h): a MERL binary file sampled at the nodes
+// Writes any model as measured data (models/measured.h): a MERL binary file sampled at the nodes
 // of MERL's half/difference grid — a generator for testing readers and pipelines, since no
 // measured file can be downloaded here — and ganzfeld's tabulated text format on a regular grid.
 #pragma once
@@ -6,8 +6,8 @@
 #include <string>
 #include <vector>
 
-#include "laws/measured.h"
-#include "laws/model.h"
+#include "models/measured.h"
+#include "models/model.h"
 
 namespace ganzfeld::exporting {
 

@@ -7,8 +7,8 @@
 #include <sstream>
 
 #include "util/error.h"
-#include "laws/kp_lobes.h"
-#include "laws/mixture.h"
+#include "models/kp_lobes.h"
+#include "models/mixture.h"
 #include "scene/plan.h"
 #include "tables/cache.h"
 #include "tables/sample.h"
@@ -360,7 +360,7 @@ std::string table_comment(const Table& table) {
   if (table.interpolation_checks > 0)
     s << " (validated at " << table.interpolation_checks << " points: largest measured "
       << literal(table.interpolation_error) << ")";
-  s << "; node_error <= " << literal(table.max_error) << "\n// axes, slowest first:\n";
+  s << "; node_error <= " << literal(table.node_error) << "\n// axes, slowest first:\n";
   for (const Axis& axis : table.axes) {
     s << "//   " << axis.name << " in [" << literal(axis.min) << ", " << literal(axis.max) << "], " << axis.count
       << " nodes, " << to_string(axis.mapping) << " mapping";
@@ -433,7 +433,7 @@ std::string glsl_model_f(const Model& model) {
   const std::string name = glsl_identifier("f_" + model.spec());
   std::ostringstream s;
   if (const auto* mixture = dynamic_cast<const Mixture*>(&model)) {
-    // f of a mixture is the weighted sum of its lobes' f (laws/mixture.h; weights normalized).
+    // f of a mixture is the weighted sum of its lobes' f (models/mixture.h; weights normalized).
     std::set<std::string> emitted;
     std::string sum;
     for (const Lobe& lobe : mixture->lobes()) {
@@ -445,7 +445,7 @@ std::string glsl_model_f(const Model& model) {
       << "float " << name << "(vec3 i, vec3 j, vec3 n) { return " << sum << "; }\n";
     return s.str();
   }
-  s << "// f of " << comment_text(model.spec()) << " (laws/kp_lobes.h); i, j, n unit.\n"
+  s << "// f of " << comment_text(model.spec()) << " (models/kp_lobes.h); i, j, n unit.\n"
     << "float " << name << "(vec3 i, vec3 j, vec3 n) {\n"
     << "  float mi = dot(i, n), mj = dot(j, n);\n"
     << "  if (mi < 0.0 || mj < 0.0) return 0.0;\n";

@@ -27,7 +27,7 @@
 #include <utility>
 #include <vector>
 
-#include "laws/model.h"
+#include "models/model.h"
 #include "scene/plan.h"
 #include "scene/scene.h"
 #include "tables/table.h"

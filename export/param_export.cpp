@@ -8,7 +8,7 @@
 #include <Imath/half.h>
 
 #include "export/glsl.h"
-#include "laws/registry.h"
+#include "models/registry.h"
 
 namespace ganzfeld::exporting {
 
@@ -53,7 +53,7 @@ std::string glsl_param_snippet(const tables::ParamTable& table) {
     << table.layout << ") of " << table.model << "\n// made by: " << table.command << "\n// texture: width "
     << table.axes[1].count << " (cos_theta_i), height " << table.axes[0].count << " (" << table.axes[0].name
     << ", row 0 smallest), " << to_string(table.grid) << "-centred samples; " << channel_list(table)
-    << "\n// error: per texel <= " << format_number(table.max_error)
+    << "\n// error: per texel <= " << format_number(table.node_error)
     << " (+ half rounding in a header texture); interpolation between texels not included\n"
     << "vec4 " << name << "(highp sampler2D table, float mu, float " << table.axes[0].name << ") {\n"
     << "  vec2 n = vec2(textureSize(table, 0));\n"

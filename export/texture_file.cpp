@@ -128,7 +128,7 @@ std::vector<std::uint8_t> ktx2_bytes(const Table& table) {
       {"ganzfeld.interpolation_error", number_text(table.interpolation_error)},
       {"ganzfeld.lookup_error", number_text(table.lookup_error)},
       {"ganzfeld.law", to_string(table.law)},
-      {"ganzfeld.max_error", number_text(table.max_error)},
+      {"ganzfeld.max_error", number_text(table.node_error)},
       {"ganzfeld.model", table.model},
       {"ganzfeld.tolerance", number_text(table.tolerance)},
   };
@@ -246,7 +246,7 @@ std::string c_header(const Table& table, const std::string& symbol) {
     << table.model << "\n// made by: " << table.command << "\n// axes: " << axes_text(table)
     << "\n// frame " << to_string(table.frame) << (table.frame == Frame::lobe ? std::string(" (peak ") + to_string(table.peak) + ")" : "")
     << ", " << to_string(table.interpolation) << " lookup (export-glsl's GLSL implements it)"
-    << "\n// error: lookup <= " << number_text(table.lookup_error) << "; nodes <= " << number_text(table.max_error)
+    << "\n// error: lookup <= " << number_text(table.lookup_error) << "; nodes <= " << number_text(table.node_error)
     << ", between nodes (measured) <= " << number_text(table.interpolation_error) << "\n// texels: x (width) fastest, then y (height), then z (depth); "
     << upload << "\n"
     << "#pragma once\n#include <stdint.h>\n\n"

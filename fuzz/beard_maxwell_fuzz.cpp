@@ -1,10 +1,10 @@
-// Beard–Maxwell first-surface tables (laws/beard_maxwell.h); a table that parses is interpolated
+// Beard–Maxwell first-surface tables (models/beard_maxwell.h); a table that parses is interpolated
 // across [0, 90] degrees and past its ends.
 #include <cmath>
 #include <numbers>
 
 #include "fuzz/fuzz_support.h"
-#include "laws/beard_maxwell.h"
+#include "models/beard_maxwell.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   using namespace ganzfeld;

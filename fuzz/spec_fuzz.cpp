@@ -1,10 +1,10 @@
-// Model spec strings, mixtures included (laws/spec.h). A spec that parses must be canonical in a
+// Model spec strings, mixtures included (models/spec.h). A spec that parses must be canonical in a
 // round trip (the canonical spec is a material's identity: parse(spec()).spec() == spec()); its f
 // is evaluated at a few directions, grazing ones included, for the sanitizers.
 #include <cstdlib>
 
 #include "fuzz/fuzz_support.h"
-#include "laws/spec.h"
+#include "models/spec.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   using namespace ganzfeld;

@@ -1,7 +1,7 @@
-// Tabulated BRDF text (laws/measured.h: parse_tabulated); a table that parses becomes a model
+// Tabulated BRDF text (models/measured.h: parse_tabulated); a table that parses becomes a model
 // whose f is evaluated with both lookups at a few directions, grazing ones included.
 #include "fuzz/fuzz_support.h"
-#include "laws/measured.h"
+#include "models/measured.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   using namespace ganzfeld;

@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "integrate/cubature.h"
-#include "laws/model.h"
+#include "models/model.h"
 
 namespace ganzfeld {
 

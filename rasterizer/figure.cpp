@@ -6,7 +6,7 @@
 #include <numbers>
 
 #include "util/error.h"
-#include "laws/spec.h"
+#include "models/spec.h"
 #include "rasterizer/shading.h"
 
 namespace ganzfeld::raster {

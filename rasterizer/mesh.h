@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "laws/model.h"
+#include "models/model.h"
 
 namespace ganzfeld::raster {
 

@@ -6,7 +6,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
-#include "laws/kp_lobes.h"
+#include "models/kp_lobes.h"
 #include "tables/sample.h"
 
 namespace ganzfeld::raster {

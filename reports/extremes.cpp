@@ -12,8 +12,8 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
-#include "laws/registry.h"
-#include "laws/spec.h"
+#include "models/registry.h"
+#include "models/spec.h"
 #include "reference/lune_reference.h"
 #include "util/error.h"
 #include "util/timing.h"

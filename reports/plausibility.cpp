@@ -11,9 +11,9 @@
 #include <tbb/parallel_for.h>
 
 #include "integrate/laws.h"
-#include "laws/classic_models.h"
-#include "laws/registry.h"
-#include "laws/spec.h"
+#include "models/classic_models.h"
+#include "models/registry.h"
+#include "models/spec.h"
 
 namespace ganzfeld {
 

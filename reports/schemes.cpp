@@ -155,7 +155,7 @@ SchemeReport measure_schemes(const Model& model, Law law, const SchemeOptions& o
     row.target_bytes = bytes;
     row.encoding = encoding;
     BakeOptions bake_options;
-    bake_options.max_error = target;
+    bake_options.target_error = target;
     bake_options.max_bytes = bytes;
     bake_options.encoding = encoding;
     std::optional<Table> table = measure_row(model, law, bake_options, options.repeats, report.reference, row);

@@ -18,7 +18,7 @@
 #include <string>
 #include <vector>
 
-#include "laws/model.h"
+#include "models/model.h"
 #include "reports/tradeoff.h"
 #include "tables/table.h"
 

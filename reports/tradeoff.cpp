@@ -268,7 +268,7 @@ TradeoffReport measure_tradeoff(const Model& model, Law law, const TradeoffPlan&
     row.max_error = error.max;
     row.rms_error = error.rms;
     row.worst = report.reference.points.empty() ? Direction{} : report.reference.points[error.worst].direction;
-    row.max_stored_error = table.max_error;
+    row.max_stored_error = table.node_error;
     row.unconverged = table.unconverged;
 
     std::vector<double> coords;

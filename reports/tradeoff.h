@@ -22,7 +22,7 @@
 #include <string>
 #include <vector>
 
-#include "laws/model.h"
+#include "models/model.h"
 #include "tables/table.h"
 
 namespace ganzfeld::reports {

@@ -12,10 +12,10 @@
 
 #include "integrate/laws.h"
 #include "reports/verify_support.h"
-#include "laws/kp_lobes.h"
-#include "laws/mixture.h"
-#include "laws/registry.h"
-#include "laws/spec.h"
+#include "models/kp_lobes.h"
+#include "models/mixture.h"
+#include "models/registry.h"
+#include "models/spec.h"
 
 namespace ganzfeld {
 

@@ -1,4 +1,4 @@
-// `ganzfeld verify` checks of the microfacet models (laws/ggx.h, laws/charlie.h).
+// `ganzfeld verify` checks of the microfacet models (models/ggx.h, models/charlie.h).
 //   ggx.norm          Walter eq. 33 / Heitz 2014: ∫ D(m)(m·n) dm = 1 (isotropic and anisotropic α)
 //   ggx.g1            Walter eq. 34 / Heitz eq. 80, 86: G1 = 2/(1 + sqrt(1 + α_w² tan²θ)) is Smith's
 //                     (w·n)/∫ max(0, w·m) D(m) dm, and equals our 1/(1 + Λ)
@@ -13,10 +13,10 @@
 #include "integrate/laws.h"
 #include "reports/verify.h"
 #include "reports/verify_support.h"
-#include "laws/charlie.h"
-#include "laws/ggx.h"
-#include "laws/registry.h"
-#include "laws/spec.h"
+#include "models/charlie.h"
+#include "models/ggx.h"
+#include "models/registry.h"
+#include "models/spec.h"
 
 namespace ganzfeld {
 

@@ -1,4 +1,4 @@
-// `ganzfeld verify` checks of the halfway-vector-disk models (Edwards et al. 2006; laws/hvd.h).
+// `ganzfeld verify` checks of the halfway-vector-disk models (Edwards et al. 2006; models/hvd.h).
 //   hvd.lump.volume       eq. 26/27: each lump has unit volume on its ellipse (and lies in the disk)
 //   hvd.energy.scaling    eq. 20/33: hvd-empirical with C_d = 1 has h(ω_o) = 1 for every ω_o, to 89°
 //   hvd.energy.orthogonal eq. 24/36: the same with lumps inside the disk; outside, the measured
@@ -16,9 +16,9 @@
 #include "integrate/laws.h"
 #include "reports/verify.h"
 #include "reports/verify_support.h"
-#include "laws/hvd.h"
-#include "laws/registry.h"
-#include "laws/spec.h"
+#include "models/hvd.h"
+#include "models/registry.h"
+#include "models/spec.h"
 
 namespace ganzfeld {
 

@@ -2,8 +2,8 @@
 
 #include <algorithm>
 
-#include "laws/registry.h"
-#include "laws/spec.h"
+#include "models/registry.h"
+#include "models/spec.h"
 
 namespace ganzfeld::scene {
 
@@ -13,7 +13,7 @@ tables::BakeOptions TableOptions::bake_options(Law law) const {
   options.tolerance = tolerance;
   options.max_evaluations = max_evaluations;
   options.encoding = encoding;
-  options.max_error = max_error;
+  options.target_error = target_error;
   options.max_bytes = max_bytes;
   return options;
 }
@@ -133,9 +133,9 @@ std::vector<TableRequest> tables_needed(const Scene& scene, const TableOptions& 
 
 std::vector<std::string> bake_command(const TableRequest& request, const std::string& path) {
   const tables::BakeOptions& o = request.options;
-  if (o.max_error > 0.0) {
+  if (o.target_error > 0.0) {
     std::vector<std::string> words{"ganzfeld", "bake", "--model", request.spec, "--law", to_string(request.law),
-                                   "--max-error", format_number(o.max_error)};
+                                   "--max-error", format_number(o.target_error)};
     if (o.max_bytes) words.insert(words.end(), {"--max-bytes", std::to_string(o.max_bytes)});
     words.insert(words.end(), {"--encoding", to_string(o.encoding), "--max-evals", std::to_string(o.max_evaluations),
                                "-o", path});

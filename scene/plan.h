@@ -35,7 +35,7 @@ struct TableOptions {
   tables::Encoding encoding = tables::Encoding::single;
   /// > 0: every table is baked to this lookup error (tables/to_error.h) instead of the
   /// resolutions and tolerance above; max_bytes caps each table's value bytes (0: the default).
-  double max_error = 0.0;
+  double target_error = 0.0;
   std::uint64_t max_bytes = 0;
   /// The bake options of law g or h (no progress callback).
   tables::BakeOptions bake_options(Law law) const;

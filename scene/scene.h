@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "laws/spec.h"
+#include "models/spec.h"
 
 namespace ganzfeld {
 

@@ -11,8 +11,8 @@
 #include <nlohmann/json.hpp>
 
 #include "export/glsl.h"
-#include "laws/registry.h"
-#include "laws/spec.h"
+#include "models/registry.h"
+#include "models/spec.h"
 #include "tables/cache.h"
 #include "util/error.h"
 
@@ -225,7 +225,7 @@ TableQuery parse_table(const Query& query, const Limits& limits, TableEndpoint e
   if (const auto max_error = number(query, "max_error")) {
     // As `bake --max-error`: the smallest table whose validated lookup error is <= max_error,
     // within this service's own size cap (max_entries floats of values).
-    q.options.max_error = *max_error;
+    q.options.target_error = *max_error;
     q.options.max_bytes = limits.max_entries * sizeof(float);
   }
   if (const auto encoding = text_of(query, "encoding"))

@@ -1,6 +1,6 @@
 #include "shapes/json.h"
 
-#include "laws/registry.h"
+#include "models/registry.h"
 #include "tables/bake.h"
 
 namespace ganzfeld::shapes {
@@ -88,7 +88,7 @@ nlohmann::ordered_json table_json(const std::string& path, const tables::Table& 
           {"entries", table.entries()},
           {"value_bytes", tables::value_bytes(table)},
           {"lookup_error", table.lookup_error},
-          {"node_error", table.max_error},
+          {"node_error", table.node_error},
           {"unconverged", table.unconverged},
           {"seconds", seconds}};
 }
@@ -113,7 +113,7 @@ nlohmann::ordered_json info_json(const std::string& path, const tables::Table& t
                              {"value_bytes", tables::value_bytes(table)},
                              {"error", table.lookup_error},
                              {"validation_points", table.interpolation_checks},
-                             {"node_error", table.max_error},
+                             {"node_error", table.node_error},
                              {"measured_lookup_error", table.interpolation_error},
                              {"tolerance", table.tolerance},
                              {"unconverged", table.unconverged},

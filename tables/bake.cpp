@@ -15,7 +15,7 @@
 
 #include "integrate/laws.h"
 #include "util/error.h"
-#include "laws/registry.h"
+#include "models/registry.h"
 #include "tables/sample.h"
 #include "tables/to_error.h"
 
@@ -105,7 +105,7 @@ std::vector<Axis> bake_axes(Law law, const BakeOptions& options) {
 }
 
 Table bake(const Model& model, Law law, const BakeOptions& options) {
-  if (options.max_error != 0.0 || options.max_bytes > 0) return bake_to_error(model, law, options);
+  if (options.target_error != 0.0 || options.max_bytes > 0) return bake_to_error(model, law, options);
   return bake_resolution(model, law, options);
 }
 
@@ -241,8 +241,8 @@ void bake_nodes(Table& table, const LawAt& law_at, const BakeOptions& options, c
                                                          : "float range"));
   if (options.encoding == Encoding::unorm16) quantize_unorm16(table);
   table.unconverged = unconverged;
-  table.max_error = 0.0;
-  for (float e : table.error) table.max_error = std::max(table.max_error, static_cast<double>(e));
+  table.node_error = 0.0;
+  for (float e : table.error) table.node_error = std::max(table.node_error, static_cast<double>(e));
 }
 
 /// Validation at points the table was not built from, against direct cubature: cell centres
@@ -286,7 +286,7 @@ void validate(Table& table, const LawAt& law_at, const BakeOptions& options, con
   table.interpolation_checks = static_cast<long long>(checks);
   table.interpolation_error = 0.0;
   for (double e : check_error) table.interpolation_error = std::max(table.interpolation_error, e);
-  table.lookup_error = std::max(kLookupMargin * table.interpolation_error, table.max_error);
+  table.lookup_error = std::max(kLookupMargin * table.interpolation_error, table.node_error);
 }
 
 }  // namespace

@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "integrate/cubature.h"
-#include "laws/model.h"
+#include "models/model.h"
 #include "tables/frame.h"
 #include "tables/table.h"
 
@@ -39,8 +39,8 @@ struct BakeOptions {
   double check_tolerance = 0.0;
   /// > 0: bake to this lookup error instead of `resolution` (tables/to_error.h: the baker
   /// chooses resolution, frame, interpolation and tolerance); 0: bake `resolution` as given.
-  double max_error = 0.0;
-  /// With max_error: the cap of the value bytes (0: kDefaultMaxValueBytes).
+  double target_error = 0.0;
+  /// With target_error: the cap of the value bytes (0: kDefaultMaxValueBytes).
   std::uint64_t max_bytes = 0;
   /// Called with (entries done, total) at most ~kProgressSteps times, serialized (never two at
   /// once) and with increasing `done`, from whichever worker thread finished the entry.
@@ -81,10 +81,10 @@ std::vector<Axis> bake_axes(Law law, const BakeOptions& options);
 /// values outside the half range when encoding = half. Entries that miss the tolerance are
 /// kept with their (larger) error estimate and counted in Table::unconverged.
 /// Table::command is left empty for the caller; Table::version is this build's.
-/// With options.max_error > 0, bake_to_error (tables/to_error.h) instead.
+/// With options.target_error > 0, bake_to_error (tables/to_error.h) instead.
 Table bake(const Model& model, Law law, const BakeOptions& options);
 
-/// bake() of exactly options.resolution (ignores max_error).
+/// bake() of exactly options.resolution (ignores target_error).
 Table bake_resolution(const Model& model, Law law, const BakeOptions& options);
 
 /// `count` seeded random points uniform in the law's coordinates, flattened (g: (i·n in

@@ -5,8 +5,8 @@
 #include <filesystem>
 
 #include "util/error.h"
-#include "laws/registry.h"
-#include "laws/spec.h"
+#include "models/registry.h"
+#include "models/spec.h"
 #include "util/hash.h"
 #include "tables/exr_io.h"
 #include "tables/to_error.h"
@@ -26,10 +26,10 @@ TableKey table_key(const Model& model, Law law, const BakeOptions& options) {
   key.model = spec_without_paths(model.spec());
   key.content = model.content_digest();
   key.law = law;
-  if (options.max_error != 0.0 || options.max_bytes > 0) {
-    check_error_target(options.max_error, options.max_bytes, law, options.encoding);
+  if (options.target_error != 0.0 || options.max_bytes > 0) {
+    check_error_target(options.target_error, options.max_bytes, law, options.encoding);
     key.encoding = options.encoding;
-    key.target_error = options.max_error;
+    key.target_error = options.target_error;
     key.target_bytes = options.max_bytes ? options.max_bytes : kDefaultMaxValueBytes;
     return key;
   }

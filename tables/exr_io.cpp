@@ -20,7 +20,7 @@
 #include "tables/exr_guard.h"
 #include "util/error.h"
 #include "util/atomic_file.h"
-#include "laws/registry.h"
+#include "models/registry.h"
 
 namespace ganzfeld::tables {
 
@@ -114,7 +114,7 @@ void write_table(const Table& table, const std::string& path) {
   attr(kAttrLaw, to_string(table.law));
   attr(kAttrAxes, axes_json(table).dump());
   attr(kAttrTolerance, format_number(table.tolerance));
-  attr(kAttrMaxError, format_number(table.max_error));
+  attr(kAttrMaxError, format_number(table.node_error));
   attr(kAttrUnconverged, std::to_string(table.unconverged));
   attr(kAttrInterpolationError, format_number(table.interpolation_error));
   attr(kAttrInterpolationChecks, std::to_string(table.interpolation_checks));
@@ -269,7 +269,7 @@ struct Reader {
     }
     table.axes = axes(attribute(header, kAttrAxes));
     table.tolerance = number(header, kAttrTolerance);
-    table.max_error = number(header, kAttrMaxError);
+    table.node_error = number(header, kAttrMaxError);
     const double unconverged = number(header, kAttrUnconverged);
     if (unconverged != std::floor(unconverged) || unconverged > 9e18) refuse(std::string(kAttrUnconverged) + " is not a count");
     table.unconverged = static_cast<long long>(unconverged);

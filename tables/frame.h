@@ -29,7 +29,7 @@
 #include <optional>
 #include <utility>
 
-#include "laws/model.h"
+#include "models/model.h"
 #include "tables/table.h"
 
 namespace ganzfeld::tables {

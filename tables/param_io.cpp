@@ -18,7 +18,7 @@
 #include <OpenEXR/ImfTestFile.h>
 #include <nlohmann/json.hpp>
 
-#include "laws/registry.h"
+#include "models/registry.h"
 #include "tables/exr_guard.h"
 #include "tables/param_table.h"
 #include "util/atomic_file.h"
@@ -75,7 +75,7 @@ void write_param_table(const ParamTable& table, const std::string& path) {
   attr("axes", axes.dump());
   attr("channels", channels.dump());
   attr("tolerance", format_number(table.tolerance));
-  attr("max_error", format_number(table.max_error));
+  attr("max_error", format_number(table.node_error));
   attr("lookup_error", format_number(table.lookup_error));
   attr("lookup_checks", std::to_string(table.lookup_checks));
   attr("command", table.command);
@@ -192,7 +192,7 @@ struct ParamReader {
       read_axes(header, table);
       read_channels(header, table);
       table.tolerance = number(header, "tolerance");
-      table.max_error = number(header, "max_error");
+      table.node_error = number(header, "max_error");
       table.lookup_error = number(header, "lookup_error");
       table.lookup_checks = static_cast<long long>(number(header, "lookup_checks"));
       table.command = attribute(header, "command");

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "laws/registry.h"
+#include "models/registry.h"
 #include "util/error.h"
 
 namespace ganzfeld::tables {
@@ -30,7 +30,7 @@ double grid_position(const Axis& axis, Grid grid, double x) noexcept {
   return std::clamp(u * axis.count - 0.5, 0.0, last);
 }
 
-double Channel::max_error() const noexcept {
+double Channel::node_error() const noexcept {
   double largest = 0.0;
   for (float e : error) largest = std::max(largest, static_cast<double>(e));
   return largest;
@@ -95,14 +95,14 @@ void check_param_table(const ParamTable& table) {
                          format_number(ch.error[m]) + "; every error must be finite and >= 0");
       max_error = std::max(max_error, static_cast<double>(ch.error[m]));
     }
-    const double channel_max = ch.max_error();
+    const double channel_max = ch.node_error();
     if (!std::isfinite(ch.lookup_error) || !(ch.lookup_error >= channel_max))
       throw InputError("channel " + ch.name + ": lookup_error " + format_number(ch.lookup_error) +
                        " is not a finite number >= its largest entry error " + format_number(channel_max));
     lookup_error = std::max(lookup_error, ch.lookup_error);
   }
-  if (table.max_error != max_error)
-    throw InputError("max_error " + format_number(table.max_error) + " disagrees with the error data (max " +
+  if (table.node_error != max_error)
+    throw InputError("max_error " + format_number(table.node_error) + " disagrees with the error data (max " +
                      format_number(max_error) + ")");
   if (table.lookup_error != lookup_error || table.lookup_checks < 1)
     throw InputError("lookup_error " + format_number(table.lookup_error) + " disagrees with the channels' (max " +

@@ -50,7 +50,7 @@ struct Channel {
   /// largest entry of `error`.
   double lookup_error = 0.0;
 
-  double max_error() const noexcept;  ///< the largest entry of `error`
+  double node_error() const noexcept;  ///< the largest entry of `error`
 };
 
 struct ParamTable {
@@ -61,7 +61,7 @@ struct ParamTable {
   Grid grid = Grid::texel;
   std::vector<Channel> channels;
   double tolerance = 0.0;   ///< the cubature's absolute tolerance per integral
-  double max_error = 0.0;   ///< max over every channel's per-texel error
+  double node_error = 0.0;  ///< max over every channel's per-texel error
   double lookup_error = 0.0;      ///< max over every channel's lookup_error: the table's headline
   long long lookup_checks = 0;    ///< validation points behind lookup_error (per channel)
   std::string command, version;
@@ -73,7 +73,7 @@ struct ParamTable {
 };
 
 /// Checks a parameter table (axes, grid, channel names and sizes, finite values, non-negative
-/// errors, max_error): throws InputError with a one-line description of the first problem.
+/// errors, node_error): throws InputError with a one-line description of the first problem.
 void check_param_table(const ParamTable& table);
 
 /// Bilinear lookup of channel c at (parameter x_param, cos_theta_i mu) in the table's grid

@@ -10,9 +10,9 @@
 #include <tbb/parallel_for.h>
 
 #include "integrate/laws.h"
-#include "laws/charlie.h"
-#include "laws/ggx.h"
-#include "laws/registry.h"
+#include "models/charlie.h"
+#include "models/ggx.h"
+#include "models/registry.h"
 #include "tables/bake.h"
 #include "util/error.h"
 
@@ -231,7 +231,7 @@ void validate_lookup(ParamTable& table, const std::vector<ChannelRecipe>& channe
   for (std::size_t c = 0; c < table.channels.size(); ++c) {
     Channel& ch = table.channels[c];
     double measured = 0.0;
-    const double max_texel = ch.max_error();
+    const double max_texel = ch.node_error();
     std::size_t m_avg = 0;
     for (std::size_t m = 0; m < points.size(); ++m) {
       if (starts_parameter(points, m)) m_avg = m;
@@ -292,7 +292,7 @@ ParamTable bake_preset(const Model& model, const PresetOptions& options) {
       ch.value[m] = round_to_encoding(value, options.encoding);
       ch.error[m] = round_up_to_encoding(error + std::abs(value - static_cast<double>(ch.value[m])), options.encoding);
       ch.unconverged += !converged;
-      table.max_error = std::max(table.max_error, static_cast<double>(ch.error[m]));
+      table.node_error = std::max(table.node_error, static_cast<double>(ch.error[m]));
     }
     table.channels.push_back(std::move(ch));
   }

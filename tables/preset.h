@@ -23,7 +23,7 @@
 #include <vector>
 
 #include "integrate/cubature.h"
-#include "laws/model.h"
+#include "models/model.h"
 #include "tables/param_table.h"
 
 namespace ganzfeld::tables {
@@ -39,7 +39,7 @@ DfgLayout parse_dfg_layout(const std::string& text);
 /// values ≤ 1) and a difference of two integrals (ue4's scale) every texel's bound stays below 1e-6.
 inline constexpr double kPresetTolerance = 1e-8;
 /// Each texel's bound is this times the cubature's error estimate (plus rounding): compared with
-/// the independent rule of laws/ggx_energy.h (docs/realtime.md), the estimate was exceeded by up
+/// the independent rule of models/ggx_energy.h (docs/realtime.md), the estimate was exceeded by up
 /// to 10x on the charlie channel at tolerance 1e-7 and 5x at 1e-8 (smooth integrands on which
 /// the Gauss and Kronrod rules of a coarse panel agree by chance).
 inline constexpr double kEstimateMargin = 10.0;

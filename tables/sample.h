@@ -12,7 +12,7 @@
 #include <span>
 #include <vector>
 
-#include "laws/model.h"
+#include "models/model.h"
 #include "tables/table.h"
 
 namespace ganzfeld::tables {

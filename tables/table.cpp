@@ -6,7 +6,7 @@
 #include <numbers>
 
 #include "util/error.h"
-#include "laws/registry.h"
+#include "models/registry.h"
 #include "util/hash.h"
 
 namespace ganzfeld::tables {
@@ -357,8 +357,8 @@ void check_table(const Table& table) {
   }
   if (!std::isfinite(table.lookup_error) || table.lookup_error < 0.0)
     throw InputError("lookup_error " + format_number(table.lookup_error) + " is not a finite number >= 0");
-  if (table.max_error != max_error)
-    throw InputError("max_error " + format_number(table.max_error) + " disagrees with the error data (max " +
+  if (table.node_error != max_error)
+    throw InputError("max_error " + format_number(table.node_error) + " disagrees with the error data (max " +
                      format_number(max_error) + ")");
 }
 

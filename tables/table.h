@@ -161,7 +161,7 @@ struct Table {
   std::vector<float> value;    ///< exactly the stored numbers (half-encoded values are exact floats)
   std::vector<float> error;    ///< per-entry bound: cubature estimate + storage rounding, rounded up
   double tolerance = 0.0;      ///< absolute tolerance the cubature was asked for
-  double max_error = 0.0;      ///< max of `error`
+  double node_error = 0.0;     ///< max of `error`: the nodes' error (cubature + storage rounding)
   long long unconverged = 0;   ///< entries whose cubature missed the tolerance
   /// Largest |lookup - cubature| + the cubature's own error measured after baking at
   /// `interpolation_checks` points the table was not built from (cell centres, and for
@@ -170,7 +170,7 @@ struct Table {
   long long interpolation_checks = 0;  ///< 0 for tables made before the measurement existed
   /// THE error of the table: a bound of |lookup - law| anywhere in the domain, validated at the
   /// `interpolation_checks` points (kLookupMargin x interpolation_error, and never below
-  /// max_error). Version 1 files: interpolation_error (no margin).
+  /// node_error). Version 1 files: interpolation_error (no margin).
   double lookup_error = 0.0;
   /// The --max-error and --max-bytes the table was baked to (0 and 0 when baked at a given
   /// resolution): part of its cache key.
@@ -193,7 +193,7 @@ std::uint64_t entry_count(std::span<const Axis> axes) noexcept;
 
 /// Checks the metadata of a table against its format version (the model spec one printable
 /// line, the content digest empty or well-formed, axes of the law and frame, counts, finite
-/// numbers, data sizes, finite values, non-negative errors, max_error): throws InputError with
+/// numbers, data sizes, finite values, non-negative errors, node_error): throws InputError with
 /// a one-line description of the first problem.
 void check_table(const Table& table);
 

@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "util/error.h"
-#include "laws/registry.h"
+#include "models/registry.h"
 #include "tables/frame.h"
 #include "tables/sample.h"
 
@@ -120,11 +120,11 @@ void check_error_target(double max_error, std::uint64_t max_bytes, Law law, Enco
 }
 
 Table bake_to_error(const Model& model, Law law, const BakeOptions& requested) {
-  const double E = requested.max_error;
+  const double E = requested.target_error;
   check_error_target(E, requested.max_bytes, law, requested.encoding);
   const std::uint64_t cap = requested.max_bytes ? requested.max_bytes : kDefaultMaxValueBytes;
   BakeOptions options = requested;
-  options.max_error = 0.0;
+  options.target_error = 0.0;
   options.max_bytes = 0;
   options.mappings.clear();
   options.tolerance = E / kNodeToleranceRatio;

@@ -23,7 +23,7 @@
 #include <cstdint>
 #include <string>
 
-#include "laws/model.h"
+#include "models/model.h"
 #include "tables/bake.h"
 #include "tables/table.h"
 

@@ -1,4 +1,4 @@
-// Beard–Maxwell (laws/beard_maxwell.h): the shadowing/obscuration factor and the Fresnel ratio at
+// Beard–Maxwell (models/beard_maxwell.h): the shadowing/obscuration factor and the Fresnel ratio at
 // their limits, the monostatic identity f_fs(i, i) = rho_fs(theta_N), a straight transcription
 // with SCATMECH's angles, the pure Lambert + volumetric limit, the volumetric albedo's closed
 // form, the laws g, h, a by the engine (integrate/laws.h) against independent brute-force
@@ -23,10 +23,10 @@
 #include "tests/test_support.h"
 
 #include "integrate/laws.h"
-#include "laws/beard_maxwell.h"
-#include "laws/classic_models.h"
+#include "models/beard_maxwell.h"
+#include "models/classic_models.h"
 #include "util/error.h"
-#include "laws/spec.h"
+#include "models/spec.h"
 
 namespace ganzfeld {
 namespace {
@@ -107,7 +107,7 @@ double beckmann(double theta_N, double m) {
 }
 
 // --- SO and the Fresnel ratio -------------------------------------------------------------------
-TEST(beard_maxwell, ShadowingObscurationLimitsAndAValue) {
+TEST(BeardMaxwell, ShadowingObscurationLimitsAndAValue) {
   for (double theta_N : {0.0, 0.1, 0.7, 1.5})
     for (double beta : {0.0, 0.2, 1.0, pi / 2}) {
       const double so = beard_maxwell_so(theta_N, beta, 0.25, 0.7);
@@ -139,7 +139,7 @@ TEST(beard_maxwell, ShadowingObscurationLimitsAndAValue) {
   }
 }
 
-TEST(beard_maxwell, FresnelRatioIsOneAtBetaZeroAndOneOverR0AtGrazing) {
+TEST(BeardMaxwell, FresnelRatioIsOneAtBetaZeroAndOneOverR0AtGrazing) {
   for (const std::string& p : kMaterials) {
     const auto m = bm(p);
     EXPECT_EQ(m->fresnel_ratio(1.0), 1.0) << p;
@@ -149,7 +149,7 @@ TEST(beard_maxwell, FresnelRatioIsOneAtBetaZeroAndOneOverR0AtGrazing) {
 }
 
 // --- the formula ------------------------------------------------------------------------------
-TEST(beard_maxwell, MonostaticGeometryReturnsTheFirstSurfaceFunction) {
+TEST(BeardMaxwell, MonostaticGeometryReturnsTheFirstSurfaceFunction) {
   // i = j: beta = 0 and theta_N = theta, so R(beta)/R(0) = SO = cos^2 theta_N/(mu_i mu_j) = 1 and
   // the first-surface term is rho_fs(theta) itself: B D(theta)/(4 cos^2 theta) for the stand-in.
   const auto m = bm("b=0.3,m=0.4,n=1.3,k=0.5,tau=3,omega=7");
@@ -186,7 +186,7 @@ long double transcribed(double theta_i, double theta_s, double phi_s, double n, 
   return R(cos_angle) / R(1) * rho_fs * cn * cn / (ci * cs) * SO + rho_D + 2 * rho_V / (ci + cs);
 }
 
-TEST(beard_maxwell, MatchesAStraightTranscription) {
+TEST(BeardMaxwell, MatchesAStraightTranscription) {
   std::mt19937_64 rng(3);
   std::uniform_real_distribution<double> u(0.0, 1.0);
   const auto m = bm("n=1.7,k=0,b=0.6,m=0.3,tau=12,omega=25,rho_d=0.05,rho_v=0.03");
@@ -203,7 +203,7 @@ TEST(beard_maxwell, MatchesAStraightTranscription) {
   EXPECT_EQ(compared, 400);
 }
 
-TEST(beard_maxwell, FirstSurfaceScaleZeroIsLambertPlusVolumetric) {
+TEST(BeardMaxwell, FirstSurfaceScaleZeroIsLambertPlusVolumetric) {
   const auto m = bm("b=0,rho_d=0.07,rho_v=0.04");
   for (const Vec3& i : test_directions())
     for (const Vec3& j : test_directions()) {
@@ -214,7 +214,7 @@ TEST(beard_maxwell, FirstSurfaceScaleZeroIsLambertPlusVolumetric) {
 }
 
 // --- energy: closed forms and quadrature ----------------------------------------------------------
-TEST(beard_maxwell, LambertAndVolumetricAlbedosMatchTheirClosedForms) {
+TEST(BeardMaxwell, LambertAndVolumetricAlbedosMatchTheirClosedForms) {
   // a = pi rho_D + 4 pi rho_V (1 - mu ln(1 + 1/mu)): ∫ 2 rho_V mu/(mu_i + mu) d omega, mu in [0, 1].
   const double rho_D = 0.08, rho_V = 0.05;
   const auto m = bm("b=0,rho_d=0.08,rho_v=0.05");
@@ -226,7 +226,7 @@ TEST(beard_maxwell, LambertAndVolumetricAlbedosMatchTheirClosedForms) {
   }
 }
 
-TEST(beard_maxwell, NormalIncidenceAlbedoMatchesOneDimensionalQuadrature) {
+TEST(BeardMaxwell, NormalIncidenceAlbedoMatchesOneDimensionalQuadrature) {
   // i = n: theta_N = beta = theta_h and d omega_r = 4 cos theta_h d omega_h, so
   // a(n) = B ∫_0^{pi/4} [R(theta_h)/R(0)] D(theta_h) SO(theta_h, theta_h) cos theta_h 2 pi sin theta_h d theta_h.
   struct Case {
@@ -267,7 +267,7 @@ double brute_force(const F& F_, const ThetaMax& theta_max, std::vector<double> p
   return total;
 }
 
-TEST(beard_maxwell, LawsByTheEngineMatchBruteForceQuadrature) {
+TEST(BeardMaxwell, LawsByTheEngineMatchBruteForceQuadrature) {
   const auto hemisphere = [](double) { return pi / 2; };
   for (const std::string& p : {std::string(""), std::string("n=0.2,k=3,b=0.9,m=0.4,tau=5,omega=10,rho_d=0,rho_v=0.02")}) {
     const auto m = bm(p);
@@ -304,7 +304,7 @@ TEST(beard_maxwell, LawsByTheEngineMatchBruteForceQuadrature) {
   }
 }
 
-TEST(beard_maxwell, NotPlausibleTheFirstSurfaceAlbedoGrowsAtGrazingIncidence) {
+TEST(BeardMaxwell, NotPlausibleTheFirstSurfaceAlbedoGrowsAtGrazingIncidence) {
   // No shadowing that vanishes at the horizon: a_fs(mu) ~ c/mu as mu -> 0 (cos theta_i in the
   // denominator, SO -> 1 near the mirror). Measured on the first surface alone (rho = 0).
   const auto m = bm("rho_d=0,rho_v=0,b=0.04,m=0.15");
@@ -330,7 +330,7 @@ TEST(beard_maxwell, NotPlausibleTheFirstSurfaceAlbedoGrowsAtGrazingIncidence) {
 }
 
 // --- the Model contract ------------------------------------------------------------------------------
-TEST(beard_maxwell, FiniteNonNegativeAndZeroBelowTheHorizon) {
+TEST(BeardMaxwell, FiniteNonNegativeAndZeroBelowTheHorizon) {
   const auto dirs = test_directions();
   const Vec3 below{0.6, 0, -0.8}, up{0, 0, 1};
   for (const std::string& p : kMaterials) {
@@ -351,7 +351,7 @@ TEST(beard_maxwell, FiniteNonNegativeAndZeroBelowTheHorizon) {
   }
 }
 
-TEST(beard_maxwell, ReciprocalBitExactAndIsotropic) {
+TEST(BeardMaxwell, ReciprocalBitExactAndIsotropic) {
   const auto dirs = test_directions();
   double worst_recip = 0.0, worst_rot = 0.0;
   for (const std::string& p : kMaterials) {
@@ -370,7 +370,7 @@ TEST(beard_maxwell, ReciprocalBitExactAndIsotropic) {
   EXPECT_LE(worst_rot, kRotationRel);
 }
 
-TEST(beard_maxwell, MassHintsSitAtTheMirrorAndTheSource) {
+TEST(BeardMaxwell, MassHintsSitAtTheMirrorAndTheSource) {
   const auto m = bm("m=0.15,tau=15,rho_v=0.01");
   const Vec3 i = direction_from_cos(0.9, 0.3);
   const MassHints h = m->mass_hints(i, Varying::outgoing);
@@ -407,7 +407,7 @@ std::string table_from_builtin(double B, double slope, double step) {
          "\n";
 }
 
-TEST(beard_maxwell, FirstSurfaceTableReproducesTheBuiltInLobe) {
+TEST(BeardMaxwell, FirstSurfaceTableReproducesTheBuiltInLobe) {
   const std::string path = write_file("fs.txt", table_from_builtin(0.04, 0.15, 0.1));
   const auto table = bm("file=" + path);
   const auto builtin = bm();
@@ -441,7 +441,7 @@ TEST(beard_maxwell, FirstSurfaceTableReproducesTheBuiltInLobe) {
   EXPECT_NEAR(builtin->mass_hints(Vec3{0, 0, 1}, Varying::outgoing).peaks[0].width / (std::sqrt(2.0) * lo), 1.0, 0.03);
 }
 
-TEST(beard_maxwell, FirstSurfaceTableInterpolatesMonotoneCubicAndClamps) {
+TEST(BeardMaxwell, FirstSurfaceTableInterpolatesMonotoneCubicAndClamps) {
   // Two nodes: the straight line between them, held at the end values outside.
   const std::string two =
       write_file("two.txt", "ganzfeld-beard-maxwell-first-surface 1\ntheta_N: 10 30  # degrees\nrho_fs: 2 1\n");
@@ -484,7 +484,7 @@ TEST(beard_maxwell, FirstSurfaceTableInterpolatesMonotoneCubicAndClamps) {
   }
 }
 
-TEST(beard_maxwell, MalformedTablesAndMisusedParametersAreRefusedOnOneLine) {
+TEST(BeardMaxwell, MalformedTablesAndMisusedParametersAreRefusedOnOneLine) {
   const auto refused = [](const std::string& spec, const std::string& needle) {
     testing_support::expect_input_error(spec, {needle});
   };
@@ -514,7 +514,7 @@ TEST(beard_maxwell, MalformedTablesAndMisusedParametersAreRefusedOnOneLine) {
   EXPECT_NO_THROW(parse_model("beard-maxwell:n=1,k=0.01"));
 }
 
-TEST(beard_maxwell, RegisteredWithADocumentedParameterTable) {
+TEST(BeardMaxwell, RegisteredWithADocumentedParameterTable) {
   const ModelInfo& info = find_model("beard-maxwell");
   EXPECT_FALSE(info.summary.empty());
   EXPECT_FALSE(info.source.empty());

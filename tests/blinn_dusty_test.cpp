@@ -1,4 +1,4 @@
-// Blinn 1982 dusty/cloud layer (laws/blinn_dusty.h): phase-function normalization and sign
+// Blinn 1982 dusty/cloud layer (models/blinn_dusty.h): phase-function normalization and sign
 // convention, known limits (thick layer = Lommel–Seeliger form, thin layer, tau = 0), Blinn's
 // printed brightness, horizon behaviour, reciprocity and isotropy, energy by the engine
 // (integrate/laws.h) against the single-scattering bound and a closed form, mixtures, mass
@@ -17,11 +17,11 @@
 #include "tests/test_support.h"
 
 #include "integrate/laws.h"
-#include "laws/blinn_dusty.h"
-#include "laws/classic_models.h"
+#include "models/blinn_dusty.h"
+#include "models/classic_models.h"
 #include "util/error.h"
-#include "laws/mixture.h"
-#include "laws/registry.h"
+#include "models/mixture.h"
+#include "models/registry.h"
 
 namespace ganzfeld {
 namespace {
@@ -62,7 +62,7 @@ const ModelInfo& info() {
   return catalogue.at(0);
 }
 
-/// What laws/spec.cpp does for "blinn-dusty:k=v,...": defaults, validate_param per given key,
+/// What models/spec.cpp does for "blinn-dusty:k=v,...": defaults, validate_param per given key,
 /// then ModelInfo::make.
 ModelPtr make(const ParamValues& given = {}) {
   const ModelInfo& m = info();
@@ -143,7 +143,7 @@ double sphere_mean(const BlinnPhaseFunction& phase, H h) {
 }
 
 // --- catalogue and validation ------------------------------------------------------------------
-TEST(blinn_dusty, RegisteredWithADocumentedParameterTable) {
+TEST(BlinnDusty, RegisteredWithADocumentedParameterTable) {
   const ModelInfo& m = info();
   EXPECT_EQ(m.name, "blinn-dusty");
   EXPECT_FALSE(m.summary.empty());
@@ -165,7 +165,7 @@ TEST(blinn_dusty, RegisteredWithADocumentedParameterTable) {
   }
 }
 
-TEST(blinn_dusty, OutOfRangeParametersThrowInputError) {
+TEST(BlinnDusty, OutOfRangeParametersThrowInputError) {
   const double nan = std::numeric_limits<double>::quiet_NaN();
   const std::vector<ParamValues> bad{{{"w", -0.1}},  {{"w", 1.5}},     {{"tau", -1}},   {{"tau", 1e4}},
                                      {{"phase", -1}}, {{"phase", 6}},  {{"phase", 2.5}}, {{"x", 1.5}},
@@ -195,7 +195,7 @@ std::vector<BlinnPhaseFunction> all_phases() {
   return v;
 }
 
-TEST(blinn_dusty, EveryPhaseFunctionIsNormalizedOverTheSphere) {
+TEST(BlinnDusty, EveryPhaseFunctionIsNormalizedOverTheSphere) {
   // Blinn's normalization (1/4pi) ∫ Phi dOmega = 1.
   for (const auto& phase : all_phases()) {
     const double mean = sphere_mean(phase, [](double) { return 1.0; });
@@ -204,7 +204,7 @@ TEST(blinn_dusty, EveryPhaseFunctionIsNormalizedOverTheSphere) {
   }
 }
 
-TEST(blinn_dusty, KnownPhaseValues) {
+TEST(BlinnDusty, KnownPhaseValues) {
   using K = BlinnPhase;
   const BlinnPhaseFunction lambert{K::lambert_sphere}, rayleigh{K::rayleigh};
   EXPECT_NEAR(phi_at(lambert, 0.0), 8.0 / 3.0, kFormulaRel);  // full phase: 8/(3pi) * pi
@@ -219,7 +219,7 @@ TEST(blinn_dusty, KnownPhaseValues) {
   EXPECT_EQ(henyey_greenstein(1.0, PhaseAngle::of(0.0)), 0.0);
 }
 
-TEST(blinn_dusty, HenyeyGreensteinWithGZeroIsTheConstantPhase) {
+TEST(BlinnDusty, HenyeyGreensteinWithGZeroIsTheConstantPhase) {
   using K = BlinnPhase;
   for (double alpha = 0.0; alpha <= pi; alpha += pi / 32) {
     EXPECT_EQ(phi_at({K::henyey_greenstein, 0, 0.0}, alpha), 1.0);
@@ -231,7 +231,7 @@ TEST(blinn_dusty, HenyeyGreensteinWithGZeroIsTheConstantPhase) {
   for (const Vec3& j : test_directions()) EXPECT_EQ(hg0->f(i, j), constant->f(i, j));
 }
 
-TEST(blinn_dusty, RayleighIsSymmetricForwardAndBack) {
+TEST(BlinnDusty, RayleighIsSymmetricForwardAndBack) {
   const BlinnPhaseFunction rayleigh{BlinnPhase::rayleigh};
   for (double alpha = 0.0; alpha <= pi / 2; alpha += pi / 40)
     EXPECT_NEAR(phi_at(rayleigh, alpha), phi_at(rayleigh, pi - alpha), kFormulaRel);
@@ -244,7 +244,7 @@ TEST(blinn_dusty, RayleighIsSymmetricForwardAndBack) {
   EXPECT_NEAR(m->f(i, j1), m->f(i, j2), kFormulaRel * m->f(i, j1));
 }
 
-TEST(blinn_dusty, SignConventionGPositiveScattersBackToTheSource) {
+TEST(BlinnDusty, SignConventionGPositiveScattersBackToTheSource) {
   using K = BlinnPhase;
   // <cos alpha> = g with alpha the phase angle (cos alpha = i·j): g > 0 returns light towards the
   // source; the radiative-transfer asymmetry <cos(pi - alpha)> is -g. Likewise <cos alpha> = x/3.
@@ -277,7 +277,7 @@ TEST(blinn_dusty, SignConventionGPositiveScattersBackToTheSource) {
 }
 
 // --- the BRDF: limits and Blinn's brightness ---------------------------------------------------
-TEST(blinn_dusty, FIsBlinnsBrightnessOver4PiMu0) {
+TEST(BlinnDusty, FIsBlinnsBrightnessOver4PiMu0) {
   // Blinn's printed B = w Phi mu0/(mu + mu0) [1 - exp(-tau(1/mu + 1/mu0))], B = 4pi mu_0 f.
   for (const auto& p : kMaterials) {
     const auto m = std::dynamic_pointer_cast<const BlinnDusty>(make(p));
@@ -292,7 +292,7 @@ TEST(blinn_dusty, FIsBlinnsBrightnessOver4PiMu0) {
   }
 }
 
-TEST(blinn_dusty, ThickThinAndEmptyLayers) {
+TEST(BlinnDusty, ThickThinAndEmptyLayers) {
   const auto dirs = test_directions();
   for (int phase = 0; phase <= 5; ++phase) {
     const auto thick = std::dynamic_pointer_cast<const BlinnDusty>(make({{"phase", phase}, {"w", 0.7}, {"tau", 1000}}));
@@ -316,7 +316,7 @@ TEST(blinn_dusty, ThickThinAndEmptyLayers) {
   }
 }
 
-TEST(blinn_dusty, FiniteNonNegativeZeroBelowAndTheHorizonLimit) {
+TEST(BlinnDusty, FiniteNonNegativeZeroBelowAndTheHorizonLimit) {
   const auto dirs = test_directions();
   const Vec3 below{0.6, 0, -0.8}, up{0, 0, 1};
   for (const auto& p : kMaterials) {
@@ -345,7 +345,7 @@ TEST(blinn_dusty, FiniteNonNegativeZeroBelowAndTheHorizonLimit) {
   }
 }
 
-TEST(blinn_dusty, ReciprocalBitExactAndIsotropic) {
+TEST(BlinnDusty, ReciprocalBitExactAndIsotropic) {
   const auto dirs = test_directions();
   for (const auto& p : kMaterials) {
     const ModelPtr m = make(p);
@@ -366,7 +366,7 @@ double albedo_at(const Model& m, double cos_i, double phi = 0.3) {
   return e.value;
 }
 
-TEST(blinn_dusty, AlbedoIsBelowTheSingleScatteringBound) {
+TEST(BlinnDusty, AlbedoIsBelowTheSingleScatteringBound) {
   // Of the beam, 1 - exp(-tau/mu_i) is intercepted, w of that re-emitted, and only part of it
   // escapes upwards unscattered: a(i) <= w (1 - exp(-tau/mu_i)) <= w <= 1 (plausible).
   for (const auto& p : kMaterials) {
@@ -380,7 +380,7 @@ TEST(blinn_dusty, AlbedoIsBelowTheSingleScatteringBound) {
   }
 }
 
-TEST(blinn_dusty, IsotropicThickLayerAlbedoClosedForm) {
+TEST(BlinnDusty, IsotropicThickLayerAlbedoClosedForm) {
   // Phi = 1, tau = inf: a(mu_0) = (w/2) ∫_0^1 mu/(mu + mu_0) d mu = (w/2) (1 - mu_0 ln(1 + 1/mu_0)).
   const ModelPtr m = make({{"phase", 0}, {"w", 1}, {"tau", 1000}});
   for (double c : kIncidenceCosines) {
@@ -389,7 +389,7 @@ TEST(blinn_dusty, IsotropicThickLayerAlbedoClosedForm) {
   }
 }
 
-TEST(blinn_dusty, FiniteLayerAlbedoMatchesOneDimensionalQuadrature) {
+TEST(BlinnDusty, FiniteLayerAlbedoMatchesOneDimensionalQuadrature) {
   // Phi = 1: a(mu_0) = (w/2) ∫_0^1 mu/(mu + mu_0) (1 - exp(-tau (1/mu + 1/mu_0))) d mu.
   using GK = boost::math::quadrature::gauss_kronrod<double, 61>;
   for (double tau : {0.01, 0.3, 2.0}) {
@@ -404,7 +404,7 @@ TEST(blinn_dusty, FiniteLayerAlbedoMatchesOneDimensionalQuadrature) {
   }
 }
 
-TEST(blinn_dusty, DarkeningEqualsAlbedo) {
+TEST(BlinnDusty, DarkeningEqualsAlbedo) {
   // Reciprocal model: h(j) = ∫ (k·n) f(k, j) dk = a(j).
   for (const auto& p : kMaterials) {
     const ModelPtr m = make(p);
@@ -418,7 +418,7 @@ TEST(blinn_dusty, DarkeningEqualsAlbedo) {
 }
 
 // --- mixtures ----------------------------------------------------------------------------------
-TEST(blinn_dusty, MixturesOfPhaseFunctionsAreSpecMixtures) {
+TEST(BlinnDusty, MixturesOfPhaseFunctionsAreSpecMixtures) {
   // f is linear in Phi: for equal w and tau, the partitive mixture 0.3*A + 0.7*B of two
   // blinn-dusty lobes is the layer with the phase function 0.3 Phi_A + 0.7 Phi_B; and phase 5
   // is the mixture m HG(g) + (1 - m) HG(g2).
@@ -445,7 +445,7 @@ TEST(blinn_dusty, MixturesOfPhaseFunctionsAreSpecMixtures) {
 }
 
 // --- mass hints --------------------------------------------------------------------------------
-TEST(blinn_dusty, MassHintsPointAtTheHenyeyGreensteinLobes) {
+TEST(BlinnDusty, MassHintsPointAtTheHenyeyGreensteinLobes) {
   const Vec3 fixed = direction_from_cos(0.05, 0.7);
   const MassHints back = make({{"phase", 4}, {"g", 0.99}, {"tau", 1000}})->mass_hints(fixed, Varying::outgoing);
   ASSERT_EQ(back.peaks.size(), 1u);

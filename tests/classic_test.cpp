@@ -1,4 +1,4 @@
-// The classic catalogue (Walker 1999 survey; laws/classic_models.h, docs/models.md): known
+// The classic catalogue (Walker 1999 survey; models/classic_models.h, docs/models.md): known
 // values and limits, energy (albedo by cubature, integrate/laws.h), reciprocity and isotropy
 // measured against the declared traits, finiteness on random and grazing directions, and
 // parameter validation.
@@ -15,10 +15,10 @@
 #include "tests/test_support.h"
 
 #include "integrate/laws.h"
-#include "laws/classic_models.h"
+#include "models/classic_models.h"
 #include "util/error.h"
-#include "laws/registry.h"
-#include "laws/spec.h"
+#include "models/registry.h"
+#include "models/spec.h"
 
 namespace ganzfeld {
 namespace {
@@ -107,7 +107,7 @@ Vec3 rotate_z(const Vec3& v, double a) {
 }
 
 // --- catalogue ---------------------------------------------------------------------------------
-TEST(classic, EveryModelIsRegisteredWithADocumentedParameterTable) {
+TEST(ClassicModels, EveryModelIsRegisteredWithADocumentedParameterTable) {
   for (const auto& name : kNames) {
     const ModelInfo& info = find_model(name);
     EXPECT_FALSE(info.summary.empty()) << name;
@@ -125,7 +125,7 @@ TEST(classic, EveryModelIsRegisteredWithADocumentedParameterTable) {
 }
 
 // --- plausibility of the numbers -----------------------------------------------------------------
-TEST(classic, FiniteNonNegativeAndZeroBelowTheHorizon) {
+TEST(ClassicModels, FiniteNonNegativeAndZeroBelowTheHorizon) {
   const auto dirs = test_directions();
   const Vec3 below{0.6, 0, -0.8}, up{0, 0, 1};
   for (const auto& spec : kSpecs) {
@@ -141,7 +141,7 @@ TEST(classic, FiniteNonNegativeAndZeroBelowTheHorizon) {
   }
 }
 
-TEST(classic, MeasuredReciprocityMatchesTraits) {
+TEST(ClassicModels, MeasuredReciprocityMatchesTraits) {
   const auto dirs = test_directions();
   for (const auto& spec : kSpecs) {
     const ModelPtr m = parse_model(spec);
@@ -160,7 +160,7 @@ TEST(classic, MeasuredReciprocityMatchesTraits) {
   }
 }
 
-TEST(classic, MeasuredIsotropyMatchesTraits) {
+TEST(ClassicModels, MeasuredIsotropyMatchesTraits) {
   const auto dirs = test_directions();
   for (const auto& spec : kSpecs) {
     const ModelPtr m = parse_model(spec);
@@ -180,7 +180,7 @@ TEST(classic, MeasuredIsotropyMatchesTraits) {
 }
 
 // --- energy ------------------------------------------------------------------------------------
-TEST(classic, PlausibleModelsHaveAlbedoAtMostOneAtTheExtremes) {
+TEST(ClassicModels, PlausibleModelsHaveAlbedoAtMostOneAtTheExtremes) {
   // Full specular weight, F ~ 1 (eta = 0.01, k = 20), sharpest and broadest lobes.
   for (const std::string spec :
        {"phong-lewis:kd=0,ks=1,n=1", "phong-lewis:kd=0,ks=1,n=3", "phong-lewis:kd=0,ks=1,n=10000",
@@ -194,7 +194,7 @@ TEST(classic, PlausibleModelsHaveAlbedoAtMostOneAtTheExtremes) {
   }
 }
 
-TEST(classic, NotPlausibleModelsHaveACounterExample) {
+TEST(ClassicModels, NotPlausibleModelsHaveACounterExample) {
   // Each declared not_plausible: an albedo above 1 (all are non-negative; phong also fails
   // reciprocity, checked above).
   for (const std::string spec : {"phong:kd=0,ks=1,n=20", "ward:rho_d=0,rho_s=1,alpha=1",
@@ -207,7 +207,7 @@ TEST(classic, NotPlausibleModelsHaveACounterExample) {
 }
 
 // --- Phong family ----------------------------------------------------------------------------------
-TEST(classic, PhongLewisAlbedoIsKdPlusKsAtNormalIncidenceAndBelowElsewhere) {
+TEST(ClassicModels, PhongLewisAlbedoIsKdPlusKsAtNormalIncidenceAndBelowElsewhere) {
   for (double n : {1.0, 20.0, 1000.0}) {
     const PhongLewis m(0.3, 0.6, n);
     EXPECT_NEAR(albedo_at(m, 1.0), 0.9, kAlbedoTol) << n;
@@ -215,7 +215,7 @@ TEST(classic, PhongLewisAlbedoIsKdPlusKsAtNormalIncidenceAndBelowElsewhere) {
   }
 }
 
-TEST(classic, PhongIsLewisWithoutNormalizationDividedByCosThetaI) {
+TEST(ClassicModels, PhongIsLewisWithoutNormalizationDividedByCosThetaI) {
   const Phong phong(0.2, 0.5, 10.0);
   const PhongLewis lewis(0.2, 0.5, 10.0);
   const Vec3 i = from_cos(0.4, 0.1), j = from_cos(0.5, pi + 0.2);
@@ -224,7 +224,7 @@ TEST(classic, PhongIsLewisWithoutNormalizationDividedByCosThetaI) {
               kSymmetricRel * phong.f(i, j));
 }
 
-TEST(classic, BlinnPhongNormalizationAndHalfwaySymmetry) {
+TEST(ClassicModels, BlinnPhongNormalizationAndHalfwaySymmetry) {
   // Unit lobe albedo at normal incidence (the closed form of blinn_phong_normalization).
   for (double n : {1.0, 7.5, 100.0, 10000.0}) {
     const BlinnPhong m(0.0, 1.0, n);
@@ -242,7 +242,7 @@ TEST(classic, BlinnPhongNormalizationAndHalfwaySymmetry) {
 }
 
 // --- Cook–Torrance ---------------------------------------------------------------------------------
-TEST(classic, FresnelAtNormalIncidenceAndGrazing) {
+TEST(ClassicModels, FresnelAtNormalIncidenceAndGrazing) {
   for (auto [eta, k] : {std::pair{1.6, 0.2}, {1.5, 0.0}, {0.2, 3.0}, {0.01, 20.0}, {10.0, 0.0}}) {
     const double expected = ((eta - 1) * (eta - 1) + k * k) / ((eta + 1) * (eta + 1) + k * k);
     EXPECT_NEAR(fresnel_complex(1.0, eta, k), expected, kFresnelRel) << eta << "+" << k << "i";
@@ -251,7 +251,7 @@ TEST(classic, FresnelAtNormalIncidenceAndGrazing) {
   EXPECT_EQ(fresnel_complex(0.0, 1.0, 0.0), 1.0);  // the 0/0 case: limit
 }
 
-TEST(classic, FresnelForADielectricMatchesWalkersEquationIII11) {
+TEST(ClassicModels, FresnelForADielectricMatchesWalkersEquationIII11) {
   const double eta = 1.5;
   for (double deg : {5.0, 20.0, 45.0, 70.0, 85.0}) {
     const double ti = deg * pi / 180, tt = std::asin(std::sin(ti) / eta);
@@ -261,7 +261,7 @@ TEST(classic, FresnelForADielectricMatchesWalkersEquationIII11) {
   }
 }
 
-TEST(classic, FacetDistributionsAreNormalized) {
+TEST(ClassicModels, FacetDistributionsAreNormalized) {
   for (auto d : {FacetDistribution::beckmann, FacetDistribution::gaussian})
     for (double m_rough : {0.05, 0.3, 1.0}) {
       const CookTorrance ct(d, 0.0, 1.0, m_rough, 1.5, 0.0);
@@ -272,7 +272,7 @@ TEST(classic, FacetDistributionsAreNormalized) {
     }
 }
 
-TEST(classic, CookTorranceAtTheMirrorOfNormalIncidence) {
+TEST(ClassicModels, CookTorranceAtTheMirrorOfNormalIncidence) {
   // i = j = n: h = n, G = 1, D_n(1) = 1/(pi m^2), so f = kd/pi + ks F(1)/(4 pi m^2).
   const double kd = 0.2, ks = 0.7, m = 0.15, eta = 1.6, k = 0.2;
   const CookTorrance ct(FacetDistribution::beckmann, kd, ks, m, eta, k);
@@ -283,7 +283,7 @@ TEST(classic, CookTorranceAtTheMirrorOfNormalIncidence) {
 }
 
 // --- Ward ------------------------------------------------------------------------------------------
-TEST(classic, WardAlbedoAtNormalIncidenceIsRhoSForSmallAlpha) {
+TEST(ClassicModels, WardAlbedoAtNormalIncidenceIsRhoSForSmallAlpha) {
   for (double alpha : {0.02, 0.05, 0.1}) {
     const double rho_s = 0.8;
     const Ward iso(0.0, rho_s, alpha, alpha, false);
@@ -293,7 +293,7 @@ TEST(classic, WardAlbedoAtNormalIncidenceIsRhoSForSmallAlpha) {
   }
 }
 
-TEST(classic, WardAnisoWithEqualAlphasIsWard) {
+TEST(ClassicModels, WardAnisoWithEqualAlphasIsWard) {
   const auto dirs = test_directions();
   const Ward iso(0.2, 0.3, 0.1, 0.1, false), aniso(0.2, 0.3, 0.1, 0.1, true);
   for (const Vec3& i : dirs)
@@ -307,7 +307,7 @@ TEST(classic, WardAnisoWithEqualAlphasIsWard) {
 }
 
 // --- Oren–Nayar ------------------------------------------------------------------------------------
-TEST(classic, OrenNayarWithZeroSigmaIsLambert) {
+TEST(ClassicModels, OrenNayarWithZeroSigmaIsLambert) {
   const auto dirs = test_directions();
   for (double rho : {0.0, 0.37, 1.0}) {
     const OrenNayar m(0.0, rho);
@@ -316,7 +316,7 @@ TEST(classic, OrenNayarWithZeroSigmaIsLambert) {
   }
 }
 
-TEST(classic, OrenNayarAtNormalIncidenceAndView) {
+TEST(ClassicModels, OrenNayarAtNormalIncidenceAndView) {
   // beta = 0: only C1 and the interreflection constant remain (eqs. 8 and 11).
   const double sigma = 0.4, rho = 0.7, s2 = sigma * sigma;
   const OrenNayar m(sigma, rho);
@@ -326,7 +326,7 @@ TEST(classic, OrenNayarAtNormalIncidenceAndView) {
 }
 
 // --- Hapke ----------------------------------------------------------------------------------------
-TEST(classic, HapkeOppositionSurgeAndPhaseLaws) {
+TEST(ClassicModels, HapkeOppositionSurgeAndPhaseLaws) {
   // B(0) = 2 (full surge), continuous to 1 at alpha = pi/2 (expm1 keeps it so), 1 beyond.
   EXPECT_EQ(Hapke::B(0.0, 1.0, 0.6), 2.0);
   EXPECT_NEAR(Hapke::B(1e-6, 1.0, 0.6), 2.0, 1e-5);  // B ~ 2 - 3 tan(alpha)/(2g)
@@ -342,7 +342,7 @@ TEST(classic, HapkeOppositionSurgeAndPhaseLaws) {
 // --- parameter validation ---------------------------------------------------------------------
 using testing_support::expect_input_error;
 
-TEST(classic, BadParametersAreRefusedNamingKeyAndRange) {
+TEST(ClassicModels, BadParametersAreRefusedNamingKeyAndRange) {
   expect_input_error("phong:n=0.5", {"phong", "n=0.5", "[1, 10000]"});
   expect_input_error("phong-lewis:kd=0.7,ks=0.7", {"kd=0.7", "ks=0.7", "<= 1"});
   expect_input_error("blinn-phong:ks=-0.1", {"ks=-0.1", "[0, 1]"});
@@ -368,7 +368,7 @@ TEST(classic, BadParametersAreRefusedNamingKeyAndRange) {
 namespace ganzfeld {
 namespace {
 
-TEST(classic, LafortunePaintPresetIsTheThreeLobeSum) {
+TEST(ClassicModels, LafortunePaintPresetIsTheThreeLobeSum) {
   // The preset is kd/pi plus three lobes; blue paint reflects most in blue, and each channel's
   // albedo stays below 1 at the incidences of the fit (the fit is not constrained there, so we
   // measure instead of asserting plausibility).

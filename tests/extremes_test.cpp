@@ -8,7 +8,7 @@
 
 #include <gtest/gtest.h>
 
-#include "laws/spec.h"
+#include "models/spec.h"
 #include "reference/lune_reference.h"
 #include "reports/extremes.h"
 
@@ -110,7 +110,7 @@ TEST(Extremes, PoulinFournierPlaneConeIsHonest) {
 }
 
 /// Poulin–Fournier's cylinder shadowing jumps across half great circles through its crease axis
-/// (laws/model.h MassHints::crease_axis). On the hemisphere the reference's coordinates have that
+/// (models/model.h MassHints::crease_axis). On the hemisphere the reference's coordinates have that
 /// axis as their edge axis, so the jumps are lines psi = longitude, cut exactly; without the cuts
 /// Boost bisected towards them until the grid's budget ran out (h at j = n: "0 ± inf").
 TEST(Extremes, PoulinFournierCreasesAreCutInTheReference) {
@@ -185,7 +185,7 @@ TEST(Extremes, BlinnPhongGrazingConeIsHonest) {
     }
 }
 
-/// The halfway-vector disk's scaling projection (laws/hvd.cpp) has a Jacobian j_z² |H|²/(2 H_z³)
+/// The halfway-vector disk's scaling projection (models/hvd.cpp) has a Jacobian j_z² |H|²/(2 H_z³)
 /// with H_z = k_z + j_z: for a view near grazing, a layer of k·n ~ j·n at the horizon holds O(1)
 /// of a lump's mass. Retro only (k = 1) declared no layer, and g with the sky pole on the horizon
 /// and the view at 89.99° opposite was 8.1e-7 off with 9.6e-9 estimated (found by ganzfeld
@@ -204,7 +204,7 @@ TEST(Extremes, HvdScalingLayerIsHonest) {
 
 /// GGX's height-correlated visibility, times k·n, is (k·n)/(2 (j·n) r_k + 2 (k·n) r_j): for a view
 /// just above the horizon it falls to 0 in a layer of k·n as thin as j·n, with a 1/(k·n) tail
-/// (laws/ggx.cpp). In the thin lune of g (sky pole at i·n = -0.999, the view on the lune's side)
+/// (models/ggx.cpp). In the thin lune of g (sky pole at i·n = -0.999, the view on the lune's side)
 /// the initial grid saw none of it: 2.5e-9 off with 4.6e-10 estimated, until the model declared
 /// the layer. Judged by the reference on panels this test places itself (not the model's hint
 /// under test): a geometric ladder of lines psi = pi/2 - 10^-m towards the horizon psi = pi/2,

@@ -1,13 +1,13 @@
-// ggx-ms (laws/ggx_ms.h): the white furnace, E_avg and reciprocity. The compensation's E comes
-// from laws/ggx_energy's Gauss–Legendre rule; the albedos here are integrated by the cubature
+// ggx-ms (models/ggx_ms.h): the white furnace, E_avg and reciprocity. The compensation's E comes
+// from models/ggx_energy's Gauss–Legendre rule; the albedos here are integrated by the cubature
 // (integrate/), an independent integrator, so a white furnace that holds is two methods agreeing.
 #include <cmath>
 
 #include <gtest/gtest.h>
 
 #include "integrate/laws.h"
-#include "laws/ggx_ms.h"
-#include "laws/spec.h"
+#include "models/ggx_ms.h"
+#include "models/spec.h"
 
 namespace ganzfeld {
 namespace {

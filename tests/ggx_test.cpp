@@ -1,4 +1,4 @@
-// The microfacet models (laws/ggx.h, laws/charlie.h; docs/models.md): values computed by hand,
+// The microfacet models (models/ggx.h, models/charlie.h; docs/models.md): values computed by hand,
 // reciprocity and positivity, the refusals of the spec, roughness = sqrt(alpha), anisotropy,
 // energy (albedo by cubature), the visible-normal density and its sample weights. The
 // closed forms (normalization, G1, the white furnace) are `verify` checks (integrate/verify_ggx.cpp).
@@ -13,10 +13,10 @@
 #include "tests/test_support.h"
 
 #include "integrate/laws.h"
-#include "laws/charlie.h"
-#include "laws/ggx.h"
-#include "laws/registry.h"
-#include "laws/spec.h"
+#include "models/charlie.h"
+#include "models/ggx.h"
+#include "models/registry.h"
+#include "models/spec.h"
 
 namespace ganzfeld {
 namespace {

@@ -37,7 +37,7 @@
 #include <Imath/half.h>
 
 #include "export/param_export.h"
-#include "laws/spec.h"
+#include "models/spec.h"
 #include "tables/bake.h"
 #include "tables/frame.h"
 #include "tables/preset.h"
@@ -323,7 +323,7 @@ Baked bake_scene(const std::filesystem::path& dir, tables::Encoding encoding, co
   std::ofstream(scene_path) << json;
   Baked out{load_scene(scene_path.string()), {}, {}};
   scene::TableOptions options{{17, 17, 9}, {33}, 1e-7, CubatureOptions{}.max_evaluations, encoding};
-  options.max_error = max_error;
+  options.target_error = max_error;
   out.plan = scene::plan_shading(out.scene, options, scene::TableStore{});
   for (const scene::PlannedTable& t : out.plan.tables) out.tables[{t.request.spec, t.request.law}] = t.table;
   return out;
@@ -360,7 +360,7 @@ std::array<double, 2> pixel_bound(const Baked& baked, const CpuPicture& cpu, int
       const auto it = baked.tables.find({lobe.spec, law});
       if (it != baked.tables.end()) {
         const tables::Table& t = *it->second;
-        stated += scale * std::max(t.lookup_error, t.max_error + t.interpolation_error);
+        stated += scale * std::max(t.lookup_error, t.node_error + t.interpolation_error);
       }
       magnitude += scale;
     }

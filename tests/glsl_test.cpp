@@ -10,7 +10,7 @@
 #include <gtest/gtest.h>
 
 #include "util/error.h"
-#include "laws/spec.h"
+#include "models/spec.h"
 #include "tables/bake.h"
 #include "tables/frame.h"
 #include "export/glsl.h"
@@ -213,7 +213,7 @@ std::size_t count(const std::string& text, const std::string& what) {
 
 TEST(GlslExport, FOfAMixtureIsTheWeightedSumOfItsLobes) {
   // Each lobe's function once (GLSL refuses a second definition), then the sum with the mixture's
-  // normalized weights (laws/mixture.h): 1 and 3 become 0.25 and 0.75.
+  // normalized weights (models/mixture.h): 1 and 3 become 0.25 and 0.75.
   const std::string f = glsl_model_f(*parse_model("1*specular:alpha=8 + 3*minnaert:xi=1"));
   EXPECT_EQ(count(f, "float gz_f_specular_alpha_8(vec3 i, vec3 j, vec3 n)"), 1u);
   EXPECT_EQ(count(f, "float gz_f_minnaert_xi_1(vec3 i, vec3 j, vec3 n)"), 1u);

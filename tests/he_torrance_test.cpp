@@ -1,4 +1,4 @@
-// He-Torrance (He, Torrance, Sillion & Greenberg 1991), laws/he_torrance.h: the series of eq. 78
+// He-Torrance (He, Torrance, Sillion & Greenberg 1991), models/he_torrance.h: the series of eq. 78
 // against brute force and closed forms, the effective-roughness solver (eqs. 80-83), the
 // shadowing function's limits (eqs. 24-25), G's polarization identity (eq. 76), the smooth and
 // geometric-optics limits, finiteness and sign on a grid including the horizon, reciprocity and
@@ -15,10 +15,10 @@
 #include <gtest/gtest.h>
 
 #include "integrate/laws.h"
-#include "laws/classic_models.h"
+#include "models/classic_models.h"
 #include "util/error.h"
-#include "laws/he_torrance.h"
-#include "laws/registry.h"
+#include "models/he_torrance.h"
+#include "models/registry.h"
 
 namespace ganzfeld {
 namespace {
@@ -90,7 +90,7 @@ Vec3 rotate_z(const Vec3& v, double a) {
 }
 
 // --- the series of eq. 78 ----------------------------------------------------------------------
-TEST(he_torrance, SeriesAtToleranceMatchesLongDoubleBruteForce) {
+TEST(HeTorrance, SeriesAtToleranceMatchesLongDoubleBruteForce) {
   for (double g : {0.01, 0.1, 1.0, 3.7, 18.5, 50.0, 100.0, 300.0, 1000.0}) {
     // c = v_xy^2 tau^2/4: at the mirror, in the lobe, at the lobe's edge for rough (c ~ g) and
     // far out (the terms then peak far above m = g).
@@ -106,7 +106,7 @@ TEST(he_torrance, SeriesAtToleranceMatchesLongDoubleBruteForce) {
   }
 }
 
-TEST(he_torrance, SeriesToleranceIsHonouredAndMatters) {
+TEST(HeTorrance, SeriesToleranceIsHonouredAndMatters) {
   // A looser tolerance is met (the tail bound is rigorous) with fewer terms, and a fixed
   // 10-term truncation (as in some public implementations) is far off for g = 100.
   for (double g : {1.0, 30.0, 100.0, 1000.0}) {
@@ -124,7 +124,7 @@ TEST(he_torrance, SeriesToleranceIsHonouredAndMatters) {
   EXPECT_GT(std::abs((first10 - brute_series(g, 0.0L)) / brute_series(g, 0.0L)), 0.99);
 }
 
-TEST(he_torrance, SeriesClosedFormsAndLimits) {
+TEST(HeTorrance, SeriesClosedFormsAndLimits) {
   // c = 0: sum g^m/(m! m) = Ein(g) = Ei(g) - gamma - ln g.
   for (double g : {1.0, 2.5, 10.0, 100.0, 700.0}) {
     const double ein = boost::math::expint(g) - std::numbers::egamma - std::log(g);
@@ -150,7 +150,7 @@ TEST(he_torrance, SeriesClosedFormsAndLimits) {
 }
 
 // --- effective roughness, eqs. 80-83 -----------------------------------------------------------
-TEST(he_torrance, Z0SolverSolvesEquation81) {
+TEST(HeTorrance, Z0SolverSolvesEquation81) {
   for (double f0 : {1e-300, 1e-12, 1e-3, 0.5, 1.0, 1.2, 1.6487, 10.0, 1e3, 1e12, 1e300}) {
     const double x = he_z0_over_sigma0(f0);
     ASSERT_GT(x, 0.0) << f0;
@@ -168,7 +168,7 @@ TEST(he_torrance, Z0SolverSolvesEquation81) {
   }
 }
 
-TEST(he_torrance, EffectiveRoughnessLimits) {
+TEST(HeTorrance, EffectiveRoughnessLimits) {
   // The paper: sigma -> sigma0 at normal incidence and viewing (K_i = K_r = 0, z0 = 0) and
   // sigma -> 0 as either direction grazes (K -> infinity); in between it decreases with either
   // angle, and depends on the pair only through K_i + K_r.
@@ -203,7 +203,7 @@ TEST(he_torrance, EffectiveRoughnessLimits) {
 }
 
 // --- shadowing, eqs. 24-25 ---------------------------------------------------------------------
-TEST(he_torrance, ShadowingLimits) {
+TEST(HeTorrance, ShadowingLimits) {
   const HeTorrance m = figure24();  // a = tau cot / (2 sigma0) = 5 cot theta
   EXPECT_EQ(m.shadowing(1.0), 1.0);
   EXPECT_EQ(m.shadowing(0.0), 0.0);
@@ -229,7 +229,7 @@ TEST(he_torrance, ShadowingLimits) {
 }
 
 // --- G, eq. 76 -------------------------------------------------------------------------------------
-TEST(he_torrance, GeometricFactorPolarizationBracketsEqualCrossProductToTheFourth) {
+TEST(HeTorrance, GeometricFactorPolarizationBracketsEqualCrossProductToTheFourth) {
   // G = (v.v/v_z)^2 [(s_r.k_i)^2 + (p_r.k_i)^2][(s_i.k_r)^2 + (p_i.k_r)^2] / |k_r x k_i|^4 with
   // s = k x n/|k x n|, p = s x k; the implementation uses G = (v.v/v_z)^2.
   std::mt19937_64 rng(3);
@@ -277,7 +277,7 @@ long double transcribed_rho_dd(long double sigma0, long double tau, long double 
   return F / PI * G * S * D / (ci * cr);
 }
 
-TEST(he_torrance, DirectionalDiffuseMatchesAStraightTranscriptionOfEquation71) {
+TEST(HeTorrance, DirectionalDiffuseMatchesAStraightTranscriptionOfEquation71) {
   std::mt19937_64 rng(5);
   std::uniform_real_distribution<double> u(0.0, 1.0);
   struct P { double s0, tau, lam, eta, k; };
@@ -302,7 +302,7 @@ TEST(he_torrance, DirectionalDiffuseMatchesAStraightTranscriptionOfEquation71) {
 }
 
 // --- limits ------------------------------------------------------------------------------------------
-TEST(he_torrance, SmoothSurfaceLimitSendsEverythingToTheSpecularDelta) {
+TEST(HeTorrance, SmoothSurfaceLimitSendsEverythingToTheSpecularDelta) {
   // sigma0 -> 0: rho_dd ~ sigma0^2 -> 0 and rho_s -> F(theta_i), the mirror (eqs. 71, 73).
   const Vec3 i = direction_from_cos(0.6, 0.0);
   const Vec3 j = glm::normalize(mirror(i) + Vec3(0.0, 0.01, 0.0));
@@ -324,7 +324,7 @@ TEST(he_torrance, SmoothSurfaceLimitSendsEverythingToTheSpecularDelta) {
   EXPECT_EQ(smooth.specular_reflectance(0.6), fresnel_complex(0.6, 1.6, 0.2));
 }
 
-TEST(he_torrance, GeometricOpticsLimitIsBeckmannMicrofacetWithSmithShadowing) {
+TEST(HeTorrance, GeometricOpticsLimitIsBeckmannMicrofacetWithSmithShadowing) {
   // g >> 1: D -> pi^2 tau^2/(4 lambda^2 g) exp(-c/g) and rho_dd -> F S D_B / (4 mu_i mu_j),
   // D_B = exp(-tan^2 beta/m^2)/(pi m^2 cos^4 beta), m = 2 sigma/tau (sigma effective),
   // beta the angle of h = (i + j)/|i + j| from n.
@@ -348,7 +348,7 @@ TEST(he_torrance, GeometricOpticsLimitIsBeckmannMicrofacetWithSmithShadowing) {
 }
 
 // --- the Model contract --------------------------------------------------------------------------
-TEST(he_torrance, FiniteNonNegativeZeroBelowTheHorizonAndAOverPiOnIt) {
+TEST(HeTorrance, FiniteNonNegativeZeroBelowTheHorizonAndAOverPiOnIt) {
   const auto dirs = test_directions();
   const Vec3 below{0.6, 0, -0.8}, up{0, 0, 1};
   for (const HeTorrance& m : test_models()) {
@@ -373,7 +373,7 @@ TEST(he_torrance, FiniteNonNegativeZeroBelowTheHorizonAndAOverPiOnIt) {
   }
 }
 
-TEST(he_torrance, ReciprocityAndIsotropyMeasured) {
+TEST(HeTorrance, ReciprocityAndIsotropyMeasured) {
   const auto dirs = test_directions();
   double worst_recip = 0.0, worst_rot = 0.0;
   for (const HeTorrance& m : test_models())
@@ -392,7 +392,7 @@ TEST(he_torrance, ReciprocityAndIsotropyMeasured) {
   EXPECT_LE(worst_rot, kRotationRel);
 }
 
-TEST(he_torrance, MassHintsSitAtTheMirrorWithTheLobeWidths) {
+TEST(HeTorrance, MassHintsSitAtTheMirrorWithTheLobeWidths) {
   const HeTorrance m = figure24();
   const Vec3 i = direction_from_cos(0.9, 0.3);
   const MassHints h = m.mass_hints(i, Varying::outgoing);
@@ -409,7 +409,7 @@ TEST(he_torrance, MassHintsSitAtTheMirrorWithTheLobeWidths) {
 }
 
 // --- registry ------------------------------------------------------------------------------------
-TEST(he_torrance, RegistryEntryValidatesParametersAndBuildsTheModel) {
+TEST(HeTorrance, RegistryEntryValidatesParametersAndBuildsTheModel) {
   std::vector<ModelInfo> catalogue;
   register_he_torrance_models(catalogue);
   ASSERT_EQ(catalogue.size(), 1u);
@@ -473,7 +473,7 @@ double total_albedo(const HeTorrance& m, double cos_i) {
 /// Measured total albedos are compared with this slack (a hundred times the cubature's 1e-9).
 constexpr double kAlbedoTol = 1e-7;
 
-TEST(he_torrance, AlbedoBelowOneForTheFigure24SurfaceAndARoughConductor) {
+TEST(HeTorrance, AlbedoBelowOneForTheFigure24SurfaceAndARoughConductor) {
   // a = 0. (Near-smooth conductors at oblique incidence exceed 1: see NotPlausible... below.)
   for (const HeTorrance& m : {figure24(), HeTorrance(0.15, 1.5, 0.55, 0.2, 3.0, 0.0),
                               HeTorrance(1.0, 2.0, 0.4, 0.01, 20.0, 0.0), HeTorrance(3.0, 6.0, 0.55, 0.01, 20.0, 0.0)}) {
@@ -487,7 +487,7 @@ TEST(he_torrance, AlbedoBelowOneForTheFigure24SurfaceAndARoughConductor) {
   }
 }
 
-TEST(he_torrance, EnergyIsConservedAtNormalIncidenceForSlightlyRoughConductors) {
+TEST(HeTorrance, EnergyIsConservedAtNormalIncidenceForSlightlyRoughConductors) {
   // At normal incidence Kirchhoff theory conserves energy to first order: coherent e^{-g} plus
   // incoherent (1 - e^{-g}) = 1, times F. This checks D's prefactor pi^2 tau^2/(4 lambda^2)
   // and the wave-vector v in its exponent (with the unit vector there the lobe would be 2 pi/lambda
@@ -500,7 +500,7 @@ TEST(he_torrance, EnergyIsConservedAtNormalIncidenceForSlightlyRoughConductors) 
   }
 }
 
-TEST(he_torrance, NotPlausibleCounterExamples) {
+TEST(HeTorrance, NotPlausibleCounterExamples) {
   // 1. rho_ud = a/pi is added on top of the surface reflection: a = 1 exceeds 1.
   const HeTorrance diffuse(0.15, 1.5, 0.55, 1.6, 0.2, 1.0);
   EXPECT_EQ(diffuse.traits().energy, EnergyClass::not_plausible);
@@ -512,7 +512,7 @@ TEST(he_torrance, NotPlausibleCounterExamples) {
   EXPECT_GT(total_albedo(smoothish, 0.15), 1.03);
 }
 
-TEST(he_torrance, FigureTwentyFourPeakValue) {
+TEST(HeTorrance, FigureTwentyFourPeakValue) {
   // At normal incidence and viewing sigma = sigma0 and, with the Figure-24 numbers,
   // rho_dd = F(1)/pi * 16 * 1 * (pi^2 tau^2/(4 lambda^2)) * S(g, 0) / 4, g = (4 pi sigma0/lambda)^2.
   const HeTorrance m = figure24();

@@ -1,4 +1,4 @@
-// Halfway-vector-disk models (Edwards et al. 2006; laws/hvd.h).
+// Halfway-vector-disk models (Edwards et al. 2006; models/hvd.h).
 #include <cmath>
 #include <numbers>
 
@@ -6,8 +6,8 @@
 
 #include "integrate/laws.h"
 #include "util/error.h"
-#include "laws/hvd.h"
-#include "laws/spec.h"
+#include "models/hvd.h"
+#include "models/spec.h"
 
 namespace ganzfeld {
 namespace {

@@ -14,8 +14,8 @@
 #include <gtest/gtest.h>
 
 #include "integrate/laws.h"
-#include "laws/kp_lobes.h"
-#include "laws/spec.h"
+#include "models/kp_lobes.h"
+#include "models/spec.h"
 #include "reference/lune_reference.h"
 
 namespace ganzfeld {

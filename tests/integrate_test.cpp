@@ -13,8 +13,8 @@
 #include <tbb/parallel_for.h>
 
 #include "integrate/laws.h"
-#include "laws/kp_lobes.h"
-#include "laws/spec.h"
+#include "models/kp_lobes.h"
+#include "models/spec.h"
 
 namespace ganzfeld {
 namespace {
@@ -55,7 +55,7 @@ std::vector<Case> closed_form_cases() {
   return cases;
 }
 
-TEST(Integrate, VignettingMatchesClosedFormsWithHonestErrors) {
+TEST(LawIntegrals, VignettingMatchesClosedFormsWithHonestErrors) {
   const auto cases = closed_form_cases();
   int dishonest = 0;
   for (const auto& cs : cases) {
@@ -68,7 +68,7 @@ TEST(Integrate, VignettingMatchesClosedFormsWithHonestErrors) {
   EXPECT_LE(dishonest, (1.0 - kHonestFraction) * cases.size());
 }
 
-TEST(Integrate, DarkeningAlbedoAndReflectanceMatchClosedForms) {
+TEST(LawIntegrals, DarkeningAlbedoAndReflectanceMatchClosedForms) {
   for (double xi : {0.0, 1e-6, 0.3, 1.0, 2.7, 50.0}) {
     const Minnaert m(xi);
     for (double mu : {0.0, 1e-6, 0.3, 0.999, 1.0}) {
@@ -129,7 +129,7 @@ double reference_vignetting(const Model& model, const Vec3& i, const Vec3& j, co
       t_breaks);
 }
 
-TEST(Integrate, SharpLobesAgreeWithAnIndependentReference) {
+TEST(LawIntegrals, SharpLobesAgreeWithAnIndependentReference) {
   struct Sharp {
     std::string spec;
     bool mirror_lobe;  // lobe about the mirror of j (specular) or about j itself (backscatter)
@@ -160,7 +160,7 @@ TEST(Integrate, SharpLobesAgreeWithAnIndependentReference) {
 // ---------------------------------------------------------------------------------------------
 // A sky with pole i and the complementary sky with pole -i make a Ganzfeld: g(i) + g(-i) = h.
 // A closed-form-free identity that exercises the lune map for every model and geometry.
-TEST(Integrate, ComplementarySkiesMakeAGanzfeld) {
+TEST(LawIntegrals, ComplementarySkiesMakeAGanzfeld) {
   std::mt19937_64 rng(5);
   std::uniform_real_distribution<double> u(0.0, 1.0);
   for (const std::string spec : {"minnaert:xi=0.3", "specular:alpha=8", "specular:alpha=1000", "backscatter:alpha=4",
@@ -175,7 +175,7 @@ TEST(Integrate, ComplementarySkiesMakeAGanzfeld) {
   }
 }
 
-TEST(Integrate, PoleLimits) {
+TEST(LawIntegrals, PoleLimits) {
   const Specular m(8);
   const Vec3 j = direction_from_cos(0.4, 1.0);
   EXPECT_EQ(vignetting(m, {0, 0, -1}, j, options()).value, 0.0);                 // the sky below: nothing
@@ -186,7 +186,7 @@ TEST(Integrate, PoleLimits) {
 
 // ---------------------------------------------------------------------------------------------
 // The extremes of the Core issue: converged, finite, never NaN/Inf, for every law.
-TEST(Integrate, ConvergesAtTheExtremes) {
+TEST(LawIntegrals, ConvergesAtTheExtremes) {
   const std::vector<std::string> specs{"minnaert:xi=1e-6", "minnaert:xi=0.3", "minnaert:xi=50",
                                        "specular:alpha=1000", "backscatter:alpha=1000",
                                        "perfect-backscatter:alpha=2", "perfect-backscatter:alpha=50",
@@ -214,7 +214,7 @@ TEST(Integrate, ConvergesAtTheExtremes) {
 
 // Perfect backscatter near double grazing: f ~ 1/((i+j)·n), yet (k·n) f stays bounded and
 // g(i) + g(-i) = h must still hold.
-TEST(Integrate, PerfectBackscatterNearDoubleGrazing) {
+TEST(LawIntegrals, PerfectBackscatterNearDoubleGrazing) {
   const PerfectBackscatter m(2);
   for (double mu : {0.0, 1e-9, 1e-6, 1e-3}) {
     const Vec3 i = direction_from_cos(mu), j = direction_from_cos(mu, pi);
@@ -225,7 +225,7 @@ TEST(Integrate, PerfectBackscatterNearDoubleGrazing) {
   }
 }
 
-TEST(Integrate, NonConvergenceIsReportedNotHidden) {
+TEST(LawIntegrals, NonConvergenceIsReportedNotHidden) {
   const Specular m(1000);
   CubatureOptions tight = options(1e-15);
   tight.max_evaluations = 20000;  // above the hint grid (~9k), far below what 1e-15 needs
@@ -266,7 +266,7 @@ bool on_grid(double x, double n) { return std::floor(n * x) == n * x; }
 double runge(double x) { return 1.0 / (1.0 + 25.0 * x * x); }
 const double kRungeIntegral = std::atan(5.0) / 5.0;
 
-TEST(Integrate, NonFinitePointsAreBisectedPastIn1D) {
+TEST(LawIntegrals, NonFinitePointsAreBisectedPastIn1D) {
   const std::vector<double> unit{0.0, 1.0};
   const Estimate nan_at = adaptive_cubature<1>(panel_1d([](double x) { return on_grid(x, 8) ? kNaN : runge(x); }), {unit}, options(1e-12));
   const Estimate inf_at = adaptive_cubature<1>(panel_1d([](double x) { return on_grid(x, 8) ? kInf : runge(x); }), {unit}, options(1e-12));
@@ -277,7 +277,7 @@ TEST(Integrate, NonFinitePointsAreBisectedPastIn1D) {
   }
 }
 
-TEST(Integrate, NonFinitePointsAndLinesAreBisectedPastIn2D) {
+TEST(LawIntegrals, NonFinitePointsAndLinesAreBisectedPastIn2D) {
   const std::vector<double> unit{0.0, 1.0};
   // NaN on the lines x = k/4 and y = k/4 (a line in y is only passed by bisecting y), +Inf on
   // the points (k/8, l/8).
@@ -294,7 +294,7 @@ TEST(Integrate, NonFinitePointsAndLinesAreBisectedPastIn2D) {
   }
 }
 
-TEST(Integrate, NonFiniteRegionsAreReportedNotConverged) {
+TEST(LawIntegrals, NonFiniteRegionsAreReportedNotConverged) {
   const std::vector<double> unit{0.0, 1.0};
   CubatureOptions o = options(1e-12);
   o.max_evaluations = 1'000'000;
@@ -312,7 +312,7 @@ TEST(Integrate, NonFiniteRegionsAreReportedNotConverged) {
 }
 
 // Same input, same bits: sequential, one thread and two threads.
-TEST(Integrate, DeterministicWhateverTheThreadCount) {
+TEST(LawIntegrals, DeterministicWhateverTheThreadCount) {
   const ModelPtr m = parse_model("0.7*minnaert:xi=0.3 + 0.3*specular:alpha=300");
   std::vector<std::pair<Vec3, Vec3>> points;
   std::mt19937_64 rng(3);
@@ -386,7 +386,7 @@ double cosine_over_region(const Vec3& a, const Vec3& b, const Vec3& c) {
   return sum.z;
 }
 
-TEST(Integrate, CreasedIntegrandsAreSplitAtTheirCreasesAndExact) {
+TEST(LawIntegrals, CreasedIntegrandsAreSplitAtTheirCreasesAndExact) {
   constexpr double kCreaseTol = 1e-11;   // requested; the jumps must cost nothing in accuracy
   constexpr double kBudget = 2'000'000;  // evaluations: ample for a piecewise-constant integrand
   constexpr double kBelow = 0.1, kAbove = 0.3;

@@ -6,7 +6,7 @@ set -uo pipefail
 cd "$1"
 # The arrows: each module and the modules it builds on directly (docs/architecture.md, "The rooms").
 declare -A arrows=(
-  [util]="" [laws]="util" [reference]="laws" [integrate]="laws" [tables]="integrate" [scene]="tables" [export]="scene"
+  [util]="" [models]="util" [reference]="models" [integrate]="models" [tables]="integrate" [scene]="tables" [export]="scene"
   [shapes]="tables" [serve]="export shapes" [reports]="tables reference" [rasterizer]="scene" [bench]="rasterizer reports"
   [cli]="serve reports bench" [fuzz]="cli"
 )

@@ -1,4 +1,4 @@
-// Measured BRDFs (laws/measured.h) and the generator that writes any model as measured data
+// Measured BRDFs (models/measured.h) and the generator that writes any model as measured data
 // (export/brdf_export.h): the MERL reader round-trips the generator, refuses malformed files, and
 // our tabulated format round-trips and refuses malformed text.
 #include <cmath>
@@ -16,8 +16,8 @@
 #include "integrate/laws.h"
 #include "util/error.h"
 #include "util/hash.h"
-#include "laws/measured.h"
-#include "laws/spec.h"
+#include "models/measured.h"
+#include "models/spec.h"
 #include "tables/bake.h"
 #include "tables/exr_io.h"
 #include "tables/sample.h"

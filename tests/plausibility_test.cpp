@@ -9,7 +9,7 @@
 #include <gtest/gtest.h>
 
 #include "reports/plausibility.h"
-#include "laws/spec.h"
+#include "models/spec.h"
 
 namespace ganzfeld {
 namespace {

@@ -1,4 +1,4 @@
-// Poulin-Fournier additive cylinders (laws/poulin_fournier.h): the closed-form arc integrals
+// Poulin-Fournier additive cylinders (models/poulin_fournier.h): the closed-form arc integrals
 // against quadrature, the thesis's shadowing pseudo-code against 2-D ray casting, the projected
 // lengths of eq. III.19 tiling the period, the plane limits (d = 0, h = 1, d -> infinity), known
 // values at normal incidence and view, the mirror symmetries, reciprocity measured, finiteness on
@@ -20,11 +20,11 @@
 #include "tests/test_support.h"
 
 #include "integrate/laws.h"
-#include "laws/classic_models.h"
+#include "models/classic_models.h"
 #include "util/error.h"
-#include "laws/poulin_fournier.h"
-#include "laws/registry.h"
-#include "laws/spec.h"
+#include "models/poulin_fournier.h"
+#include "models/registry.h"
+#include "models/spec.h"
 
 namespace ganzfeld {
 namespace {
@@ -122,7 +122,7 @@ double ray_cast_f(double kd, double ks, double n, double d, double h, const Vec3
   return sum / d;
 }
 
-TEST(poulin_fournier, ShadowingPseudoCodeMatchesRayCasting) {
+TEST(PoulinFournier, ShadowingPseudoCodeMatchesRayCasting) {
   std::mt19937_64 rng(11);
   std::uniform_real_distribution<double> u(0.0, 1.0);
   double worst = 0.0;
@@ -152,7 +152,7 @@ double gk(const std::function<double(double)>& g, double a, double b) {
   return boost::math::quadrature::gauss_kronrod<double, 61>::integrate(g, a, b, 12, 1e-13);
 }
 
-TEST(poulin_fournier, CosPowerIntegralIsTheIncompleteBetaClosedForm) {
+TEST(PoulinFournier, CosPowerIntegralIsTheIncompleteBetaClosedForm) {
   const std::vector<std::pair<double, double>> intervals{
       {0.0, 0.3}, {-0.2, 0.1}, {0.1, 1.5}, {-1.5, -0.01}, {-pi / 2, pi / 2}, {0.0, 1e-9}, {1.2, 1.5}, {-0.6, 0.7}, {0.4, 0.41}};
   for (double m : {1.0, 2.0, 2.5, 20.0, 137.3, 1000.0, 10002.0})
@@ -179,7 +179,7 @@ TEST(poulin_fournier, CosPowerIntegralIsTheIncompleteBetaClosedForm) {
   EXPECT_EQ(cos_power_integral(3.0, 0.6, 0.5), 0.0);
 }
 
-TEST(poulin_fournier, IntegralOfSinSquaredIsAccurateForSmallArguments) {
+TEST(PoulinFournier, IntegralOfSinSquaredIsAccurateForSmallArguments) {
   for (double x : {1e-100, 1e-8, 1e-4, 0.01, 0.3, 0.49, 0.5, 0.51, 1.0, 2.0, 3.0}) {
     const long double X = x;
     const long double ref = (X - std::sin(X) * std::cos(X)) / 2;  // long double: fine above ~1e-4
@@ -191,7 +191,7 @@ TEST(poulin_fournier, IntegralOfSinSquaredIsAccurateForSmallArguments) {
   EXPECT_EQ(integral_sin_squared(0.0), 0.0);
 }
 
-TEST(poulin_fournier, ArcIntegralsMatchQuadratureOfTheirIntegrands) {
+TEST(PoulinFournier, ArcIntegralsMatchQuadratureOfTheirIntegrands) {
   std::mt19937_64 rng(5);
   std::uniform_real_distribution<double> u(0.0, 1.0);
   const PoulinFournier m(0.5, 0.5, 40.0, 2.0, 0.0);  // theta_M = pi/2: the widest arcs
@@ -224,7 +224,7 @@ TEST(poulin_fournier, ArcIntegralsMatchQuadratureOfTheirIntegrands) {
 }
 
 // --- eq. III.19: the visible pieces of one period tile it ---------------------------------------
-TEST(poulin_fournier, ProjectedLengthsOfThePeriodSumToD) {
+TEST(PoulinFournier, ProjectedLengthsOfThePeriodSumToD) {
   // l_v + f_v with l_v = [sin(theta_h - theta_E) + sin(theta_sh + theta_E)]/cos theta_E
   // (eq. III.19: the visible arc [-theta_sh, theta_h] projected along the eye onto the mean
   // plane) is the period d for every eye direction: the denominator of eq. III.21.
@@ -246,7 +246,7 @@ TEST(poulin_fournier, ProjectedLengthsOfThePeriodSumToD) {
 }
 
 // --- limits --------------------------------------------------------------------------------------
-TEST(poulin_fournier, PlaneLimitsAreTheLocalModel) {
+TEST(PoulinFournier, PlaneLimitsAreTheLocalModel) {
   const auto dirs = test_directions(1, 60);
   for (auto [kd, ks, n] : {std::tuple{0.7, 0.0, 1.0}, std::tuple{0.4, 0.6, 50.0}}) {
     const BlinnPhong plane(kd, ks, n);
@@ -272,7 +272,7 @@ TEST(poulin_fournier, PlaneLimitsAreTheLocalModel) {
   }
 }
 
-TEST(poulin_fournier, SparseCylindersCastNoShadowOnNeighbours) {
+TEST(PoulinFournier, SparseCylindersCastNoShadowOnNeighbours) {
   // 1/cos theta_L < d - 1 (app. D): the neighbour's shadow line passes below the arc; then the
   // arc is lit down to the terminator and the floor carries the whole shadow.
   const PoulinFournier m(1.0, 0.0, 1.0, 5.0, 0.0);
@@ -292,7 +292,7 @@ TEST(poulin_fournier, SparseCylindersCastNoShadowOnNeighbours) {
 }
 
 // --- known values --------------------------------------------------------------------------------
-TEST(poulin_fournier, KnownValuesAtNormalIncidenceAndView) {
+TEST(PoulinFournier, KnownValuesAtNormalIncidenceAndView) {
   const Vec3 n{0, 0, 1};
   // Lambert: f(n, n) = (kd/pi) (∫_{-theta_M}^{theta_M} cos^2 + w)/d = (kd/pi)(theta_M + sin theta_M cos theta_M + w)/d.
   for (const Geometry& g : kGeometries) {
@@ -326,7 +326,7 @@ TEST(poulin_fournier, KnownValuesAtNormalIncidenceAndView) {
 }
 
 // --- symmetry, reciprocity, finiteness ---------------------------------------------------------
-TEST(poulin_fournier, MirrorSymmetriesOfTheCylinderArray) {
+TEST(PoulinFournier, MirrorSymmetriesOfTheCylinderArray) {
   const auto dirs = test_directions(2, 50);
   auto flip_y = [](const Vec3& v) { return Vec3{v.x, -v.y, v.z}; };
   auto flip_x = [](const Vec3& v) { return Vec3{-v.x, v.y, v.z}; };
@@ -343,7 +343,7 @@ TEST(poulin_fournier, MirrorSymmetriesOfTheCylinderArray) {
   }
 }
 
-TEST(poulin_fournier, ReciprocityMeasured) {
+TEST(PoulinFournier, ReciprocityMeasured) {
   const auto dirs = test_directions(4, 80);
   double worst = 0.0;
   for (const Geometry& g : kGeometries) {
@@ -359,7 +359,7 @@ TEST(poulin_fournier, ReciprocityMeasured) {
   EXPECT_LE(worst, kReciprocalRel);
 }
 
-TEST(poulin_fournier, FiniteNonNegativeEverywhereAndZeroBelowTheHorizon) {
+TEST(PoulinFournier, FiniteNonNegativeEverywhereAndZeroBelowTheHorizon) {
   const auto dirs = test_directions(6, 150);
   const Vec3 below{0.3, 0.4, -0.866}, up{0, 0, 1};
   double largest = 0.0;
@@ -383,7 +383,7 @@ TEST(poulin_fournier, FiniteNonNegativeEverywhereAndZeroBelowTheHorizon) {
   std::printf("poulin-fournier: largest f on the grid (grazing included) %.4g /sr\n", largest);
 }
 
-TEST(poulin_fournier, GrazingLimitOfTheEye) {
+TEST(PoulinFournier, GrazingLimitOfTheEye) {
   // Eye grazing across the cylinders (theta_E -> 90 deg): only the tops are seen, with normals
   // -> n; light overhead lights them: f -> (local model at n), and the floor of beta at 1e-6
   // keeps f finite on the horizon itself.
@@ -415,7 +415,7 @@ constexpr double kC1Slope = 5e-5;
 /// Jumps of f larger than this fraction of max f (refined by bisection) would be reported.
 constexpr double kJump = 1e-3;
 
-/// k at longitude phi about +x (phi = atan2(-k_y, k_z), laws/model.h) and latitude t.
+/// k at longitude phi about +x (phi = atan2(-k_y, k_z), models/model.h) and latitude t.
 Vec3 on_longitude(double phi, double t) {
   return {std::sin(t), -std::cos(t) * std::sin(phi), std::cos(t) * std::cos(phi)};
 }
@@ -500,7 +500,7 @@ void scan(const PoulinFournier& m, const Vec3& fixed, Varying varying, double t,
   }
 }
 
-TEST(poulin_fournier, EveryKinkLiesOnAListedCreaseAndEveryListedCreaseIsReal) {
+TEST(PoulinFournier, EveryKinkLiesOnAListedCreaseAndEveryListedCreaseIsReal) {
   ScanResult r;
   for (Geometry g : {Geometry{2.5, 0.2}, Geometry{1.5, 0.0}, Geometry{2.0, 0.0}, Geometry{4.0, 0.5}}) {
     const PoulinFournier m(0.6, 0.4, 20.0, g.d, g.h);
@@ -515,7 +515,7 @@ TEST(poulin_fournier, EveryKinkLiesOnAListedCreaseAndEveryListedCreaseIsReal) {
   EXPECT_EQ(r.jumps, 0);  // f is continuous: its creases are kinks
 }
 
-TEST(poulin_fournier, PlanesHaveNoCreasesAndHighlightsHavePeaks) {
+TEST(PoulinFournier, PlanesHaveNoCreasesAndHighlightsHavePeaks) {
   const PoulinFournier plane(0.5, 0.5, 20.0, 0.0, 0.5);
   const MassHints none = plane.mass_hints(dir_deg(30, 40), Varying::outgoing);
   EXPECT_TRUE(none.crease_longitudes.empty());
@@ -541,7 +541,7 @@ TEST(poulin_fournier, PlanesHaveNoCreasesAndHighlightsHavePeaks) {
 // --- registry -------------------------------------------------------------------------------------
 using testing_support::expect_input_error;
 
-TEST(poulin_fournier, RegistryEntryValidatesParameters) {
+TEST(PoulinFournier, RegistryEntryValidatesParameters) {
   const ModelInfo& info = find_model("poulin-fournier");
   EXPECT_FALSE(info.traits.isotropic);
   EXPECT_TRUE(info.traits.reciprocal);
@@ -572,7 +572,7 @@ TEST(poulin_fournier, RegistryEntryValidatesParameters) {
 /// awaits the coordinator's integrator change), so the tolerance is modest.
 constexpr double kAlbedoCubatureTol = 1e-5;
 
-TEST(poulin_fournier, AlbedoAtMostTheLocalAlbedo) {
+TEST(PoulinFournier, AlbedoAtMostTheLocalAlbedo) {
   for (Geometry g : {Geometry{2.5, 0.2}, Geometry{2.0, 0.0}, Geometry{1.5, 0.0}}) {
     for (auto [kd, ks, n] : {std::tuple{1.0, 0.0, 1.0}, std::tuple{0.0, 1.0, 1.0}}) {
       const PoulinFournier m(kd, ks, n, g.d, g.h);
@@ -590,7 +590,7 @@ TEST(poulin_fournier, AlbedoAtMostTheLocalAlbedo) {
 /// Tolerance asked of the engine for the 1-D comparison.
 constexpr double kEngineTol = 1e-8;
 
-TEST(poulin_fournier, DiffuseAlbedoReducesToOneDimensionAndTheEngineIsHonest) {
+TEST(PoulinFournier, DiffuseAlbedoReducesToOneDimensionAndTheEngineIsHonest) {
   // With ks = 0, f(i, j) depends on j only through its longitude phi about the tangent, so with
   // j = (sin t, -cos t sin phi, cos t cos phi), dj = cos t dt dphi and j.n = cos t cos phi:
   //   a(i) = ∫ cos^2 t dt ∫ f(i, j(phi)) cos phi dphi = (pi/2) ∫_{-pi/2}^{pi/2} f(i, j(phi, 0)) cos phi dphi,

@@ -12,7 +12,7 @@
 #include <tbb/global_control.h>
 
 #include "util/error.h"
-#include "laws/spec.h"
+#include "models/spec.h"
 #include "tables/bake.h"
 #include "rasterizer/figure.h"
 #include "rasterizer/image.h"
@@ -124,7 +124,7 @@ void expect_sphere_pixels(const RenderScene& scene, Expected expected, double bo
 
 // --- the three light fields ----------------------------------------------------------------
 
-TEST(rasterizer, WhiteLambertSphereIsInvisibleInGanzfeld) {
+TEST(Rasterizer, WhiteLambertSphereIsInvisibleInGanzfeld) {
   // K&P: h_L = 1, so a white Lambertian sphere in a Ganzfeld of radiance N has radiance N
   // everywhere, which is the radiance of the Ganzfeld seen behind it. h is integrated per pixel
   // (not the closed form h = 1, which would only test that N x 1 = N): the bound is N times the
@@ -135,7 +135,7 @@ TEST(rasterizer, WhiteLambertSphereIsInvisibleInGanzfeld) {
   expect_sphere_pixels(scene, [](const Vec3&, const Vec3&) { return N; }, N * kTol + kFloatRounding);
 }
 
-TEST(rasterizer, WhiteLambertSphereFromTableIsInvisibleInGanzfeld) {
+TEST(Rasterizer, WhiteLambertSphereFromTableIsInvisibleInGanzfeld) {
   // The same through a baked h table: the bound is N times the table's stored max error (its
   // interpolation error is 0: h_L = 1 is constant) plus float rounding.
   constexpr double N = 0.6;
@@ -145,10 +145,10 @@ TEST(rasterizer, WhiteLambertSphereFromTableIsInvisibleInGanzfeld) {
   auto h = std::make_shared<const tables::Table>(tables::bake(*parse_model("lambert"), Law::h, options));
   const RenderScene scene =
       sphere_scene(one_lobe("lambert", table_laws(nullptr, h)), {grey_light(Light::Type::ganzfeld, {0, 1, 0}, N)}, N);
-  expect_sphere_pixels(scene, [](const Vec3&, const Vec3&) { return N; }, N * h->max_error + kFloatRounding);
+  expect_sphere_pixels(scene, [](const Vec3&, const Vec3&) { return N; }, N * h->node_error + kFloatRounding);
 }
 
-TEST(rasterizer, WhiteHvdEmpiricalSphereIsInvisibleInGanzfeld) {
+TEST(Rasterizer, WhiteHvdEmpiricalSphereIsInvisibleInGanzfeld) {
   // Edwards et al., Figure 2: with C_d = 1 the empirical HVD BRDF conserves energy over incident
   // directions for every viewing direction, so h = 1 and the sphere vanishes in a Ganzfeld, like
   // white Lambert, although its lobes are sharp and it is not reciprocal (its albedo a != 1).
@@ -178,10 +178,10 @@ TEST(rasterizer, WhiteHvdEmpiricalSphereIsInvisibleInGanzfeld) {
     if (f.mesh != Fragment::kNone) {
       ASSERT_GT(glm::dot(f.normal, f.view), first_node);
     }
-  expect_sphere_pixels(scene, [](const Vec3&, const Vec3&) { return N; }, N * h->max_error + kFloatRounding);
+  expect_sphere_pixels(scene, [](const Vec3&, const Vec3&) { return N; }, N * h->node_error + kFloatRounding);
 }
 
-TEST(rasterizer, LambertSphereUnderSkyIsHalfOnePlusCos) {
+TEST(Rasterizer, LambertSphereUnderSkyIsHalfOnePlusCos) {
   // K&P: g_L = (1 + i·n)/2 with i the sky's pole, per pixel with n from the exact sphere.
   // Bound: the closed form is exact; float storage and the normal's rounding remain.
   const Vec3 pole = glm::normalize(Vec3{0.3, 0.8, 0.4});
@@ -192,7 +192,7 @@ TEST(rasterizer, LambertSphereUnderSkyIsHalfOnePlusCos) {
       kFloatRounding + kNormalRounding);
 }
 
-TEST(rasterizer, MinnaertSphereInGanzfeldShowsDarkening) {
+TEST(Rasterizer, MinnaertSphereInGanzfeldShowsDarkening) {
   // K&P: h_d = (j·n)^xi; xi = 1. Direct cubature at tolerance 1e-10 (its error estimate bounds
   // the true error: integrate/cubature.h) plus float rounding.
   constexpr double kTol = 1e-10;
@@ -203,7 +203,7 @@ TEST(rasterizer, MinnaertSphereInGanzfeldShowsDarkening) {
       kTol + kFloatRounding + kNormalRounding);
 }
 
-TEST(rasterizer, MinnaertSphereFromTableWithinInterpolationBound) {
+TEST(Rasterizer, MinnaertSphereFromTableWithinInterpolationBound) {
   // h table of 64 nodes, sqrt mapping: mu = u^2 in the index coordinate u, so linear
   // interpolation of h = mu between nodes Δu = 1/63 apart errs by at most Δu^2/8 max|d²h/du²|
   // = Δu^2/4. Plus the stored error and float rounding.
@@ -217,10 +217,10 @@ TEST(rasterizer, MinnaertSphereFromTableWithinInterpolationBound) {
                                          {grey_light(Light::Type::ganzfeld, {0, 1, 0}, 1.0)}, 0.0);
   expect_sphere_pixels(
       scene, [](const Vec3& n, const Vec3& j) { return std::max(glm::dot(n, j), 0.0); },
-      du * du / 4 + h->max_error + kFloatRounding + kNormalRounding);
+      du * du / 4 + h->node_error + kFloatRounding + kNormalRounding);
 }
 
-TEST(rasterizer, CollimatedLambertIsCosineOverPi) {
+TEST(Rasterizer, CollimatedLambertIsCosineOverPi) {
   // H0 (i·n) f_L with f_L = 1/pi; 0 in the body shadow.
   const Vec3 i = glm::normalize(Vec3{1, 1, 1});
   const RenderScene scene = sphere_scene(one_lobe("lambert", lambert_laws()),
@@ -230,7 +230,7 @@ TEST(rasterizer, CollimatedLambertIsCosineOverPi) {
       kFloatRounding + kNormalRounding);
 }
 
-TEST(rasterizer, TangentFrameIsOrthonormal) {
+TEST(Rasterizer, TangentFrameIsOrthonormal) {
   for (const Vec3& n : {Vec3{0, 0, 1}, Vec3{0, 0, -1}, glm::normalize(Vec3{1, -2, 0.1}), Vec3{1, 0, 0}}) {
     const TangentFrame f(n);
     EXPECT_NEAR(glm::dot(f.t, f.b), 0, 1e-15);
@@ -267,7 +267,7 @@ double interpolation_bound(const tables::Table& t) {
   return kSafety * total;
 }
 
-TEST(rasterizer, TablesAgreeWithDirectWithinTableErrorPlusInterpolation) {
+TEST(Rasterizer, TablesAgreeWithDirectWithinTableErrorPlusInterpolation) {
   // specular:alpha=8 under a sky (N_s) and a Ganzfeld (N_g), 48x48. Per pixel
   //   |tables - direct| <= N_s (max_error_g + interp_g) + N_g (max_error_h + interp_h)
   //                        + (N_s + N_g) tol_direct + float rounding.
@@ -281,7 +281,7 @@ TEST(rasterizer, TablesAgreeWithDirectWithinTableErrorPlusInterpolation) {
   h_options.tolerance = kTableTol;
   auto g = std::make_shared<const tables::Table>(tables::bake(*model, Law::g, g_options));
   auto h = std::make_shared<const tables::Table>(tables::bake(*model, Law::h, h_options));
-  const double bound = Ns * (g->max_error + interpolation_bound(*g)) + Ng * (h->max_error + interpolation_bound(*h)) +
+  const double bound = Ns * (g->node_error + interpolation_bound(*g)) + Ng * (h->node_error + interpolation_bound(*h)) +
                        (Ns + Ng) * kDirectTol + kFloatRounding;
   const std::vector<Light> lights{grey_light(Light::Type::hemispherical, glm::normalize(Vec3{0.2, 1, 0.3}), Ns),
                                   grey_light(Light::Type::ganzfeld, {0, 1, 0}, Ng)};
@@ -300,7 +300,7 @@ TEST(rasterizer, TablesAgreeWithDirectWithinTableErrorPlusInterpolation) {
 
 // --- geometry --------------------------------------------------------------------------------
 
-TEST(rasterizer, NearerSphereWinsWhateverTheOrder) {
+TEST(Rasterizer, NearerSphereWinsWhateverTheOrder) {
   const Vec3 ca{0, 0, 0}, cb{0.7, 0.2, 1.5};
   const double ra = 1.0, rb = 0.6;
   for (bool swap : {false, true}) {
@@ -331,7 +331,7 @@ TEST(rasterizer, NearerSphereWinsWhateverTheOrder) {
   }
 }
 
-TEST(rasterizer, InterpolationIsPerspectiveCorrect) {
+TEST(Rasterizer, InterpolationIsPerspectiveCorrect) {
   // A large tilted quad: the interpolated world position must lie on the pixel's ray (affine
   // screen-space interpolation would not), and its normal is the quad's.
   Mesh quad;
@@ -358,7 +358,7 @@ TEST(rasterizer, InterpolationIsPerspectiveCorrect) {
   EXPECT_GT(covered, 200);
 }
 
-TEST(rasterizer, DeterministicForAnyThreadCount) {
+TEST(Rasterizer, DeterministicForAnyThreadCount) {
   const RenderScene scene = sphere_scene(one_lobe("specular:alpha=8", lambert_laws()),
                                          {grey_light(Light::Type::collimated, {1, 1, 1}, 3.0)}, 0.1);
   Image one, many;
@@ -373,7 +373,7 @@ TEST(rasterizer, DeterministicForAnyThreadCount) {
   EXPECT_EQ(one.rgb, many.rgb);
 }
 
-TEST(rasterizer, RefusesZeroSizeImage) {
+TEST(Rasterizer, RefusesZeroSizeImage) {
   Camera camera;
   camera.width = 0;
   EXPECT_THROW(rasterize(camera, {}), InputError);
@@ -388,7 +388,7 @@ TEST(rasterizer, RefusesZeroSizeImage) {
 
 // --- meshes ----------------------------------------------------------------------------------
 
-TEST(rasterizer, UvSphereIsInscribedWithRadialNormals) {
+TEST(Rasterizer, UvSphereIsInscribedWithRadialNormals) {
   const Mesh m = uv_sphere({1, 2, 3}, 2.0, 16);
   ASSERT_EQ(m.positions.size(), m.normals.size());
   for (std::size_t k = 0; k < m.positions.size(); ++k) {
@@ -401,7 +401,7 @@ TEST(rasterizer, UvSphereIsInscribedWithRadialNormals) {
 
 void write_text(const fs::path& path, const std::string& text) { std::ofstream(path) << text; }
 
-TEST(rasterizer, LoadsObjCubeWithNormals) {
+TEST(Rasterizer, LoadsObjCubeWithNormals) {
   TempDir dir;
   const fs::path path = dir.path / "cube.obj";
   write_text(path,
@@ -424,7 +424,7 @@ TEST(rasterizer, LoadsObjCubeWithNormals) {
   EXPECT_NE(gb.at(16, 16).mesh, Fragment::kNone);
 }
 
-TEST(rasterizer, LoadsObjTetrahedronWithoutNormals) {
+TEST(Rasterizer, LoadsObjTetrahedronWithoutNormals) {
   TempDir dir;
   const fs::path path = dir.path / "tet.obj";
   write_text(path, "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2/1 3/1 4/1\n");
@@ -438,7 +438,7 @@ TEST(rasterizer, LoadsObjTetrahedronWithoutNormals) {
   }
 }
 
-TEST(rasterizer, RefusesMissingAndMalformedObj) {
+TEST(Rasterizer, RefusesMissingAndMalformedObj) {
   TempDir dir;
   auto message = [&](const std::string& name, const std::string& text) -> std::string {
     const fs::path path = dir.path / name;
@@ -471,7 +471,7 @@ TEST(rasterizer, RefusesMissingAndMalformedObj) {
 
 // --- images ----------------------------------------------------------------------------------
 
-TEST(rasterizer, WritesAndReadsExrAndPng) {
+TEST(Rasterizer, WritesAndReadsExrAndPng) {
   TempDir dir;
   Image image(5, 3);
   for (std::size_t k = 0; k < image.rgb.size(); ++k) image.rgb[k] = static_cast<float>(k) / 20.0f;  // some > 1
@@ -489,7 +489,7 @@ TEST(rasterizer, WritesAndReadsExrAndPng) {
   EXPECT_EQ(srgb_byte(0.21586), 128);  // ((128/255 + 0.055)/1.055)^2.4
 }
 
-TEST(rasterizer, RefusesBadOutputAndLeavesNoFile) {
+TEST(Rasterizer, RefusesBadOutputAndLeavesNoFile) {
   TempDir dir;
   const Image image(4, 4, {0.5, 0.5, 0.5});
   auto leftovers = [&] { return std::distance(fs::directory_iterator(dir.path), fs::directory_iterator{}); };
@@ -509,7 +509,7 @@ TEST(rasterizer, RefusesBadOutputAndLeavesNoFile) {
 
 // --- the figure ------------------------------------------------------------------------------
 
-TEST(rasterizer, PanelHasFourQuadrantsAndLambertIsInvisibleInGanzfeld) {
+TEST(Rasterizer, PanelHasFourQuadrantsAndLambertIsInvisibleInGanzfeld) {
   FigureOptions options;
   options.size = 48;
   const Image panel = koenderink_pont_panel("lambert", options);

@@ -24,8 +24,8 @@
 
 #include "integrate/cubature.h"
 #include "integrate/laws.h"
-#include "laws/hvd.h"
-#include "laws/spec.h"
+#include "models/hvd.h"
+#include "models/spec.h"
 
 namespace ganzfeld {
 namespace {
@@ -214,7 +214,7 @@ TEST(SamplingChiSquare, GgxVisibleNormals) {
   expect_fits({"ggx:alpha=0.3,f0=0.04", -1.0}, {0.0, 40.0, 70.0, 85.0});
   expect_fits({"ggx:alpha=0.05,g2=separable", -1.0}, {30.0, 80.0});
   expect_fits({"ggx:alpha_x=0.1,alpha_y=0.5", -1.0}, {20.0, 60.0});
-  // ggx-ms: the visible-normal draw with probability E(mu_j), else a cosine draw (laws/ggx_ms.h).
+  // ggx-ms: the visible-normal draw with probability E(mu_j), else a cosine draw (models/ggx_ms.h).
   expect_fits({"ggx-ms:alpha=0.5", -1.0}, {0.0, 60.0, 85.0});
 }
 

@@ -13,7 +13,7 @@
 
 #include "util/error.h"
 #include "util/hash.h"
-#include "laws/spec.h"
+#include "models/spec.h"
 #include "tables/cache.h"
 #include "tables/exr_io.h"
 #include "scene/plan.h"
@@ -73,7 +73,7 @@ std::vector<std::pair<std::string, Law>> plan_of(const Scene& scene) {
 
 // --- load_scene -----------------------------------------------------------------------------
 
-TEST(scene, ContractExampleParses) {
+TEST(Scene, ContractExampleParses) {
   const std::string mesh_dir = (fs::path(temp_dir()) / "meshes").string();
   const Scene s = scene_from(R"({
     "camera": {"width": 320, "height": 200, "eye": [0, 0, 6], "target": [0, 0, 0],
@@ -108,7 +108,7 @@ TEST(scene, ContractExampleParses) {
   EXPECT_NEAR(s.lights[0].direction.x, 1.0 / std::sqrt(3.0), kWeightTol);
 }
 
-TEST(scene, DefaultsForMissingFields) {
+TEST(Scene, DefaultsForMissingFields) {
   const Scene s = scene_from(R"({"camera": {"width": 64}, "materials": {"m": {"model": "lambert"}},
                                  "objects": [{"shape": "sphere", "material": "m"}]})");
   const Camera defaults;
@@ -121,7 +121,7 @@ TEST(scene, DefaultsForMissingFields) {
   EXPECT_TRUE(s.lights.empty());
 }
 
-TEST(scene, MixtureModelSplitsIntoLobesWithMultipliedWeights) {
+TEST(Scene, MixtureModelSplitsIntoLobesWithMultipliedWeights) {
   const Scene s = scene_from(sphere_scene(R"({"lobes": [
       {"weight": 1, "model": "0.7*minnaert:xi=1 + 0.3*specular:alpha=8", "color": [0, 0, 1]},
       {"weight": 1, "model": "lambert"}]})",
@@ -139,7 +139,7 @@ TEST(scene, MixtureModelSplitsIntoLobesWithMultipliedWeights) {
   EXPECT_EQ(lobes[1].model->spec(), "specular:alpha=8");
 }
 
-TEST(scene, RefusesBadScenesNamingTheValue) {
+TEST(Scene, RefusesBadScenesNamingTheValue) {
   struct Case {
     std::string text, fragment;
   };
@@ -192,7 +192,7 @@ TEST(scene, RefusesBadScenesNamingTheValue) {
   }
 }
 
-TEST(scene, RefusesMissingOrUnreadableFiles) {
+TEST(Scene, RefusesMissingOrUnreadableFiles) {
   try {
     load_scene(temp_dir() + "/no/such/scene.json");
     FAIL() << "accepted a missing file";
@@ -202,7 +202,7 @@ TEST(scene, RefusesMissingOrUnreadableFiles) {
   EXPECT_THROW(load_scene(temp_dir()), InputError);  // a directory
 }
 
-TEST(scene, MeshPathIsRelativeToTheSceneFile) {
+TEST(Scene, MeshPathIsRelativeToTheSceneFile) {
   const Scene s = scene_from(R"({"materials": {"m": {"model": "lambert"}},
                                  "objects": [{"shape": "mesh", "path": "../bunny.obj", "material": "m"},
                                              {"shape": "mesh", "path": "/abs/cube.obj", "material": "m"}]})");
@@ -212,12 +212,12 @@ TEST(scene, MeshPathIsRelativeToTheSceneFile) {
 
 // --- tables_needed ----------------------------------------------------------------------------
 
-TEST(scene, CollimatedOnlyNeedsNoTable) {
+TEST(Scene, CollimatedOnlyNeedsNoTable) {
   const Scene s = scene_from(sphere_scene(R"({"model": "specular:alpha=8"})", R"([{"type": "collimated"}])"));
   EXPECT_TRUE(tables_needed(s).empty());
 }
 
-TEST(scene, GanzfeldNeedsHOfNonLambertLobesOnly) {
+TEST(Scene, GanzfeldNeedsHOfNonLambertLobesOnly) {
   const Scene s =
       scene_from(sphere_scene(R"({"model": "0.5*lambert + 0.5*specular:alpha=8"})", R"([{"type": "ganzfeld"}])"));
   const auto plan = plan_of(s);
@@ -225,7 +225,7 @@ TEST(scene, GanzfeldNeedsHOfNonLambertLobesOnly) {
   EXPECT_EQ(plan[0], std::make_pair(std::string("specular:alpha=8"), Law::h));
 }
 
-TEST(scene, SkyAndGanzfeldNeedGAndHOfEachLobeDeduplicated) {
+TEST(Scene, SkyAndGanzfeldNeedGAndHOfEachLobeDeduplicated) {
   const Scene s = scene_from(R"({
     "materials": {"a": {"model": "0.8*minnaert:xi=2 + 0.2*specular:alpha=8"},
                   "b": {"lobes": [{"weight": 1, "model": "specular:alpha=8", "color": [1, 0, 0]},
@@ -242,7 +242,7 @@ TEST(scene, SkyAndGanzfeldNeedGAndHOfEachLobeDeduplicated) {
   EXPECT_EQ(plan_of(s), want);
 }
 
-TEST(scene, AnisotropicLobesNeedNoTable) {
+TEST(Scene, AnisotropicLobesNeedNoTable) {
   // Their g would need a fourth axis; renders compute them directly instead (scene/plan.h).
   const Scene s = scene_from(sphere_scene(R"({"model": "0.5*ward-aniso + 0.5*specular:alpha=8"})",
                                           R"([{"type": "ganzfeld"}, {"type": "hemispherical"}])"));
@@ -250,7 +250,7 @@ TEST(scene, AnisotropicLobesNeedNoTable) {
   EXPECT_EQ(plan_of(s), want);
 }
 
-TEST(scene, UnusedMaterialNeedsNothing) {
+TEST(Scene, UnusedMaterialNeedsNothing) {
   const Scene s = scene_from(R"({"materials": {"m": {"model": "specular:alpha=8"}}, "objects": [],
                                  "lights": [{"type": "ganzfeld"}, {"type": "hemispherical"}]})");
   EXPECT_TRUE(tables_needed(s).empty());
@@ -272,7 +272,7 @@ std::string fresh_dir(const std::string& name) {
   return d.string();
 }
 
-TEST(scene, CacheKeyAndFileName) {
+TEST(Scene, CacheKeyAndFileName) {
   const ModelPtr m = parse_model("specular:alpha=8");
   const TableKey key = table_key(*m, Law::h, tiny(Law::h));
   const std::string name = cache_file_name(key);
@@ -303,7 +303,7 @@ TEST(scene, CacheKeyAndFileName) {
   EXPECT_FALSE(util::is_content_digest("fnv1a64:af63dc4c8601ec8"));
 }
 
-TEST(scene, CacheReusesAMatchingTable) {
+TEST(Scene, CacheReusesAMatchingTable) {
   const std::string dir = fresh_dir("reuse");
   const ModelPtr m = parse_model("specular:alpha=8");
   const CacheResult first = bake_or_reuse(cache_path(dir, *m, Law::g, tiny(Law::g)), *m, Law::g, tiny(Law::g), "test");
@@ -325,7 +325,7 @@ TEST(scene, CacheReusesAMatchingTable) {
   EXPECT_EQ(std::distance(fs::directory_iterator(dir), fs::directory_iterator{}), 2);  // no temporaries left
 }
 
-TEST(scene, CacheRebakesACorruptFile) {
+TEST(Scene, CacheRebakesACorruptFile) {
   const std::string dir = fresh_dir("corrupt");
   const ModelPtr m = parse_model("asperity:alpha=4");
   const std::string path = cache_path(dir, *m, Law::h, tiny(Law::h));
@@ -342,7 +342,7 @@ TEST(scene, CacheRebakesACorruptFile) {
   EXPECT_EQ(bake_or_reuse(cache_path(dir, *m, Law::h, tiny(Law::h)), *m, Law::h, tiny(Law::h), "test").status, CacheStatus::reused);
 }
 
-TEST(scene, CacheRebakesAMismatchingFile) {
+TEST(Scene, CacheRebakesAMismatchingFile) {
   const std::string dir = fresh_dir("mismatch");
   const ModelPtr m = parse_model("specular:alpha=8");
   const std::string path = cache_path(dir, *m, Law::h, tiny(Law::h));
@@ -369,7 +369,7 @@ void write_constant_brdf(const std::string& path, const char* f) {
 }
 
 // Issue #19: a measured model is keyed by its file's bytes, not by its path.
-TEST(scene, CacheKeysMeasuredModelsByContent) {
+TEST(Scene, CacheKeysMeasuredModelsByContent) {
   const std::string dir = fresh_dir("content"), data = (fs::path(dir) / "m.tab").string();
   write_constant_brdf(data, "0.3");
   auto bake_at = [&](const std::string& path, const ModelPtr& m) {
@@ -400,7 +400,7 @@ TEST(scene, CacheKeysMeasuredModelsByContent) {
   EXPECT_EQ(read_table(changed_path).model, changed->spec());
 }
 
-TEST(scene, CacheRebakesAMeasuredTableWithoutContent) {
+TEST(Scene, CacheRebakesAMeasuredTableWithoutContent) {
   // A table written before ganzfeld.model_content existed reads with an empty digest: analytic
   // ones stay valid, a measured one is baked again (what its file held then is unknown).
   const std::string dir = fresh_dir("no_content"), data = (fs::path(dir) / "m.tab").string();

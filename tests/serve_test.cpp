@@ -53,7 +53,7 @@ TEST(ServeQuery, SplitsAtTheFirstEqualsAndDecodes) {
   EXPECT_EQ(refusal([] { parse_query("model=%4"); }).first, 400);
 }
 
-TEST(ServeRequest, EvalAcceptsTheIssueParameters) {
+TEST(ServeRequest, EvalAcceptsAnglesToleranceAndASkyBelowTheHorizon) {
   const EvalQuery q = parse_eval(parse_query("model=specular:alpha=8&law=g&theta_i=120&theta_j=30&phi=180&tol=1e-8"), Limits{});
   EXPECT_EQ(q.law, Law::g);
   EXPECT_EQ(q.model->spec(), "specular:alpha=8");

@@ -31,7 +31,7 @@
 
 #include "integrate/laws.h"
 #include "util/error.h"
-#include "laws/spec.h"
+#include "models/spec.h"
 #include "tables/bake.h"
 #include "tables/exr_io.h"
 #include "tables/sample.h"
@@ -98,7 +98,7 @@ Vec3 from_cos(double c, double phi = 0.0) {
 
 // --- Axes and mappings ----------------------------------------------------------------------
 
-TEST(lut, MappingsRoundTripAndEndsAreExact) {
+TEST(Table, MappingsRoundTripAndEndsAreExact) {
   for (Mapping m : {Mapping::linear, Mapping::sqrt, Mapping::cos}) {
     const Axis axis{"x", -1.0, 1.0, 17, m};
     EXPECT_EQ(axis.node(0), -1.0) << to_string(m);
@@ -118,7 +118,7 @@ TEST(lut, MappingsRoundTripAndEndsAreExact) {
   EXPECT_DOUBLE_EQ(cs.node(1), -std::cos(pi / 4));  // on [-1, 1]: x = -cos(pi u), uniform in angle
 }
 
-TEST(lut, ResolutionParsing) {
+TEST(Table, ResolutionParsing) {
   EXPECT_EQ(parse_resolution("8", Law::g), (std::vector<int>{8, 8, 8}));
   EXPECT_EQ(parse_resolution("64x32x16", Law::g), (std::vector<int>{64, 32, 16}));
   EXPECT_EQ(parse_resolution("100", Law::h), (std::vector<int>{100}));
@@ -131,7 +131,7 @@ TEST(lut, ResolutionParsing) {
 
 // minnaert:xi=1: h = (j·n)^xi = j·n (K&P closed form). Axis cos_theta_j, sqrt mapping: F(u) =
 // u^2, F'' = 2.
-TEST(lut, MinnaertDarkeningRoundTrip) {
+TEST(Table, MinnaertDarkeningRoundTrip) {
   constexpr int kCount = 50;  // not 2^k + 1: sqrt-mapped nodes k^2/49^2 are not exact in float
   const Table baked = bake_table("minnaert:xi=1", Law::h, {kCount});
   const Table table = round_trip(baked, "minnaert_h.exr");
@@ -157,7 +157,7 @@ TEST(lut, MinnaertDarkeningRoundTrip) {
 
 // lambert: g = (1 + i·n)/2 (K&P). Axis cos_theta_i uses the cos mapping x = -cos(pi u):
 // F(u) = (1 - cos(pi u))/2, |F''| <= pi^2/2; g does not depend on the other axes.
-TEST(lut, LambertVignettingRoundTrip) {
+TEST(Table, LambertVignettingRoundTrip) {
   constexpr int kCount = 33;
   const Table table = round_trip(bake_table("lambert", Law::g, {kCount, 5, 5}), "lambert_g.exr");
   const double bound = interpolation_bound(pi * pi / 2, kCount);
@@ -177,7 +177,7 @@ TEST(lut, LambertVignettingRoundTrip) {
 
 // specular:alpha=8 g: nodes against the integrator directly, random points against it within
 // the measured interpolation tolerance.
-TEST(lut, SpecularVignettingAgreesWithIntegrator) {
+TEST(Table, SpecularVignettingAgreesWithIntegrator) {
   const Table table = round_trip(bake_table("specular:alpha=8", Law::g, {25, 25, 13}), "specular_g.exr");
   const ModelPtr model = parse_model("specular:alpha=8");
   CubatureOptions options;
@@ -205,7 +205,7 @@ TEST(lut, SpecularVignettingAgreesWithIntegrator) {
 }
 
 // The relative azimuth is folded into [0, pi] and is the same for both signs.
-TEST(lut, RelativeAzimuthIsFoldedAndRotationInvariant) {
+TEST(Table, RelativeAzimuthIsFoldedAndRotationInvariant) {
   const auto a = coordinates(Law::g, direction(0.7, 0.3), direction(0.4, 0.3 + 2.0));
   const auto b = coordinates(Law::g, direction(0.7, 1.3), direction(0.4, 1.3 - 2.0));
   EXPECT_NEAR(a[2], 2.0, 1e-12);
@@ -214,7 +214,7 @@ TEST(lut, RelativeAzimuthIsFoldedAndRotationInvariant) {
   EXPECT_NEAR(c[2], 0.5, 1e-12);
 }
 
-TEST(lut, HalfEncodingRoundsValuesAndBoundsTheirError) {
+TEST(Table, HalfEncodingRoundsValuesAndBoundsTheirError) {
   // 30 nodes: with 2^k + 1 nodes the sqrt mapping puts every node on k^2/2^(2k), exact in half.
   const Table single = bake_table("minnaert:xi=1", Law::a, {30});
   const Table half = round_trip(bake_table("minnaert:xi=1", Law::a, {30}, Encoding::half), "minnaert_a_half.exr");
@@ -229,15 +229,15 @@ TEST(lut, HalfEncodingRoundsValuesAndBoundsTheirError) {
     any_different = any_different || half.value[m] != single.value[m];
   }
   EXPECT_TRUE(any_different) << "half encoding did not round anything";
-  EXPECT_GT(half.max_error, single.max_error);
-  EXPECT_LT(single.max_error, 1e-6);  // float: cubature + 2^-24 relative
+  EXPECT_GT(half.node_error, single.node_error);
+  EXPECT_LT(single.node_error, 1e-6);  // float: cubature + 2^-24 relative
 }
 
 // unorm16: value = offset + scale u / 65535; rounding to the nearest code errs by at most half a
 // step, scale / 131070, plus the float rounding of the value (2^-24 relative; values <= 1 here).
 constexpr double kUnormHalfStep = 1.0 / 131070;
 constexpr double kFloatRounding = 1.0 / (1 << 24);
-TEST(lut, Unorm16EncodingRoundTripsExactCodesAndBoundsItsRounding) {
+TEST(Table, Unorm16EncodingRoundTripsExactCodesAndBoundsItsRounding) {
   // h of specular:alpha=8 spans [0.21, 1]: an offset and a scale other than 0 and 1.
   const Table single = bake_table("specular:alpha=8", Law::h, {30});
   const Table baked = bake_table("specular:alpha=8", Law::h, {30}, Encoding::unorm16);
@@ -268,7 +268,7 @@ TEST(lut, Unorm16EncodingRoundTripsExactCodesAndBoundsItsRounding) {
   EXPECT_TRUE(any_different) << "unorm16 encoding did not round anything";
 }
 
-TEST(lut, Unorm16ValueOffTheCodesIsRefused) {
+TEST(Table, Unorm16ValueOffTheCodesIsRefused) {
   Table table = bake_table("minnaert:xi=1", Law::a, {30}, Encoding::unorm16);
   table.value[5] = std::nextafter(table.value[5], 2.0f);  // between two codes' values
   EXPECT_THROW(check_table(table), InputError);
@@ -276,7 +276,7 @@ TEST(lut, Unorm16ValueOffTheCodesIsRefused) {
   EXPECT_FALSE(fs::exists(temp_file("unorm16_off_codes.exr")));
 }
 
-TEST(lut, BakeIsDeterministicAcrossThreadCounts) {
+TEST(Table, BakeIsDeterministicAcrossThreadCounts) {
   const Table parallel = bake_table("specular:alpha=8", Law::g, {9, 9, 5});
   Table serial;
   tbb::task_arena one(1);
@@ -285,19 +285,19 @@ TEST(lut, BakeIsDeterministicAcrossThreadCounts) {
   EXPECT_EQ(parallel.error, serial.error);
 }
 
-TEST(lut, UnconvergedEntriesAreCounted) {
+TEST(Table, UnconvergedEntriesAreCounted) {
   BakeOptions options;
   options.resolution = {5};
   options.tolerance = 1e-15;       // beyond double precision for these integrals ...
   options.max_evaluations = 1000;  // ... and a budget far too small to try
   const Table t = bake(*parse_model("specular:alpha=1000"), Law::h, options);
   EXPECT_GT(t.unconverged, 0);
-  EXPECT_GT(t.max_error, options.tolerance);
+  EXPECT_GT(t.node_error, options.tolerance);
 }
 
 // --- Refusals --------------------------------------------------------------------------------
 
-TEST(lut, BakeRefusesBadSizesBeforeAllocating) {
+TEST(Table, BakeRefusesBadSizesBeforeAllocating) {
   const ModelPtr model = parse_model("lambert");
   BakeOptions options;
   options.resolution = {0};
@@ -364,7 +364,7 @@ struct RawExr {
   void set(const char* name, const std::string& value) { header.insert(name, Imf::StringAttribute(value)); }
 };
 
-class lutRefusal : public ::testing::Test {
+class TableRefusal : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
     valid_ = new std::string(temp_file("valid_h.exr"));
@@ -397,19 +397,19 @@ class lutRefusal : public ::testing::Test {
   }
   static std::string* valid_;
 };
-std::string* lutRefusal::valid_ = nullptr;
+std::string* TableRefusal::valid_ = nullptr;
 
-TEST_F(lutRefusal, ValidFileIsAccepted) { EXPECT_NO_THROW(read_table(*valid_)); }
+TEST_F(TableRefusal, ValidFileIsAccepted) { EXPECT_NO_THROW(read_table(*valid_)); }
 
-TEST_F(lutRefusal, MissingFile) { expect_refused(temp_file("does_not_exist.exr"), "no such file"); }
+TEST_F(TableRefusal, MissingFile) { expect_refused(temp_file("does_not_exist.exr"), "no such file"); }
 
-TEST_F(lutRefusal, NotExr) {
+TEST_F(TableRefusal, NotExr) {
   const std::string path = temp_file("text.exr");
   std::ofstream(path) << "this is not an image\n";
   expect_refused(path, "not an OpenEXR file");
 }
 
-TEST_F(lutRefusal, Truncated) {
+TEST_F(TableRefusal, Truncated) {
   const std::string path = temp_file("truncated.exr");
   std::ifstream in(*valid_, std::ios::binary);
   const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
@@ -419,7 +419,7 @@ TEST_F(lutRefusal, Truncated) {
   }
 }
 
-TEST_F(lutRefusal, MissingVersion) {
+TEST_F(TableRefusal, MissingVersion) {
   RawExr raw = valid();
   raw.dropped.insert("ganzfeld.format_version");
   const std::string path = temp_file("no_version.exr");
@@ -427,7 +427,7 @@ TEST_F(lutRefusal, MissingVersion) {
   expect_refused(path, "missing string attribute ganzfeld.format_version");
 }
 
-TEST_F(lutRefusal, UnknownVersion) {
+TEST_F(TableRefusal, UnknownVersion) {
   RawExr raw = valid();
   raw.set("ganzfeld.format_version", "3");
   const std::string path = temp_file("version3.exr");
@@ -435,7 +435,7 @@ TEST_F(lutRefusal, UnknownVersion) {
   expect_refused(path, "format version '3' is not supported");
 }
 
-TEST_F(lutRefusal, WrongShape) {
+TEST_F(TableRefusal, WrongShape) {
   RawExr raw = valid();  // 9 x 1 image for a 9-node axis
   raw.width = 8;
   for (auto& [name, data] : raw.channels) data.resize(8);
@@ -444,7 +444,7 @@ TEST_F(lutRefusal, WrongShape) {
   expect_refused(path, "image is 8x1 but the axes need 9x1");
 }
 
-TEST_F(lutRefusal, WrongChannels) {
+TEST_F(TableRefusal, WrongChannels) {
   RawExr raw = valid();
   raw.channels.erase("error");
   const std::string path = temp_file("one_channel.exr");
@@ -452,7 +452,7 @@ TEST_F(lutRefusal, WrongChannels) {
   expect_refused(path, "expected exactly {error, value}");
 }
 
-TEST_F(lutRefusal, LawInconsistentWithAxes) {
+TEST_F(TableRefusal, LawInconsistentWithAxes) {
   RawExr raw = valid();
   raw.set("ganzfeld.law", "g");  // g needs 3 axes, the file has 1
   const std::string path = temp_file("g_one_axis.exr");
@@ -460,7 +460,7 @@ TEST_F(lutRefusal, LawInconsistentWithAxes) {
   expect_refused(path, "law g needs 3 axes");
 }
 
-TEST_F(lutRefusal, NaNInData) {
+TEST_F(TableRefusal, NaNInData) {
   RawExr raw = valid();
   raw.channels["value"][3] = std::nanf("");
   const std::string path = temp_file("nan.exr");
@@ -468,7 +468,7 @@ TEST_F(lutRefusal, NaNInData) {
   expect_refused(path, "every value must be finite");
 }
 
-TEST_F(lutRefusal, MaxErrorDisagreesWithData) {
+TEST_F(TableRefusal, MaxErrorDisagreesWithData) {
   RawExr raw = valid();
   raw.set("ganzfeld.max_error", "0");
   const std::string path = temp_file("max_error.exr");
@@ -478,17 +478,17 @@ TEST_F(lutRefusal, MaxErrorDisagreesWithData) {
 
 // The model spec is kept as text: a model this build does not know (or whose data file is gone,
 // tests/measured_test.cpp) still reads; only a spec no header line should hold is refused.
-TEST_F(lutRefusal, ModelSpecIsNotParsed) {
+TEST_F(TableRefusal, ModelSpecIsNotParsed) {
   EXPECT_EQ(read_table(valid_with("ganzfeld.model", "future-model:x=1", "future_model.exr")).model, "future-model:x=1");
 }
 
-TEST_F(lutRefusal, ModelSpecBlankOrMultiLine) {
+TEST_F(TableRefusal, ModelSpecBlankOrMultiLine) {
   for (const char* spec : {"", " ", "minnaert:xi=1\nlambert"})
     expect_refused(valid_with("ganzfeld.model", spec, "bad_model.exr"), "expected one non-empty line of printable text");
 }
 
 // ganzfeld.model_content (issue #19): optional, so tables written before it existed still read.
-TEST_F(lutRefusal, ModelContentMissingReadsAsNone) {
+TEST_F(TableRefusal, ModelContentMissingReadsAsNone) {
   RawExr raw = valid();
   raw.dropped.insert("ganzfeld.model_content");
   const std::string path = temp_file("no_content.exr");
@@ -498,7 +498,7 @@ TEST_F(lutRefusal, ModelContentMissingReadsAsNone) {
   EXPECT_EQ(read_table(valid_with("ganzfeld.model_content", digest, "content.exr")).model_content, digest);
 }
 
-TEST_F(lutRefusal, ModelContentMalformed) {
+TEST_F(TableRefusal, ModelContentMalformed) {
   for (const char* digest : {"0123456789abcdef", "fnv1a64:0123", "sha256:0123456789abcdef"})
     expect_refused(valid_with("ganzfeld.model_content", digest, "bad_content.exr"),
                    std::string("model content '") + digest + "' is not allowed");
@@ -508,7 +508,7 @@ TEST_F(lutRefusal, ModelContentMalformed) {
 // file whose attribute size of 1.6 GB OpenEXR allocated before any check) is refused by
 // tables/exr_guard.cpp before OpenEXR reads it: one line naming the attribute, no allocation
 // beyond a small multiple of the file, quickly.
-TEST_F(lutRefusal, ForgedSizesAreRefusedBeforeAllocating) {
+TEST_F(TableRefusal, ForgedSizesAreRefusedBeforeAllocating) {
   // OpenEXR allocates the header's strings and the pixel buffers; the valid 9-node table allocates
   // well under this. The forged sizes below are ~10^6 times the file.
   constexpr std::size_t kMaxAllocationPerFileByte = 64;
@@ -553,7 +553,7 @@ std::vector<std::string> listing(const std::string& dir) {
   return names;
 }
 
-TEST(lut, FailedWriteLeavesNoFile) {
+TEST(Table, FailedWriteLeavesNoFile) {
   const Table table = bake_table("lambert", Law::h, {5});
   // A directory that does not exist.
   const std::string missing = temp_file("no/such/dir/t.exr");
@@ -594,7 +594,7 @@ TEST(lut, FailedWriteLeavesNoFile) {
 // interpolation error is measured at cell centres, not bounded, so we allow a small fraction
 // of misses at fresh random points.
 constexpr double kAllowedMissFraction = 0.01;  // measured, not a bound: see tables/table.h
-TEST(lut, ReportedErrorCoversInterpolationBetweenNodes) {
+TEST(Table, ReportedErrorCoversInterpolationBetweenNodes) {
   struct Case {
     const char* spec;
     Law law;
@@ -611,7 +611,7 @@ TEST(lut, ReportedErrorCoversInterpolationBetweenNodes) {
     EXPECT_EQ(table.interpolation_error, baked.interpolation_error) << c.spec;  // survives the file
     EXPECT_EQ(table.interpolation_checks, baked.interpolation_checks) << c.spec;
     ASSERT_GT(table.interpolation_checks, 0) << c.spec;
-    ASSERT_GT(table.interpolation_error, table.max_error) << c.spec;  // interpolation dominates here
+    ASSERT_GT(table.interpolation_error, table.node_error) << c.spec;  // interpolation dominates here
     std::mt19937_64 rng(99);
     std::uniform_real_distribution<double> u(0.0, 1.0);
     CubatureOptions exact;
@@ -635,7 +635,7 @@ TEST(lut, ReportedErrorCoversInterpolationBetweenNodes) {
 // Lobe coordinates -> directions -> (i·n, j·n, phi) -> lobe coordinates: atan2 of well-scaled
 // dot products, a few ulps of pi (psi and beta are angles up to pi).
 constexpr double kLobeRoundTrip = 1e-12;
-TEST(lut, LobeCoordinatesInvertLobeDirections) {
+TEST(Table, LobeCoordinatesInvertLobeDirections) {
   std::mt19937_64 rng(5);
   std::uniform_real_distribution<double> u(0.0, 1.0);
   for (PeakKind peak : {PeakKind::mirror, PeakKind::retro}) {
@@ -654,11 +654,11 @@ TEST(lut, LobeCoordinatesInvertLobeDirections) {
   }
 }
 
-TEST(lut, LobeFrameFollowsTheMassHints) {
+TEST(Table, LobeFrameFollowsTheMassHints) {
   const auto specular = lobe_frame_of(*parse_model("specular:alpha=100"));
   ASSERT_TRUE(specular);
   EXPECT_EQ(specular->peak, PeakKind::mirror);
-  EXPECT_DOUBLE_EQ(specular->width, std::sqrt(2.0 / 100.0));  // laws/specular.cpp's hint
+  EXPECT_DOUBLE_EQ(specular->width, std::sqrt(2.0 / 100.0));  // models/specular.cpp's hint
   const auto backscatter = lobe_frame_of(*parse_model("backscatter:alpha=100"));
   ASSERT_TRUE(backscatter);
   EXPECT_EQ(backscatter->peak, PeakKind::retro);
@@ -666,7 +666,7 @@ TEST(lut, LobeFrameFollowsTheMassHints) {
   EXPECT_FALSE(lobe_frame_of(*parse_model("asperity:alpha=4")));
 }
 
-TEST(lut, SinhMappingsRoundTrip) {
+TEST(Table, SinhMappingsRoundTrip) {
   for (Mapping m : {Mapping::sinh, Mapping::sinh_max}) {
     Axis axis{"psi", 0.0, pi, 33, m, 0.0447};
     EXPECT_EQ(axis.node(0), 0.0);
@@ -687,7 +687,7 @@ TEST(lut, SinhMappingsRoundTrip) {
 // coordinate everywhere, boundary cells included (it is exact for degree <= 2); with the even
 // ends (azimuths) it reproduces functions even about both ends, e.g. cos(pi s / (n - 1)) to
 // its interpolation error. Only float storage of the node values rounds.
-TEST(lut, CatmullRomReproducesPolynomials) {
+TEST(Table, CatmullRomReproducesPolynomials) {
   Table t;
   t.law = Law::h;
   t.model = "lambert";
@@ -722,7 +722,7 @@ TEST(lut, CatmullRomReproducesPolynomials) {
 
 // A version-1 file (no frame, interpolation or lookup_error attributes) still reads, as the
 // cosines frame with linear lookup and its measured interpolation error as its lookup error.
-TEST(lut, Version1FilesStillRead) {
+TEST(Table, Version1FilesStillRead) {
   const std::string path = temp_file("v1.exr");
   write_table(bake_table("minnaert:xi=1", Law::h, {9}), path);
   RawExr raw = RawExr::load(path);
@@ -746,7 +746,7 @@ TEST(lut, Version1FilesStillRead) {
 constexpr double kReferenceTol = 1e-10;
 constexpr int kFreshPoints = 2000;
 constexpr double kAllowedFreshMisses = 0.001;  // the issue's 99.9%
-TEST(lut, MaxErrorBakeReportsAnHonestLookupError) {
+TEST(Table, MaxErrorBakeReportsAnHonestLookupError) {
   struct Case {
     const char* spec;
     Law law;
@@ -759,12 +759,12 @@ TEST(lut, MaxErrorBakeReportsAnHonestLookupError) {
                         Case{"specular:alpha=1000", Law::h, 5e-5, Encoding::unorm16}}) {
     const ModelPtr model = parse_model(c.spec);
     BakeOptions options;
-    options.max_error = c.max_error;
+    options.target_error = c.max_error;
     options.encoding = c.encoding;
     const Table baked = bake(*model, c.law, options);
     const Table table = round_trip(baked, "to_error.exr");
     EXPECT_LE(table.lookup_error, c.max_error) << c.spec;
-    EXPECT_GE(table.lookup_error, table.max_error) << c.spec;
+    EXPECT_GE(table.lookup_error, table.node_error) << c.spec;
     EXPECT_EQ(table.lookup_error, baked.lookup_error) << c.spec;
     EXPECT_EQ(table.target_error, c.max_error) << c.spec;
     EXPECT_EQ(table.frame, c.law == Law::g ? Frame::lobe : Frame::cosines) << c.spec;
@@ -798,7 +798,7 @@ TEST(lut, MaxErrorBakeReportsAnHonestLookupError) {
   }
 }
 
-TEST(lut, MaxErrorRefusesWhatCannotBeMet) {
+TEST(Table, MaxErrorRefusesWhatCannotBeMet) {
   // unorm16's floor is one code step of a range-1 table, 1/65535 (checked first and directly: a
   // wrong floor would otherwise start a long search below it).
   ASSERT_THROW(check_error_target(1.0 / 65536, 0, Law::g, Encoding::unorm16), InputError);
@@ -806,7 +806,7 @@ TEST(lut, MaxErrorRefusesWhatCannotBeMet) {
   const ModelPtr model = parse_model("specular:alpha=100");
   auto refused = [&](double e, std::uint64_t bytes, Encoding enc, const std::string& fragment) {
     BakeOptions options;
-    options.max_error = e;
+    options.target_error = e;
     options.max_bytes = bytes;
     options.encoding = enc;
     try {
@@ -838,7 +838,7 @@ constexpr std::uint64_t kCap = 200000;
 std::pair<double, double> refused_best(const std::string& spec, const BakeOptions& options) {
   try {
     bake_to_error(*parse_model(spec), Law::g, options);
-    ADD_FAILURE() << spec << ": " << options.max_error << " within " << options.max_bytes << " bytes accepted";
+    ADD_FAILURE() << spec << ": " << options.target_error << " within " << options.max_bytes << " bytes accepted";
   } catch (const InputError& error) {
     const std::string what = error.what();
     std::printf("refused: %s\n", what.c_str());
@@ -855,13 +855,13 @@ std::pair<double, double> refused_best(const std::string& spec, const BakeOption
   return {0.0, 0.0};
 }
 
-TEST(lut, MaxErrorUnderATightCapBakesUpToTheCap) {
+TEST(Table, MaxErrorUnderATightCapBakesUpToTheCap) {
   BakeOptions options;
-  options.max_error = 1e-5;
+  options.target_error = 1e-5;
   options.max_bytes = kCap;
   const auto [best, bytes] = refused_best("specular:alpha=8", options);
   EXPECT_LT(best, kCappedBest);
-  EXPECT_GT(best, options.max_error);
+  EXPECT_GT(best, options.target_error);
   EXPECT_LE(bytes, static_cast<double>(kCap));
 }
 
@@ -871,11 +871,11 @@ TEST(lut, MaxErrorUnderATightCapBakesUpToTheCap) {
 // table of the search's own few bakes, far below the default cap.
 constexpr double kHopelessBakeBytes = 1e6;
 
-TEST(lut, MaxErrorFarOutOfReachRefusesWithoutACapSizedBake) {
+TEST(Table, MaxErrorFarOutOfReachRefusesWithoutACapSizedBake) {
   BakeOptions options;
-  options.max_error = 1e-4;
+  options.target_error = 1e-4;
   const auto [best, bytes] = refused_best("hvd-empirical", options);
-  EXPECT_GT(best, options.max_error);
+  EXPECT_GT(best, options.target_error);
   EXPECT_GT(bytes, 0.0);
   EXPECT_LT(bytes, kHopelessBakeBytes);
 }

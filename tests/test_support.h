@@ -9,7 +9,7 @@
 
 #include "integrate/cubature.h"
 #include "util/error.h"
-#include "laws/spec.h"
+#include "models/spec.h"
 
 namespace ganzfeld::testing_support {
 

@@ -16,7 +16,7 @@
 
 #include "integrate/laws.h"
 #include "util/error.h"
-#include "laws/spec.h"
+#include "models/spec.h"
 #include "tables/bake.h"
 #include "tables/exr_io.h"
 #include "tables/sample.h"
@@ -105,7 +105,7 @@ Table through_file(const Table& table) {
   return read;
 }
 
-TEST(tradeoff, ErrorsFallAsResolutionGrows) {
+TEST(Tradeoff, ErrorsFallAsResolutionGrows) {
   const TradeoffReport& report = quick_report();
   for (const auto& mappings : {defaults_g(), std::vector<Mapping>(3, Mapping::linear)}) {
     std::vector<const TradeoffRow*> series;
@@ -121,7 +121,7 @@ TEST(tradeoff, ErrorsFallAsResolutionGrows) {
   }
 }
 
-TEST(tradeoff, HalfRoundingShowsFloatRoundingDoesNot) {
+TEST(Tradeoff, HalfRoundingShowsFloatRoundingDoesNot) {
   for (const TradeoffRow& r : quick_report().rows) {
     if (r.config.encoding == Encoding::half) {
       EXPECT_GE(r.max_stored_error, kHalfStoredErrorAtLeast) << resolution_text(r.config.resolution);
@@ -131,7 +131,7 @@ TEST(tradeoff, HalfRoundingShowsFloatRoundingDoesNot) {
   }
 }
 
-TEST(tradeoff, HalfErrorDominatesWhereInterpolationIsSmall) {
+TEST(Tradeoff, HalfErrorDominatesWhereInterpolationIsSmall) {
   // Law h at 129 sqrt nodes interpolates to ~1e-5 or better, so half's rounding (~1e-4) is the
   // visible error there while float's is far below.
   const ModelPtr model = parse_model(kModel);
@@ -150,7 +150,7 @@ TEST(tradeoff, HalfErrorDominatesWhereInterpolationIsSmall) {
   EXPECT_LT(single.max_error * 10, half.max_error);
 }
 
-TEST(tradeoff, BytesFollowTheResolution) {
+TEST(Tradeoff, BytesFollowTheResolution) {
   for (const TradeoffRow& r : quick_report().rows) {
     const std::uint64_t n = product(r.config.resolution);
     const std::uint64_t per = r.config.encoding == Encoding::half ? 2 : 4;
@@ -162,7 +162,7 @@ TEST(tradeoff, BytesFollowTheResolution) {
   }
 }
 
-TEST(tradeoff, ReferencePointsArePrefixStable) {
+TEST(Tradeoff, ReferencePointsArePrefixStable) {
   const auto few = reference_directions(Law::g, 10, kDocsSeed);
   const auto many = reference_directions(Law::g, 100, kDocsSeed);
   ASSERT_EQ(many.size(), few.size() + 90);
@@ -174,7 +174,7 @@ TEST(tradeoff, ReferencePointsArePrefixStable) {
   EXPECT_EQ(few.front().i.z, -1.0);
 }
 
-TEST(tradeoff, StatedMaxErrorHoldsThroughTheFile) {
+TEST(Tradeoff, StatedMaxErrorHoldsThroughTheFile) {
   // What `ganzfeld sample` does (read the file, tables::sample on directions) against the
   // reference cubature: the max over the reference points is exactly the stated max_error.
   const TradeoffReport& report = quick_report();
@@ -189,7 +189,7 @@ TEST(tradeoff, StatedMaxErrorHoldsThroughTheFile) {
   }
 }
 
-TEST(tradeoff, FreshPointsAgreeWithEvalWithinStatedError) {
+TEST(Tradeoff, FreshPointsAgreeWithEvalWithinStatedError) {
   // sample(file) vs eval (evaluate_law, as `ganzfeld eval` computes it) at points the
   // measurement never saw.
   const TradeoffReport& report = quick_report();
@@ -212,7 +212,7 @@ TEST(tradeoff, FreshPointsAgreeWithEvalWithinStatedError) {
 // docs/tradeoff.md states, per configuration, the max error measured with 2000 points (seed 1);
 // the quick measurement's points are a prefix of those, and the bakes are deterministic, so its
 // max errors can only be lower. If this fails, the docs are stale: run scripts/gen-tradeoff-docs.
-TEST(tradeoff, DocsStateAnUpperBoundOfTheMeasuredError) {
+TEST(Tradeoff, DocsStateAnUpperBoundOfTheMeasuredError) {
   std::ifstream in(GANZFELD_SOURCE_DIR "/docs/tradeoff.md");
   ASSERT_TRUE(in) << "docs/tradeoff.md is missing; run scripts/gen-tradeoff-docs";
   std::string line;
@@ -244,7 +244,7 @@ TEST(tradeoff, DocsStateAnUpperBoundOfTheMeasuredError) {
   EXPECT_GE(checked, 12) << "too few rows of docs/tradeoff.md match the quick plan: section '" << heading << "'";
 }
 
-TEST(tradeoff, RefusesBadInput) {
+TEST(Tradeoff, RefusesBadInput) {
   const ModelPtr model = parse_model(kModel);
   TradeoffOptions options;
   options.points = 0;
@@ -256,7 +256,7 @@ TEST(tradeoff, RefusesBadInput) {
   EXPECT_TRUE(parse_mappings("default", Law::g).empty());
 }
 
-TEST(tradeoff, MappingOverrideIsBakedAndStored) {
+TEST(Tradeoff, MappingOverrideIsBakedAndStored) {
   const ModelPtr model = parse_model(kModel);
   BakeOptions options;
   options.resolution = {5};
@@ -304,7 +304,7 @@ const SchemeRow& only_row(SchemeKind kind, Encoding encoding = Encoding::single)
 constexpr double kQuickTarget = 1e-2;
 constexpr double kCoverage = 0.999;
 
-TEST(tradeoff_schemes, TheMaxErrorPickMeetsItsTargetAtFreshPoints) {
+TEST(TradeoffSchemes, TheMaxErrorPickMeetsItsTargetAtFreshPoints) {
   const SchemeRow& pick = only_row(SchemeKind::max_error);
   EXPECT_EQ(pick.target, kQuickTarget);
   EXPECT_TRUE(pick.refused.empty()) << pick.refused;
@@ -320,7 +320,7 @@ TEST(tradeoff_schemes, TheMaxErrorPickMeetsItsTargetAtFreshPoints) {
 
 // The 16-bit row (issue #15: "a 16-bit unsigned-normalized encoding with a scale"): the same
 // target met at fresh points, 2 value bytes per entry.
-TEST(tradeoff_schemes, TheUnorm16PickMeetsItsTargetInTwoBytesPerValue) {
+TEST(TradeoffSchemes, TheUnorm16PickMeetsItsTargetInTwoBytesPerValue) {
   const SchemeRow& unorm = only_row(SchemeKind::max_error, Encoding::unorm16);
   EXPECT_EQ(unorm.target, kQuickTarget);
   ASSERT_TRUE(unorm.refused.empty()) << unorm.refused;
@@ -332,7 +332,7 @@ TEST(tradeoff_schemes, TheUnorm16PickMeetsItsTargetInTwoBytesPerValue) {
   EXPECT_NE(scheme_label(unorm).find("--encoding unorm16"), std::string::npos) << scheme_label(unorm);
 }
 
-TEST(tradeoff_schemes, VariantsChangeOnlyWhatTheyName) {
+TEST(TradeoffSchemes, VariantsChangeOnlyWhatTheyName) {
   const SchemeRow& pick = only_row(SchemeKind::max_error);
   const SchemeRow& swapped = only_row(SchemeKind::swapped);
   const SchemeRow& half = only_row(SchemeKind::half, Encoding::half);
@@ -354,7 +354,7 @@ TEST(tradeoff_schemes, VariantsChangeOnlyWhatTheyName) {
   }
 }
 
-TEST(tradeoff_schemes, ReferenceIsTheIssuesPoints) {
+TEST(TradeoffSchemes, ReferencePointsReachDownToTheMinimumCosine) {
   const Reference& ref = quick_schemes().reference;
   ASSERT_EQ(ref.points.size(), static_cast<std::size_t>(kQuickPoints));  // no extremes
   EXPECT_EQ(ref.tolerance, kSchemeReferenceTolerance);
@@ -364,13 +364,13 @@ TEST(tradeoff_schemes, ReferenceIsTheIssuesPoints) {
   EXPECT_LT(lowest, kSchemeMinCos + 0.01);  // and they reach down to it
 }
 
-TEST(tradeoff_schemes, MarkdownHasTheCommandAndEveryRow) {
+TEST(TradeoffSchemes, MarkdownHasTheCommandAndEveryRow) {
   const std::string md = schemes_markdown(quick_schemes(), "ganzfeld tradeoff --schemes --quick", "");
   EXPECT_NE(md.find("ganzfeld tradeoff --schemes --quick"), std::string::npos);
   for (const SchemeRow& r : quick_schemes().rows) EXPECT_NE(md.find("| " + scheme_label(r) + " |"), std::string::npos);
 }
 
-TEST(tradeoff_schemes, RefusesBadInput) {
+TEST(TradeoffSchemes, RefusesBadInput) {
   SchemeOptions options;
   options.repeats = 0;
   EXPECT_THROW(measure_schemes(*parse_model(kModel), Law::g, options), InputError);

@@ -10,7 +10,7 @@
 
 #include "integrate/laws.h"
 #include "reports/verify.h"
-#include "laws/kp_lobes.h"
+#include "models/kp_lobes.h"
 
 namespace ganzfeld {
 namespace {
@@ -20,7 +20,7 @@ const std::vector<CheckResult>& report() {
   return checks;
 }
 
-TEST(Verify, ChecksEveryIdOfTheCoreIssue) {
+TEST(Verify, ChecksEveryPrintedClaimOfThePapers) {
   const std::set<std::string> required{
       "lambert.g", "lambert.h", "lambert.a", "lambert.r", "minnaert.g.xi1", "minnaert.g.hyp2f1",
       "minnaert.g.betainc", "minnaert.h", "minnaert.a", "minnaert.r", "minnaert.norm", "specular.a.alpha1",

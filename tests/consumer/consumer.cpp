@@ -4,7 +4,7 @@
 #include <cstdio>
 
 #include "integrate/laws.h"
-#include "laws/spec.h"
+#include "models/spec.h"
 #include "tables/bake.h"
 #include "tables/sample.h"
 

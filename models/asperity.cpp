@@ -1,0 +1,46 @@
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "models/kp_lobes.h"
+#include "models/registry.h"
+
+namespace ganzfeld {
+
+using std::numbers::pi;
+
+Asperity::Asperity(double alpha) : alpha_(alpha) {}
+
+std::string Asperity::spec() const { return "asperity:alpha=" + format_number(alpha_); }
+
+double Asperity::f(const Vec3& i, const Vec3& j) const noexcept {
+  if (i.z < 0.0 || j.z < 0.0) return 0.0;
+  return std::numbers::inv_pi * std::pow(1.0 - i.z * j.z, alpha_);
+}
+
+MassHints Asperity::mass_hints(const Vec3& fixed, Varying) const {
+  // (k·n)(1 - (k·n)(fixed·n))^alpha peaks at k·n = 1/((alpha+1) fixed·n): a layer on the horizon.
+  const double layer = 1.0 / ((alpha_ + 1.0) * std::max(fixed.z, 1e-300));
+  return {{}, layer < 0.3 ? layer : 0.0};
+}
+
+namespace asperity {
+
+double C_a_printed() { return 1.0 / pi; }
+
+// K&P, g_a "for the realistic value alpha = 1" (printed).
+double g_alpha1_printed(double c, double mu_j) {
+  return 0.5 * (1.0 + c) - 4.0 * mu_j / (3.0 * pi) * lune_moment_2(c) -
+         0.125 * mu_j * mu_j * (c - 2.0) * (c + 1.0) * (c + 1.0);
+}
+
+// Corrected (docs/errata.md): g_a = (1/pi)[∫_lune (k·n) dk - (j·n) ∫_lune (k·n)^2 dk]
+//                                 = (1 + c)/2 - 2 (j·n)/(3 pi) (pi - arccos c + c sqrt(1 - c^2)).
+double g_alpha1(double c, double mu_j) {
+  return 0.5 * (1.0 + c) - 2.0 * mu_j / (3.0 * pi) * lune_moment_2(c);
+}
+
+double h_alpha1_printed(double mu_j) { return 1.0 - 2.0 * mu_j / 3.0; }
+
+}  // namespace asperity
+}  // namespace ganzfeld
