@@ -23,6 +23,15 @@ python3 -c "import json; d=json.load(open('$tmp/r.json')); r=d['ratios']; assert
 "$G" bench realtime --quick --markdown "$tmp/realtime.md"
 for section in "Per-texel error bound" "Bake time" "White furnace" "independent estimator"; do grep -q "$section" "$tmp/realtime.md"; done
 [ "$(grep -cE '\*\*(met|missed)\*\*' "$tmp/realtime.md")" -ge 14 ]
-set +e; "$G" bench nonsense 2>"$tmp/err"; code=$?; set -e
-[ "$code" -eq 2 ] && [ "$(wc -l <"$tmp/err")" -eq 1 ]
+# Genz's families (bench/genz_bench.h): the section of docs/reliability.md with a verdict per target.
+"$G" bench genz --quick --markdown - >"$tmp/genz.md"
+grep -q "Dishonest runs" "$tmp/genz.md"
+[ "$(grep -cE '\*\*(met|missed)\*\*' "$tmp/genz.md")" -ge 4 ]
+# Bad input: one line, exit code 2 (a tolerance <= 0, NaN or below what doubles resolve; a budget
+# below one panel; an unknown benchmark).
+for bad in "genz --tolerances 0" "genz --tolerances -1e-6" "genz --tolerances nan" "genz --tolerances 1e-17" \
+           "genz --budget 100" "nonsense"; do
+  set +e; "$G" bench $bad 2>"$tmp/err" >/dev/null; code=$?; set -e
+  [ "$code" -eq 2 ] && [ "$(wc -l <"$tmp/err")" -eq 1 ] || { echo "bench $bad: exit $code: $(cat "$tmp/err")"; exit 1; }
+done
 echo "bench smoke: 1 passed, 0 failed"
