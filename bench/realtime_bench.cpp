@@ -61,8 +61,8 @@ Timed bake_timed(tables::Preset preset, int n, int repeats) {
 }
 
 void error_section(std::ostringstream& md, const std::vector<const Timed*>& bakes) {
-  md << "## Per-texel error bound\n\nEvery texel's stored bound (" << num(tables::kEstimateMargin)
-     << " × the cubature's error estimate + float rounding, rounded up; the margin is checked below), "
+  md << "## Per-texel error bound\n\nEvery texel's stored bound (the cubature's error estimate + float "
+        "rounding, rounded up, no margin; checked against an independent estimator below), "
         "the largest over the texels with α ≥ 1e-3 and over all texels; target ≤ 1e-6 for α ≥ 1e-3.\n\n"
         "| preset | channel | max bound, α ≥ 1e-3 | max bound, all texels | unconverged | target |\n"
         "|---|---|---|---|---|---|\n";
