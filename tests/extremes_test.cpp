@@ -230,5 +230,66 @@ TEST(Extremes, GgxGrazingVisibilityLayerIsHonest) {
   }
 }
 
+/// Oren–Nayar floors tan beta and tan((alpha + beta)/2) at kGrazingCosFloor where both directions
+/// graze: with sky pole and view on the horizon, (k·n) f ramps across a layer 1e-6 thick that no
+/// node saw without the model's hint (9.4e-8 off with 7.5e-9 estimated). The first reference was
+/// unresolved there (2.6e-7), so the grid did not judge it; tanh_sinh's nodes reach the layer.
+TEST(Extremes, OrenNayarGrazingFloorIsHonestAndJudged) {
+  const ModelPtr model = parse_model("oren-nayar:sigma=0.3,rho=0.8");
+  const ExtremesCase c =
+      judge_case(*model, Law::g, direction_from_cos(0.0, 0.0), direction_from_cos(0.0, 0.0), kEngineTol);
+  EXPECT_TRUE(c.converged && c.finite);
+  EXPECT_FALSE(c.reference_unresolved) << "reference " << c.reference << " ± " << c.reference_error;
+  EXPECT_FALSE(c.dishonest) << "engine " << c.engine.value << " ± " << c.engine.error << ", reference " << c.reference
+                            << " ± " << c.reference_error << " (" << c.reference_rule << ")";
+}
+
+/// Perfect backscatter's h with the view 1e-6 above the horizon: gauss_kronrod<61> ran out of its
+/// budget (the 1/((k + j)·n) layer at the horizon), the swapped gauss_kronrod<31> resolves it.
+TEST(Extremes, AFallbackReferenceJudgesWhereTheFirstRunsOut) {
+  const ModelPtr model = parse_model("perfect-backscatter:alpha=2");
+  const ExtremesCase c = judge_case(*model, Law::h, direction_from_cos(1.0, 0.0),
+                                    direction_from_cos(1e-6, std::numbers::pi / 2), kEngineTol);
+  EXPECT_TRUE(c.converged && c.finite);
+  EXPECT_FALSE(c.reference_unresolved);
+  EXPECT_NE(c.reference_rule, "gauss_kronrod<61>");
+  EXPECT_FALSE(c.dishonest) << "engine " << c.engine.value << " ± " << c.engine.error << ", reference " << c.reference
+                            << " ± " << c.reference_error << " (" << c.reference_rule << ")";
+}
+
+/// Hapke's and Blinn's dusty 1/(mu_i + mu_j) are floored at kGrazingCosFloor: with the view on the
+/// horizon, (k·n) f ramps across k·n < 1e-6, which the models now hint (kGrazingLayer). Without
+/// the hint the engine claimed 1.5e-15 on blinn-dusty 6.2e-8 off; both cases' first reference was
+/// unresolved, so the grid did not judge them.
+TEST(Extremes, GrazingFloorsOfHapkeAndBlinnDustyAreHonest) {
+  struct Case {
+    const char* spec;
+    double cos_i, phi;
+  };
+  for (const Case& k : {Case{"hapke:rho=0.5,g=0.6,phase=0", 1e-6, std::numbers::pi / 2},
+                        Case{"blinn-dusty:w=0.5,tau=1,phase=0,x=0.5,g=0.5,g2=-0.5,m=0.596", 1e-6, 0.0}}) {
+    const ModelPtr model = parse_model(k.spec);
+    const ExtremesCase c = judge_case(*model, Law::g, direction_from_cos(k.cos_i, 0.0), direction_from_cos(0.0, k.phi),
+                                      kEngineTol);
+    EXPECT_TRUE(c.converged && c.finite) << k.spec;
+    EXPECT_FALSE(c.reference_unresolved) << k.spec << ": reference " << c.reference << " ± " << c.reference_error;
+    EXPECT_FALSE(c.dishonest) << k.spec << ": engine " << c.engine.value << " ± " << c.engine.error << ", reference "
+                              << c.reference << " ± " << c.reference_error << " (" << c.reference_rule << ")";
+  }
+}
+
+/// Beard–Maxwell's first surface divides by mu_i mu_j: with the view 1e-6 above the horizon, g
+/// under a sky at the zenith is 18201 and the facet normal k + j turns through 90 degrees within
+/// ~1e-6 of the horizon point below -j, where no line of the grid was (9.8e-6 off with 1e-8
+/// estimated). No reference resolves 1e-8 on 18201, but theirs exclude that value.
+TEST(Extremes, BeardMaxwellGrazingConeIsHonest) {
+  const ModelPtr model = parse_model("beard-maxwell:n=1.5,k=0,b=0.04,m=0.15,tau=15,omega=40,rho_d=0.1,rho_v=0.01");
+  const ExtremesCase c =
+      judge_case(*model, Law::g, direction_from_cos(1.0, 0.0), direction_from_cos(1e-6, 0.0), kEngineTol);
+  EXPECT_TRUE(c.converged && c.finite);
+  EXPECT_FALSE(c.dishonest) << "engine " << c.engine.value << " ± " << c.engine.error << ", reference " << c.reference
+                            << " ± " << c.reference_error << " (" << c.reference_rule << ")";
+}
+
 }  // namespace
 }  // namespace ganzfeld
