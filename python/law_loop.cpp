@@ -57,7 +57,8 @@ int main(int argc, char** argv) {
     std::vector<ganzfeld::Estimate> out(i.size());
     const std::vector<double> seconds = ganzfeld::util::time_runs(std::stoi(argv[5]), [&] {
       tbb::parallel_for(tbb::blocked_range<std::size_t>(0, i.size(), 1), [&](const tbb::blocked_range<std::size_t>& r) {
-        for (std::size_t m = r.begin(); m != r.end(); ++m) out[m] = ganzfeld::evaluate_law(*model, law, i[m], j[m], options);
+        for (std::size_t m = r.begin(); m != r.end(); ++m)
+          out[m] = ganzfeld::evaluate_law(*model, law, i[m], j[m], options);
       });
     });
     long long evaluations = 0;

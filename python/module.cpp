@@ -153,7 +153,8 @@ struct PyModel {
 
 /// law(i[m], j[m]) for every row: (value, error, evaluations, converged) arrays of length N.
 py::tuple evaluate(const PyModel& self, const std::string& law_name, const py::array_t<double>& i_rows,
-                   const py::array_t<double>& j_rows, double tol, long long max_evaluations, const py::object& progress) {
+                   const py::array_t<double>& j_rows, double tol, long long max_evaluations,
+                   const py::object& progress) {
   const Law law = parse_law(law_name);
   check_tolerance("tol", tol);
   check_max_evaluations("max_evals", max_evaluations);
@@ -349,8 +350,8 @@ PYBIND11_MODULE(_core, m) {
       .def_property_readonly("lookup_error", [](const PyTable& self) { return self.table->lookup_error; })
       .def_property_readonly("node_error", [](const PyTable& self) { return self.table->node_error; })
       .def_property_readonly("path", [](const PyTable& self) { return self.path; })
-      .def_property_readonly("info",
-                             [](const PyTable& self) { return json_to_python(shapes::info_json(self.path, *self.table)); })
+      .def_property_readonly(
+          "info", [](const PyTable& self) { return json_to_python(shapes::info_json(self.path, *self.table)); })
       .def("sample", &sample, py::arg("i"), py::arg("j"))
       .def("write", [](PyTable& self, const std::string& path) {
         {

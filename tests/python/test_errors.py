@@ -46,15 +46,20 @@ def test_tolerance_and_budget_messages_match_the_cli(cli):
     (lambda m: m.g([0, 0, 0], [0, 0, 1]), ValueError, r"^i = \[0\.0, 0\.0, 0\.0\] has zero length"),
     (lambda m: m.g([1e-200, 0, 0], [0, 0, 1]), ValueError, r"has zero length"),
     (lambda m: m.g([1e200, 1e200, 0], [0, 0, 1]), ValueError, r"has zero length"),
-    (lambda m: m.g([0, 0, 1], [0, 0.5, -1]), ValueError, r"^j = \[0\.0, 0\.5, -1\.0\] is below the surface; allowed: j·n >= 0$"),
+    (lambda m: m.g([0, 0, 1], [0, 0.5, -1]), ValueError,
+     r"^j = \[0\.0, 0\.5, -1\.0\] is below the surface; allowed: j·n >= 0$"),
     (lambda m: m.a([0, 0.5, -1]), ValueError, r"^i = .* is below the surface; allowed: i·n >= 0$"),
-    (lambda m: m.g(np.ones((4, 3)), np.ones((5, 3))), ValueError, r"^i of shape \(4, 3\) and j of shape \(5, 3\) do not broadcast"),
-    (lambda m: m.g(theta_i=[10, 190], theta_j=10), ValueError, r"^theta_i\[1\] = 190\.0 is out of range; allowed: \[0, 180\] degrees$"),
+    (lambda m: m.g(np.ones((4, 3)), np.ones((5, 3))), ValueError,
+     r"^i of shape \(4, 3\) and j of shape \(5, 3\) do not broadcast"),
+    (lambda m: m.g(theta_i=[10, 190], theta_j=10), ValueError,
+     r"^theta_i\[1\] = 190\.0 is out of range; allowed: \[0, 180\] degrees$"),
     (lambda m: m.a(theta_i=100), ValueError, r"^theta_i = 100\.0 is out of range; allowed: \[0, 90\] degrees$"),
     (lambda m: m.h(theta_j=np.nan), ValueError, r"^theta_j = nan is out of range"),
     (lambda m: m.h(cos_theta_j=-0.5), ValueError, r"^cos_theta_j = -0\.5 is out of range; allowed: \[0, 1\]$"),
-    (lambda m: m.g(theta_i=10, theta_j=10, phi=np.inf), ValueError, r"^phi = inf is out of range; allowed: a finite number"),
-    (lambda m: m.g(i=[0, 0, 1], theta_i=10, theta_j=10), ValueError, r"^give one of i=, theta_i=, cos_theta_i=; got i=, theta_i=$"),
+    (lambda m: m.g(theta_i=10, theta_j=10, phi=np.inf), ValueError,
+     r"^phi = inf is out of range; allowed: a finite number"),
+    (lambda m: m.g(i=[0, 0, 1], theta_i=10, theta_j=10), ValueError,
+     r"^give one of i=, theta_i=, cos_theta_i=; got i=, theta_i=$"),
     (lambda m: m.g(theta_j=10), ValueError, r"^law g needs the incident direction"),
     (lambda m: m.g(theta_i=10), ValueError, r"^law g needs the view direction"),
     (lambda m: m.g([0, 0, 1], [0, 0, 1], phi=10), ValueError, r"^phi= goes with theta_j="),
@@ -91,7 +96,8 @@ def test_table_refusals(cli, tmp_path):
     with pytest.raises(TypeError, match=r"^res must be"):
         ganzfeld.bake(model, "g", res=8.5)
     # The library's own messages, as the command line prints them:
-    expected = cli.refusal("bake", "--model", "specular:alpha=8", "--law", "g", "--res", "8x1x8", "-o", tmp_path / "x.exr")
+    expected = cli.refusal("bake", "--model", "specular:alpha=8", "--law", "g", "--res", "8x1x8",
+                           "-o", tmp_path / "x.exr")
     with pytest.raises(ValueError) as raised:
         ganzfeld.bake(model, "g", res="8x1x8")
     assert str(raised.value) == expected
