@@ -6,4 +6,5 @@ set -u
 package="$(cd "$(dirname "$0")/../js/ganzfeld-three" && pwd)"
 command -v node >/dev/null || { echo "FAIL: node is not installed (scripts/install-deps installs it)"; exit 1; }
 [ -f "$package/node_modules/three/package.json" ] || { echo "FAIL: $package/node_modules/three is missing (scripts/install-deps runs npm ci)"; exit 1; }
-cd "$package" && GANZFELD="$1" exec node --test test/
+G=$(realpath "$1")
+cd "$package" && GANZFELD="$G" exec node --test test/*.test.js
