@@ -21,11 +21,18 @@ See docs/python.md.
 from __future__ import annotations
 
 import os
+import sys
 from typing import Any, Callable, NamedTuple, Optional, Union
 
-import numpy as np
+try:
+    import numpy as np
 
-from . import _core
+    from . import _core
+except ImportError as missing:  # another interpreter than the one the extension was built for
+    from ._built_for import INTERPRETER
+
+    raise ImportError(f"ganzfeld was built for {INTERPRETER}, not {sys.executable} ({missing}); run that "
+                      "interpreter (scripts/python runs it with build/python on the path)") from missing
 
 __version__: str = _core.__version__
 

@@ -106,3 +106,34 @@ def test_progress_true_changes_no_number():
     shown = model.h(theta_j=[10, 20, 30], progress=True)
     plain = model.h(theta_j=[10, 20, 30])
     assert all(np.array_equal(a, b) for a, b in zip(shown, plain))
+
+
+def test_progress_true_draws_tqdm_when_installed(monkeypatch):
+    """progress=True with tqdm importable: one bar, told the total, advanced to it, closed."""
+    import sys
+    import types
+
+    bars = []
+
+    class FakeBar:
+        def __init__(self, total, desc):
+            self.total, self.desc, self.n, self.closed = total, desc, 0, False
+            bars.append(self)
+
+        def reset(self, total):
+            self.total, self.n = total, 0
+
+        def refresh(self):
+            pass
+
+        def close(self):
+            self.closed = True
+
+    auto = types.ModuleType("tqdm.auto")
+    auto.tqdm = FakeBar
+    monkeypatch.setitem(sys.modules, "tqdm", types.ModuleType("tqdm"))
+    monkeypatch.setitem(sys.modules, "tqdm.auto", auto)
+    ganzfeld.Model(SPEC).g(theta_i=np.linspace(0, 180, 300), theta_j=60, tol=1e-9, progress=True)
+    assert len(bars) == 1
+    assert (bars[0].n, bars[0].total, bars[0].closed) == (300, 300, True)
+    assert bars[0].desc == "g of specular:alpha=8"
