@@ -55,18 +55,11 @@ struct BakeArgs {
 /// Refuses a --model spec that sets what a preset's axis and channels set (alpha, roughness,
 /// alpha_x, alpha_y, f0): the table is over every alpha and fixes f0 per channel.
 void refuse_preset_parameters(const std::string& spec) {
-  const std::size_t colon = spec.find(':');
-  if (colon == std::string::npos) return;
-  std::size_t start = colon + 1;
-  while (start <= spec.size()) {
-    const std::size_t comma = std::min(spec.find(',', start), spec.size());
-    const std::string key = spec.substr(start, std::min(spec.find('=', start), comma) - start);
+  for (const SpecTerm& term : parse_spec(spec).terms)
     for (const char* set : {"alpha", "roughness", "alpha_x", "alpha_y", "f0"})
-      if (key == set)
-        throw InputError("--preset: the model spec '" + spec + "' sets " + key +
+      if (term.model.values.count(set))
+        throw InputError("--preset: the model spec '" + spec + "' sets " + set +
                          ", which the table's axis and channels set; give the model as ggx or ggx:g2=...");
-    start = comma + 1;
-  }
 }
 
 tables::PresetOptions preset_options(const BakeArgs& args) {

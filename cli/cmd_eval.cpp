@@ -35,8 +35,9 @@ void add_eval_command(CLI::App& app, Action& action) {
     action = [args] {
       const Law law = parse_law(args->law);
       const auto parameter = args->parameter.given();
-      const ModelPtr model =
-          parse_model(parameter ? with_parameter(args->model, parameter->first, parameter->second) : args->model);
+      const ModelPtr model = parameter ? make_model(with_parameter(parse_spec(args->model), parameter->first,
+                                                                   parameter->second))
+                                       : parse_model(args->model);
       validate_tolerance(args->tol);
       if (args->max_evaluations < 1000)
         throw InputError("--max-evals=" + std::to_string(args->max_evaluations) + " is too small; allowed: >= 1000");

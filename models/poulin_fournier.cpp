@@ -8,6 +8,7 @@
 
 #include <boost/math/special_functions/beta.hpp>
 
+#include "models/spec.h"
 #include "util/error.h"
 
 namespace ganzfeld {
@@ -100,7 +101,7 @@ PoulinFournier::PoulinFournier(double kd, double ks, double n, double d, double 
 }
 
 std::string PoulinFournier::spec() const {
-  return spec_of("poulin-fournier", {{"kd", kd_}, {"ks", ks_}, {"n", n_}, {"d", d_}, {"h", h_}});
+  return spec_text({"poulin-fournier", {{"kd", kd_}, {"ks", ks_}, {"n", n_}, {"d", d_}, {"h", h_}}});
 }
 
 PfProjection PoulinFournier::project(const Vec3& k) const noexcept {

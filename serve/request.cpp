@@ -4,7 +4,6 @@
 #include <cmath>
 #include <cstdlib>
 #include <numbers>
-#include <regex>
 #include <set>
 #include <vector>
 
@@ -125,25 +124,41 @@ Query parse_query(std::string_view text) {
 }
 
 namespace {
-/// Refuses (400) a spec with a data file item (file=PATH).
-void refuse_data_file(const std::string& spec) {
-  static const std::regex file_item(R"((^|[:,])\s*file\s*=)");
-  if (std::regex_search(spec, file_item))
-    throw bad("model '" + spec + "' names a data file; the service reads no file outside its cache: allowed: "
+/// Refuses (400) a parsed spec with a data file item (file=PATH); nothing has read it yet.
+void refuse_data_file(const Spec& spec, const std::string& text) {
+  if (spec.names_file())
+    throw bad("model '" + text + "' names a data file; the service reads no file outside its cache: allowed: "
               "analytic models and mixtures (see /api/models)");
 }
 
-/// refuse_data_file of every string in a JSON document (as decoded: escapes cannot hide one).
+/// refuse_data_file of every string in a JSON document that parses as a spec (as decoded:
+/// escapes cannot hide one). A string that does not parse is no model the scene parser builds.
 void refuse_data_files(const nlohmann::json& value) {
-  if (value.is_string()) refuse_data_file(value.get<std::string>());
+  if (value.is_string()) {
+    const std::string text = value.get<std::string>();
+    std::optional<Spec> spec;
+    try {
+      spec = parse_spec(text);
+    } catch (const InputError&) {
+    }
+    if (spec) refuse_data_file(*spec, text);
+  }
   if (value.is_structured())
     for (const auto& item : value) refuse_data_files(item);
 }
 }  // namespace
 
-ModelPtr parse_served_model(const std::string& spec) {
-  refuse_data_file(spec);
-  return as_request([&] { return parse_model(spec); });
+SpecQuery parse_served_spec(const std::string& text) {
+  const Spec spec = as_request([&] { return parse_spec(text); });
+  refuse_data_file(spec, text);
+  return {spec, as_request([&] { return make_model(spec); })};
+}
+
+ModelPtr parse_served_model(const std::string& spec) { return parse_served_spec(spec).model; }
+
+SpecQuery parse_spec_query(const Query& query) {
+  check_names(query, "/api/spec", {"model"});
+  return parse_served_spec(required(query, "model", "specular:alpha=8"));
 }
 
 EvalQuery parse_eval(const Query& query, const Limits& limits) {

@@ -13,6 +13,7 @@
 #include "models/charlie.h"
 #include "models/ggx.h"
 #include "models/registry.h"
+#include "models/spec.h"
 #include "tables/bake.h"
 #include "util/error.h"
 
@@ -37,10 +38,12 @@ DfgLayout parse_dfg_layout(const std::string& text) {
 std::string preset_family(const Model& model, const PresetOptions& options) {
   const auto* ggx = dynamic_cast<const Ggx*>(&model);
   if (!ggx) {
-    const std::string spec = model.spec(), name = spec.substr(0, spec.find(':'));
-    bool has_axis = false;  // the name of a mixture is no model's: it has no parameters either
-    for (const ModelInfo& info : model_catalogue())
-      for (const ParamInfo& p : info.parameters) has_axis = has_axis || (info.name == name && p.name == options.axis);
+    const std::string spec = model.spec();
+    const Spec parsed = parse_spec(spec);
+    bool has_axis = false;  // a mixture has no parameters of its own
+    if (!parsed.is_mixture())
+      for (const ParamInfo& p : find_model(parsed.terms.front().model.name).parameters)
+        has_axis = has_axis || p.name == options.axis;
     if (!has_axis)
       throw InputError(std::string("--preset ") + to_string(options.preset) + " needs a ggx model: '" + spec +
                        "' has no parameter " + options.axis + " for the table's axis");
@@ -50,8 +53,7 @@ std::string preset_family(const Model& model, const PresetOptions& options) {
   if (!model.traits().isotropic)
     throw InputError(std::string("--preset ") + to_string(options.preset) + " needs an isotropic ggx model, not '" +
                      model.spec() + "'");
-  const std::string spec = model.spec();
-  return "ggx:" + spec.substr(spec.find("g2="));
+  return spec_text({"ggx", {{"g2", ggx->parameters().at("g2")}}});
 }
 
 std::vector<int> parse_preset_resolution(const std::string& text) {

@@ -247,7 +247,7 @@ TEST(MeasuredContent, SpecWithoutPaths) {
   EXPECT_EQ(spec_without_paths("specular:alpha=8"), "specular:alpha=8");
   EXPECT_EQ(spec_without_paths("lambert"), "lambert");
   EXPECT_EQ(spec_without_paths("0.5*lambert + 0.5*tabulated:file=m.tab,lookup=1 + 1e+0*specular:alpha=8"),
-            "0.5*lambert + 0.5*tabulated:lookup=1 + 1e+0*specular:alpha=8");
+            "0.25*lambert + 0.25*tabulated:lookup=1 + 0.5*specular:alpha=8");
 }
 
 // A table is self-describing (issue #19): once baked it reads and samples without its model,

@@ -247,10 +247,12 @@ TEST(TablePreset, Refusals) {
   EXPECT_THROW(parse_grid("centre"), InputError);
   EXPECT_EQ(parse_preset_resolution("8x16"), (std::vector<int>{8, 16}));
   // eval --alpha/--roughness: a model without that parameter, a mixture.
-  EXPECT_THROW(with_parameter("lambert", "alpha", 0.5), InputError);
-  EXPECT_THROW(with_parameter("specular:alpha=8", "roughness", 0.5), InputError);
-  EXPECT_THROW(with_parameter("0.5*ggx + 0.5*lambert", "alpha", 0.5), InputError);
-  EXPECT_EQ(with_parameter("ggx:roughness=0.2,f0=0.04", "alpha", 0.5), "ggx:f0=0.04,alpha=0.5");
+  EXPECT_THROW(with_parameter(parse_spec("lambert"), "alpha", 0.5), InputError);
+  EXPECT_THROW(with_parameter(parse_spec("specular:alpha=8"), "roughness", 0.5), InputError);
+  EXPECT_THROW(with_parameter(parse_spec("specular:alpha=8"), "alpha", 0.5), InputError);  // alpha in [1, 10000]
+  EXPECT_THROW(with_parameter(parse_spec("0.5*ggx + 0.5*lambert"), "alpha", 0.5), InputError);
+  EXPECT_EQ(spec_text(with_parameter(parse_spec("ggx:roughness=0.2,f0=0.04"), "alpha", 0.5)), "ggx:alpha=0.5,f0=0.04");
+  EXPECT_EQ(spec_text(with_parameter(parse_spec("ggx:alpha_x=0.1,alpha_y=0.3"), "roughness", 0.5)), "ggx:roughness=0.5");
 }
 
 }  // namespace

@@ -41,6 +41,14 @@ alive() { kill -0 $pid 2>/dev/null; }
   [ "$(python3 -c "import json; print(json.load(open('$tmp/body')) == json.load(open('$tmp/models.json')))")" = True ] \
   && ok || fail "/api/models differs from models --json"
 
+# --- spec: the one parser's form and the canonical spec that eval --json names
+[ "$(code "/api/spec?model=hvd-empirical:rsv=0.2,rsu=1,eta=1.5")" = 200 ] \
+  && [ "$(json_field "$tmp/body" "d['canonical']")" = "$("$G" eval --model hvd-empirical:rsv=0.2,rsu=1,eta=1.5 --law f \
+       --theta-i 0 --theta-j 0 --json | python3 -c "import json, sys; print(json.load(sys.stdin)['model'])")" ] \
+  && [ "$(json_field "$tmp/body" "list(d['terms'][0]['parameters'])")" = "['eta', 'rsu', 'rsv']" ] \
+  && ok || fail "/api/spec: $(cat "$tmp/body")"
+bad 400 "names a data file" "/api/spec?model=merl:file=/etc/passwd"
+
 # --- eval: the same value as the command line
 "$G" eval --model specular:alpha=8 --law g --theta-i 60 --theta-j 30 --phi 180 --json >"$tmp/eval.json"
 [ "$(code "/api/eval?model=specular:alpha=8&law=g&theta_i=60&theta_j=30&phi=180")" = 200 ] && ok || fail "/api/eval: $(cat "$tmp/body")"
