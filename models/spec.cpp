@@ -225,7 +225,7 @@ std::string spec_without_paths(const std::string& text) {
 
 ModelSpec with_parameter(const Spec& spec, const std::string& key, double value) {
   if (spec.is_mixture())
-    throw InputError("--" + key + " applies to a single model, not to the mixture '" + spec_text(spec) + "'");
+    throw InputError({Named{key}, " applies to a single model, not to the mixture '" + spec_text(spec) + "'"});
   ModelSpec model = spec.terms.front().model;
   const ModelInfo& info = find_model(model.name);
   const ParamInfo* param = nullptr;
@@ -235,8 +235,8 @@ ModelSpec with_parameter(const Spec& spec, const std::string& key, double value)
     known += (known.empty() ? "" : ", ") + p.name;
   }
   if (!param)
-    throw InputError("model '" + model.name + "' has no parameter " + key + " for --" + key + "; its parameters: " +
-                     (known.empty() ? "none" : known));
+    throw InputError({"model '" + model.name + "' has no parameter " + key + " for ", Named{key},
+                      "; its parameters: " + (known.empty() ? "none" : known)});
   const std::string& principal = param->alternative_of.empty() ? param->name : param->alternative_of;
   for (const ParamInfo& p : info.parameters)
     if (p.name == principal || p.alternative_of == principal) model.values.erase(p.name);

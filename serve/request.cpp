@@ -71,13 +71,13 @@ double tolerance(const Query& query, double fallback) {
   return tol;
 }
 
-/// Library refusals (InputError) become 400 with the library's message.
+/// Library refusals (InputError) become 400, their parameters named as a query names them.
 template <class F>
 auto as_request(F&& f) -> decltype(f()) {
   try {
     return f();
   } catch (const InputError& e) {
-    throw bad(e.what());
+    throw bad(e.worded(InputError::query_spelling));
   }
 }
 
@@ -213,7 +213,7 @@ TableQuery parse_table(const Query& query, const Limits& limits, TableEndpoint e
   if (endpoint == TableEndpoint::table) names.push_back("format");
   check_names(query, endpoint == TableEndpoint::table ? "/api/table" : "/api/glsl", names);
   if (query.count("max_error") && query.count("res"))
-    throw bad("give res or max_error, not both: with max_error the baker chooses the resolution (issue #15)");
+    throw bad("give res or max_error, not both: with max_error the baker chooses the resolution");
   TableQuery q;
   q.law = as_request([&] { return tables::parse_tabulated_law("law", required(query, "law", "g (one of g, h, a)")); });
   q.model = parse_served_model(required(query, "model", "specular:alpha=8"));
@@ -222,14 +222,7 @@ TableQuery parse_table(const Query& query, const Limits& limits, TableEndpoint e
   q.options = defaults.bake_options(q.law == Law::g ? Law::g : Law::h);
   q.options.max_evaluations = limits.max_evaluations;
   if (const auto res = text_of(query, "res")) {
-    q.options.resolution = as_request([&] {
-      try {
-        return tables::parse_resolution(*res, q.law);
-      } catch (const InputError& e) {
-        const std::string what = e.what();  // "--res '...' is not ...": name the parameter as given
-        throw InputError(what.rfind("--res ", 0) == 0 ? "res=" + what.substr(6) : what);
-      }
-    });
+    q.options.resolution = as_request([&] { return tables::parse_resolution(*res, q.law); });
   }
   const std::uint64_t entries = tables::table_bytes(q.options.resolution) / tables::kBytesPerEntry;
   if (entries > limits.max_entries)
@@ -256,16 +249,7 @@ TableQuery parse_table(const Query& query, const Limits& limits, TableEndpoint e
 
 TableQuery table_query(ModelPtr model, Law law, tables::BakeOptions options, TableFormat format) {
   TableQuery q{std::move(model), law, std::move(options), format, "", ""};
-  const tables::TableKey key = as_request([&] {
-    try {
-      return tables::table_key(*q.model, q.law, q.options);
-    } catch (const InputError& e) {  // the CLI's flag names, as this query names them
-      std::string what = e.what();
-      for (const auto& [flag, name] : {std::pair{"--max-error ", "max_error="}, std::pair{"--max-bytes ", "max_bytes="}})
-        if (what.rfind(flag, 0) == 0) what = name + what.substr(std::string(flag).size());
-      throw InputError(what);
-    }
-  });
+  const tables::TableKey key = as_request([&] { return tables::table_key(*q.model, q.law, q.options); });
   q.key = tables::key_text(key);
   q.file_name = tables::cache_file_name(key);
   return q;

@@ -123,7 +123,7 @@ Reply Service::handle(const Request& request) {
     reply.headers.emplace_back("Retry-After", std::to_string(kRetryAfterSeconds));
     return reply;
   } catch (const InputError& e) {
-    return error_reply(400, e.what());
+    return error_reply(400, e.worded(InputError::query_spelling));
   } catch (const std::exception& e) {
     return error_reply(500, std::string("internal error: ") + e.what());
   }

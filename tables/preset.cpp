@@ -37,6 +37,7 @@ DfgLayout parse_dfg_layout(const std::string& text) {
 
 std::string preset_family(const Model& model, const PresetOptions& options) {
   const auto* ggx = dynamic_cast<const Ggx*>(&model);
+  const Named preset{"preset", to_string(options.preset)};
   if (!ggx) {
     const std::string spec = model.spec();
     const Spec parsed = parse_spec(spec);
@@ -45,29 +46,27 @@ std::string preset_family(const Model& model, const PresetOptions& options) {
       for (const ParamInfo& p : find_model(parsed.terms.front().model.name).parameters)
         has_axis = has_axis || p.name == options.axis;
     if (!has_axis)
-      throw InputError(std::string("--preset ") + to_string(options.preset) + " needs a ggx model: '" + spec +
-                       "' has no parameter " + options.axis + " for the table's axis");
-    throw InputError(std::string("--preset ") + to_string(options.preset) +
-                     " is defined for ggx (its channels are GGX and Charlie albedos), not for '" + spec + "'");
+      throw InputError({preset, " needs a ggx model: '" + spec + "' has no parameter " + options.axis +
+                                    " for the table's axis"});
+    throw InputError({preset, " is defined for ggx (its channels are GGX and Charlie albedos), not for '" + spec + "'"});
   }
   if (!model.traits().isotropic)
-    throw InputError(std::string("--preset ") + to_string(options.preset) + " needs an isotropic ggx model, not '" +
-                     model.spec() + "'");
+    throw InputError({preset, " needs an isotropic ggx model, not '" + model.spec() + "'"});
   return spec_text({"ggx", {{"g2", ggx->parameters().at("g2")}}});
 }
 
 std::vector<int> parse_preset_resolution(const std::string& text) {
-  const std::string bad = "--res '" + text + "' is not a preset resolution; expected N or NPxNMU (parameter x "
-                          "cos_theta_i samples) with integers from 2 to 4096";
+  const InputError bad({Named{"res", "'" + text + "'"}, " is not a preset resolution; expected N or NPxNMU (parameter x "
+                                                      "cos_theta_i samples) with integers from 2 to 4096"});
   std::vector<int> counts;
   try {  // each part is a one-axis resolution "N"
     const std::size_t x = text.find('x');
     counts.push_back(parse_resolution(text.substr(0, x), Law::a).front());
     counts.push_back(x == std::string::npos ? counts[0] : parse_resolution(text.substr(x + 1), Law::a).front());
   } catch (const InputError&) {
-    throw InputError(bad);
+    throw bad;
   }
-  if (std::max(counts[0], counts[1]) > 4096) throw InputError(bad);
+  if (std::max(counts[0], counts[1]) > 4096) throw bad;
   return counts;
 }
 

@@ -487,7 +487,7 @@ TEST_F(TableRefusal, ModelSpecBlankOrMultiLine) {
     expect_refused(valid_with("ganzfeld.model", spec, "bad_model.exr"), "expected one non-empty line of printable text");
 }
 
-// ganzfeld.model_content (issue #19): optional, so tables written before it existed still read.
+// ganzfeld.model_content: optional, so tables written before it existed still read.
 TEST_F(TableRefusal, ModelContentMissingReadsAsNone) {
   RawExr raw = valid();
   raw.dropped.insert("ganzfeld.model_content");
@@ -504,8 +504,8 @@ TEST_F(TableRefusal, ModelContentMalformed) {
                    std::string("model content '") + digest + "' is not allowed");
 }
 
-// A table whose header declares more than its bytes hold (the issue-20 memory bomb: an 852-byte
-// file whose attribute size of 1.6 GB OpenEXR allocated before any check) is refused by
+// A table whose header declares more than its bytes hold (a memory bomb: an 852-byte file whose
+// attribute size of 1.6 GB OpenEXR 3.1 allocates before any check) is refused by
 // tables/exr_guard.cpp before OpenEXR reads it: one line naming the attribute, no allocation
 // beyond a small multiple of the file, quickly.
 TEST_F(TableRefusal, ForgedSizesAreRefusedBeforeAllocating) {
@@ -630,7 +630,7 @@ TEST(Table, ReportedErrorCoversInterpolationBetweenNodes) {
 }
 
 
-// --- Format version 2: the lobe frame, Catmull–Rom, baking to a lookup error (issue 15) ------
+// --- Format version 2: the lobe frame, Catmull–Rom, baking to a lookup error -----------------
 
 // Lobe coordinates -> directions -> (i·n, j·n, phi) -> lobe coordinates: atan2 of well-scaled
 // dot products, a few ulps of pi (psi and beta are angles up to pi).
@@ -742,10 +742,10 @@ TEST(Table, Version1FilesStillRead) {
 
 // bake --max-error: the table meets E, in the lobe frame, and its reported error (the headline)
 // covers |lookup - law| at >= 99.9% of fresh random points (another seed than the validation's)
-// against direct cubature at 1e-10 (issue 15: "reported bound >= actual error at >= 99.9%").
+// against direct cubature at 1e-10 (the promise: "reported bound >= actual error at >= 99.9%").
 constexpr double kReferenceTol = 1e-10;
 constexpr int kFreshPoints = 2000;
-constexpr double kAllowedFreshMisses = 0.001;  // the issue's 99.9%
+constexpr double kAllowedFreshMisses = 0.001;  // the promised 99.9%
 TEST(Table, MaxErrorBakeReportsAnHonestLookupError) {
   struct Case {
     const char* spec;
@@ -822,14 +822,40 @@ TEST(Table, MaxErrorRefusesWhatCannotBeMet) {
   refused(1e-8, 0, Encoding::single, "below what a float table can hold");
   refused(1e-4, 0, Encoding::half, "below what a half table can hold");
   refused(1e-5, 0, Encoding::unorm16, "below what a unorm16 table can hold");
-  refused(1e-3, 100, Encoding::single, "--max-bytes 100 is too small");
-  refused(1e-6, 4096, Encoding::single, "cannot reach --max-error 1e-06");
+  refused(1e-3, 100, Encoding::single, "max_bytes=100 is too small");
+  refused(1e-6, 4096, Encoding::single, "cannot reach max_error=1e-06");
+}
+
+// The library names parameters, not a front end's flags: the command line and a query word the
+// same refusal each in its own spelling.
+TEST(Table, RefusalsNameParametersThatEachFrontEndSpells) {
+  try {
+    check_error_target(1e-4, 0, Law::h, Encoding::half);
+    ADD_FAILURE() << "accepted";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.refused().parameter, "max_error");
+    EXPECT_EQ(e.refused().value, "0.0001");
+    EXPECT_EQ(std::string(e.what()),
+              "max_error=0.0001 is below what a half table can hold (its rounding alone); allowed: >= 0.0009765625 "
+              "(use encoding=float for less)");
+    EXPECT_EQ(e.worded(InputError::flag_spelling),
+              "--max-error 0.0001 is below what a half table can hold (its rounding alone); allowed: >= 0.0009765625 "
+              "(use --encoding float for less)");
+  }
+  try {
+    parse_resolution("0x0", Law::g);
+    ADD_FAILURE() << "accepted";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.worded(InputError::flag_spelling).rfind("--res '0x0' is not a resolution for law g", 0), 0u);
+    EXPECT_EQ(e.renamed("res", "res_g").worded(InputError::flag_spelling).rfind("--res-g '0x0' is not", 0), 0u);
+    EXPECT_EQ(std::string(e.what()).rfind("res='0x0' is not", 0), 0u);
+  }
 }
 
 // --max-error under a tight --max-bytes: when the counts the search predicts exceed the cap, it
 // bakes the largest table of that shape within the cap, and the refusal names what that reached.
 // specular alpha=8 g, E = 1e-5, B = 200000: the first bake (17x17x9 lobe frame, 10 kB) measures
-// 1.45e-3; a table within B reaches ~4.3e-5 (issue #15's report), so a refusal naming an error
+// 1.45e-3; a table within B reaches ~4.3e-5 (docs/tradeoff.md), so a refusal naming an error
 // above kCappedBest kept the coarse first bake.
 constexpr double kCappedBest = 1e-4;
 constexpr std::uint64_t kCap = 200000;
