@@ -329,7 +329,7 @@ void add_bake_command(CLI::App& app, Action& action, int argc, const char* const
   cmd->add_option("--grid", args->grid,
                   "--preset: texel (default; sample k at (k + 0.5)/N, what a GPU lookup reads) or node (k/(N - 1))");
   cmd->add_option("-o,--output", args->output, "one table: the table to write, FILE.exr (written atomically)");
-  cmd->add_option("--scene", args->scene, "a scene's tables: the scene file, SCENE.json (cli-contract.md)");
+  cmd->add_option("--scene", args->scene, "a scene's tables: the scene file, SCENE.json (e.g. examples/default.json)");
   cmd->add_option("--library", args->library,
                   "a library's tables: LIB.json, groups of model specs x laws x accuracies (docs/scale-out.md)");
   cmd->add_option("--shard", args->shard,

@@ -92,7 +92,7 @@ nlohmann::ordered_json cubature_report(const BenchArgs& args) {
   return doc;
 }
 
-/// Bake throughput (issue 8): a 64x64x32 g table at 1e-9 for specular alpha = 8 and 1000, with
+/// Bake throughput: a 64x64x32 g table at 1e-9 for specular alpha = 8 and 1000, with
 /// 1 and 2 threads, repeated (bench/bake_bench.cpp).
 nlohmann::ordered_json bake_report(const BenchArgs& args) {
   nlohmann::ordered_json doc{{"benchmark", "bake"}, {"machine", bench::machine_description()}};
@@ -116,7 +116,7 @@ nlohmann::ordered_json render_report(const BenchArgs& args) {
           {"ratios", {{"tables_vs_lambert", r.tables_vs_lambert}, {"direct_vs_tables", r.direct_vs_tables}}}};
 }
 
-/// The real-time tables' accuracy report (issue 16): Markdown to --markdown, or to stdout.
+/// The real-time tables' accuracy report: Markdown to --markdown, or to stdout.
 int realtime_report(const BenchArgs& args) {
   std::vector<std::string> words{"ganzfeld", "bench", "realtime"};
   if (args.quick) words.push_back("--quick");

@@ -1,4 +1,4 @@
-// ganzfeld extremes: the extremes grid of issue #20 (reports/extremes.h) — every model at the ends
+// ganzfeld extremes: the extremes grid (reports/extremes.h) — every model at the ends
 // of its parameters' ranges and the laws at extreme directions, judged against the independent
 // reference; --markdown prints the section of docs/reliability.md (scripts/docs --reliability).
 #include <cstdio>

@@ -1,5 +1,5 @@
 // ganzfeld plausibility: non-negativity, reciprocity, energy conservation and Ganzfeld
-// invisibility measured for every model (integrate/plausibility.h); --markdown writes
+// invisibility measured for every model (reports/plausibility.h); --markdown writes
 // docs/plausibility.md.
 #include <cstdio>
 #include <iostream>

@@ -1,4 +1,4 @@
-// The classic models of the Oregon BRDF Library survey (Walker 1999; issue 7): registered here.
+// The classic models of the Oregon BRDF Library survey (Walker 1999): registered here.
 // Formulas, sources and the differences from the thesis's summaries: models/classic_models.h and
 // docs/models.md.
 #include <algorithm>
@@ -65,8 +65,8 @@ MassHints Phong::mass_hints(const Vec3& fixed, Varying varying) const {
   // Over incident directions k the specular part of (k·n) f is ks cos^n psi min(1, (k·n) /
   // kGrazingCosFloor): it falls linearly to 0 across the layer k·n < kGrazingCosFloor. With the
   // mirror lobe on the horizon (view at j·n <= 1e-6) the layer takes ks/2 kGrazingCosFloor times
-  // the lobe's length along the horizon, ~1.4e-7 at n = 20, which no node saw (ganzfeld extremes:
-  // g 1.4e-7 off with 8.5e-9 estimated). The layer holds at most ks/2 kGrazingCosFloor 2 pi
+  // the lobe's length along the horizon, ~1.4e-7 at n = 20, which no initial node sees
+  // (tests/extremes_test.cpp, PhongGrazingLayerIsHonest). The layer holds at most ks/2 kGrazingCosFloor 2 pi
   // cos^n(e), e the mirror's elevation: it is declared when the lobe reaches the horizon, within
   // 4 widths of it (as ggx's layer).
   const double w = 1.0 / std::sqrt(n_);

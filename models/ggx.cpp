@@ -129,8 +129,8 @@ MassHints Ggx::mass_hints(const Vec3& fixed, Varying) const {
   // The height-correlated visibility 1/(2 ((j·n) r_k + (k·n) r_j)) (ggx::visibility) holds, for a
   // fixed direction just above the horizon, a layer in k·n as thin as fixed·n: times (k·n) it is
   // (k·n)/(2 (j·n) r_k + 2 (k·n) r_j), flat above k·n ~ (j·n) r_k/r_j and falling to 0 below it,
-  // with a 1/(k·n) tail that carries ~(j·n) ln(1/(j·n)) of the mass. No initial node saw it:
-  // ggx:alpha=0.5 g at i·n = -0.999, j·n = 1e-9 was 2.5e-9 off with 4.6e-10 estimated (issue #20).
+  // with a 1/(k·n) tail that carries ~(j·n) ln(1/(j·n)) of the mass, which no initial node sees
+  // unless the layer is declared (tests/extremes_test.cpp, GgxGrazingVisibilityLayerIsHonest).
   if (g2_ == ggx::G2Form::height_correlated && fixed.z > 0.0) {
     const double r_fixed = ggx::projected_root(fixed, alpha_);
     const double layer = fixed.z * std::max(alpha_.x, alpha_.y) / r_fixed;  // r_k of a grazing k <= max alpha

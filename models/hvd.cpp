@@ -210,8 +210,8 @@ MassHints HvdEmpirical::mass_hints(const Vec3& fixed, Varying) const {
   if (p_.k < 1.0 && height < 4.0 * w_s + 0.05) hints.horizon_layer = std::max(w_s, 1e-9);
   // The scaling projection's Jacobian j_z² |H|²/(2 H_z³) and its uv = (j_z/H_z) H_xy change within
   // k·n ~ fixed·n of the horizon (H_z = k_z + fixed_z): a layer of that thickness holding O(1) of
-  // either lump's mass, whatever k. Retro only (k = 1) had no layer: g at i·n = 1e-6, view at
-  // 89.99° opposite, was 8.1e-7 off with 9.6e-9 estimated (ganzfeld extremes, issue #20).
+  // either lump's mass, whatever k, retro only (k = 1) included (tests/extremes_test.cpp,
+  // HvdScalingLayerIsHonest).
   if (height < kScalingLayerCeiling) hints.add_horizon_layer(height);
   return hints;
 }

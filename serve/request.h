@@ -84,7 +84,7 @@ TableQuery parse_table(const Query& query, const Limits& limits, TableEndpoint e
 TableQuery table_query(ModelPtr model, Law law, tables::BakeOptions options, TableFormat format = TableFormat::exr);
 
 /// GET /api/glsl?scene=SCENE[&format=glsl|json]: SCENE is the text of a scene file
-/// (cli-contract.md; its meshes are never read: the shader does not need them). Refused (400):
+/// (examples/default.json; its meshes are never read: the shader does not need them). Refused (400):
 /// a malformed scene, a lobe naming a data file, a scene export-glsl refuses.
 struct SceneQuery {
   Scene scene;

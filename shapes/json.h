@@ -1,4 +1,4 @@
-// The JSON documents of cli-contract.md, built in one place so that the command line
+// The JSON documents ganzfeld writes, built in one place so that the command line
 // (`models --json`, `eval --json`, `info --json`, `bake --json`) and the service (serve/:
 // /api/models, /api/eval, /api/table) answer with the same shapes.
 #pragma once

@@ -222,7 +222,7 @@ std::string file_bytes(const std::string& path) {
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
-// Issue #19: measured models name their data by its bytes (the cache keys them by it).
+// Measured models name their data by its bytes (the cache keys them by it).
 TEST(MeasuredContent, DigestIsTheFileBytes) {
   const std::string merl = temp_file("digest.binary"), tab = temp_file("digest.tab"), bm = temp_file("digest.fs");
   exporting::write_merl(*parse_model("lambert"), merl);
@@ -250,7 +250,7 @@ TEST(MeasuredContent, SpecWithoutPaths) {
             "0.25*lambert + 0.25*tabulated:lookup=1 + 0.5*specular:alpha=8");
 }
 
-// A table is self-describing (issue #19): once baked it reads and samples without its model,
+// A table is self-describing: once baked it reads and samples without its model,
 // so a measured model's data file may move or vanish.
 TEST(MeasuredTable, ReadsAfterTheDataFileIsGone) {
   const std::string tab = temp_file("gone.tab"), merl = temp_file("gone.binary");

@@ -125,7 +125,7 @@ TEST(ServeRequest, TableRefusals) {
     EXPECT_EQ(got, status) << query;
     EXPECT_NE(message.find(fragment), std::string::npos) << query << " -> " << message;
   }
-  // max_error (issue #15): as bake --max-error, named as the query names it
+  // max_error: as bake --max-error, named as the query names it
   for (const auto& [query, fragment] :
        {std::pair{"model=lambert&law=h&max_error=-1", "max_error=-1 is not allowed; expected a positive number"},
         std::pair{"model=lambert&law=h&max_error=1e-3&res=9", "give res or max_error, not both"}}) {

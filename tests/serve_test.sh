@@ -74,7 +74,7 @@ cached=("$tmp"/cache/*.exr)
   && ok || fail "format=ktx2"
 [ "$(code "/api/table?$FAST&format=json")" = 200 ] && [ "$(json_field "$tmp/body" "(len(d['value']), d['law'])")" = "(32, 'h')" ] \
   && ok || fail "format=json"
-# max_error: the table baked to a validated lookup error, as `bake --max-error` bakes it (issue #15)
+# max_error: the table baked to a validated lookup error, as `bake --max-error` bakes it
 [ "$(code "/api/table?model=specular:alpha=8&law=h&max_error=1e-5")" = 200 ] && ok || fail "max_error: $(cat "$tmp/body")"
 "$G" info "$tmp/body" --json >"$tmp/maxerr.json" 2>&1 && ok || fail "the max_error table does not read"
 [ "$(json_field "$tmp/maxerr.json" "d['target_error'] == 1e-5 and d['error'] <= 1e-5")" = "True" ] \
