@@ -103,6 +103,10 @@ Vec3 DirectionArgs::outgoing(Law law) const {
   return j;
 }
 
+void add_json_flag(CLI::App& cmd, bool& json, const std::string& shape) {
+  cmd.add_flag("--json", json, "print one JSON document" + (shape.empty() ? "" : ": " + shape));
+}
+
 void validate_tolerance(double tol) {
   if (!std::isfinite(tol) || tol < 1e-15 || tol > 1.0)
     throw InputError({Named{"tol", format_number(tol)}, " is not allowed; expected an absolute tolerance in [1e-15, 1]"});

@@ -42,6 +42,9 @@ struct ParameterArgs {
   std::optional<std::pair<std::string, double>> given() const;
 };
 
+/// --json: "print one JSON document", with its shape when given.
+void add_json_flag(CLI::App& cmd, bool& json, const std::string& shape = "");
+
 /// Parses "X,Y,Z" into a normalized vector; throws InputError naming the flag and the value.
 Vec3 parse_vector(const std::string& flag, const std::string& text);
 

@@ -341,7 +341,7 @@ void add_bake_command(CLI::App& app, Action& action, int argc, const char* const
   args->table.add_to(*cmd, scene::TableOptions{});  // --res-g, --res-h (scenes), --tol, --encoding, --max-evals
   cmd->add_flag("--force", args->force, "bake even when the file already holds exactly this table");
   cmd->add_flag("--quiet", args->quiet, "no progress bar (it is shown only when stderr is a terminal)");
-  cmd->add_flag("--json", args->json, "print one JSON document: {\"tables\": [{path, model, law, status}, ...]}");
+  add_json_flag(*cmd, args->json, "{\"tables\": [{path, model, law, status}, ...]}");
   cmd->callback([&action, args, cmd] {
     action = [args, cmd] {
       const BakeMode mode = bake_mode(*cmd);

@@ -137,7 +137,7 @@ void add_bench_command(CLI::App& app, Action& action) {
   auto* cmd = app.add_subcommand("bench", "benchmarks that print ratios measured in one run");
   auto args = std::make_shared<BenchArgs>();
   cmd->add_option("what", args->what, "cubature | bake | render | realtime")->required();
-  cmd->add_flag("--json", args->json, "print one JSON document");
+  add_json_flag(*cmd, args->json);
   cmd->add_flag("--quick", args->quick, "a small sample (CI); the full run takes minutes");
   cmd->add_option("--cases", args->cases, "cases per integrand family (cubature; default 200, quick 4)");
   cmd->add_option("--repeats", args->repeats, "runs of each bake timing (default 5, quick 1); medians and spread");

@@ -30,7 +30,7 @@ void add_eval_command(CLI::App& app, Action& action) {
   args->parameter.add_to(*cmd);
   cmd->add_option("--tol", args->tol, "absolute tolerance of the cubature (default 1e-9)");
   cmd->add_option("--max-evals", args->max_evaluations, "evaluation budget; beyond it the result is reported as not converged");
-  cmd->add_flag("--json", args->json, "print one JSON document");
+  add_json_flag(*cmd, args->json);
   cmd->callback([&action, args] {
     action = [args] {
       const Law law = parse_law(args->law);

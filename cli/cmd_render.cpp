@@ -89,7 +89,7 @@ void add_render_command(CLI::App& app, Action& action) {
                   "reuse tables from DIR and store new ones there (created if its parent exists); the files of "
                   "`ganzfeld bake --scene SCENE --out DIR`. Default: bake in memory");
   cmd->add_flag("--quiet", args->quiet, "no progress and no summary line");
-  cmd->add_flag("--json", args->json, "print one JSON document");
+  add_json_flag(*cmd, args->json);
   cmd->callback([&action, args] { action = [args] { return run_render(*args); }; });
 }
 

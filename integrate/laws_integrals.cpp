@@ -1,4 +1,5 @@
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <numbers>
 
@@ -7,27 +8,20 @@
 
 #include "integrate/laws.h"
 #include "util/error.h"
+#include "util/names.h"
 
 namespace ganzfeld {
 
 using std::numbers::pi;
 
-const char* to_string(Law law) {
-  switch (law) {
-    case Law::f: return "f";
-    case Law::g: return "g";
-    case Law::h: return "h";
-    case Law::a: return "a";
-    case Law::r: return "r";
-  }
-  return "?";
-}
+namespace {
+constexpr std::array kLaws{util::EnumName<Law>{Law::f, "f"}, util::EnumName<Law>{Law::g, "g"},
+                           util::EnumName<Law>{Law::h, "h"}, util::EnumName<Law>{Law::a, "a"},
+                           util::EnumName<Law>{Law::r, "r"}};
+}  // namespace
 
-Law parse_law(const std::string& text) {
-  for (Law law : {Law::f, Law::g, Law::h, Law::a, Law::r})
-    if (text == to_string(law)) return law;
-  throw InputError("unknown law '" + text + "'; allowed: f, g, h, a, r");
-}
+const char* to_string(Law law) { return util::name_of(kLaws, law); }
+Law parse_law(const std::string& text) { return util::parse_name(kLaws, "law", text); }
 
 Vec3 direction(double theta, double phi) {
   return {std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta)};

@@ -1,19 +1,20 @@
 #include "shapes/json.h"
 
+#include <array>
+
 #include "models/registry.h"
 #include "tables/bake.h"
+#include "util/names.h"
 
 namespace ganzfeld::shapes {
 
 namespace {
 
 const char* type_name(ParamType t) {
-  switch (t) {
-    case ParamType::real: return "real";
-    case ParamType::integer: return "integer";
-    case ParamType::choice: return "choice";
-  }
-  return "?";
+  constexpr std::array kNames{util::EnumName<ParamType>{ParamType::real, "real"},
+                              util::EnumName<ParamType>{ParamType::integer, "integer"},
+                              util::EnumName<ParamType>{ParamType::choice, "choice"}};
+  return util::name_of(kNames, t);
 }
 
 nlohmann::ordered_json model_json(const ModelInfo& m) {

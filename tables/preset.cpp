@@ -1,6 +1,7 @@
 #include "tables/preset.h"
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cmath>
 #include <limits>
@@ -16,24 +17,22 @@
 #include "models/spec.h"
 #include "tables/bake.h"
 #include "util/error.h"
+#include "util/names.h"
 
 namespace ganzfeld::tables {
 
-const char* to_string(Preset preset) { return preset == Preset::dfg ? "dfg" : "kulla-conty"; }
+namespace {
+constexpr std::array kPresets{util::EnumName<Preset>{Preset::dfg, "dfg"},
+                              util::EnumName<Preset>{Preset::kulla_conty, "kulla-conty"}};
+constexpr std::array kDfgLayouts{util::EnumName<DfgLayout>{DfgLayout::filament, "filament"},
+                                 util::EnumName<DfgLayout>{DfgLayout::ue4, "ue4"}};
+}  // namespace
 
-Preset parse_preset(const std::string& text) {
-  if (text == "dfg") return Preset::dfg;
-  if (text == "kulla-conty") return Preset::kulla_conty;
-  throw InputError("unknown preset '" + text + "'; allowed: dfg, kulla-conty");
-}
+const char* to_string(Preset preset) { return util::name_of(kPresets, preset); }
+Preset parse_preset(const std::string& text) { return util::parse_name(kPresets, "preset", text); }
 
-const char* to_string(DfgLayout layout) { return layout == DfgLayout::ue4 ? "ue4" : "filament"; }
-
-DfgLayout parse_dfg_layout(const std::string& text) {
-  if (text == "filament") return DfgLayout::filament;
-  if (text == "ue4") return DfgLayout::ue4;
-  throw InputError("unknown DFG layout '" + text + "'; allowed: filament, ue4");
-}
+const char* to_string(DfgLayout layout) { return util::name_of(kDfgLayouts, layout); }
+DfgLayout parse_dfg_layout(const std::string& text) { return util::parse_name(kDfgLayouts, "DFG layout", text); }
 
 std::string preset_family(const Model& model, const PresetOptions& options) {
   const auto* ggx = dynamic_cast<const Ggx*>(&model);
@@ -255,9 +254,8 @@ void validate_lookup(ParamTable& table, const std::vector<ChannelRecipe>& channe
 ParamTable bake_preset(const Model& model, const PresetOptions& options) {
   check_options(options);
   ParamTable table;
-  table.model = preset_family(model, options);
-  const ggx::G2Form g2 = model.spec().find("g2=separable") != std::string::npos ? ggx::G2Form::separable
-                                                                               : ggx::G2Form::height_correlated;
+  table.model = preset_family(model, options);  // refuses all but isotropic ggx
+  const auto g2 = static_cast<ggx::G2Form>(static_cast<int>(dynamic_cast<const Ggx&>(model).parameters().at("g2")));
   table.preset = to_string(options.preset);
   table.layout = options.preset == Preset::dfg ? to_string(options.layout) : "kulla-conty";
   table.axes = {{options.axis, 0.0, 1.0, options.resolution[0], Mapping::linear},

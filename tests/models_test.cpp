@@ -128,16 +128,26 @@ TEST(Spec, EveryRegisteredModelAndAMixtureOfAllRoundTrip) {
       EXPECT_EQ(parsed.terms.front().model, model) << text;
       EXPECT_EQ(spec_text(parsed), text);
     }
+    int built = 0;
     for (const ModelSpec& model : registry_specs(info, false)) {
       if (!model.file.empty()) continue;  // no data file to build from
-      const std::string canonical = make_model(model)->spec();
+      std::string canonical;
+      try {
+        canonical = make_model(model)->spec();
+      } catch (const InputError&) {  // a combination the factory refuses (cook-torrance: kd + ks > 1)
+        continue;
+      }
+      ++built;
       EXPECT_EQ(spec_text(parse_spec(canonical)), canonical) << spec_text(model);
       EXPECT_EQ(parse_model(canonical)->spec(), canonical) << spec_text(model);
     }
+    EXPECT_TRUE(built > 0 || (info.make_with_file && !info.file_optional)) << info.name << ": none built";
     all.terms.push_back({1.0 + static_cast<double>(all.terms.size()), registry_specs(info, false).front()});
   }
   const Spec mixture = parse_spec(spec_text(all));  // normalizes the weights 1, 2, ..., n
+  const double n = static_cast<double>(model_catalogue().size());
   ASSERT_EQ(mixture.terms.size(), model_catalogue().size());
+  EXPECT_NEAR(mixture.terms.back().weight, n / (n * (n + 1) / 2), 1e-15);  // weight n of 1 + 2 + ... + n
   EXPECT_EQ(parse_spec(spec_text(mixture)), mixture);
   EXPECT_TRUE(mixture.names_file());
 }
