@@ -107,10 +107,7 @@ void add_json_flag(CLI::App& cmd, bool& json, const std::string& shape) {
   cmd.add_flag("--json", json, "print one JSON document" + (shape.empty() ? "" : ": " + shape));
 }
 
-void validate_tolerance(double tol) {
-  if (!std::isfinite(tol) || tol < 1e-15 || tol > 1.0)
-    throw InputError({Named{"tol", format_number(tol)}, " is not allowed; expected an absolute tolerance in [1e-15, 1]"});
-}
+void validate_tolerance(double tol) { check_tolerance("tol", tol); }
 
 
 /// Words joined into a line a POSIX shell reproduces: words with anything but [A-Za-z0-9_./:=,+-]
@@ -159,9 +156,7 @@ std::string prepare_directory(const std::string& flag, const std::string& text) 
   return dir.string();
 }
 
-void check_max_evaluations(long long n) {
-  if (n < 1000) throw InputError({Named{"max_evals", std::to_string(n)}, " is too small; allowed: >= 1000"});
-}
+void check_max_evaluations(long long n) { ganzfeld::check_max_evaluations("max_evals", n); }
 
 void TableOptionArgs::add_to(CLI::App& app, const scene::TableOptions& defaults) {
   app.add_option("--res-g", res_g,
