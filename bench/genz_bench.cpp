@@ -165,20 +165,22 @@ GenzOptions quick_genz_options() {
 
 void check_genz_options(const GenzOptions& options) {
   if (options.instances < 1)
-    throw InputError("--instances " + std::to_string(options.instances) + " is not allowed; expected at least 1");
+    throw InputError({Named{"instances", std::to_string(options.instances)}, " is not allowed; expected at least 1"});
   for (double t : options.tolerances)
     if (!(t >= min_relative_tolerance() && t < 1.0))
-      throw InputError("relative tolerance " + number(t) + " is not allowed; expected a number in [" +
-                       number(min_relative_tolerance()) + ", 1) (below it no double-precision rule resolves)");
+      throw InputError({Named{"tolerances", number(t)}, " is not allowed; expected relative tolerances in [" +
+                                                           number(min_relative_tolerance()) +
+                                                           ", 1) (below it no double-precision rule resolves)"});
   if (options.tolerances.empty()) throw InputError("no tolerance given; expected at least one");
   for (int d : options.dimensions) {
     if (d != 1 && d != 2)
       throw InputError("dimension " + std::to_string(d) + " is not allowed; allowed: 1, 2");
     const long long panel = d == 1 ? kRuleNodes : kRuleNodes * kRuleNodes;
     if (options.budget < panel)
-      throw InputError("--budget " + std::to_string(options.budget) + " is below one panel of " +
-                       std::to_string(panel) + " evaluations in " + std::to_string(d) + "-D; allowed: >= " +
-                       std::to_string(panel));
+      throw InputError({Named{"budget", std::to_string(options.budget)}, " is below one panel of " +
+                                                                     std::to_string(panel) + " evaluations in " +
+                                                                     std::to_string(d) + "-D; allowed: >= " +
+                                                                     std::to_string(panel)});
   }
 }
 
@@ -242,7 +244,7 @@ GenzRun judged(const std::string& who, const GenzInstance& in, double tolerance,
 
 /// The absolute target every competitor gets: the relative tolerance times |exact|.
 double target(const GenzInstance& in, double tolerance) {
-  return std::max(tolerance * static_cast<double>(std::abs(in.exact)), kMinTolerance);
+  return std::max(tolerance * static_cast<double>(std::abs(in.exact)), kEngineMinTolerance);
 }
 
 GenzRun run_ours(const GenzInstance& in, double tolerance, long long budget) {

@@ -100,7 +100,7 @@ const std::vector<std::string>& genz_competitors();
 /// Runs the whole suite (instances in parallel, results in a fixed order).
 std::vector<GenzCell> run_genz_benchmark(const GenzOptions& options);
 
-/// The section of docs/reliability.md: the method, the tables, the targets met or missed.
+/// docs/reliability-genz.md: the method, the tables, the targets met or missed.
 std::string genz_markdown(const std::vector<GenzCell>& cells, const GenzOptions& options, const std::string& command,
                           double seconds);
 

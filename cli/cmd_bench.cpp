@@ -114,7 +114,7 @@ nlohmann::ordered_json cubature_report(const BenchArgs& args) {
   return doc;
 }
 
-/// Bake throughput (issue 8): a 64x64x32 g table at 1e-9 for specular alpha = 8 and 1000, with
+/// Bake throughput: a 64x64x32 g table at 1e-9 for specular alpha = 8 and 1000, with
 /// 1 and 2 threads, repeated (bench/bake_bench.cpp).
 nlohmann::ordered_json bake_report(const BenchArgs& args) {
   nlohmann::ordered_json doc{{"benchmark", "bake"}, {"machine", bench::machine_description()}};
@@ -139,7 +139,7 @@ nlohmann::ordered_json render_report(const BenchArgs& args) {
 }
 
 /// Genz's test families (bench/genz_bench.h): a summary per family and competitor, or with
-/// `--markdown -` the section of docs/reliability.md on stdout.
+/// `--markdown -` docs/reliability-genz.md on stdout.
 int genz_report(const BenchArgs& args) {
   bench::GenzOptions options = args.quick ? bench::quick_genz_options() : bench::GenzOptions{};
   if (args.instances != 0) options.instances = args.instances;
@@ -147,8 +147,8 @@ int genz_report(const BenchArgs& args) {
   if (!args.tolerances.empty()) options.tolerances = args.tolerances;
   bench::check_genz_options(options);
   if (!args.markdown.empty() && args.markdown != "-")
-    throw InputError("--markdown '" + args.markdown + "' is not allowed for genz; expected '-' (the section of "
-                     "docs/reliability.md on stdout)");
+    throw InputError("--markdown '" + args.markdown + "' is not allowed for genz; expected '-' "
+                     "(docs/reliability-genz.md on stdout)");
   const util::Stopwatch watch;
   const auto cells = bench::run_genz_benchmark(options);
   const double seconds = watch.seconds();
@@ -188,7 +188,7 @@ int genz_report(const BenchArgs& args) {
   return 0;
 }
 
-/// The real-time tables' accuracy report (issue 16): Markdown to --markdown, or to stdout.
+/// The real-time tables' accuracy report: Markdown to --markdown, or to stdout.
 int realtime_report(const BenchArgs& args) {
   std::vector<std::string> words{"ganzfeld", "bench", "realtime"};
   if (args.quick) words.push_back("--quick");
@@ -209,13 +209,13 @@ void add_bench_command(CLI::App& app, Action& action) {
   auto* cmd = app.add_subcommand("bench", "benchmarks that print ratios measured in one run");
   auto args = std::make_shared<BenchArgs>();
   cmd->add_option("what", args->what, "cubature | genz | bake | render | realtime")->required();
-  cmd->add_flag("--json", args->json, "print one JSON document");
+  add_json_flag(*cmd, args->json);
   cmd->add_flag("--quick", args->quick, "a small sample (CI); the full run takes minutes");
   cmd->add_option("--cases", args->cases, "cases per integrand family (cubature; default 200, quick 4)");
   cmd->add_option("--repeats", args->repeats, "runs of each bake timing (default 5, quick 1); medians and spread");
   cmd->add_option("--markdown", args->markdown,
                   "cubature: also write the report (docs/performance.md) to FILE; realtime: write docs/realtime.md; "
-                  "genz: '-' prints the section of docs/reliability.md");
+                  "genz: '-' prints docs/reliability-genz.md");
   cmd->add_option("--instances", args->instances, "genz: random instances per family and dimension (default 500, quick 3)");
   cmd->add_option("--budget", args->budget, "genz: evaluations per competitor run (default 1000000)");
   cmd->add_option("--tolerances", args->tolerances, "genz: relative tolerances, comma-separated (default 1e-3 ... 1e-12)")

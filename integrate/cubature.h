@@ -3,8 +3,8 @@
 // The algorithm in three steps (after QUADPACK's qag and Genz & Malik's adaptive scheme, as in
 // S. G. Johnson's hcubature.c):
 //  1. Start from a grid of panels whose lines are given by the caller (the known lobe peaks,
-//     widths and boundary layers of the integrand: design.md, "hints"), so that the first nodes
-//     cannot all miss a sharp lobe. Unless the caller says its lines come from such hints
+//     widths and boundary layers of the integrand: MassHints, models/model.h), so that the first
+//     nodes cannot all miss a sharp lobe. Unless the caller says its lines come from such hints
 //     (CubatureOptions::bisect_initial_panels), every initial panel is bisected once at the
 //     start, so that none is accepted before its halves have been compared with it.
 //  2. On each panel apply the 15-point Kronrod rule in every axis (15^D nodes) and its embedded
@@ -37,6 +37,7 @@
 #include <functional>
 #include <limits>
 #include <span>
+#include <string>
 #include <vector>
 
 namespace ganzfeld {
@@ -65,9 +66,10 @@ struct CubatureOptions {
 /// Number of nodes per axis of the Kronrod rule.
 inline constexpr int kRuleNodes = 15;
 
-/// The smallest absolute tolerance the engine accepts: below the smallest normal double the
-/// summed error estimates themselves lose their precision.
-inline constexpr double kMinTolerance = std::numeric_limits<double>::min();
+/// The smallest absolute tolerance adaptive_cubature accepts: below the smallest normal double
+/// the summed error estimates themselves lose their precision. (A front end's user is held to
+/// kMinTolerance below, which check_tolerance enforces.)
+inline constexpr double kEngineMinTolerance = std::numeric_limits<double>::min();
 
 /// The integrand sees a whole panel at once: nodes[d] holds the kRuleNodes abscissas of axis d
 /// and it fills values[a * kRuleNodes + b] = F(nodes[0][a], nodes[1][b]) (D = 2) or
@@ -78,7 +80,7 @@ using PanelIntegrand =
 
 /// Integrates over the box whose axis d is cut by the sorted lines cuts[d] (first = lower
 /// bound, last = upper bound, at least two per axis). Throws InputError (util/error.h) for a
-/// tolerance that is not a finite number >= kMinTolerance or a budget below one panel.
+/// tolerance that is not a finite number >= kEngineMinTolerance or a budget below one panel.
 template <int D>
 Estimate adaptive_cubature(const PanelIntegrand<D>& integrand,
                            const std::array<std::vector<double>, D>& cuts,
@@ -87,5 +89,16 @@ Estimate adaptive_cubature(const PanelIntegrand<D>& integrand,
 /// Sorts, removes duplicates and drops lines closer than `min_gap` to a neighbour, keeping both
 /// ends: a helper for building `cuts` from hints.
 std::vector<double> tidy_cuts(std::vector<double> lines, double lo, double hi, double min_gap);
+
+/// The absolute tolerances a caller may ask for (the command line's --tol, the Python module's tol=).
+inline constexpr double kMinTolerance = 1e-15;
+inline constexpr double kMaxTolerance = 1.0;
+/// The smallest evaluation budget per integral a caller may give (--max-evals, max_evals=).
+inline constexpr long long kMinEvaluations = 1000;
+/// Refuse (InputError naming the parameter `name`, "tol" or "max_evals", which each front end
+/// spells: --tol, tol=) a tolerance that is not finite or outside [kMinTolerance, kMaxTolerance],
+/// and a budget below kMinEvaluations.
+void check_tolerance(const std::string& name, double tol);
+void check_max_evaluations(const std::string& name, long long max_evaluations);
 
 }  // namespace ganzfeld

@@ -1,4 +1,4 @@
-// The extremes grid (issue #20, section 2): every registered model (and mixtures) with its
+// The extremes grid: every registered model (and mixtures) with its
 // parameters at the ends of their documented ranges, the laws f, g, h, a at extreme directions
 // (i·n ∈ {−1, −0.999, 0, 1e-9, 1e-6, 1}, j·n ∈ {0, 1e-9, 1e-6, 1}, φ ∈ {0, π/2, π}), the engine
 // at a fixed absolute tolerance judged against the independent reference (reference/, Boost
@@ -44,7 +44,7 @@ struct ExtremesSpec {
 /// exponent's end is capped at kExtremesExponentCap), and the extra cases listed in extremes.cpp
 /// (anisotropic radii, mixtures). Measured models need a data file and are skipped here.
 std::vector<ExtremesSpec> extremes_specs(const ExtremesOptions& options);
-/// The issue's α ∈ {min, 1000}: beyond 1000 a lobe is narrower than the reference resolves.
+/// α ∈ {min, 1000}: beyond 1000 a lobe is narrower than the reference resolves.
 inline constexpr double kExtremesExponentCap = 1000.0;
 /// Evaluations of f the reference may spend on one case (about a second) before the case is
 /// reported as unresolved.
@@ -87,7 +87,7 @@ std::vector<ExtremesRow> extremes_report(const ExtremesOptions& options);
 /// they disagree). Exposed for the tests.
 ExtremesCase judge_case(const Model& model, Law law, const Vec3& i, const Vec3& j, double engine_tolerance);
 
-/// The section of docs/reliability.md: the method, the per-model table, the targets met or
+/// docs/reliability-extremes.md: the method, the per-model table, the targets met or
 /// missed, every dishonest case and where the references disagree, and the worst of the other
 /// flagged cases (all of them are in the CSV named `csv_file`, when given); `command` is the
 /// stamp, `seconds` the run's wall time.

@@ -1,6 +1,6 @@
-// The extremes grid (reports/extremes.h, issue #20): a slice that ctest can afford — the grid's
+// The extremes grid (reports/extremes.h): a slice that ctest can afford — the grid's
 // corners for the models whose reference is quick — must be finite and honest against the
-// independent reference (reference/). The whole grid is docs/reliability.md (scripts/docs
+// independent reference (reference/). The whole grid is docs/reliability-extremes.md (scripts/docs
 // --reliability, tens of minutes).
 #include <cmath>
 #include <numbers>
@@ -15,7 +15,7 @@
 namespace ganzfeld {
 namespace {
 
-/// The engine's tolerance in the grid (docs/reliability.md).
+/// The engine's tolerance in the grid (docs/reliability-extremes.md).
 constexpr double kEngineTol = 1e-8;
 
 /// Every flagged case, one per line, for the failure message.
