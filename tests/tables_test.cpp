@@ -1,6 +1,7 @@
 // Tables (tables/): bake -> write -> read -> sample against closed forms and the integrator, the
 // storage encodings, and every refusal of the reader and the baker.
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -33,6 +34,7 @@
 #include "util/error.h"
 #include "models/spec.h"
 #include "tables/bake.h"
+#include "tables/cache.h"
 #include "tables/exr_io.h"
 #include "tables/sample.h"
 #include "tables/frame.h"
@@ -293,6 +295,33 @@ TEST(Table, UnconvergedEntriesAreCounted) {
   const Table t = bake(*parse_model("specular:alpha=1000"), Law::h, options);
   EXPECT_GT(t.unconverged, 0);
   EXPECT_GT(t.node_error, options.tolerance);
+}
+
+TEST(Table, ACancelledBakeThrowsAndWritesNothing) {
+  std::atomic<bool> cancel{true};
+  BakeOptions options;
+  options.resolution = {9, 9, 5};
+  options.cancel = &cancel;
+  const ModelPtr m = parse_model("specular:alpha=8");
+  EXPECT_THROW(bake(*m, Law::g, options), Cancelled);
+  options.target_error = 1e-3;  // the --max-error search stops at its first bake
+  EXPECT_THROW(bake(*m, Law::g, options), Cancelled);
+
+  // Set while the nodes are baked (the progress callback runs on the bake's workers).
+  options.target_error = 0.0;
+  options.resolution = {33, 33, 17};
+  cancel = false;
+  std::atomic<std::uint64_t> seen{0};
+  options.progress = [&](std::uint64_t done, std::uint64_t) {
+    seen = done;
+    cancel = true;
+  };
+  const std::string path = temp_file("cancelled.exr");
+  EXPECT_THROW(bake_or_reuse(path, *m, Law::g, options, "lut_test"), Cancelled);
+  EXPECT_LT(seen.load(), 33u * 33u * 17u) << "the bake ran to its end";
+  EXPECT_FALSE(fs::exists(path));
+  for (const auto& entry : fs::directory_iterator(temp_dir()))
+    EXPECT_EQ(entry.path().filename().string().find("cancelled.exr"), std::string::npos) << entry.path();
 }
 
 // --- Refusals --------------------------------------------------------------------------------
