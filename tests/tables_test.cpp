@@ -32,6 +32,7 @@
 
 #include "integrate/laws.h"
 #include "util/error.h"
+#include "util/hash.h"
 #include "models/spec.h"
 #include "tables/bake.h"
 #include "tables/cache.h"
@@ -525,6 +526,64 @@ TEST_F(TableRefusal, ModelContentMissingReadsAsNone) {
   EXPECT_EQ(read_table(path).model_content, "");
   const std::string digest = "fnv1a64:0123456789abcdef";
   EXPECT_EQ(read_table(valid_with("ganzfeld.model_content", digest, "content.exr")).model_content, digest);
+}
+
+// ganzfeld.values_digest: one number changed under the metadata (here by the least step a
+// float takes, which no other check sees: the error channel and its maximum are untouched).
+TEST_F(TableRefusal, ANumberChangedUnderItsDigest) {
+  RawExr raw = valid();
+  float& v = raw.channels["value"][3];
+  v = std::nextafter(v, 2.0f * v + 1.0f);
+  const std::string path = temp_file("one_float.exr");
+  raw.save(path);
+  expect_refused(path, "the numbers do not match ganzfeld.values_digest");
+  RawExr error_changed = valid();
+  std::vector<float>& error = error_changed.channels["error"];
+  const auto [smallest, largest] = std::minmax_element(error.begin(), error.end());
+  ASSERT_LT(*smallest, *largest);
+  *smallest = 0.5f * (*smallest + *largest);  // below the maximum: ganzfeld.max_error still holds
+  error_changed.save(path);
+  expect_refused(path, "the numbers do not match ganzfeld.values_digest");
+}
+
+TEST_F(TableRefusal, ValuesDigestMissingReadsAsNone) {
+  const Table written = read_table(*valid_);
+  EXPECT_EQ(written.values_digest, values_digest(written));
+  EXPECT_TRUE(util::is_content_digest(written.values_digest)) << written.values_digest;
+  RawExr raw = valid();
+  raw.dropped.insert("ganzfeld.values_digest");
+  const std::string path = temp_file("no_values_digest.exr");
+  raw.save(path);
+  const Table old = read_table(path);
+  EXPECT_EQ(old.values_digest, "");
+  EXPECT_EQ(old.value, written.value);
+}
+
+// The cache reuses only verified numbers: a changed number, or no digest to check them by (a
+// file written before it existed), is re-baked, and read_if_matching says why.
+TEST(Table, CacheRebakesNumbersItCannotVerify) {
+  const ModelPtr m = parse_model("minnaert:xi=1");
+  BakeOptions options;
+  options.resolution = {9};
+  const TableKey key = table_key(*m, Law::h, options);
+  const std::string path = (fs::path(temp_dir()) / cache_file_name(key)).string();
+  const CacheResult first = bake_or_reuse(path, *m, Law::h, options, "lut_test");
+  std::string why = "unset";
+  EXPECT_TRUE(read_if_matching(path, key, &why));
+  EXPECT_EQ(why, "");
+  for (const bool drop_digest : {false, true}) {
+    RawExr raw = RawExr::load(path);
+    if (drop_digest) raw.dropped.insert("ganzfeld.values_digest");
+    else raw.channels["value"][4] *= 1.0f + 1e-6f;
+    raw.save(path);
+    EXPECT_FALSE(read_if_matching(path, key, &why));
+    EXPECT_NE(why.find(drop_digest ? "no ganzfeld.values_digest" : "do not match ganzfeld.values_digest"),
+              std::string::npos) << why;
+    const CacheResult again = bake_or_reuse(path, *m, Law::h, options, "lut_test");
+    EXPECT_EQ(again.status, CacheStatus::baked);
+    EXPECT_EQ(read_table(path).value, first.table.value);
+    EXPECT_EQ(bake_or_reuse(path, *m, Law::h, options, "lut_test").status, CacheStatus::reused);
+  }
 }
 
 TEST_F(TableRefusal, ModelContentMalformed) {
