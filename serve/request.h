@@ -46,7 +46,12 @@ struct Limits {
   long long max_evaluations = CubatureOptions{}.max_evaluations;
   /// Most tables one scene request (GET /api/glsl?scene=...) may need; more: 413.
   std::size_t max_scene_tables = 16;
+  /// Most lobes of a mixture in one request; more: 413.
+  std::size_t max_lobes = 16;
 };
+
+/// The largest |phi| of /api/eval, in degrees (a whole turn either way).
+inline constexpr double kMaxPhi = 360.0;
 
 /// GET /api/eval?model=SPEC&law=f|g|h|a|r&theta_i=DEG&theta_j=DEG&phi=DEG&tol=T
 struct EvalQuery {
@@ -94,10 +99,11 @@ SceneQuery parse_scene_glsl(const Query& query);
 /// GET /api/glsl?model=SPEC&law=f: f in closed form as GLSL (exporting::glsl_model_f), no table;
 /// the viewer's collimated beam. is_f_glsl: the /api/glsl query asks for law f.
 bool is_f_glsl(const Query& query);
-ModelPtr parse_f_glsl(const Query& query);
+ModelPtr parse_f_glsl(const Query& query, const Limits& limits = {});
 
 /// The model of a spec given in a request: refuses (400) specs with a data file (file=...),
-/// then parses it (unknown model or parameter: 400 with the parser's message).
-ModelPtr parse_served_model(const std::string& spec);
+/// then parses it (unknown model or parameter: 400 with the parser's message); a mixture of
+/// more than limits.max_lobes lobes: 413.
+ModelPtr parse_served_model(const std::string& spec, const Limits& limits = {});
 
 }  // namespace ganzfeld::serve

@@ -91,6 +91,44 @@ TEST(ServeRequest, EvalRefusalsNameTheBadValue) {
   }
 }
 
+// Numbers as documented (docs/serve.md): finite decimal numbers only; phi within a turn; the
+// mixture weights' sum finite (it was NaN: "-nan*lambert + -nan*lambert"); lobes capped.
+TEST(ServeRequest, NumbersAreFiniteDecimalsAndMixturesAreBounded) {
+  for (const std::string text : {"0x1p3", "0x10", "inf", "-infinity", "1e999", " 5", "+5", "5 ", "1,5", "4e", ""}) {
+    const auto [status, message] = eval_refusal("model=lambert&law=h&theta_j=" + text);
+    EXPECT_EQ(status, 400) << "theta_j='" << text << "'";
+    if (!text.empty()) {
+      EXPECT_NE(message.find("is not a number; expected a finite decimal number"), std::string::npos) << message;
+    }
+  }
+  for (const std::string text : {"45", "45.", ".5", "4.5e1", "-0", "1E1"})
+    EXPECT_EQ(eval_refusal("model=lambert&law=h&theta_j=" + text).first, 0) << text;
+  EXPECT_EQ(eval_refusal("model=lambert&law=h&theta_j=1&tol=0x1p-20").first, 400);
+  const std::vector<std::pair<std::string, std::string>> cases{
+      {"model=lambert&law=g&theta_i=10&theta_j=10&phi=1e308", "phi=1e+308 is out of range; allowed: [-360, 360] degrees"},
+      {"model=lambert&law=g&theta_i=10&theta_j=10&phi=-361", "phi=-361 is out of range"},
+      {"model=1.7e308*lambert %2B 1.7e308*lambert&law=h&theta_j=1", "sum to more than the largest number"},
+  };
+  for (const auto& [query, fragment] : cases) {
+    const auto [status, message] = eval_refusal(query);
+    EXPECT_EQ(status, 400) << query;
+    EXPECT_NE(message.find(fragment), std::string::npos) << query << " -> " << message;
+    EXPECT_EQ(message.find('\n'), std::string::npos) << "one line: " << message;
+  }
+}
+
+TEST(ServeRequest, MixturesOfMoreLobesThanTheLimitAre413) {
+  std::string spec = "lambert";
+  for (int k = 1; k < 17; ++k) spec += "%2Bhvd-fit:r1=1e-6,n1=1e6";
+  const auto [status, message] = eval_refusal("model=" + spec + "&law=h&theta_j=1");
+  EXPECT_EQ(status, 413);
+  EXPECT_NE(message.find("is a mixture of 17 lobes; this service computes at most 16"), std::string::npos) << message;
+  EXPECT_EQ(table_refusal("model=" + spec + "&law=h").first, 413);
+  Limits wider;
+  wider.max_lobes = 17;
+  EXPECT_NO_THROW(parse_eval(parse_query("model=" + spec + "&law=h&theta_j=1"), wider));
+}
+
 TEST(ServeRequest, TableUsesTheCacheKeysOfBake) {
   const TableQuery q = parse_table(parse_query("model=minnaert:xi=1&law=g&res=8x6x4&encoding=half&format=ktx2"), Limits{},
                                    TableEndpoint::table);
