@@ -4,6 +4,7 @@
 #include <atomic>
 #include <chrono>
 #include <filesystem>
+#include <fstream>
 #include <latch>
 #include <thread>
 #include <vector>
@@ -16,6 +17,7 @@
 #include "serve/request.h"
 #include "serve/service.h"
 #include "tests/temp_dir.h"
+#include "util/error.h"
 
 namespace ganzfeld::serve {
 namespace {
@@ -202,13 +204,13 @@ Burst burst(Bakery& bakery, int threads, bool same_key) {
     pool.emplace_back([&, t] {
       start.arrive_and_wait();
       try {
-        const Bakery::Ticket ticket = bakery.submit(same_key ? "key" : "key" + std::to_string(t), [&] {
+        const Bakery::Ticket ticket = bakery.submit(same_key ? "key" : "key" + std::to_string(t), [&](const auto&) {
           ++bakes;
           std::this_thread::sleep_for(kFakeBake);
           return std::make_shared<const tables::CacheResult>();
         });
         joined += ticket.joined;
-        ticket.result.get();
+        bakery.wait(ticket, nullptr);
       } catch (const Busy&) {
         ++refused;
       }
@@ -237,7 +239,7 @@ TEST(ServeBakery, ExcessWorkIsRefusedNotQueued) {
 TEST(ServeBakery, StopDiscardsQueuedBakesAndFinishesRunningOnes) {
   Bakery bakery(1, 2);
   std::atomic<int> finished{0};
-  auto job = [&] {
+  auto job = [&](const std::atomic<bool>&) {
     std::this_thread::sleep_for(kFakeBake);
     ++finished;
     return std::make_shared<const tables::CacheResult>();
@@ -246,10 +248,77 @@ TEST(ServeBakery, StopDiscardsQueuedBakesAndFinishesRunningOnes) {
   while (bakery.stats().running == 0) std::this_thread::yield();
   const Bakery::Ticket queued = bakery.submit("b", job);
   bakery.stop();
-  EXPECT_NO_THROW(running.result.get());
-  EXPECT_THROW(queued.result.get(), Busy);
+  EXPECT_NO_THROW(bakery.wait(running, nullptr));
+  EXPECT_THROW(bakery.wait(queued, nullptr), Busy);
   EXPECT_EQ(finished.load(), 1);
   EXPECT_THROW(bakery.submit("c", job), Busy);
+}
+
+/// A fake bake that runs until its flag is set (or `limit` passes), as tables::bake does.
+Bakery::Job until_cancelled(std::atomic<int>& cancelled, std::chrono::milliseconds limit = std::chrono::seconds(20)) {
+  return [&cancelled, limit](const std::atomic<bool>& stop) -> Bakery::Result {
+    const auto end = std::chrono::steady_clock::now() + limit;
+    while (!stop && std::chrono::steady_clock::now() < end) std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    if (!stop) return std::make_shared<const tables::CacheResult>();
+    ++cancelled;
+    throw Cancelled("cancelled");
+  };
+}
+
+TEST(ServeBakery, ABakeNobodyWaitsForIsCancelled) {
+  Bakery bakery(1, 1);
+  std::atomic<int> cancelled{0};
+  Cancellation first, second;
+  const Bakery::Ticket a = bakery.submit("slow", until_cancelled(cancelled));
+  const Bakery::Ticket b = bakery.submit("slow", until_cancelled(cancelled));  // joins
+  EXPECT_TRUE(b.joined);
+  std::thread waiter_b([&] { EXPECT_THROW(bakery.wait(b, &second), Cancelled); });
+  first.cancel(StopReason::client_gone);
+  try {
+    bakery.wait(a, &first);
+    ADD_FAILURE() << "a cancelled request waited on";
+  } catch (const Cancelled& e) {
+    EXPECT_NE(std::string(e.what()).find("client closed the connection"), std::string::npos) << e.what();
+  }
+  std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  EXPECT_EQ(cancelled.load(), 0) << "cancelled while a waiter remained";
+  second.cancel(StopReason::deadline);  // the last waiter leaves: the bake stops
+  waiter_b.join();
+  for (int k = 0; k < 500 && bakery.stats().running > 0; ++k) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  EXPECT_EQ(cancelled.load(), 1);
+  EXPECT_EQ(bakery.stats().cancelled, 1);
+  EXPECT_EQ(bakery.stats().running, 0);
+
+  // Queued, then left by its only waiter: dropped before it starts.
+  const Bakery::Ticket running = bakery.submit("running", until_cancelled(cancelled));
+  while (bakery.stats().running == 0) std::this_thread::yield();
+  const Bakery::Ticket queued = bakery.submit("queued", until_cancelled(cancelled));
+  Cancellation gone;
+  gone.cancel(StopReason::client_gone);
+  EXPECT_THROW(bakery.wait(queued, &gone), Cancelled);
+  EXPECT_EQ(bakery.stats().queued, 0);
+  EXPECT_EQ(bakery.stats().discarded, 1);
+  bakery.cancel_running();  // shutdown: the running one stops
+  try {
+    bakery.wait(running, nullptr);
+    ADD_FAILURE() << "cancel_running did not stop the bake";
+  } catch (const Cancelled& e) {
+    EXPECT_NE(std::string(e.what()).find("shutting down"), std::string::npos) << e.what();
+  }
+}
+
+TEST(ServeBakery, ABakeOverItsBudgetIsCancelled) {
+  constexpr double kBudget = 0.2;  // seconds
+  Bakery bakery(1, 0, kBudget);
+  std::atomic<int> cancelled{0};
+  const Bakery::Ticket t = bakery.submit("slow", until_cancelled(cancelled));
+  try {
+    bakery.wait(t, nullptr);
+    ADD_FAILURE() << "a bake over its budget ran on";
+  } catch (const Cancelled& e) {
+    EXPECT_NE(std::string(e.what()).find("--max-request-seconds"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(cancelled.load(), 1);
 }
 
 class ServeService : public ::testing::Test {
@@ -318,6 +387,118 @@ TEST_F(ServeService, EvalAnswersAsTheCommandLine) {
   EXPECT_NEAR(doc["value"].get<double>(), 1.0, 1e-9);  // K&P: h = 1 for a white Lambert surface
   EXPECT_EQ(doc["law"], "h");
   EXPECT_TRUE(doc["converged"].get<bool>());
+}
+
+// 16 hvd-fit lobes at a tolerance no budget meets: minutes of work unless stopped.
+const std::string kExpensiveEval = [] {
+  std::string spec = "hvd-fit:r1=1e-6,n1=1e6";
+  for (int k = 1; k < 16; ++k) spec += "%2Bhvd-fit:r1=1e-6,n1=1e6";
+  return "model=" + spec + "&law=g&theta_i=30&theta_j=40&tol=1e-15";
+}();
+
+TEST_F(ServeService, AnEvalStopsWhenItsRequestIsCancelled) {
+  Cancellation cancel;
+  std::thread later([&] {
+    std::this_thread::sleep_for(std::chrono::milliseconds(200));
+    cancel.cancel(StopReason::deadline);
+  });
+  const Reply r = service.handle("/api/eval", kExpensiveEval, "", &cancel);
+  later.join();
+  EXPECT_EQ(r.status, 503) << r.body;
+  EXPECT_NE(nlohmann::json::parse(r.body)["error"].get<std::string>().find("--max-request-seconds"), std::string::npos) << r.body;
+  EXPECT_EQ(header(r, "Retry-After"), "") << "retrying the same request cannot help";
+  Cancellation shutdown;
+  shutdown.cancel(StopReason::shutdown);
+  const Reply s = service.handle("/api/eval", kExpensiveEval, "", &shutdown);
+  EXPECT_EQ(s.status, 503);
+  EXPECT_NE(header(s, "Retry-After"), "");
+  EXPECT_EQ(nlohmann::json::parse(get("/healthz", "").body)["requests_computing"], 0);
+}
+
+TEST(ServeServiceLimits, ComputingSlotsAreBounded) {
+  ServiceOptions o;
+  o.cache_dir = testing_support::temp_dir();
+  o.max_computing = 1;
+  Service service(o);
+  Cancellation cancel;
+  std::thread busy([&] { EXPECT_EQ(service.handle("/api/eval", kExpensiveEval, "", &cancel).status, 503); });
+  while (nlohmann::json::parse(service.handle("/healthz", "", "").body)["requests_computing"] == 0)
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  const Reply refused = service.handle("/api/eval", "model=lambert&law=h&theta_j=10", "");
+  EXPECT_EQ(refused.status, 503);
+  EXPECT_NE(refused.body.find("computing slots are taken"), std::string::npos) << refused.body;
+  EXPECT_EQ(service.handle("/api/models", "", "").status, 200) << "a cheap request needs no slot";
+  cancel.cancel(StopReason::client_gone);
+  busy.join();
+  EXPECT_EQ(service.handle("/api/eval", "model=lambert&law=h&theta_j=10", "").status, 200);
+}
+
+TEST_F(ServeService, IfNoneMatchStarAnswers304WithoutBaking) {
+  const std::string query = "model=minnaert:xi=2&law=h&res=9&tol=1e-6";
+  const Reply r = get("/api/table", query, "*");
+  EXPECT_EQ(r.status, 304);
+  EXPECT_TRUE(r.body.empty());
+  EXPECT_EQ(header(r, "ETag"), "");
+  EXPECT_EQ(nlohmann::json::parse(get("/healthz", "").body)["tables_baked"], 0);
+  EXPECT_EQ(get("/api/table", query, " * ").status, 304);
+  EXPECT_EQ(get("/api/table", query, "\"fnv1a64:0000000000000000\"").status, 200);  // a tag needs the body
+}
+
+TEST(ServeServiceLimits, CacheFailuresAre500WithoutTheCachePath) {
+  const std::string dir = testing_support::temp_dir() + "/cache-with-a-directory";
+  std::filesystem::create_directories(dir);
+  ServiceOptions o;
+  o.cache_dir = dir;
+  std::vector<std::string> logged;
+  o.log = [&](const std::string& line) { logged.push_back(line); };
+  Service service(o);
+  const std::string query = "model=minnaert:xi=3&law=h&res=9&tol=1e-6";
+  const TableQuery q = parse_table(parse_query(query), Limits{}, TableEndpoint::table);
+  std::filesystem::create_directories(dir + "/" + q.file_name + "/inside");
+  const Reply r = service.handle("/api/table", query, "");
+  EXPECT_EQ(r.status, 500) << r.body;
+  EXPECT_NE(r.body.find(q.file_name), std::string::npos) << r.body;
+  EXPECT_EQ(r.body.find(dir), std::string::npos) << r.body;
+  EXPECT_EQ(r.body.find(std::filesystem::absolute(dir).string()), std::string::npos) << r.body;
+  EXPECT_EQ(r.body.find("/tmp"), std::string::npos) << r.body;
+  ASSERT_FALSE(logged.empty());
+  EXPECT_NE(logged.back().find(dir), std::string::npos) << "the operator's log names the path: " << logged.back();
+}
+
+TEST(ServeServiceLimits, DrainingRefusesBakesAndSaysSo) {
+  ServiceOptions o;
+  o.cache_dir = testing_support::temp_dir();
+  Service service(o);
+  service.drain();
+  const Reply health = service.handle("/healthz", "", "");
+  EXPECT_EQ(health.status, 503);
+  EXPECT_EQ(nlohmann::json::parse(health.body)["status"], "draining");
+  const Reply bake = service.handle("/api/table", "model=minnaert:xi=4&law=h&res=9", "");
+  EXPECT_EQ(bake.status, 503);
+  EXPECT_NE(bake.body.find("shutting down"), std::string::npos) << bake.body;
+  EXPECT_EQ(service.handle("/api/models", "", "").status, 200);
+}
+
+TEST(ServeServiceLimits, StaleTemporaryFilesAreRemovedAtStart) {
+  namespace fs = std::filesystem;
+  const std::string dir = testing_support::temp_dir() + "/stale";
+  fs::create_directories(dir);
+  const fs::path stale = fs::path(dir) / ".specular_alpha=8.g.0123456789abcdef.exr.tmp-999999-0";
+  const fs::path fresh = fs::path(dir) / ".specular_alpha=8.g.0123456789abcdef.exr.tmp-999999-1";
+  const fs::path table = fs::path(dir) / "specular_alpha=8.g.0123456789abcdef.exr";
+  for (const fs::path& p : {stale, fresh, table}) std::ofstream(p) << "x";
+  fs::last_write_time(stale, fs::file_time_type::clock::now() - std::chrono::hours(2));
+  fs::last_write_time(table, fs::file_time_type::clock::now() - std::chrono::hours(2));
+  ServiceOptions o;
+  o.cache_dir = dir;
+  o.max_request_seconds = 60.0;
+  std::string logged;
+  o.log = [&](const std::string& line) { logged += line; };
+  const Service service(o);
+  EXPECT_FALSE(fs::exists(stale));
+  EXPECT_TRUE(fs::exists(fresh)) << "younger than a bake's budget: maybe a writer at work";
+  EXPECT_TRUE(fs::exists(table));
+  EXPECT_NE(logged.find("removed 1 temporary file"), std::string::npos) << logged;
 }
 
 }  // namespace
