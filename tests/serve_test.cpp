@@ -14,6 +14,8 @@
 
 #include "serve/bakery.h"
 #include "serve/etag.h"
+#include "serve/http.h"
+#include "serve/request_head.h"
 #include "serve/request.h"
 #include "serve/service.h"
 #include "tests/temp_dir.h"
@@ -176,6 +178,54 @@ TEST(ServeRequest, TableRefusals) {
   const auto [status, message] = refusal([] { parse_table(parse_query("model=lambert&law=h&format=exr"), Limits{}, TableEndpoint::glsl); });
   EXPECT_EQ(status, 400) << "/api/glsl has no format";
   EXPECT_NE(message.find("unknown parameter 'format' for /api/glsl"), std::string::npos) << message;
+}
+
+// serve/request_head.h: what the connection loop decides before httplib sees a head.
+TEST(ServeHead, CompleteHeadsLoseRangeAndKeepTheRest) {
+  const std::string head = "GET /api/table?x=1 HTTP/1.1\r\nHost: 127.0.0.1\r\nRange: bytes=0-9\r\n"
+                           "If-Range: \"e\"\r\nContent-Length: 0\r\nIf-None-Match: *\r\n\r\n";
+  const HeadScan scan = scan_head("\r\n" + head + "GET /next", 32768);
+  ASSERT_EQ(scan.verdict, HeadScan::Verdict::complete) << scan.message;
+  EXPECT_EQ(scan.consumed, 2 + head.size()) << "a leading empty line is skipped; the next request stays";
+  EXPECT_EQ(scan.head, "GET /api/table?x=1 HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Length: 0\r\nIf-None-Match: *\r\n\r\n");
+  EXPECT_EQ(scan.request_line, "GET /api/table?x=1 HTTP/1.1");
+  EXPECT_EQ(scan_head("GET / HTTP/1.1\r\nrange:  bytes=1-\r\n\r\n", 32768).head, "GET / HTTP/1.1\r\n\r\n");
+}
+
+TEST(ServeHead, IncompleteRefusedAndBodies) {
+  EXPECT_EQ(scan_head("GET / HTTP/1.1\r\nHost: a\r\n", 32768).verdict, HeadScan::Verdict::incomplete);
+  EXPECT_EQ(scan_head("GET / HTTP/1.1\r\nHost: a\r", 32768).verdict, HeadScan::Verdict::incomplete);
+  EXPECT_EQ(scan_head("", 32768).verdict, HeadScan::Verdict::incomplete);
+  const std::vector<std::pair<std::string, int>> refused{
+      {"GET / HTTP/1.1\r\nContent-Length: 5\r\n\r\nhello", 413},
+      {"GET / HTTP/1.1\r\ncontent-length:7\r\n\r\n", 413},
+      {"GET / HTTP/1.1\r\nTransfer-Encoding: chunked\r\n\r\n", 413},
+      {"GET / HTTP/1.1\nHost: a\n\n", 400},
+      {"GET / HTTP/1.1\r\nHost: a\nX: b\r\n\r\n", 400},
+      {"GET / HTTP/1.1\r\nHost: a\rX: b\r\n\r\n", 400},
+      {"GET / HTTP/1.1\r\nX: a\r\n b\r\n\r\n", 400},
+      {"GET / HTTP/1.1\r\nContent-Length : 5\r\n\r\n", 400},
+      {"GET / HTTP/1.1\r\nno colon\r\n\r\n", 400},
+      {std::string("GET / HTTP/1.1\r\nX: a\0b\r\n\r\n", 26), 400},
+      {"GET / HTTP/1.1\r\nX: " + std::string(100, 'a'), 431},
+  };
+  for (const auto& [text, status] : refused) {
+    const HeadScan scan = scan_head(text, 64);
+    EXPECT_EQ(scan.verdict, HeadScan::Verdict::refused) << text;
+    EXPECT_EQ(scan.status, status) << text << " -> " << scan.message;
+    EXPECT_EQ(scan.message.find('\n'), std::string::npos);
+  }
+  EXPECT_EQ(scan_head("GET / HTTP/1.1\r\nContent-Length: 00\r\n\r\n", 64).verdict, HeadScan::Verdict::complete);
+}
+
+TEST(ServeHost, LocalNamesAndTheAllowedOnes) {
+  const std::vector<std::string> allowed{"localhost", "127.0.0.1", "::1", "viewer.test"};
+  for (const char* host : {"localhost", "LOCALHOST:8080", "127.0.0.1:1", "[::1]:8080", "[::1]", "viewer.test:80"})
+    EXPECT_TRUE(host_allowed(host, allowed)) << host;
+  for (const char* host : {"", "evil.example", "evil.example:8080", "localhost.evil.example", "127.0.0.1.nip.io",
+                           "::1", "[::1", "localhost:80:80"})
+    EXPECT_FALSE(host_allowed(host, allowed)) << host;
+  EXPECT_TRUE(host_allowed("anything:1", {"*"}));
 }
 
 TEST(ServeEtag, StrongContentTagsAndIfNoneMatch) {
