@@ -140,7 +140,8 @@ class SlowConnections {
         next += step;
         for (int& fd : sockets_) {
           char answer[4096];
-          const bool closed = fd < 0 || ::recv(fd, answer, sizeof answer, 0) >= 0 || ::send(fd, "a", 1, MSG_NOSIGNAL) < 0;
+          const bool closed =
+              fd < 0 || ::recv(fd, answer, sizeof answer, 0) >= 0 || ::send(fd, "a", 1, MSG_NOSIGNAL) < 0;
           if (closed) {  // answered (408) or closed by the service, or never connected: a new one
             if (fd >= 0) ::close(fd);
             fd = open();

@@ -76,9 +76,9 @@ void add_serve_command(CLI::App& app, Action& action) {
   cmd->add_option("--header-timeout", args->server.loop.header_seconds,
                   "seconds a request head may take from its first byte (default " + format_number(loop.header_seconds) +
                       "); beyond: 408 and closed");
-  cmd->add_option("--idle-timeout", args->server.loop.idle_seconds,
-                  "seconds a kept-alive connection waits for its next request (default " +
-                      format_number(loop.idle_seconds) + ")");
+  cmd->add_option(
+      "--idle-timeout", args->server.loop.idle_seconds,
+      "seconds a kept-alive connection waits for its next request (default " + format_number(loop.idle_seconds) + ")");
   cmd->add_option("--write-timeout", args->server.loop.write_seconds,
                   "seconds a client may take to read an answer (default " + format_number(loop.write_seconds) +
                       "); beyond: closed");
@@ -99,7 +99,8 @@ void add_serve_command(CLI::App& app, Action& action) {
       if (args->max_entries < 2)
         throw InputError("--max-entries=" + std::to_string(args->max_entries) + " is too small; allowed: >= 2");
       if (args->max_evaluations < 1000)
-        throw InputError("--max-evaluations=" + std::to_string(args->max_evaluations) + " is too small; allowed: >= 1000");
+        throw InputError("--max-evaluations=" + std::to_string(args->max_evaluations) +
+                         " is too small; allowed: >= 1000");
       check_range("--max-connections", static_cast<double>(args->max_connections), 1, 65536);
       check_range("--max-request-seconds", args->max_request_seconds, 0.1, 86400);
       check_range("--header-timeout", args->server.loop.header_seconds, 0.1, 3600);

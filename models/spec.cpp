@@ -132,7 +132,8 @@ std::vector<Lobe> parse_lobes(const std::string& spec) {
   double total = 0.0;
   for (const Lobe& lobe : lobes) total += lobe.weight;
   if (!std::isfinite(total))  // each weight finite, their sum not: normalizing would make them NaN
-    throw InputError("mixture weights in '" + spec + "' sum to more than the largest number (about 1.8e308); "
+    throw InputError("mixture weights in '" + spec +
+                     "' sum to more than the largest number (about 1.8e308); "
                      "scale them down (only their ratios matter)");
   normalize_weights(lobes);
   return lobes;

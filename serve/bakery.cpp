@@ -19,8 +19,8 @@ struct Bakery::Flight {
   std::shared_future<Result> result = promise.get_future().share();
   std::atomic<bool> cancel{false};
   std::atomic<StopReason> why{StopReason::none};
-  int waiters = 0;        ///< under the bakery's mutex
-  bool running = false;   ///< under the bakery's mutex
+  int waiters = 0;       ///< under the bakery's mutex
+  bool running = false;  ///< under the bakery's mutex
   /// When its budget ends (steady-clock ticks): set when it starts running, read by waiters.
   std::atomic<Clock::rep> deadline{Clock::time_point::max().time_since_epoch().count()};
 
@@ -101,13 +101,15 @@ void Bakery::work() {
     ++stats_.running;
     ++stats_.started;
     flight.running = true;
-    const auto budget = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(std::min(budget_seconds_, 1e9)));
+    const auto budget =
+        std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(std::min(budget_seconds_, 1e9)));
     flight.deadline = (Clock::now() + budget).time_since_epoch().count();
     lock.unlock();
     try {
       flight.promise.set_value(pending.job(flight.cancel));
     } catch (const Cancelled&) {
-      flight.promise.set_exception(std::make_exception_ptr(Cancelled(stop_message(flight.why.load(), budget_seconds_))));
+      flight.promise.set_exception(
+          std::make_exception_ptr(Cancelled(stop_message(flight.why.load(), budget_seconds_))));
     } catch (...) {
       flight.promise.set_exception(std::current_exception());
     }
@@ -122,7 +124,8 @@ void Bakery::drain() {
   std::lock_guard lock(mutex_);
   draining_ = true;
   for (Pending& pending : queue_) {
-    pending.flight->promise.set_exception(std::make_exception_ptr(Busy("the service shut down before this bake started")));
+    pending.flight->promise.set_exception(
+        std::make_exception_ptr(Busy("the service shut down before this bake started")));
     flights_.erase(pending.flight->key);
     ++stats_.discarded;
   }

@@ -115,8 +115,8 @@ void ConnectionLoop::stop() {
 }
 
 ConnectionLoop::Stats ConnectionLoop::stats() const {
-  return {open_.load(), working_.load(), writing_.load(), accepted_.load(), shed_.load(), timed_out_.load(),
-          refused_heads_.load(), client_gone_.load()};
+  return {open_.load(), working_.load(),   writing_.load(),       accepted_.load(),
+          shed_.load(), timed_out_.load(), refused_heads_.load(), client_gone_.load()};
 }
 
 void ConnectionLoop::run() {
@@ -188,8 +188,9 @@ void ConnectionLoop::accept_all() {
     ++open_;
     if (over) {  // answered 503 at once, then closed like any answer with Connection: close
       ++shed_;
-      answer_locally(added, 503, "all " + std::to_string(options_.max_connections) + " connections are open; retry later",
-                     true, "-");
+      answer_locally(added, 503,
+                     "all " + std::to_string(options_.max_connections) + " connections are open; retry later", true,
+                     "-");
     }
   }
 }
@@ -205,13 +206,16 @@ void ConnectionLoop::on_event(Connection& c, std::uint32_t events) {
       }
       break;
     case State::writing:
-      if (events & EPOLLERR) close(c);
-      else flush(c);
+      if (events & EPOLLERR)
+        close(c);
+      else
+        flush(c);
       break;
     case State::lingering: {
       char scratch[16384];
       ssize_t n;
-      while ((n = ::recv(c.fd, scratch, sizeof scratch, 0)) > 0) {}
+      while ((n = ::recv(c.fd, scratch, sizeof scratch, 0)) > 0) {
+      }
       if (n == 0 || (errno != EAGAIN && errno != EWOULDBLOCK && errno != EINTR)) close(c);
       break;
     }
@@ -267,8 +271,13 @@ void ConnectionLoop::take_heads(Connection& c) {
 void ConnectionLoop::dispatch(Connection& c, HeadScan&& scan) {
   ++c.served;
   auto cancel = std::make_shared<Cancellation>();
-  Exchange exchange{std::move(scan.head), c.peer_ip, c.local_ip, c.peer_port, c.local_port,
-                    c.served >= options_.max_requests_per_connection || draining_ || c.peer_closed, cancel};
+  Exchange exchange{std::move(scan.head),
+                    c.peer_ip,
+                    c.local_ip,
+                    c.peer_port,
+                    c.local_port,
+                    c.served >= options_.max_requests_per_connection || draining_ || c.peer_closed,
+                    cancel};
   const std::uint64_t id = c.id;
   c.state = State::working;  // before the worker can run, so that /healthz counts its own request
   ++working_;
@@ -285,8 +294,10 @@ void ConnectionLoop::dispatch(Connection& c, HeadScan&& scan) {
     --working_;
     ++shed_;
     const WorkerPool::Stats s = workers_.stats();
-    answer_locally(c, 503, "all " + std::to_string(s.threads) + " connection threads are busy and " +
-                               std::to_string(s.waiting) + " requests wait; retry later", true, scan.request_line);
+    answer_locally(c, 503,
+                   "all " + std::to_string(s.threads) + " connection threads are busy and " +
+                       std::to_string(s.waiting) + " requests wait; retry later",
+                   true, scan.request_line);
     return;
   }
   c.cancel = std::move(cancel);
@@ -297,8 +308,8 @@ void ConnectionLoop::dispatch(Connection& c, HeadScan&& scan) {
 void ConnectionLoop::answer_locally(Connection& c, int status, const std::string& message, bool retry,
                                     const std::string& line) {
   const std::string answer = local_answer(status, message, retry);
-  log_(c.peer_ip + " " + method_and_target(line) + " " + std::to_string(status) + " " +
-       std::to_string(answer.size()) + " bytes (" + message + ")");
+  log_(c.peer_ip + " " + method_and_target(line) + " " + std::to_string(status) + " " + std::to_string(answer.size()) +
+       " bytes (" + message + ")");
   c.in.clear();
   c.out += answer;
   c.close_after = true;
@@ -392,9 +403,10 @@ void ConnectionLoop::sweep() {
       case State::reading:
         ++timed_out_;
         if (c.head_started)
-          answer_locally(c, 408, "the request head did not arrive whole within " +
-                                     std::to_string(static_cast<int>(options_.header_seconds)) + " s", false,
-                         scan_head(c.in, options_.max_head_bytes).request_line);
+          answer_locally(c, 408,
+                         "the request head did not arrive whole within " +
+                             std::to_string(static_cast<int>(options_.header_seconds)) + " s",
+                         false, scan_head(c.in, options_.max_head_bytes).request_line);
         else
           close(c);  // idle beyond the keep-alive time
         break;

@@ -127,7 +127,7 @@ class ConnectionLoop {
   int epoll_ = -1, wake_ = -1;
   std::unordered_map<std::uint64_t, Connection> connections_;
   std::vector<std::uint64_t> closed_;
-  std::uint64_t next_id_ = 2;  ///< 0: the listener, 1: the wake-up event
+  std::uint64_t next_id_ = 2;                  ///< 0: the listener, 1: the wake-up event
   Clock::time_point listener_paused_until_{};  ///< after EMFILE; epoch: not paused
   Clock::time_point last_sweep_;
 

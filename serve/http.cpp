@@ -109,8 +109,10 @@ std::pair<int, int> listen_on(const std::string& bind, int port) {
     if (fd < 0) continue;
     const int yes = 1;
     setsockopt(fd, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof yes);
-    if (::bind(fd, a->ai_addr, a->ai_addrlen) == 0 && ::listen(fd, kListenBacklog) == 0) listener = fd;
-    else ::close(fd);
+    if (::bind(fd, a->ai_addr, a->ai_addrlen) == 0 && ::listen(fd, kListenBacklog) == 0)
+      listener = fd;
+    else
+      ::close(fd);
   }
   freeaddrinfo(found);
   if (listener < 0) throw InputError(refusal);
@@ -137,12 +139,14 @@ std::vector<std::string> allowed_host_names(const ServerOptions& options) {
 
 std::string joined(const std::vector<std::string>& names) {
   std::string out;
-  for (const std::string& n : names) out += (out.empty() ? "" : ", ") + (n.find(':') != std::string::npos ? "[" + n + "]" : n);
+  for (const std::string& n : names)
+    out += (out.empty() ? "" : ", ") + (n.find(':') != std::string::npos ? "[" + n + "]" : n);
   return out;
 }
 
 void wait_until(const std::function<bool()>& done, std::chrono::steady_clock::time_point deadline) {
-  while (!done() && std::chrono::steady_clock::now() < deadline) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  while (!done() && std::chrono::steady_clock::now() < deadline)
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
 }
 
 }  // namespace
@@ -158,7 +162,8 @@ bool host_allowed(const std::string& host_header, const std::vector<std::string>
     if (host.find(':', colon + 1) != std::string::npos) return false;  // a bare IPv6 address is not a Host
     host = host.substr(0, colon);
   }
-  return std::any_of(allowed.begin(), allowed.end(), [&](const std::string& a) { return a == "*" || lower(a) == host; });
+  return std::any_of(allowed.begin(), allowed.end(),
+                     [&](const std::string& a) { return a == "*" || lower(a) == host; });
 }
 
 int run(const ServiceOptions& service_options, const ServerOptions& options) {
@@ -167,7 +172,7 @@ int run(const ServiceOptions& service_options, const ServerOptions& options) {
   sigaddset(&signals, SIGINT);
   sigaddset(&signals, SIGTERM);
   pthread_sigmask(SIG_BLOCK, &signals, nullptr);  // inherited by every thread started below
-  std::signal(SIGPIPE, SIG_IGN);                 // a vanished client is a send error, not a signal
+  std::signal(SIGPIPE, SIG_IGN);                  // a vanished client is a send error, not a signal
 
   ConnectionLoop* loop_ptr = nullptr;  // for /healthz; set before the first request can arrive
   ServiceOptions so = service_options;
@@ -176,7 +181,7 @@ int run(const ServiceOptions& service_options, const ServerOptions& options) {
   so.connection_stats = [&loop_ptr]() -> nlohmann::ordered_json {
     if (!loop_ptr) return nlohmann::ordered_json::object();
     const ConnectionLoop::Stats s = loop_ptr->stats();
-    return {{"connections_open", s.open},     {"connections_working", s.working},
+    return {{"connections_open", s.open},       {"connections_working", s.working},
             {"connections_writing", s.writing}, {"connections_accepted", s.accepted},
             {"requests_shed", s.shed},          {"connections_timed_out", s.timed_out},
             {"heads_refused", s.refused_heads}, {"clients_gone", s.client_gone}};
@@ -212,10 +217,9 @@ int run(const ServiceOptions& service_options, const ServerOptions& options) {
   });
   router.set_error_handler([](const httplib::Request&, httplib::Response& res) {
     if (!res.body.empty()) return;
-    const std::string message = res.status == 414   ? "request URI too long"
-                                : res.status == 404 || res.status == 405
-                                    ? "only GET (and HEAD) requests are served"
-                                    : "bad request";
+    const std::string message = res.status == 414                        ? "request URI too long"
+                                : res.status == 404 || res.status == 405 ? "only GET (and HEAD) requests are served"
+                                                                         : "bad request";
     res.set_content(error_body(message), "application/json");
   });
   // Last word on every answer's headers, after httplib's own: a 304 has no body and so no
@@ -247,15 +251,17 @@ int run(const ServiceOptions& service_options, const ServerOptions& options) {
   });
 
   const auto [listener, port] = listen_on(options.bind, options.port);
-  WorkerPool workers(static_cast<std::size_t>(std::max(1, options.threads)), static_cast<std::size_t>(std::max(0, options.waiting)));
-  ConnectionLoop loop(listener, options.loop, workers,
-                      [&router](const Exchange& exchange) {
-                        current_cancel = exchange.cancel.get();
-                        Answer answer = router.answer(exchange);
-                        current_cancel = nullptr;
-                        return answer;
-                      },
-                      log_line);
+  WorkerPool workers(static_cast<std::size_t>(std::max(1, options.threads)),
+                     static_cast<std::size_t>(std::max(0, options.waiting)));
+  ConnectionLoop loop(
+      listener, options.loop, workers,
+      [&router](const Exchange& exchange) {
+        current_cancel = exchange.cancel.get();
+        Answer answer = router.answer(exchange);
+        current_cancel = nullptr;
+        return answer;
+      },
+      log_line);
   loop_ptr = &loop;
   log_line("listening on http://" + options.bind + ":" + std::to_string(port) + "/ (cache " + so.cache_dir + ", " +
            std::to_string(so.jobs) + " bake jobs, " + std::to_string(so.queue) + " queued at most; " +
@@ -284,7 +290,8 @@ int run(const ServiceOptions& service_options, const ServerOptions& options) {
   loop.stop();
   io.join();
   ::close(listener);
-  const long long still = static_cast<long long>(workers.stats().running) + service.health()["bakes_running"].get<long long>();
+  const long long still =
+      static_cast<long long>(workers.stats().running) + service.health()["bakes_running"].get<long long>();
   if (still > 0) {  // work that did not stop when cancelled: the cache is safe (atomic files); exit anyway
     log_line("stopped with " + std::to_string(still) + " requests or bakes still running");
     std::_Exit(0);

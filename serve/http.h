@@ -23,8 +23,8 @@ struct ServerOptions {
   /// the bound address; "*" allows any. Others: 403 (a page elsewhere reaching this service
   /// through DNS rebinding).
   std::vector<std::string> allowed_hosts;
-  LoopOptions loop;             ///< connections, deadlines, head size
-  double drain_seconds = 1.0;   ///< after SIGTERM, before what still runs is cancelled
+  LoopOptions loop;            ///< connections, deadlines, head size
+  double drain_seconds = 1.0;  ///< after SIGTERM, before what still runs is cancelled
 };
 
 /// Serves until SIGINT or SIGTERM, then returns 0. Blocks those signals in every thread it

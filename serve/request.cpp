@@ -149,7 +149,8 @@ void refuse_data_files(const nlohmann::json& value) {
 ModelPtr parse_served_model(const std::string& spec, const Limits& limits) {
   refuse_data_file(spec);
   ModelPtr model = as_request([&] { return parse_model(spec); });
-  if (const auto* mixture = dynamic_cast<const Mixture*>(model.get()); mixture && mixture->lobes().size() > limits.max_lobes)
+  if (const auto* mixture = dynamic_cast<const Mixture*>(model.get());
+      mixture && mixture->lobes().size() > limits.max_lobes)
     throw RequestError(413, "model '" + spec.substr(0, 80) + (spec.size() > 80 ? "...'" : "'") + " is a mixture of " +
                                 std::to_string(mixture->lobes().size()) + " lobes; this service computes at most " +
                                 std::to_string(limits.max_lobes) + " (use `ganzfeld eval` or `ganzfeld bake`)");

@@ -71,8 +71,9 @@ HeadScan scan_head(std::string_view buffer, std::size_t max_bytes) {
     const std::string_view value = trimmed(line.substr(colon + 1));
     if (field == "transfer-encoding" ||
         (field == "content-length" && value.find_first_not_of('0') != std::string_view::npos))
-      return refused(scan, 413, "a request with a body: only GET and HEAD are served and their requests carry none; "
-                                "the connection is closed");
+      return refused(scan, 413,
+                     "a request with a body: only GET and HEAD are served and their requests carry none; "
+                     "the connection is closed");
     if (field == "range" || field == "if-range") continue;  // every answer is the whole body
     kept.append(line);
     kept.append("\r\n");

@@ -128,7 +128,8 @@ Service::Service(ServiceOptions options)
     : options_(std::move(options)),
       bakery_(options_.jobs, options_.queue, options_.max_request_seconds),
       models_(shapes::models_json().dump() + "\n") {
-  if (const int removed = remove_stale_temporaries(options_.cache_dir, options_.max_request_seconds); removed && options_.log)
+  if (const int removed = remove_stale_temporaries(options_.cache_dir, options_.max_request_seconds);
+      removed && options_.log)
     options_.log("removed " + std::to_string(removed) + " temporary file(s) older than " +
                  format_number(options_.max_request_seconds) + " s from the cache (left by killed writers)");
 }
@@ -233,8 +234,10 @@ Reply Service::eval(const Request& request) {
 
 std::optional<tables::Table> Service::cached(const TableQuery& q, const std::string& path) {
   std::string why;
-  std::optional<tables::Table> table = tables::read_if_matching(path, tables::table_key(*q.model, q.law, q.options), &why);
-  if (!why.empty() && options_.log) options_.log("cache entry " + q.file_name + " refused (" + why + "); baking it again");
+  std::optional<tables::Table> table =
+      tables::read_if_matching(path, tables::table_key(*q.model, q.law, q.options), &why);
+  if (!why.empty() && options_.log)
+    options_.log("cache entry " + q.file_name + " refused (" + why + "); baking it again");
   return table;
 }
 
@@ -254,7 +257,8 @@ Bakery::Result Service::obtain(const TableQuery& q, std::string& status, const C
     tables::CacheResult baked;
     try {
       baked = tables::bake_or_reuse(path, *q.model, q.law, options, command);
-    } catch (const InputError& e) {  // the cache cannot take the file (a directory at its name, a full disk): ours, not the client's
+    } catch (const InputError&
+                 e) {  // the cache cannot take the file (a directory at its name, a full disk): ours, not the client's
       throw std::runtime_error("the cache cannot hold " + q.file_name + ": " + e.what());
     }
     auto r = std::make_shared<const tables::CacheResult>(std::move(baked));

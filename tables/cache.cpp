@@ -123,9 +123,12 @@ std::optional<Table> read_if_matching(const std::string& path, const TableKey& k
   std::string reason;
   try {
     Table table = read_table(path);
-    if (!same_key(table_key(table), key)) reason = "it holds another table (its metadata is not the key)";
-    else if (table.values_digest.empty()) reason = "it has no ganzfeld.values_digest to verify its numbers by";
-    else return table;
+    if (!same_key(table_key(table), key))
+      reason = "it holds another table (its metadata is not the key)";
+    else if (table.values_digest.empty())
+      reason = "it has no ganzfeld.values_digest to verify its numbers by";
+    else
+      return table;
   } catch (const InputError& e) {  // corrupt, truncated or not a table: re-baked by the caller
     reason = e.what();
   }

@@ -37,16 +37,21 @@ int main(int argc, char** argv) {
       value.resize(static_cast<std::size_t>(width) * height);
       error.resize(value.size());
       Imf::FrameBuffer frame;
-      frame.insert("value", Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(value.data()), sizeof(float), sizeof(float) * width));
-      frame.insert("error", Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(error.data()), sizeof(float), sizeof(float) * width));
+      frame.insert("value",
+                   Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(value.data()), sizeof(float), sizeof(float) * width));
+      frame.insert("error",
+                   Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(error.data()), sizeof(float), sizeof(float) * width));
       in.setFrameBuffer(frame);
       in.readPixels(window.min.y, window.max.y);
     }
-    if (index >= value.size()) throw std::runtime_error("index beyond the table's " + std::to_string(value.size()) + " entries");
+    if (index >= value.size())
+      throw std::runtime_error("index beyond the table's " + std::to_string(value.size()) + " entries");
     value[index] = std::nextafter(value[index], 2.0f * value[index] + 1.0f);
     Imf::FrameBuffer frame;
-    frame.insert("value", Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(value.data()), sizeof(float), sizeof(float) * width));
-    frame.insert("error", Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(error.data()), sizeof(float), sizeof(float) * width));
+    frame.insert("value",
+                 Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(value.data()), sizeof(float), sizeof(float) * width));
+    frame.insert("error",
+                 Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(error.data()), sizeof(float), sizeof(float) * width));
     Imf::OutputFile out(path.c_str(), header);
     out.setFrameBuffer(frame);
     out.writePixels(height);

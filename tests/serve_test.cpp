@@ -109,7 +109,8 @@ TEST(ServeRequest, NumbersAreFiniteDecimalsAndMixturesAreBounded) {
     EXPECT_EQ(eval_refusal("model=lambert&law=h&theta_j=" + text).first, 0) << text;
   EXPECT_EQ(eval_refusal("model=lambert&law=h&theta_j=1&tol=0x1p-20").first, 400);
   const std::vector<std::pair<std::string, std::string>> cases{
-      {"model=lambert&law=g&theta_i=10&theta_j=10&phi=1e308", "phi=1e+308 is out of range; allowed: [-360, 360] degrees"},
+      {"model=lambert&law=g&theta_i=10&theta_j=10&phi=1e308",
+       "phi=1e+308 is out of range; allowed: [-360, 360] degrees"},
       {"model=lambert&law=g&theta_i=10&theta_j=10&phi=-361", "phi=-361 is out of range"},
       {"model=1.7e308*lambert %2B 1.7e308*lambert&law=h&theta_j=1", "sum to more than the largest number"},
   };
@@ -182,12 +183,14 @@ TEST(ServeRequest, TableRefusals) {
 
 // serve/request_head.h: what the connection loop decides before httplib sees a head.
 TEST(ServeHead, CompleteHeadsLoseRangeAndKeepTheRest) {
-  const std::string head = "GET /api/table?x=1 HTTP/1.1\r\nHost: 127.0.0.1\r\nRange: bytes=0-9\r\n"
-                           "If-Range: \"e\"\r\nContent-Length: 0\r\nIf-None-Match: *\r\n\r\n";
+  const std::string head =
+      "GET /api/table?x=1 HTTP/1.1\r\nHost: 127.0.0.1\r\nRange: bytes=0-9\r\n"
+      "If-Range: \"e\"\r\nContent-Length: 0\r\nIf-None-Match: *\r\n\r\n";
   const HeadScan scan = scan_head("\r\n" + head + "GET /next", 32768);
   ASSERT_EQ(scan.verdict, HeadScan::Verdict::complete) << scan.message;
   EXPECT_EQ(scan.consumed, 2 + head.size()) << "a leading empty line is skipped; the next request stays";
-  EXPECT_EQ(scan.head, "GET /api/table?x=1 HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Length: 0\r\nIf-None-Match: *\r\n\r\n");
+  EXPECT_EQ(scan.head,
+            "GET /api/table?x=1 HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Length: 0\r\nIf-None-Match: *\r\n\r\n");
   EXPECT_EQ(scan.request_line, "GET /api/table?x=1 HTTP/1.1");
   EXPECT_EQ(scan_head("GET / HTTP/1.1\r\nrange:  bytes=1-\r\n\r\n", 32768).head, "GET / HTTP/1.1\r\n\r\n");
 }
@@ -222,8 +225,8 @@ TEST(ServeHost, LocalNamesAndTheAllowedOnes) {
   const std::vector<std::string> allowed{"localhost", "127.0.0.1", "::1", "viewer.test"};
   for (const char* host : {"localhost", "LOCALHOST:8080", "127.0.0.1:1", "[::1]:8080", "[::1]", "viewer.test:80"})
     EXPECT_TRUE(host_allowed(host, allowed)) << host;
-  for (const char* host : {"", "evil.example", "evil.example:8080", "localhost.evil.example", "127.0.0.1.nip.io",
-                           "::1", "[::1", "localhost:80:80"})
+  for (const char* host : {"", "evil.example", "evil.example:8080", "localhost.evil.example", "127.0.0.1.nip.io", "::1",
+                           "[::1", "localhost:80:80"})
     EXPECT_FALSE(host_allowed(host, allowed)) << host;
   EXPECT_TRUE(host_allowed("anything:1", {"*"}));
 }
@@ -334,7 +337,8 @@ TEST(ServeBakery, ABakeNobodyWaitsForIsCancelled) {
   EXPECT_EQ(cancelled.load(), 0) << "cancelled while a waiter remained";
   second.cancel(StopReason::deadline);  // the last waiter leaves: the bake stops
   waiter_b.join();
-  for (int k = 0; k < 500 && bakery.stats().running > 0; ++k) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  for (int k = 0; k < 500 && bakery.stats().running > 0; ++k)
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
   EXPECT_EQ(cancelled.load(), 1);
   EXPECT_EQ(bakery.stats().cancelled, 1);
   EXPECT_EQ(bakery.stats().running, 0);
@@ -455,7 +459,8 @@ TEST_F(ServeService, AnEvalStopsWhenItsRequestIsCancelled) {
   const Reply r = service.handle("/api/eval", kExpensiveEval, "", &cancel);
   later.join();
   EXPECT_EQ(r.status, 503) << r.body;
-  EXPECT_NE(nlohmann::json::parse(r.body)["error"].get<std::string>().find("--max-request-seconds"), std::string::npos) << r.body;
+  EXPECT_NE(nlohmann::json::parse(r.body)["error"].get<std::string>().find("--max-request-seconds"), std::string::npos)
+      << r.body;
   EXPECT_EQ(header(r, "Retry-After"), "") << "retrying the same request cannot help";
   Cancellation shutdown;
   shutdown.cancel(StopReason::shutdown);

@@ -573,12 +573,15 @@ TEST(Table, CacheRebakesNumbersItCannotVerify) {
   EXPECT_EQ(why, "");
   for (const bool drop_digest : {false, true}) {
     RawExr raw = RawExr::load(path);
-    if (drop_digest) raw.dropped.insert("ganzfeld.values_digest");
-    else raw.channels["value"][4] *= 1.0f + 1e-6f;
+    if (drop_digest)
+      raw.dropped.insert("ganzfeld.values_digest");
+    else
+      raw.channels["value"][4] *= 1.0f + 1e-6f;
     raw.save(path);
     EXPECT_FALSE(read_if_matching(path, key, &why));
     EXPECT_NE(why.find(drop_digest ? "no ganzfeld.values_digest" : "do not match ganzfeld.values_digest"),
-              std::string::npos) << why;
+              std::string::npos)
+        << why;
     const CacheResult again = bake_or_reuse(path, *m, Law::h, options, "lut_test");
     EXPECT_EQ(again.status, CacheStatus::baked);
     EXPECT_EQ(read_table(path).value, first.table.value);
