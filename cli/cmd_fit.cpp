@@ -65,6 +65,7 @@ nlohmann::ordered_json estimate_json(const Estimate& e) {
 }
 
 int run_fit(const FitArgs& args) {
+  const InterruptGuard guard;  // from here: Ctrl-C while the data load also ends in the best fit (the start)
   if (args.data.empty() || args.model.empty())
     throw InputError("fit needs --data SPEC and --model SPEC (or --report)");
   const fit::Metric metric = fit::parse_metric(args.metric);
@@ -98,11 +99,7 @@ int run_fit(const FitArgs& args) {
       bar(static_cast<std::uint64_t>(std::min(p.evaluations, p.budget)), static_cast<std::uint64_t>(p.budget));
     };
   options.interrupted = [] { return interrupt_requested.load(); };
-  fit::FitResult result;
-  {
-    const InterruptGuard guard;
-    result = fit::fit_model(samples, model_spec, options);
-  }
+  const fit::FitResult result = fit::fit_model(samples, model_spec, options);
   if (bar) bar(1, 1);
   std::optional<fit::LawDifference> laws;
   if (args.laws) laws = fit::law_difference(*data, *parse_model(result.spec), args.tol);

@@ -40,13 +40,16 @@ struct RecoveryRow {
   double noise = 0.0;              ///< export-brdf --noise
   std::vector<ParameterError> errors;
   double max_relative = 0.0;
-  std::vector<double> seconds;     ///< wall time of each repeated fit (data read and sampled included)
-  FitResult result;                ///< the last run
+  std::vector<double> seconds;      ///< wall time of each repeated fit (data read and sampled included)
+  std::vector<double> cpu_seconds;  ///< the process's CPU time of each, both cores together
+  LocalSearch local = LocalSearch::praxis;
+  FitResult result;                 ///< the last run
 };
 
 struct FitRow {
   std::string data_label, data_spec;  ///< the data model and the spec it was made from
   std::string model;                  ///< the fit model (its default start)
+  Metric metric = Metric::log;        ///< the metric minimized
   FitResult result;
   LawDifference laws;
 };
@@ -62,6 +65,7 @@ struct Target {
 
 struct Report {
   std::vector<RecoveryRow> recovery;
+  std::vector<RecoveryRow> local_searches;  ///< PRAXIS against BOBYQA on the same recoveries
   std::vector<FitRow> lumps;           ///< part 2
   std::vector<FitRow> cross;           ///< part 3
   std::vector<std::string> data_models, fit_models;

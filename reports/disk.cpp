@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <random>
 
 #include <tbb/parallel_for.h>
 
@@ -19,16 +20,39 @@ using std::numbers::pi;
 
 /// The (u, v) frame every disk is drawn in: it holds the disks of ω_o from 0 to 90°.
 constexpr double kU0 = -1.1, kU1 = 2.1, kV0 = -1.1, kV1 = 1.1;
-/// Tone scale: densities down to 10^-kDecades of the row's largest data density are visible.
-constexpr double kDecades = 3.0;
 /// Grid points per axis over the disk's bounding square for disk_spread.
 constexpr int kSpreadGrid = 400;
 
 Vec3 outgoing(double theta_o_deg) { return direction(theta_o_deg * pi / 180.0, 0.0); }
 
-double tone(double p, double top) {
-  if (!(p > 0.0) || !(top > 0.0)) return 0.0;
-  return std::clamp(1.0 + std::log10(p / top) / kDecades, 0.0, 1.0);
+constexpr plot::Rgb kDataColour{215, 25, 28}, kFitColour{30, 80, 220};
+
+/// `count` points drawn with the density p on the disk: p tabulated on the figure's pixels (the
+/// mean of ss × ss supersamples each), a pixel drawn in proportion to its share, a point uniform in it.
+std::vector<hvd::Uv> sample_disk(const Model& model, DiskProjection projection, const Vec3& j, int w, int h, int ppu,
+                                 int ss, int count, std::mt19937_64& engine) {
+  std::vector<double> cumulative(static_cast<std::size_t>(w) * h);
+  tbb::parallel_for(0, h, [&](int y) {
+    for (int x = 0; x < w; ++x) {
+      double sum = 0.0;
+      for (int a = 0; a < ss; ++a)
+        for (int b = 0; b < ss; ++b)
+          sum += disk_density(model, projection, j, {kU0 + (x + (a + 0.5) / ss) / ppu, kV1 - (y + (b + 0.5) / ss) / ppu});
+      cumulative[static_cast<std::size_t>(y) * w + x] = sum;
+    }
+  });
+  for (std::size_t k = 1; k < cumulative.size(); ++k) cumulative[k] += cumulative[k - 1];
+  std::vector<hvd::Uv> points;
+  if (!(cumulative.back() > 0.0)) return points;
+  std::uniform_real_distribution<double> uniform(0.0, 1.0);
+  for (int n = 0; n < count; ++n) {
+    const double target = uniform(engine) * cumulative.back();
+    const auto pixel = static_cast<std::size_t>(std::upper_bound(cumulative.begin(), cumulative.end(), target) -
+                                                cumulative.begin());
+    const int x = static_cast<int>(std::min(pixel, cumulative.size() - 1) % w), y = static_cast<int>(pixel / w);
+    points.push_back({kU0 + (x + uniform(engine)) / ppu, kV1 - (y + uniform(engine)) / ppu});
+  }
+  return points;
 }
 
 }  // namespace
@@ -54,15 +78,18 @@ void write_disk_figure(const Model& data, const Model* fit, const DiskOptions& o
       throw InputError("--theta-o " + format_number(t) + " is not allowed; allowed: angles in [0, 90) degrees");
   const int ppu = options.pixels_per_unit, ss = std::max(1, options.samples_per_pixel_axis);
   const int w = static_cast<int>((kU1 - kU0) * ppu), h = static_cast<int>((kV1 - kV0) * ppu);
-  const int columns = fit ? 6 : 2, rows = static_cast<int>(options.theta_o_deg.size());
+  const int panels = fit ? 3 : 1, columns = 2 * panels, rows = static_cast<int>(options.theta_o_deg.size());
   const int left = 150, top = 60, gap = 10;
   plot::Canvas cv(left + columns * (w + gap), top + rows * (h + gap));
-  const char* headers_fit[] = {"ORTHOGONAL: DATA", "FIT", "BOTH", "SCALING: DATA", "FIT", "BOTH"};
+  const char* headers_fit[] = {"ORTHO: DATA", "ORTHO: FIT", "ORTHO: BOTH", "SCALING: DATA", "SCALING: FIT", "SCALING: BOTH"};
   const char* headers_data[] = {"ORTHOGONAL", "SCALING"};
   for (int c = 0; c < columns; ++c)
     cv.text(left + c * (w + gap) + 4, top - 24, fit ? headers_fit[c] : headers_data[c], plot::kBlack);
-  cv.text(8, 8, fit ? "RED: DATA  BLUE: FIT  (LOG SCALE, 3 DECADES)" : "DENSITY ON THE DISK (LOG SCALE, 3 DECADES)",
+  cv.text(8, 8,
+          std::to_string(options.points) + " HALFWAY VECTORS DRAWN FROM EACH DENSITY" +
+              (fit ? ": RED DATA, BLUE FIT" : ""),
           plot::kGrey);
+  std::mt19937_64 engine(options.seed);
 
   for (int r = 0; r < rows; ++r) {
     const Vec3 j = outgoing(options.theta_o_deg[r]);
@@ -70,41 +97,25 @@ void write_disk_figure(const Model& data, const Model* fit, const DiskOptions& o
     cv.text(8, y0 + h / 2 - 7, "THETA_O " + format_number(options.theta_o_deg[r]), plot::kBlack);
     for (int proj = 0; proj < 2; ++proj) {
       const DiskProjection projection = proj == 0 ? DiskProjection::orthogonal : DiskProjection::scaling;
-      // Densities per pixel (mean of the supersamples), data and fit.
-      std::vector<double> pd(static_cast<std::size_t>(w) * h), pf(pd.size());
-      tbb::parallel_for(0, h, [&](int y) {
-        for (int x = 0; x < w; ++x) {
-          double sd = 0.0, sf = 0.0;
-          for (int a = 0; a < ss; ++a)
-            for (int b = 0; b < ss; ++b) {
-              const hvd::Uv q{kU0 + (x + (a + 0.5) / ss) / ppu, kV1 - (y + (b + 0.5) / ss) / ppu};
-              sd += disk_density(data, projection, j, q);
-              if (fit) sf += disk_density(*fit, projection, j, q);
-            }
-          pd[static_cast<std::size_t>(y) * w + x] = sd / (ss * ss);
-          pf[static_cast<std::size_t>(y) * w + x] = sf / (ss * ss);
-        }
-      });
-      const double top_density = *std::max_element(pd.begin(), pd.end());
-      const int panels = fit ? 3 : 1;
+      const std::vector<hvd::Uv> data_points = sample_disk(data, projection, j, w, h, ppu, ss, options.points, engine);
+      const std::vector<hvd::Uv> fit_points =
+          fit ? sample_disk(*fit, projection, j, w, h, ppu, ss, options.points, engine) : std::vector<hvd::Uv>{};
       for (int k = 0; k < panels; ++k) {
         const int x0 = left + (proj * panels + k) * (w + gap);
-        for (int y = 0; y < h; ++y)
-          for (int x = 0; x < w; ++x) {
-            const double td = tone(pd[static_cast<std::size_t>(y) * w + x], top_density);
-            const double tf = tone(pf[static_cast<std::size_t>(y) * w + x], top_density);
-            // Red for the data, blue for the fit, multiplied where both are drawn (purple).
-            const double red_d = k == 1 ? 0.0 : td, blue_f = k == 0 ? 0.0 : tf;
-            const double r_ch = 1.0 - blue_f, g_ch = (1.0 - red_d) * (1.0 - blue_f), b_ch = 1.0 - red_d;
-            cv.set(x0 + x, y0 + y,
-                   {static_cast<std::uint8_t>(std::lround(255 * r_ch)), static_cast<std::uint8_t>(std::lround(255 * g_ch)),
-                    static_cast<std::uint8_t>(std::lround(255 * b_ch))});
-          }
         // The disk's rim and the origin (the mirror direction's halfway vector).
         for (int s = 0; s < 720; ++s) {
           const double a = s * pi / 360.0;
           const double u = j.x + std::cos(a), v = std::sin(a);
           cv.set(x0 + static_cast<int>((u - kU0) * ppu), y0 + static_cast<int>((kV1 - v) * ppu), plot::kGrey);
+        }
+        auto dot = [&](const hvd::Uv& q, plot::Rgb c) {
+          const int x = x0 + static_cast<int>((q.u - kU0) * ppu), y = y0 + static_cast<int>((kV1 - q.v) * ppu);
+          cv.set(x, y, c);
+        };
+        // Interleaved, so that neither colour hides the other where both are dense.
+        for (std::size_t n = 0; n < std::max(data_points.size(), fit_points.size()); ++n) {
+          if (k != 1 && n < data_points.size()) dot(data_points[n], kDataColour);
+          if (k != 0 && n < fit_points.size()) dot(fit_points[n], kFitColour);
         }
         const int ox = x0 + static_cast<int>(-kU0 * ppu), oy = y0 + static_cast<int>(kV1 * ppu);
         cv.line(ox - 4, oy, ox + 4, oy, plot::kBlack);

@@ -14,6 +14,7 @@
 // direction's halfway vector) stays put.
 #pragma once
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -29,12 +30,15 @@ double disk_density(const Model& model, DiskProjection projection, const Vec3& j
 struct DiskOptions {
   std::vector<double> theta_o_deg{0, 15, 30, 45, 60, 75};  ///< Fig. 13's outgoing angles
   int pixels_per_unit = 56;                               ///< of the (u, v) plane
-  int samples_per_pixel_axis = 2;                         ///< supersampling (n × n per pixel)
+  int samples_per_pixel_axis = 2;                         ///< the density per pixel: the mean of n × n points
+  int points = 3000;                                      ///< halfway vectors drawn per disk and model
+  std::uint64_t seed = 13;                                ///< of the draws: the same figure every time
 };
 
-/// The figure: a row per ω_o; columns orthogonal data (red), fit (blue), both overlaid, then the
-/// same for the scaling projection. Without a fit, data only. Log tone scale over three decades
-/// below the row's largest data density. Written atomically as PNG.
+/// The figure, as Fig. 13 shows it: halfway vectors drawn from each density as dots, red for the
+/// data, blue for the fit; a row per ω_o; columns data, fit and both in the orthogonal projection,
+/// then the same in the scaling projection (without a fit, one column per projection). Written
+/// atomically as PNG.
 void write_disk_figure(const Model& data, const Model* fit, const DiskOptions& options, const std::string& path);
 
 /// How widely the specular part of the density spreads about the origin on the orthogonal disk:
