@@ -109,19 +109,20 @@ TEST(FitSamples, NoisyExportsScatterByTheirSigmaAndRepeatWithTheirSeed) {
 }
 
 TEST(FitMetrics, MatchHandComputedValues) {
-  // Two samples: weights 1 and 3, cos θ_i 1 and 0.5, data 2 and 4, model 1 and 4.
+  // Two samples: weights 1 and 3, cos θ_i 1 and 0.5, data 2 and 4, model 2 and 2.
   FitData d;
   d.i = {{0, 0, 1}, {std::sqrt(0.75), 0, 0.5}};
   d.j = d.i;
   d.value = {2.0, 4.0};
   d.weight = {1.0, 3.0};
-  const MetricValues m = measure(d, {1.0, 4.0});
-  // E = sqrt((1·(2−1)²·1² + 3·0) / 4); E_rel: over Σ w d² c² = 1·4·1 + 3·16·0.25 = 16.
-  EXPECT_DOUBLE_EQ(m.ngan_rms, std::sqrt(1.0 / 4.0));
-  EXPECT_DOUBLE_EQ(m.ngan_relative, std::sqrt(1.0 / 16.0));
-  // E_log = sqrt(1·(ln 3 − ln 2)² / 4).
-  EXPECT_NEAR(m.log_rms, std::sqrt(std::pow(std::log(3.0) - std::log(2.0), 2) / 4.0), 1e-15);
-  EXPECT_DOUBLE_EQ(objective(Metric::ngan, m), 1.0 / 16.0);
+  const MetricValues m = measure(d, {2.0, 2.0});
+  // E = sqrt((0 + 3·((4 − 2)·0.5)²) / 4); E_rel over Σ w d² c² = 1·4·1 + 3·16·0.25 = 16.
+  EXPECT_DOUBLE_EQ(m.ngan_rms, std::sqrt(3.0 / 4.0));
+  EXPECT_DOUBLE_EQ(m.ngan_relative, std::sqrt(3.0 / 16.0));
+  // E_log = sqrt(3·(ln(1 + 4·0.5) − ln(1 + 2·0.5))² / 4).
+  EXPECT_NEAR(m.log_rms, std::sqrt(3.0 * std::pow(std::log(3.0) - std::log(2.0), 2) / 4.0), 1e-15);
+  EXPECT_DOUBLE_EQ(objective(Metric::ngan, m), 3.0 / 16.0);
+  EXPECT_NEAR(objective(Metric::log, m), 3.0 * std::pow(std::log(1.5), 2) / 4.0, 1e-15);
   EXPECT_THROW(parse_metric("l2"), InputError);
 }
 
