@@ -40,6 +40,7 @@ struct RecoveryRow {
   double noise = 0.0;              ///< export-brdf --noise
   std::vector<ParameterError> errors;
   double max_relative = 0.0;
+  bool equivalent = false;          ///< the errors are against the truth with its lumps swapped (hvd-fit)
   std::vector<double> seconds;      ///< wall time of each repeated fit (data read and sampled included)
   std::vector<double> cpu_seconds;  ///< the process's CPU time of each, both cores together
   LocalSearch local = LocalSearch::praxis;
