@@ -30,7 +30,7 @@ struct FitArgs {
   double max_theta = fit::SampleOptions{}.max_theta_deg;
   int starts = fit::FitOptions{}.starts, max_evaluations = fit::FitOptions{}.max_evaluations;
   double max_seconds = 0.0, tol = 1e-5;
-  bool laws = true, json = false, quiet = false;
+  bool no_laws = false, json = false, quiet = false;
   // --report
   bool report = false, quick = false;
   std::string markdown, commit = "unknown", figures;
@@ -70,7 +70,7 @@ int run_fit(const FitArgs& args) {
     throw InputError("fit needs --data SPEC and --model SPEC (or --report)");
   const fit::Metric metric = fit::parse_metric(args.metric);
   const fit::LocalSearch local = fit::parse_local_search(args.local);
-  if (args.laws) validate_tolerance(args.tol);
+  if (!args.no_laws) validate_tolerance(args.tol);
   fit::SampleOptions sampling;
   sampling.grid = fit::parse_grid(args.grid);
   sampling.max_theta_deg = args.max_theta;
@@ -93,16 +93,18 @@ int run_fit(const FitArgs& args) {
   fit::ParameterSpace(model_spec, options.fixed);  // refuse a model that cannot be fitted before sampling
   const fit::FitData samples = fit::sample_data(*data, sampling);
 
+  // The bar runs over the evaluation budget and is completed when the search ends (most end early).
   auto bar = util::progress_bar("fit " + fit::spec_terms(model_spec).front().name, args.quiet || args.json);
+  const auto budget = static_cast<std::uint64_t>(options.starts) * static_cast<std::uint64_t>(options.max_evaluations);
   if (bar)
-    options.progress = [bar](const fit::FitProgress& p) {
-      bar(static_cast<std::uint64_t>(std::min(p.evaluations, p.budget)), static_cast<std::uint64_t>(p.budget));
+    options.progress = [bar, budget](const fit::FitProgress& p) {
+      bar(std::min(static_cast<std::uint64_t>(p.evaluations), budget - 1), budget);
     };
   options.interrupted = [] { return interrupt_requested.load(); };
   const fit::FitResult result = fit::fit_model(samples, model_spec, options);
-  if (bar) bar(1, 1);
+  if (bar) bar(budget, budget);
   std::optional<fit::LawDifference> laws;
-  if (args.laws) laws = fit::law_difference(*data, *parse_model(result.spec), args.tol);
+  if (!args.no_laws) laws = fit::law_difference(*data, *parse_model(result.spec), args.tol);
 
   if (args.json) {
     nlohmann::ordered_json doc;
@@ -185,7 +187,7 @@ void add_fit_command(CLI::App& app, Action& action) {
   cmd->add_option("--max-evals", args->max_evaluations, "evaluations per local search (default 4000)");
   cmd->add_option("--max-seconds", args->max_seconds, "stop after this long with the best point (default 0: no limit)");
   cmd->add_option("--tol", args->tol, "absolute tolerance of the laws of data and fit (default 1e-5)");
-  cmd->add_flag("!--no-laws", args->laws, "skip the laws g, h, a of data and fit");
+  cmd->add_flag("--no-laws", args->no_laws, "skip the laws g, h, a of data and fit");
   cmd->add_flag("--json", args->json, "print one JSON document");
   cmd->add_flag("--quiet", args->quiet, "no progress bar");
   cmd->add_flag("--report", args->report, "run the fitting report (recovery, cross-model table, disk view)");
