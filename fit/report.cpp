@@ -124,8 +124,9 @@ struct Setup {
 std::vector<std::string> equivalent_truths(const std::string& truth) {
   std::vector<std::string> out{truth};
   if (model_name(truth) != "hvd-fit") return out;
+  const std::vector<SpecTerm> terms = spec_terms(truth);  // a range-for would not keep the temporary alive
   std::map<std::string, std::string> v;
-  for (const auto& [key, text] : spec_terms(truth).front().items) v[key] = text;
+  for (const auto& [key, text] : terms.front().items) v[key] = text;
   out.push_back("hvd-fit:cd=" + v["cd"] + ",f0=" + v["f0"] + ",f90=" + v["f90"] + ",k=" +
                 format_number(1.0 - std::stod(v["k"])) + ",n1=" + v["n2"] + ",r1=" + v["r2"] + ",n2=" + v["n1"] +
                 ",r2=" + v["r1"]);
@@ -236,7 +237,9 @@ Report run_report(const ReportOptions& options) {
 
   // 1. Recovery, noise-free (timed, repeated) and noisy.
   const std::vector<std::string> truths =
-      options.quick ? std::vector<std::string>{"ward:rho_d=0.4,rho_s=0.2,alpha=0.15"} : kRecoveryTruths;
+      options.quick ? std::vector<std::string>{"ward:rho_d=0.4,rho_s=0.2,alpha=0.15",
+                                               "hvd-fit:cd=0.4,f0=0.05,f90=0.8,k=0.3,n1=200,r1=0.3,n2=20,r2=0.6"}
+                    : kRecoveryTruths;
   for (const std::string& truth : truths)
     report.recovery.push_back(recover(setup, truth, 0.0, options.quick ? 1 : kTimingRepeats, LocalSearch::praxis));
   for (const std::string& truth : truths) report.recovery.push_back(recover(setup, truth, kNoise, 1, LocalSearch::praxis));
