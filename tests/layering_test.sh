@@ -7,8 +7,8 @@ cd "$1"
 # The arrows: each module and the modules it builds on directly (docs/architecture.md, "The rooms").
 declare -A arrows=(
   [util]="" [models]="util" [reference]="models" [integrate]="models" [tables]="integrate" [scene]="tables" [export]="scene"
-  [shapes]="tables" [serve]="export shapes" [reports]="tables reference" [rasterizer]="scene" [bench]="rasterizer reports" [fit]="export reports"
-  [cli]="serve reports bench fit" [fuzz]="cli"
+  [shapes]="tables" [serve]="export shapes" [reports]="tables reference" [rasterizer]="scene" [bench]="rasterizer reports"
+  [fit]="export reports" [cli]="serve reports bench fit" [fuzz]="cli" [python]="shapes reports"
 )
 # What a module may use: itself and everything its arrows reach.
 declare -A allowed
