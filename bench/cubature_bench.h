@@ -148,9 +148,6 @@ std::vector<BakeTiming> run_bake_benchmark(bool quick, int repeats);
 std::string significant(double x, int digits = 3);
 std::string percent(int part, int whole);
 
-/// The machine, read from it: CPU model (/proc/cpuinfo) and hardware threads.
-std::string machine_description();
-
 /// Our evaluations per family in a run of the previous engine: `family,competitor,runs,evaluations`
 /// lines (ours and ours_no_hints summed over every case and tolerance) after `#` comment lines that
 /// say how they were made (scripts/performance-baseline). Throws InputError for a malformed file.

@@ -34,6 +34,7 @@
 #pragma once
 
 #include <array>
+#include <atomic>
 #include <functional>
 #include <limits>
 #include <span>
@@ -61,6 +62,10 @@ struct CubatureOptions {
   /// only new nodes find it. Callers whose cuts come from the integrand's own mass hints
   /// (integrate/laws_integrals.cpp) turn it off: their panels are placed where the mass is.
   bool bisect_initial_panels = true;
+  /// When set, read before every panel: once it holds true the integral stops where it is and
+  /// is returned not converged (a caller that no longer wants the answer: a deadline, a client
+  /// gone, a shutdown). The caller owns the flag and knows why it set it.
+  const std::atomic<bool>* cancel = nullptr;
 };
 
 /// Number of nodes per axis of the Kronrod rule.
