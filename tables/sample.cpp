@@ -10,16 +10,26 @@ namespace ganzfeld::tables {
 
 bool is_even_axis(const Axis& axis) noexcept { return axis.name == kAxisPhi || axis.name == kAxisBeta; }
 
-AxisTaps axis_taps(const Axis& axis, double u, Interpolation interpolation) noexcept {
+double filter_weight(double t, WeightRounding rounding) noexcept {
+  switch (rounding) {
+    case WeightRounding::nearest: return std::round(t * kFilterWeightSteps) / kFilterWeightSteps;
+    case WeightRounding::truncate: return std::floor(t * kFilterWeightSteps) / kFilterWeightSteps;
+    case WeightRounding::exact: break;
+  }
+  return t;
+}
+
+AxisTaps axis_taps(const Axis& axis, double u, Interpolation interpolation, WeightRounding rounding) noexcept {
   AxisTaps out;
   const int n = axis.count;
   const double s = std::clamp(u, 0.0, 1.0) * (n - 1);  // in [0, count - 1]
   const int k = static_cast<int>(std::min(std::floor(s), static_cast<double>(n - 2)));
   const double t = s - k;
   if (interpolation == Interpolation::linear || n < 4) {
+    const double tq = filter_weight(t, rounding);
     out.taps = 2;
     out.node = {k, k + 1, k + 1, k + 1};
-    out.weight = {1.0 - t, t, 0.0, 0.0};
+    out.weight = {1.0 - tq, tq, 0.0, 0.0};
     return out;
   }
   // Catmull–Rom on nodes k-1, k, k+1, k+2 (tangents (p[k+1] - p[k-1])/2).
@@ -47,6 +57,12 @@ AxisTaps axis_taps(const Axis& axis, double u, Interpolation interpolation) noex
     }
     w[3] = 0.0;
   }
+  if (rounding != WeightRounding::exact) {  // nodes k, k+1: one linear fetch at fraction w2/(w1 + w2)
+    const double middle = w[1] + w[2];
+    const double f = filter_weight(w[2] / middle, rounding);
+    w[1] = middle * (1.0 - f);
+    w[2] = middle * f;
+  }
   out.taps = 4;
   for (int d = 0; d < 4; ++d) {
     out.node[d] = std::clamp(k - 1 + d, 0, n - 1);
@@ -55,12 +71,12 @@ AxisTaps axis_taps(const Axis& axis, double u, Interpolation interpolation) noex
   return out;
 }
 
-Sample sample_axes(const Table& table, std::span<const double> y) noexcept {
+Sample sample_axes(const Table& table, std::span<const double> y, WeightRounding rounding) noexcept {
   const std::size_t dims = table.axes.size();
   if (dims == 0 || dims > 3 || y.size() != dims || table.value.size() != table.entries()) return {};
   AxisTaps taps[3];
   for (std::size_t d = 0; d < dims; ++d)
-    taps[d] = axis_taps(table.axes[d], table.axes[d].index_coordinate(y[d]), table.interpolation);
+    taps[d] = axis_taps(table.axes[d], table.axes[d].index_coordinate(y[d]), table.interpolation, rounding);
   Sample out;
   const int c0 = taps[0].taps, c1 = dims > 1 ? taps[1].taps : 1, c2 = dims > 2 ? taps[2].taps : 1;
   const std::size_t n1 = dims > 1 ? table.axes[1].count : 1, n2 = dims > 2 ? table.axes[2].count : 1;
@@ -74,6 +90,11 @@ Sample sample_axes(const Table& table, std::span<const double> y) noexcept {
         out.value += w * table.value[m];
         out.error += std::abs(w) * table.error[m];
       }
+  if (table.frame == Frame::warped) {
+    const double envelope = warp_envelope(table.warp, y[0]);
+    out.value *= envelope;
+    out.error *= envelope;
+  }
   return out;
 }
 
@@ -82,12 +103,20 @@ std::vector<double> axis_coordinates(const Table& table, std::span<const double>
     const std::array<double, 3> y = lobe_coordinates(table.peak, x[0], x[1], x[2]);
     return {y.begin(), y.end()};
   }
+  if (table.frame == Frame::warped && table.law == Law::g && x.size() == 3) {
+    const std::array<double, 3> y = warped_coordinates(table.peak, table.warp, table.axes[0], x[0], x[1], x[2]);
+    return {y.begin(), y.end()};
+  }
   return {x.begin(), x.end()};
 }
 
-Sample sample(const Table& table, std::span<const double> x) noexcept {
+Sample sample(const Table& table, std::span<const double> x, WeightRounding rounding) noexcept {
   const std::vector<double> y = axis_coordinates(table, x);
-  return sample_axes(table, y);
+  return sample_axes(table, y, rounding);
+}
+
+WeightRounding own_rounding(const Table& table) noexcept {
+  return table.filter == Filter::hardware ? WeightRounding::nearest : WeightRounding::exact;
 }
 
 std::vector<double> coordinates(Law law, const Vec3& i, const Vec3& j) noexcept {
@@ -112,9 +141,9 @@ std::vector<double> coordinates(Law law, const Vec3& i, const Vec3& j) noexcept 
   return {cos_theta(i), cos_theta(j), phi};
 }
 
-Sample sample(const Table& table, const Vec3& i, const Vec3& j) noexcept {
+Sample sample(const Table& table, const Vec3& i, const Vec3& j, WeightRounding rounding) noexcept {
   const std::vector<double> x = coordinates(table.law, i, j);
-  return sample(table, x);
+  return sample(table, x, rounding);
 }
 
 }  // namespace ganzfeld::tables

@@ -23,14 +23,18 @@ struct Sample {
 };
 
 /// Lookup at the law's coordinates x (g: i·n, j·n, relative azimuth in [0, pi]; h: j·n; a: i·n),
-/// whatever the table's frame.
-Sample sample(const Table& table, std::span<const double> x) noexcept;
+/// whatever the table's frame. `rounding` emulates a hardware filter's 8-bit weights
+/// (WeightRounding::nearest or truncate: every weight a texture() call of export/glsl.cpp's
+/// hardware path computes is rounded to a multiple of 1/256); exact: full precision.
+Sample sample(const Table& table, std::span<const double> x, WeightRounding rounding = WeightRounding::exact) noexcept;
 
-/// Lookup at the table's own axis coordinates y (one per axis, in the axes' units).
-Sample sample_axes(const Table& table, std::span<const double> y) noexcept;
+/// Lookup at the table's own axis coordinates y (one per axis, in the axes' units); a warped
+/// table's blend is multiplied by its envelope A(theta_j) (tables/frame.h).
+Sample sample_axes(const Table& table, std::span<const double> y,
+                   WeightRounding rounding = WeightRounding::exact) noexcept;
 
 /// The table's axis coordinates of the law's coordinates x (identity for the cosines frame;
-/// (theta_j, psi, beta) of tables/frame.h for the lobe frame).
+/// (theta_j, psi, beta) or (theta_j, offset, beta) of tables/frame.h for the lobe and warped frames).
 std::vector<double> axis_coordinates(const Table& table, std::span<const double> x) noexcept;
 
 /// Nodes and weights of one axis of a lookup at index coordinate u: `taps` nodes (2 linear, 4
@@ -42,7 +46,13 @@ struct AxisTaps {
   std::array<int, 4> node{};
   std::array<double, 4> weight{};
 };
-AxisTaps axis_taps(const Axis& axis, double u, Interpolation interpolation) noexcept;
+/// With `rounding`, the weights are those of a hardware filter with 8-bit sub-texel precision:
+/// linear's t, and Catmull–Rom's fraction w2 / (w1 + w2) of its middle linear fetch, rounded to
+/// a multiple of 1/256 (to nearest or down).
+AxisTaps axis_taps(const Axis& axis, double u, Interpolation interpolation,
+                   WeightRounding rounding = WeightRounding::exact) noexcept;
+/// t rounded to a multiple of 1/kFilterWeightSteps as `rounding` says (exact: t itself).
+double filter_weight(double t, WeightRounding rounding) noexcept;
 /// Whether an axis is an azimuth about which the law is even (Catmull–Rom reflects there).
 bool is_even_axis(const Axis& axis) noexcept;
 
@@ -52,6 +62,10 @@ bool is_even_axis(const Axis& axis) noexcept;
 std::vector<double> coordinates(Law law, const Vec3& i, const Vec3& j) noexcept;
 
 /// sample(table, coordinates(table.law, i, j)).
-Sample sample(const Table& table, const Vec3& i, const Vec3& j) noexcept;
+Sample sample(const Table& table, const Vec3& i, const Vec3& j, WeightRounding rounding = WeightRounding::exact) noexcept;
+
+/// The lookup the table's bound is for: its filter's (hardware: 8-bit weights rounded to nearest,
+/// as `ganzfeld sample --hardware-filter` does; texel_fetch: exact).
+WeightRounding own_rounding(const Table& table) noexcept;
 
 }  // namespace ganzfeld::tables
