@@ -71,9 +71,12 @@ struct TableOptionArgs {
   std::optional<long long> max_evaluations;
   std::optional<double> max_error;
   std::optional<unsigned long long> max_bytes;
+  std::optional<long long> fetches;
   /// Registers the flags; `defaults` is what --help shows and what unset flags mean.
   void add_to(CLI::App& app, const scene::TableOptions& defaults);
   /// The options, validated (one-line InputError naming the flag); unset flags take `defaults`.
+  /// Defaults that bake to an error (scene_defaults) give way to a fixed resolution when --res-g,
+  /// --res-h or --tol is given.
   scene::TableOptions options(const scene::TableOptions& defaults) const;
 };
 

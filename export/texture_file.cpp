@@ -1,5 +1,7 @@
 #include "export/texture_file.h"
 
+#include "tables/exr_io.h"
+
 #include <bit>
 #include <cstdio>
 #include <cstring>
@@ -132,7 +134,12 @@ std::vector<std::uint8_t> ktx2_bytes(const Table& table) {
       {"ganzfeld.model", table.model},
       {"ganzfeld.tolerance", number_text(table.tolerance)},
   };
-  if (table.frame == Frame::lobe) kv["ganzfeld.peak"] = to_string(table.peak);
+  if (table.frame != Frame::cosines) kv["ganzfeld.peak"] = to_string(table.peak);
+  // What the lookup needs beyond the axes (format version 4, docs/lut-format.md): the filter the
+  // bound covers, the validated domain, and a warped table's warp.
+  kv["ganzfeld.filter"] = to_string(table.filter);
+  kv["ganzfeld.min_cos_j"] = number_text(table.min_cos_j);
+  if (table.frame == Frame::warped) kv["ganzfeld.warp"] = warp_text(table.warp);
   if (unorm) {  // value = offset + scale x texel (docs/lut-format.md)
     kv["ganzfeld.unorm16_offset"] = number_text(table.unorm.offset);
     kv["ganzfeld.unorm16_scale"] = number_text(table.unorm.scale);
