@@ -114,7 +114,7 @@ describe('the reader', () => {
   });
 
   const refusals = [
-    ['version3', 'format version 3; allowed: 1, 2'],
+    ['version3', 'format version 3; allowed: 1, 2, 4'],
     ['anisotropic', "the anisotropic model 'ggx:alpha_x=0.2"],
     ['specular', "model 'specular:alpha=8'; allowed: ggx:alpha=A,f0=0|1,g2=height-correlated"],
     ['separable', 'g2 = separable'],
