@@ -945,6 +945,32 @@ TEST(Table, FetchBudgetBakeIsOneFilteredFetchWithAnHonestBound) {
   }
 }
 
+// A budget of two fetches for h (one axis): where 8-bit filter weights cannot reach E within the
+// bytes (a weight truncated to 1/256 moves a blend by a node step / 256), the same linear blend
+// read with texelFetch (2 fetches, full precision) is the pick, with an honest bound.
+TEST(Table, FetchBudgetFallsBackToTexelFetchWhereFilterWeightsCannotReach) {
+  const ModelPtr model = parse_model("specular:alpha=1000");
+  BakeOptions options;
+  options.target_error = 1e-5;
+  options.max_fetches = 2;
+  options.max_bytes = 1024;
+  const Table table = round_trip(bake(*model, Law::h, options), "fetch2.exr");
+  EXPECT_LE(table.lookup_error, 1e-5);
+  EXPECT_LE(value_bytes(table), 1024u);
+  EXPECT_EQ(table.filter, Filter::texel_fetch);
+  EXPECT_EQ(table.interpolation, Interpolation::linear);
+  EXPECT_EQ(fetches(table), 2);
+  EXPECT_EQ(table.target_fetches, 2);
+  const auto [misses, worst] = fresh_misses(*model, Law::h, table, /*seed=*/4244, {WeightRounding::exact});
+  std::printf("h --max-error 1e-5 --fetches 2 --max-bytes 1024: lookup error %.3g, largest fresh error %.3g, %zu "
+              "value bytes, %g misses of %d\n", table.lookup_error, worst, static_cast<std::size_t>(value_bytes(table)),
+              misses, kFreshPoints);
+  EXPECT_LE(misses, kAllowedFreshMisses * kFreshPoints);
+  // One fetch cannot: the refusal names the best it found at one fetch.
+  options.max_fetches = 1;
+  EXPECT_THROW(bake_to_error(*model, Law::h, options), InputError);
+}
+
 TEST(Table, FetchBudgetRefusals) {
   EXPECT_THROW(check_fetch_budget(0), InputError);
   EXPECT_THROW(check_fetch_budget(-3), InputError);
