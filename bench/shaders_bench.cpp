@@ -154,12 +154,10 @@ std::vector<TableSet> table_sets(bool quick) {
     return {{"`--res 9x9x5` (g), `--res 17` (h)", small}, {"`--max-error 1e-2`", to_error}};
   }
   std::vector<TableSet> out{{"scene defaults (`bake --scene`)", scene::TableOptions{}}};
-  for (double e : {1e-3, 1e-4}) {
+  for (const auto& [e, text] : {std::pair{1e-3, "1e-3"}, std::pair{1e-4, "1e-4"}}) {
     scene::TableOptions options;
     options.target_error = e;
-    std::ostringstream label;
-    label << "`--max-error " << e << "`";
-    out.push_back({label.str(), options});
+    out.push_back({std::string("`--max-error ") + text + "`", options});
   }
   return out;
 }
@@ -495,7 +493,8 @@ std::string shaders_markdown(const ShadersBenchResult& r, const std::string& com
     std::string fetches = significant(p.fetches_mean, 4);
     if (p.fetches_max != static_cast<int>(std::lround(p.fetches_mean))) fetches += " (max " + std::to_string(p.fetches_max) + ")";
     md << "| " << p.name << " | " << what << " | " << fetches << " | " << p.value_bytes << " | "
-       << significant(median_of(p)) << " | " << significant(*lo) << " … " << significant(*hi) << " | " << significant(median_of(p) / ma)
+       << significant(median_of(p), 4) << " | " << significant(*lo, 4) << " … " << significant(*hi, 4) << " | "
+       << significant(median_of(p) / ma)
        << " | " << significant(median_of(p) / ms) << " |\n";
   }
   md << "\nT passes shade 0.8 `lambert` + 0.2 `" << r.model
