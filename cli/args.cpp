@@ -103,10 +103,7 @@ Vec3 DirectionArgs::outgoing(Law law) const {
   return j;
 }
 
-void validate_tolerance(double tol) {
-  if (!std::isfinite(tol) || tol < 1e-15 || tol > 1.0)
-    throw InputError("--tol=" + format_number(tol) + " is not allowed; expected an absolute tolerance in [1e-15, 1]");
-}
+void validate_tolerance(double tol) { check_tolerance("--tol", tol); }
 
 
 /// Words joined into a line a POSIX shell reproduces: words with anything but [A-Za-z0-9_./:=,+-]
@@ -155,9 +152,7 @@ std::string prepare_directory(const std::string& flag, const std::string& text) 
   return dir.string();
 }
 
-void check_max_evaluations(long long n) {
-  if (n < 1000) throw InputError("--max-evals=" + std::to_string(n) + " is too small; allowed: >= 1000");
-}
+void check_max_evaluations(long long n) { ganzfeld::check_max_evaluations("--max-evals", n); }
 
 void TableOptionArgs::add_to(CLI::App& app, const scene::TableOptions& defaults) {
   app.add_option("--res-g", res_g,

@@ -38,8 +38,7 @@ void add_eval_command(CLI::App& app, Action& action) {
       const ModelPtr model =
           parse_model(parameter ? with_parameter(args->model, parameter->first, parameter->second) : args->model);
       validate_tolerance(args->tol);
-      if (args->max_evaluations < 1000)
-        throw InputError("--max-evals=" + std::to_string(args->max_evaluations) + " is too small; allowed: >= 1000");
+      check_max_evaluations(args->max_evaluations);
       const bool needs_i = law == Law::f || law == Law::g || law == Law::a;
       const bool needs_j = law == Law::f || law == Law::g || law == Law::h;
       const Vec3 i = needs_i ? args->directions.incident(law) : Vec3{0, 0, 1};

@@ -4,8 +4,9 @@
 //       the sampling function of one table, and its texture beside it (LAW.ktx2 or LAW.h);
 //       --model/--law state what the shader expects: a table of another model or law is refused.
 //   export-glsl --scene SCENE.json --out DIR [--cache DIR] [table options as bake --scene] [--texture ...]
-//       DIR/ganzfeld_scene.glsl (the reference shading of every material), one texture per table
-//       the scene needs (named after its sampler uniform) and DIR/manifest.json binding them.
+//       DIR/ganzfeld_scene.glsl (the reference shading of every material), one texture and one
+//       sampling snippet per table the scene needs (named after its sampler uniform) and
+//       DIR/manifest.json binding them.
 // The shader is generated, and every refusal made, before the first file is written; each file is
 // written atomically (a crash between files can leave some of a scene's files, never a partial one).
 #include <filesystem>
@@ -134,6 +135,12 @@ int export_scene(const ExportArgs& args) {
       const std::string file = sampler + exporting::texture_extension(*format);
       exporting::write_texture(*table, *format, (std::filesystem::path(dir) / file).string(), sampler);
       entry["file"] = file;
+      // The table's own snippet beside its texture, for engines that bind tables one by one
+      // (js/ganzfeld-three): what `export-glsl FILE.exr` writes for it.
+      const std::string snippet = sampler + ".glsl";
+      write_text_atomically((std::filesystem::path(dir) / snippet).string(), exporting::glsl_table_snippet(*table), "shader");
+      entry["glsl"] = snippet;
+      entry["function"] = exporting::glsl_function_name(table->model, table->law);
     }
     textures.push_back(entry);
   }

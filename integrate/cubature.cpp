@@ -7,6 +7,9 @@
 #include <boost/math/quadrature/gauss.hpp>
 #include <boost/math/quadrature/gauss_kronrod.hpp>
 
+#include "models/registry.h"
+#include "util/error.h"
+
 namespace ganzfeld {
 
 namespace {
@@ -354,5 +357,17 @@ template Estimate adaptive_cubature<1>(const PanelIntegrand<1>&, const std::arra
                                        const CubatureOptions&);
 template Estimate adaptive_cubature<2>(const PanelIntegrand<2>&, const std::array<std::vector<double>, 2>&,
                                        const CubatureOptions&);
+
+void check_tolerance(const std::string& name, double tol) {
+  if (!std::isfinite(tol) || tol < kMinTolerance || tol > kMaxTolerance)
+    throw InputError(name + "=" + format_number(tol) + " is not allowed; expected an absolute tolerance in [" +
+                     format_number(kMinTolerance) + ", " + format_number(kMaxTolerance) + "]");
+}
+
+void check_max_evaluations(const std::string& name, long long max_evaluations) {
+  if (max_evaluations < kMinEvaluations)
+    throw InputError(name + "=" + std::to_string(max_evaluations) + " is too small; allowed: >= " +
+                     std::to_string(kMinEvaluations));
+}
 
 }  // namespace ganzfeld

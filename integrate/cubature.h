@@ -24,6 +24,7 @@
 #include <array>
 #include <functional>
 #include <span>
+#include <string>
 #include <vector>
 
 namespace ganzfeld {
@@ -63,5 +64,16 @@ Estimate adaptive_cubature(const PanelIntegrand<D>& integrand,
 /// Sorts, removes duplicates and drops lines closer than `min_gap` to a neighbour, keeping both
 /// ends: a helper for building `cuts` from hints.
 std::vector<double> tidy_cuts(std::vector<double> lines, double lo, double hi, double min_gap);
+
+/// The absolute tolerances a caller may ask for (the command line's --tol, the Python module's tol=).
+inline constexpr double kMinTolerance = 1e-15;
+inline constexpr double kMaxTolerance = 1.0;
+/// The smallest evaluation budget per integral a caller may give (--max-evals, max_evals=).
+inline constexpr long long kMinEvaluations = 1000;
+/// Refuse (InputError, one line naming `name` as the caller spells it: "--tol", "tol") a
+/// tolerance that is not finite or outside [kMinTolerance, kMaxTolerance], and a budget below
+/// kMinEvaluations.
+void check_tolerance(const std::string& name, double tol);
+void check_max_evaluations(const std::string& name, long long max_evaluations);
 
 }  // namespace ganzfeld

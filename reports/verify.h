@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 namespace ganzfeld {
 
 /// A printed form "matches" when it agrees with cubature to this (issue #2, cli-contract.md).
@@ -42,6 +44,11 @@ std::vector<CheckResult> ggx_checks();
 
 /// True when every matching or corrected form agrees to kAgreement and all references converged.
 bool verification_passed(const std::vector<CheckResult>& checks);
+
+/// `verify --json` (and the Python module's ganzfeld.verify()): {checks: [{id, source, status
+/// ("matches" or "erratum"), max_abs_error, corrected_max_abs_error (null when none), points,
+/// models, printed, [corrected], max_reference_error, references_converged}], agreement, passed}.
+nlohmann::ordered_json verify_json(const std::vector<CheckResult>& checks);
 
 /// docs/errata.md, stamped with the command that generates it.
 std::string errata_markdown(const std::vector<CheckResult>& checks, const std::string& command);

@@ -90,9 +90,16 @@ assert len(samplers) == 6, samplers
 assert not any("lambert" in s or "1000" in s for s in samplers), samplers
 for t in d["textures"]:
     assert os.path.exists(os.path.join(sys.argv[2], t["file"])), t
+    # each table's own snippet beside its texture, defining the function the manifest names
+    snippet = open(os.path.join(sys.argv[2], t["glsl"])).read()
+    assert "float %s(highp %s table," % (t["function"], t["type"]) in snippet, t
+    assert "// ganzfeld table: law %s of " % t["law"] in snippet, t
 m = json.load(open(os.path.join(sys.argv[2], "manifest.json")))
 assert m["textures"] == d["textures"]
 EOF
+# A scene table's snippet compiles alone (ES 3.00, as js/ganzfeld-three binds it).
+g_snippet=$(ls "$tmp"/scene_out/gz_tex_*_g.glsl | head -1)
+compile "$g_snippet" "300 es" "" "$(sed -n 's/^float \(gz_[A-Za-z0-9_]*_g\)(.*/\1/p' "$g_snippet")(tab, vec3(0.0, 0.0, 1.0), vec3(0.0, 0.0, 1.0), vec3(0.0, 0.0, 1.0))" sampler3D
 # The same scene with every table baked to an error (format version 2 tables).
 "$G" export-glsl --scene "$tmp/scene.json" --out "$tmp/scene_v2" --max-error 1e-2 --texture none --quiet \
   && ok || fail "export --scene --max-error"

@@ -28,3 +28,10 @@ start_serve() {
   URL="http://127.0.0.1:$port"
   [ -n "$port" ]
 }
+# Debian's chromium-headless-shell: the real binary in the package's lib directory (the wrapper on
+# PATH misparses the flags), and the flags every headless run here needs: WebGL2 through
+# SwiftShader, and no background connections (the test machines reach no network: Chromium's own
+# update, sync and QUIC attempts would be refused, many at a time).
+chromium_binary() { dpkg -L chromium-headless-shell 2>/dev/null | grep -m1 '^/usr/lib/.*/chromium-headless-shell$'; }
+CHROMIUM_FLAGS=(--no-sandbox --headless --use-angle=swiftshader --enable-unsafe-swiftshader --disable-background-networking
+                --disable-component-update --disable-sync --no-first-run --disable-quic)

@@ -28,6 +28,9 @@ class Browser:
         self.process = subprocess.Popen(
             ['sh', '-c', f'exec "$@" 3<&{to_browser_r} 4>&{from_browser_w}', 'sh', binary, '--no-sandbox',
              '--headless', '--use-angle=swiftshader', '--enable-unsafe-swiftshader', '--remote-debugging-pipe',
+             # no background connections (tests/harness.sh, CHROMIUM_FLAGS)
+             '--disable-background-networking', '--disable-component-update', '--disable-sync', '--no-first-run',
+             '--disable-quic',
              '--window-size=1400,1100', f'--user-data-dir={profile}', 'about:blank'],
             pass_fds=(to_browser_r, from_browser_w), stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
         os.close(to_browser_r)
