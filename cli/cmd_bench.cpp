@@ -111,7 +111,7 @@ nlohmann::ordered_json cubature_report(const BenchArgs& args) {
   return doc;
 }
 
-/// Bake throughput (issue 8): a 64x64x32 g table at 1e-9 for specular alpha = 8 and 1000, with
+/// Bake throughput: a 64x64x32 g table at 1e-9 for specular alpha = 8 and 1000, with
 /// 1 and 2 threads, repeated (bench/bake_bench.cpp).
 nlohmann::ordered_json bake_report(const BenchArgs& args) {
   nlohmann::ordered_json doc{{"benchmark", "bake"}, {"machine", bench::machine_description()}};
@@ -228,7 +228,7 @@ int shaders_report(const BenchArgs& args) {
   return 0;
 }
 
-/// The real-time tables' accuracy report (issue 16): its section of docs/realtime.md, printed.
+/// The real-time tables' accuracy report: its section of docs/realtime.md, printed.
 int realtime_report(const BenchArgs& args) {
   refuse_markdown_file(args);
   std::vector<std::string> words{"ganzfeld", "bench", "realtime"};
@@ -248,7 +248,7 @@ void add_bench_command(CLI::App& app, Action& action) {
   auto* cmd = app.add_subcommand("bench", "benchmarks that print ratios measured in one run");
   auto args = std::make_shared<BenchArgs>();
   cmd->add_option("what", args->what, "cubature | bake | render | realtime | shaders")->required();
-  cmd->add_flag("--json", args->json, "print one JSON document");
+  add_json_flag(*cmd, args->json);
   cmd->add_flag("--quick", args->quick, "a small sample (CI); the full run takes minutes");
   cmd->add_option("--cases", args->cases, "cases per integrand family (cubature; default 200, quick 4)");
   cmd->add_option("--repeats", args->repeats,

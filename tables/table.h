@@ -254,6 +254,10 @@ struct Table {
   /// The smallest j·n (g) the bound was validated at (kWarpedMinCosJ for warped tables, else 0).
   double min_cos_j = 0.0;
   int format_version = kFormatVersion;  ///< as read (versions 1, 2) or written
+  /// As read: the file's ganzfeld.values_digest, which the reader has checked against `value`
+  /// and `error` (values_digest()); "" for files written before it existed. write_table writes
+  /// the digest of the numbers it writes, whatever this holds.
+  std::string values_digest;
 
   std::size_t entries() const noexcept;
 };
@@ -263,6 +267,11 @@ struct Table {
 /// filtering does a linear blend in one fetch, and Catmull–Rom in 3 per axis (3^D).
 int fetches(const Table& table) noexcept;
 int fetches(Interpolation interpolation, Filter filter, std::size_t dims) noexcept;
+
+/// The digest of the stored numbers (docs/lut-format.md, ganzfeld.values_digest): 64-bit FNV-1a
+/// (util/hash.h) of the value then the error entries as little-endian IEEE binary32, e.g.
+/// "fnv1a64:0123456789abcdef". Guards against a file's numbers changing under its metadata.
+std::string values_digest(const Table& table);
 
 /// Product of the counts; 0 for no axes.
 std::uint64_t entry_count(std::span<const Axis> axes) noexcept;
