@@ -40,7 +40,7 @@ struct SchemePlan {
   std::vector<double> unorm16_targets;  ///< bake --max-error E --encoding unorm16 (the 16-bit target)
   double stretch = 0.0;
   std::uint64_t stretch_bytes = 0;
-  /// With one_fetch: the --max-error E --fetches N picks (issue #26: 1e-3 in one fetch, 1e-4 within 8).
+  /// With one_fetch: the --max-error E --fetches N picks (1e-3 in one fetch, 1e-4 within 8).
   std::vector<std::pair<double, int>> fetch_targets;
 };
 
