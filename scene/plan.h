@@ -48,7 +48,9 @@ struct TableOptions {
   static TableOptions scene_defaults();
 };
 inline constexpr double kSceneTargetError = 1e-3;
-inline constexpr int kSceneFetches = 1;
+/// The fetch budget of scene tables: every scheme's fetches (Catmull–Rom's 64 for g), searched
+/// fewest first, so a target one fetch cannot reach is met by the next scheme instead of refused.
+inline constexpr int kSceneFetches = 64;
 
 /// Which light fields a set of lights contains.
 struct LightFields {

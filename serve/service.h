@@ -42,7 +42,7 @@ struct ServiceOptions {
   /// connection threads always remain for cheap requests (cached tables, /healthz, the viewer).
   int max_computing = 28;
   Limits limits;
-  scene::TableOptions defaults;  ///< what unset table parameters mean
+  scene::TableOptions defaults = scene::TableOptions::scene_defaults();  ///< what unset table parameters mean
   /// Joins the words of the equivalent `ganzfeld bake` into the line stamped into each table.
   std::function<std::string(const std::vector<std::string>&)> command_line;
   /// One line for the operator's log (cache entries refused and baked again, internal errors

@@ -151,8 +151,8 @@ void check_error_target(double max_error, std::uint64_t max_bytes, Law law, Enco
 
 void check_fetch_budget(long long fetches) {
   if (fetches < 1)
-    throw InputError("--fetches " + std::to_string(fetches) +
-                     " is not allowed; expected an integer >= 1 (texture fetches per lookup)");
+    throw InputError({Named{"fetches", std::to_string(fetches)},
+                      " is not allowed; expected an integer >= 1 (texture fetches per lookup)"});
 }
 
 namespace {
