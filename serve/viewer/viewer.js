@@ -4,8 +4,9 @@
 //   three spheres: a collimated beam (N = H0 (i.n) f), a hemispherical sky (N = N_i g) and a
 //   Ganzfeld (N = N_i h): Koenderink & Pont's panel (rasterizer/figure.h), live.
 // The shading is the service's own GLSL ES 3.00: f from /api/glsl?law=f, g and h from /api/glsl
-// (export-glsl's snippet) sampling the tables of /api/table (format=json, uploaded as R32F), so the
-// page shades exactly as `ganzfeld render` does from the same cache (tests/viewer_test.sh checks it).
+// (export-glsl's snippet) sampling the tables of /api/table (format=json, uploaded as R32F with
+// the table's filter), so the page shades as `ganzfeld render` does from the same cache
+// (tests/viewer_test.sh checks it).
 // The URL keeps the state: ?model=SPEC&model_b=SPEC&dir=X,Y,Z (beam)&pole=X,Y,Z&theta=DEG (lobe's
 // incidence)&lobe=N (its resolution)&probe=U,V (the numbers at that point of the spheres).
 // Test mode (?test=1&model=SPEC&light=collimated|sky|ganzfeld&dir=X,Y,Z&size=N): one sphere rendered
@@ -177,7 +178,9 @@ function program(gl, fragment) {
 }
 
 /// A table as the exported shader expects it (export/glsl.h): g a 3-D texture of width n2,
-/// height n1, depth n0; h a count x 1 2-D texture; one float channel, fetched with texelFetch.
+/// height n1, depth n0; h a count x 1 2-D texture; one float channel. Its filter is the lookup
+/// the table's bound covers (docs/lut-format.md, `filter`): nearest for a texelFetch lookup,
+/// linear (OES_texture_float_linear) for one hardware-filtered texture().
 function uploadTable(gl, unit, table) {
   const texture = gl.createTexture();
   const target = table.law === 'g' ? gl.TEXTURE_3D : gl.TEXTURE_2D;
@@ -187,8 +190,10 @@ function uploadTable(gl, unit, table) {
   gl.bindTexture(target, texture);
   if (table.law === 'g') gl.texImage3D(target, 0, gl.R32F, counts[2], counts[1], counts[0], 0, gl.RED, gl.FLOAT, data);
   else gl.texImage2D(target, 0, gl.R32F, counts[0], 1, 0, gl.RED, gl.FLOAT, data);
-  for (const [k, v] of [[gl.TEXTURE_MIN_FILTER, gl.NEAREST], [gl.TEXTURE_MAG_FILTER, gl.NEAREST],
-                        [gl.TEXTURE_WRAP_S, gl.CLAMP_TO_EDGE], [gl.TEXTURE_WRAP_T, gl.CLAMP_TO_EDGE]])
+  const filter = table.filter === 'hardware' ? gl.LINEAR : gl.NEAREST;
+  for (const [k, v] of [[gl.TEXTURE_MIN_FILTER, filter], [gl.TEXTURE_MAG_FILTER, filter],
+                        [gl.TEXTURE_WRAP_S, gl.CLAMP_TO_EDGE], [gl.TEXTURE_WRAP_T, gl.CLAMP_TO_EDGE],
+                        [gl.TEXTURE_WRAP_R, gl.CLAMP_TO_EDGE]])
     gl.texParameteri(target, k, v);
   return texture;
 }
@@ -282,6 +287,8 @@ function context(canvas) {
   const gl = canvas.getContext('webgl2', {antialias: false, preserveDrawingBuffer: true});
   if (!gl) throw new Error('no WebGL2 context');
   if (!gl.getExtension('EXT_color_buffer_float')) throw new Error('no EXT_color_buffer_float');
+  // Hardware-filtered tables are R32F textures sampled with LINEAR.
+  if (!gl.getExtension('OES_texture_float_linear')) throw new Error('no OES_texture_float_linear');
   return gl;
 }
 
