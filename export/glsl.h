@@ -55,6 +55,11 @@ std::string glsl_common();
 /// (n unit; i and j need not be unit). Checks the table first (check_table).
 std::string glsl_table_function(const tables::Table& table);
 
+/// One line naming the lookup glsl_table_function(table) performs, from the table's metadata:
+/// frame (and peak), interpolation, nodes per axis and encoding, e.g. "lobe frame (mirror peak),
+/// catmull-rom, 52x60x13 nodes, float" (`ganzfeld bench shaders` labels its passes with it).
+std::string lookup_scheme(const tables::Table& table);
+
 /// glsl_common() + glsl_table_function(table): one self-contained snippet per table file.
 std::string glsl_table_snippet(const tables::Table& table);
 

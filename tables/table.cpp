@@ -114,14 +114,8 @@ double Axis::coordinate(double u) const noexcept {
   return min + (max - min) * t;
 }
 
-double Axis::index_coordinate(double x) const noexcept {
-  if (!(max > min)) return 0.0;
-  const double t = std::clamp((x - min) / (max - min), 0.0, 1.0);  // NaN -> clamp keeps NaN; caught below
-  if (!(t >= 0.0)) return 0.0;
+double Axis::sinh_index_coordinate(double t) const noexcept {
   switch (mapping) {
-    case Mapping::linear: return t;
-    case Mapping::sqrt: return std::sqrt(t);
-    case Mapping::cos: return std::acos(1.0 - 2.0 * t) / pi;
     case Mapping::sinh: {
       if (!(width > 0.0)) return t;
       const SinhAxis s(*this);
@@ -133,8 +127,8 @@ double Axis::index_coordinate(double x) const noexcept {
       const double V = std::asinh((max - min) / width);
       return std::clamp(1.0 - std::asinh((max - min) * (1.0 - t) / width) / V, 0.0, 1.0);
     }
+    default: return t;
   }
-  return t;
 }
 
 double Axis::node(int k) const noexcept {

@@ -3,7 +3,10 @@
 // the formulas below are the normative ones and the document quotes them.
 #pragma once
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
+#include <numbers>
 #include <span>
 #include <string>
 #include <vector>
@@ -99,8 +102,22 @@ struct Axis {
 
   /// x for the index coordinate u in [0, 1] (clamped).
   double coordinate(double u) const noexcept;
-  /// u in [0, 1] for x (x is clamped to [min, max] first).
-  double index_coordinate(double x) const noexcept;
+  /// u in [0, 1] for x (x is clamped to [min, max] first). Inline: a lookup makes one per axis.
+  double index_coordinate(double x) const noexcept {
+    if (!(max > min)) return 0.0;
+    const double t = std::clamp((x - min) / (max - min), 0.0, 1.0);  // NaN -> clamp keeps NaN; caught below
+    if (!(t >= 0.0)) return 0.0;
+    switch (mapping) {
+      case Mapping::linear: return t;
+      case Mapping::sqrt: return std::sqrt(t);
+      case Mapping::cos: return std::acos(1.0 - 2.0 * t) / std::numbers::pi;
+      case Mapping::sinh:
+      case Mapping::sinh_max: break;
+    }
+    return sinh_index_coordinate(t);
+  }
+  /// index_coordinate of the sinh mappings at the normalized coordinate t in [0, 1].
+  double sinh_index_coordinate(double t) const noexcept;
   /// x of node k, exact at both ends.
   double node(int k) const noexcept;
 };

@@ -785,6 +785,50 @@ TEST(Table, CatmullRomReproducesPolynomials) {
   }
 }
 
+// Two tables share a lookup (the rasterizer sums their entries and looks them up once) exactly
+// when every lookup blends the same entries with the same weights: the same law, frame, peak,
+// interpolation and axes; the values, the model and the encoding do not matter.
+TEST(Table, SameLookupComparesEverythingTheBlendDependsOn) {
+  BakeOptions lobe;
+  lobe.resolution = {6, 9, 5};
+  lobe.tolerance = 1e-4;
+  lobe.interpolation = Interpolation::catmull_rom;
+  lobe.lobe = tables::LobeFrame{PeakKind::mirror, 0.2};
+  const Table a = bake(*parse_model("specular:alpha=100"), Law::g, lobe);
+  Table b = bake(*parse_model("backscatter:alpha=8"), Law::g, lobe);
+  b.encoding = Encoding::half;
+  EXPECT_TRUE(same_lookup(a, b));
+  const double y[3] = {0.7, 1.5, 0.4};
+  auto nodes = [&](const Table& t) {
+    std::vector<std::pair<std::size_t, double>> out;
+    EXPECT_TRUE(for_each_node(t, y, [&](std::size_t entry, double w) { out.push_back({entry, w}); }));
+    return out;
+  };
+  const auto na = nodes(a);
+  EXPECT_EQ(na, nodes(b));
+  EXPECT_GT(na.size(), 27u);  // Catmull–Rom: 4 taps per axis, 3 where an end's missing node folds in
+  double blended = 0.0;
+  for (const auto& [entry, w] : na) blended += w * a.value[entry];
+  EXPECT_EQ(blended, sample_axes(a, y).value);
+  auto differs = [&](auto change) {
+    Table c = a;
+    change(c);
+    return !same_lookup(a, c) && !same_lookup(c, a);
+  };
+  EXPECT_TRUE(differs([](Table& t) { t.peak = PeakKind::retro; }));
+  EXPECT_TRUE(differs([](Table& t) { t.frame = Frame::cosines; }));
+  EXPECT_TRUE(differs([](Table& t) { t.interpolation = Interpolation::linear; }));
+  EXPECT_TRUE(differs([](Table& t) { t.law = Law::a; }));
+  EXPECT_TRUE(differs([](Table& t) { t.axes[1].count += 1; }));
+  EXPECT_TRUE(differs([](Table& t) { t.axes[1].width *= 2.0; }));
+  EXPECT_TRUE(differs([](Table& t) { t.axes[2].max = 3.0; }));
+  EXPECT_TRUE(differs([](Table& t) { t.axes[0].min = 0.1; }));
+  EXPECT_TRUE(differs([](Table& t) { t.axes[2].mapping = Mapping::cos; }));
+  EXPECT_TRUE(differs([](Table& t) { t.axes.pop_back(); }));
+  const Table h = bake_table("minnaert:xi=1", Law::h, {9});
+  EXPECT_TRUE(differs([&](Table& t) { t = h; }));
+}
+
 // A version-1 file (no frame, interpolation or lookup_error attributes) still reads, as the
 // cosines frame with linear lookup and its measured interpolation error as its lookup error.
 TEST(Table, Version1FilesStillRead) {
