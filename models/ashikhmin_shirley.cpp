@@ -12,6 +12,7 @@
 #include <numbers>
 
 #include "models/registry.h"
+#include "models/spec.h"
 
 namespace ganzfeld {
 
@@ -27,7 +28,7 @@ AshikhminShirley::AshikhminShirley(double rd, double rs, double nu, double nv)
     : rd_(rd), rs_(rs), nu_(nu), nv_(nv), norm_(std::sqrt((nu + 1.0) * (nv + 1.0))) {}
 
 std::string AshikhminShirley::spec() const {
-  return spec_of("ashikhmin-shirley", {{"rd", rd_}, {"rs", rs_}, {"nu", nu_}, {"nv", nv_}});
+  return spec_text({"ashikhmin-shirley", {{"rd", rd_}, {"rs", rs_}, {"nu", nu_}, {"nv", nv_}}});
 }
 
 double AshikhminShirley::exponent(const Vec3& h) const noexcept {

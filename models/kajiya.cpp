@@ -12,6 +12,7 @@
 
 #include "models/classic_models.h"
 #include "models/registry.h"
+#include "models/spec.h"
 
 namespace ganzfeld {
 
@@ -24,7 +25,7 @@ double sin_to_axis(const Vec3& v) noexcept { return std::min(1.0, std::hypot(v.y
 
 Kajiya::Kajiya(double kd, double ks, double n) : kd_(kd), ks_(ks), n_(n) {}
 
-std::string Kajiya::spec() const { return spec_of("kajiya", {{"kd", kd_}, {"ks", ks_}, {"n", n_}}); }
+std::string Kajiya::spec() const { return spec_text({"kajiya", {{"kd", kd_}, {"ks", ks_}, {"n", n_}}}); }
 
 double Kajiya::cone_cosine(const Vec3& i, const Vec3& j) noexcept {
   return sin_to_axis(i) * sin_to_axis(j) - i.x * j.x;

@@ -14,6 +14,7 @@
 
 #include "models/classic_models.h"
 #include "models/registry.h"
+#include "models/spec.h"
 
 namespace ganzfeld {
 
@@ -57,7 +58,7 @@ double cos_azimuth(const Vec3& h) noexcept {
 
 Schlick::Schlick(double C, double r, double p) : C_(C), r_(r), p_(p), a_mean_(schlick::azimuth_mean(p)) {}
 
-std::string Schlick::spec() const { return spec_of("schlick", {{"c", C_}, {"r", r_}, {"p", p_}}); }
+std::string Schlick::spec() const { return spec_text({"schlick", {{"c", C_}, {"r", r_}, {"p", p_}}}); }
 
 double Schlick::f(const Vec3& i, const Vec3& j) const noexcept {
   if (i.z < 0.0 || j.z < 0.0) return 0.0;

@@ -21,6 +21,7 @@
 #include "models/ashikhmin_shirley.h"
 #include "models/registry.h"
 #include "models/schlick.h"
+#include "models/spec.h"
 #include "reports/verify.h"
 #include "reports/verify_support.h"
 
@@ -89,7 +90,7 @@ CheckResult schlick_z_check() {
   const std::vector<double> roughness{1.0, 0.5, 0.1, 0.01, 1e-3};
   std::string models;
   for (double r : roughness) {
-    models += (models.empty() ? "schlick:r=" : "; schlick:r=") + format_number(r);
+    models += (models.empty() ? "" : "; ") + spec_text({"schlick", {{"r", r}}});
     jobs.push_back([r] {
       const Estimate e = integrate_over_lune(kNormal, [&](const Vec3& h) { return schlick::zenith(h.z, r) * h.z; },
                                              {std::sqrt(r) / 4});
@@ -108,7 +109,7 @@ CheckResult schlick_a_check() {
   constexpr double kRoughness = 0.1;
   std::string models;
   for (double p : isotropy) {
-    models += (models.empty() ? "schlick:r=0.1,p=" : "; schlick:r=0.1,p=") + format_number(p);
+    models += (models.empty() ? "" : "; ") + spec_text({"schlick", {{"r", kRoughness}, {"p", p}}});
     jobs.push_back([p] {
       const auto D = [&](const Vec3& h) {
         const double s = std::hypot(h.x, h.y), w = s > 0.0 ? h.x / s : 1.0;
