@@ -54,11 +54,14 @@ std::vector<ModelInfo> build_catalogue() {
   register_hvd_models(c);
   register_classic_models(c);
   register_he_torrance_models(c);
+  register_kajiya_models(c);
   register_blinn_dusty_models(c);
   register_beard_maxwell_models(c);
   register_poulin_fournier_models(c);
   register_ggx_models(c);
   register_charlie_models(c);
+  register_ashikhmin_shirley_models(c);
+  register_schlick_models(c);
   register_measured_models(c);
   return c;
 }

@@ -61,6 +61,9 @@ void register_beard_maxwell_models(std::vector<ModelInfo>& catalogue);  // model
 void register_poulin_fournier_models(std::vector<ModelInfo>& catalogue);  // models/poulin_fournier.cpp
 void register_ggx_models(std::vector<ModelInfo>& catalogue);      // models/ggx.cpp (microfacets, Smith G2)
 void register_charlie_models(std::vector<ModelInfo>& catalogue);  // models/charlie.cpp (sheen)
+void register_ashikhmin_shirley_models(std::vector<ModelInfo>& catalogue);  // models/ashikhmin_shirley.cpp
+void register_schlick_models(std::vector<ModelInfo>& catalogue);  // models/schlick.cpp (Schlick 1994)
+void register_kajiya_models(std::vector<ModelInfo>& catalogue);   // models/kajiya.cpp (fibres)
 
 /// Every registered model, in presentation order.
 const std::vector<ModelInfo>& model_catalogue();
