@@ -1,6 +1,7 @@
 #include "models/registry.h"
 
 #include <charconv>
+#include <cstdlib>
 #include <cmath>
 
 #include "util/error.h"
@@ -85,6 +86,13 @@ std::string format_number(double value) {
   char buf[64];
   const auto result = std::to_chars(buf, buf + sizeof buf, value);
   return std::string(buf, result.ptr);
+}
+
+bool parse_number(const std::string& text, double& value) {
+  if (text.empty()) return false;
+  char* end = nullptr;
+  value = std::strtod(text.c_str(), &end);
+  return end == text.c_str() + text.size();
 }
 
 std::string value_text(const ParamInfo& param, double value) {

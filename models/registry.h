@@ -81,6 +81,9 @@ double parse_choice(const ModelInfo& model, const ParamInfo& param, const std::s
 
 /// Shortest text that round-trips the double (used in canonical spec strings).
 std::string format_number(double value);
+/// Reads a whole text as a number, as a spec's values and weights are read (format_number's texts
+/// among them); accepts "nan" and "inf" so that a range can refuse them. False when the text is not one.
+bool parse_number(const std::string& text, double& value);
 /// A parameter's value as a spec writes it: a choice by name, else format_number.
 std::string value_text(const ParamInfo& param, double value);
 
