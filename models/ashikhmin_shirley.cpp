@@ -11,6 +11,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "models/halfway_sampling.h"
 #include "models/registry.h"
 #include "models/spec.h"
 
@@ -90,22 +91,8 @@ double AshikhminShirley::probability_diffuse() const noexcept {
 }
 
 std::optional<IncidentSample> AshikhminShirley::sample_incident(const Vec3& j, const std::array<double, 3>& u) const {
-  if (!(j.z > 0.0)) return std::nullopt;
-  const double p_d = probability_diffuse();
-  Vec3 i;
-  if (u[0] < p_d) {
-    i = sample_cosine(u[1], u[2]);
-  } else {
-    const Vec3 h = sample_halfway(u[1], u[2]);
-    const double jh = glm::dot(j, h);
-    if (!(jh > 0.0)) return std::nullopt;
-    i = 2.0 * jh * h - j;
-  }
-  if (!(i.z > 0.0)) return std::nullopt;
-  i = glm::normalize(i);
-  const double pdf = pdf_incident(j, i);
-  if (!(pdf > 0.0)) return std::nullopt;
-  return IncidentSample{i, pdf};
+  return sample_cosine_or_halfway(*this, j, u, probability_diffuse(),
+                                  [this](double xi_1, double xi_2) { return sample_halfway(xi_1, xi_2); });
 }
 
 double AshikhminShirley::pdf_incident(const Vec3& j, const Vec3& i) const {

@@ -13,6 +13,7 @@
 #include <boost/math/special_functions/ellint_1.hpp>
 
 #include "models/classic_models.h"
+#include "models/halfway_sampling.h"
 #include "models/registry.h"
 #include "models/spec.h"
 
@@ -117,21 +118,8 @@ Vec3 Schlick::sample_halfway(double xi_1, double xi_2) const noexcept {
 }
 
 std::optional<IncidentSample> Schlick::sample_incident(const Vec3& j, const std::array<double, 3>& u) const {
-  if (!(j.z > 0.0)) return std::nullopt;
-  Vec3 i;
-  if (u[0] < probability_cosine(j.z)) {
-    i = sample_cosine(u[1], u[2]);
-  } else {
-    const Vec3 h = sample_halfway(u[1], u[2]);
-    const double jh = glm::dot(j, h);
-    if (!(jh > 0.0)) return std::nullopt;
-    i = 2.0 * jh * h - j;
-  }
-  if (!(i.z > 0.0)) return std::nullopt;
-  i = glm::normalize(i);
-  const double pdf = pdf_incident(j, i);
-  if (!(pdf > 0.0)) return std::nullopt;
-  return IncidentSample{i, pdf};
+  return sample_cosine_or_halfway(*this, j, u, probability_cosine(j.z),
+                                  [this](double xi_1, double xi_2) { return sample_halfway(xi_1, xi_2); });
 }
 
 double Schlick::pdf_incident(const Vec3& j, const Vec3& i) const {
