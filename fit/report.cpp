@@ -155,7 +155,8 @@ RecoveryRow recover(Setup& setup, const std::string& truth, double noise, int re
     std::vector<ParameterError> errors;
     double worst = 0.0;
     for (const auto& [pname, fitted] : row.result.parameters) {
-      const auto it = std::find_if(truth_values.begin(), truth_values.end(), [&](const auto& t) { return t.first == pname; });
+      const std::string& wanted = pname;  // clang 14 cannot capture a structured binding
+      const auto it = std::find_if(truth_values.begin(), truth_values.end(), [&](const auto& t) { return t.first == wanted; });
       if (it == truth_values.end()) continue;
       errors.push_back({pname, it->second, fitted, std::abs(fitted - it->second) / std::abs(it->second)});
       worst = std::max(worst, errors.back().relative);
