@@ -572,6 +572,16 @@ std::string glsl_model_f(const Model& model) {
   return s.str();
 }
 
+namespace {
+/// Whether the model has a mirror delta (Model::mirror_reflectance) at some incidence.
+bool has_mirror_term(const Model& model) {
+  constexpr int kSteps = 64;
+  for (int k = 1; k <= kSteps; ++k)
+    if (model.mirror_reflectance(static_cast<double>(k) / kSteps) > 0.0) return true;
+  return false;
+}
+}  // namespace
+
 void check_scene_exportable(const Scene& scene) {
   bool collimated = false, extended = false;
   for (const Light& light : scene.lights) {
@@ -581,6 +591,10 @@ void check_scene_exportable(const Scene& scene) {
   for (const SceneObject& object : scene.objects)
     for (const MaterialLobe& lobe : scene.materials.at(object.material).lobes) {
       if (collimated) glsl_model_f(*lobe.model);
+      if (extended && has_mirror_term(*lobe.model))
+        throw InputError("model '" + lobe.spec + "' has a mirror delta besides f (the coherent specular term rho_s) that "
+                         "its tables do not hold; render adds it under skies and the Ganzfeld, the GLSL would not: "
+                         "allowed: models without a mirror delta under extended lights");
       if (extended && !lobe.model->traits().isotropic)
         throw InputError("model '" + lobe.spec + "' is anisotropic: its sky and Ganzfeld terms have no tables (a fourth "
                          "axis would be needed), so no GLSL; allowed: isotropic models under extended lights");

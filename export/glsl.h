@@ -76,7 +76,9 @@ void check_table_is(const tables::Table& table, const Model& model, Law law);
 std::string glsl_model_f(const Model& model);
 
 /// Throws what glsl_scene_shader would throw about the scene itself (a lobe lit by a collimated
-/// light without a GLSL f), so that the exporter can refuse before it bakes any table.
+/// light without a GLSL f; under extended lights an anisotropic lobe, or one with a mirror delta
+/// that render adds and no table holds: Model::mirror_reflectance), so that the exporter can
+/// refuse before it bakes any table.
 void check_scene_exportable(const Scene& scene);
 
 /// The sampler uniform of a scene table: "gz_tex_<spec>_<law>".

@@ -59,6 +59,15 @@ Vec3 clamp_to_horizon(Vec3 j) {
   return r > 0.0 ? Vec3{j.x / r, j.y / r, 0.0} : Vec3{1.0, 0.0, 0.0};
 }
 
+/// The radiance a model's mirror delta (Model::mirror_reflectance) adds towards j under a unit
+/// extended source: rho(j·n) when the mirror direction of j sees the source (always in a
+/// Ganzfeld; in a sky with pole i when mirror(j)·i > 0), else 0. Under a collimated beam the
+/// delta lights a single direction, a point of no area on a sphere: nothing to add.
+double mirror_term(const Model& model, const Vec3& j, const Vec3* sky_pole) {
+  if (sky_pole && !(glm::dot(mirror(j), *sky_pole) > 0.0)) return 0.0;
+  return model.mirror_reflectance(j.z);
+}
+
 }  // namespace
 
 LawSourcePtr lambert_laws() { return std::make_shared<LambertLaws>(); }
@@ -119,8 +128,10 @@ Rgb MaterialShader::radiance(const Vec3& n, const Vec3& j_world) const {
         case Light::Type::collimated:
           if (i.z > 0.0 && j.z > 0.0) value = i.z * lobe.model->f(i, j);
           break;
-        case Light::Type::hemispherical: value = lobe.laws->g(i, j_clamped); break;
-        case Light::Type::ganzfeld: value = lobe.laws->h(j_clamped); break;
+        case Light::Type::hemispherical:
+          value = lobe.laws->g(i, j_clamped) + mirror_term(*lobe.model, j_clamped, &i);
+          break;
+        case Light::Type::ganzfeld: value = lobe.laws->h(j_clamped) + mirror_term(*lobe.model, j_clamped, nullptr); break;
       }
       for (int c = 0; c < 3; ++c) out[c] += term.scale[c] * value;
     }

@@ -9,6 +9,9 @@
 // A pixel's j·n can be slightly negative only through interpolated mesh normals at a silhouette;
 // for the sky and the Ganzfeld j is then clamped to the horizon (the limit of the visible side).
 //
+// A model's mirror delta (Model::mirror_reflectance: he-torrance's coherent specular term), which
+// f and its laws exclude, is added exactly: rho(j·n) under a Ganzfeld, and under a sky when the
+// mirror direction of j lies in it; nothing under a collimated beam (it lights one direction).
 // f is always the model's own closed form. g and h come from a LawSource, one per lobe:
 //   tables  — tables::sample on baked tables (fast; error = table error + interpolation error)
 //   direct  — integrate/laws.h cubature per pixel (slow; the reference, to a tolerance)
