@@ -256,6 +256,7 @@ TableQuery parse_table(const Query& query, const Limits& limits, TableEndpoint e
     // within this service's own size cap (max_entries floats of values).
     q.options.target_error = *max_error;
     q.options.max_bytes = limits.max_entries * sizeof(float);
+    q.options.best_effort = false;  // a target asked for is met or refused
   }
   if (const auto fetches = number(query, "fetches")) {  // as `bake --fetches N`: the lookup's fetch budget
     if (!q.options.target_error) throw bad("fetches needs max_error (it is the fetch budget of that search)");
