@@ -188,7 +188,7 @@ int bake_one(const BakeArgs& args) {
       std::printf("target lookup error %s within %llu value bytes%s: %s\n", format_number(table.target_error).c_str(),
                   static_cast<unsigned long long>(table.target_bytes),
                   table.target_fetches ? (" and " + std::to_string(table.target_fetches) + " fetches").c_str() : "",
-                  table.lookup_error <= table.target_error ? "met" : "missed (best effort: the most accurate table found)");
+                  tables::misses_target(table) ? "missed (best effort: the most accurate table found)" : "met");
     std::printf("baked %s of %s, %s nodes (%s frame, %s, %s filter: %d fetches per lookup, %zu entries, %s, %llu value "
                 "bytes) in %.2f s: lookup error %.3g (validated at %lld points%s; node error %.3g), %lld unconverged -> %s\n",
                 to_string(law), table.model.c_str(), nodes.c_str(), to_string(table.frame),

@@ -134,7 +134,7 @@ std::optional<Table> read_if_matching(const std::string& path, const TableKey& k
     Table table = read_table(path);
     if (!same_key(table_key(table), key))
       reason = "it holds another table (its metadata is not the key)";
-    else if (!key.best_effort && table.target_error > 0.0 && table.lookup_error > table.target_error)
+    else if (!key.best_effort && misses_target(table))
       reason = "it misses its target error (a best-effort bake's table)";
     else if (table.values_digest.empty())
       reason = "it has no ganzfeld.values_digest to verify its numbers by";
