@@ -224,6 +224,39 @@ double HeTorrance::f(const Vec3& i, const Vec3& j) const noexcept {
   return directional_diffuse(i, j) + a_ / pi;  // eqs. 71 + 72 (the delta of eq. 70 excluded)
 }
 
+std::optional<GlslF> HeTorrance::glsl_f() const {
+  const std::string diffuse = glsl_float(a_ / pi);
+  if (!(sigma0_ > 0.0)) return GlslF{std::string(kGlslBelowHorizon) + "  return " + diffuse + ";\n", {}};
+  const std::string tau = glsl_float(tau_), sigma0 = glsl_float(sigma0_);
+  // As directional_diffuse() + a/pi: the effective roughness of eqs. 80-83 (0 when a direction
+  // grazes: K is infinite there), g of eq. 79, the series of eq. 78 over g, G (mu_i + mu_j)^2 =
+  // |i + j|^4, the shadowing over the cosines, Fresnel at the bisector.
+  return GlslF{std::string(kGlslBelowHorizon) +
+                   "  float diffuse = " + diffuse + ";\n"
+                   "  float mu_i = min(i.z, 1.0), mu_j = min(j.z, 1.0);\n"
+                   "  float sin_i = length(i.xy), sin_j = length(j.xy);\n"
+                   "  vec3 v = i + j;\n"
+                   "  float vv = dot(v, v);\n"
+                   "  if (!(vv > 0.0)) return diffuse;\n"
+                   "  if ((!(mu_i > 0.0) && sin_i > 0.0) || (!(mu_j > 0.0) && sin_j > 0.0)) return diffuse;\n"
+                   "  float f0 = (gz_he_K(mu_i, sin_i, " + tau + ", " + sigma0 + ") + gz_he_K(mu_j, sin_j, " + tau + ", " +
+                   sigma0 + ")) * " + glsl_float(1.0 / std::sqrt(8.0 * pi)) + ";\n"
+                   "  if (isinf(f0)) return diffuse;\n"
+                   "  float x = gz_he_z0_over_sigma0(f0);\n"
+                   "  float sigma = x > 1e18 ? " + sigma0 + " / x : " + sigma0 + " / sqrt(1.0 + x * x);\n"
+                   "  if (!(sigma > 0.0)) return diffuse;\n"
+                   "  float kappa = sigma * " + glsl_float(2.0 * pi / lambda_) + ";\n"
+                   "  float g = (kappa * (mu_i + mu_j)) * (kappa * (mu_i + mu_j));\n"
+                   "  float c = " + glsl_float(c_scale_) + " * dot(v.xy, v.xy);\n"
+                   "  float D_over = " + glsl_float(prefactor_) + " * kappa * kappa * gz_he_series_over_g(g, c);\n"
+                   "  float S_over = gz_he_shadowing_over_cos(mu_i, sin_i, " + tau + ", " + sigma0 +
+                   ") * gz_he_shadowing_over_cos(mu_j, sin_j, " + tau + ", " + sigma0 + ");\n"
+                   "  float F = gz_fresnel_complex(0.5 * sqrt(vv), " + glsl_float(eta_) + ", " + glsl_float(k_) + ");\n"
+                   "  float rho = F * " + glsl_float(1.0 / pi) + " * vv * vv * S_over * D_over;\n"
+                   "  return (isinf(rho) || isnan(rho) || !(rho > 0.0) ? 0.0 : rho) + diffuse;\n",
+               {"gz_he_terms", "gz_he_series_over_g", "gz_fresnel_complex"}};
+}
+
 MassHints HeTorrance::mass_hints(const Vec3& fixed, Varying) const {
   if (!(sigma0_ > 0.0)) return {};
   const Vec3 r = mirror(fixed);

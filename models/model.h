@@ -17,6 +17,8 @@
 #include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
 
+#include "models/glsl.h"
+
 namespace ganzfeld {
 
 using Vec3 = glm::dvec3;
@@ -112,6 +114,11 @@ class Model {
   /// The density per steradian with which sample_incident draws i (0 where it never does); its
   /// integral over the hemisphere is the probability that a draw succeeds.
   virtual double pdf_incident(const Vec3& j, const Vec3& i) const;
+
+  /// f as GLSL (models/glsl.h): the body of float f(vec3 i, vec3 j) in the local frame, written
+  /// beside f in the model's own file. Nothing for a model with no closed form to emit (measured
+  /// data, tables read from a file); the viewer then asks the service for f (docs/serve.md).
+  virtual std::optional<GlslF> glsl_f() const { return std::nullopt; }
 };
 
 /// Cosine-weighted direction about n = +z from two uniform numbers (Malley's method: a uniform

@@ -76,8 +76,12 @@ TangentFrame::TangentFrame(const Vec3& normal) : n(normal) {
   b = {b_, sign + n.y * n.y * a, -n.y};
 }
 
-Rgb shade(const ShadingMaterial& material, const std::vector<Light>& lights, const Vec3& n, const Vec3& j_world) {
-  const TangentFrame frame(n);
+TangentFrame::TangentFrame(const Vec3& normal, const Vec3& tangent)
+    : t(glm::normalize(tangent - glm::dot(tangent, normal) * normal)), b(glm::cross(normal, t)), n(normal) {}
+
+Rgb shade(const ShadingMaterial& material, const std::vector<Light>& lights, const Vec3& n, const Vec3& j_world,
+          const Vec3& tangent) {
+  const TangentFrame frame(n, tangent);
   const Vec3 j = frame.local(j_world);
   const Vec3 j_clamped = clamp_to_horizon(j);
   Rgb out{0, 0, 0};
@@ -120,7 +124,9 @@ Image shade_image(const RenderScene& scene, const GBuffer& gb) {
       for (int x = 0; x < gb.width; ++x) {
         const Fragment& f = gb.at(x, y);
         if (f.mesh == Fragment::kNone) continue;
-        const Rgb c = shade(scene.materials[scene.mesh_material[f.mesh]], scene.lights, f.normal, f.view);
+        const TangentRule rule = f.mesh < scene.mesh_tangent.size() ? scene.mesh_tangent[f.mesh] : TangentRule{};
+        const Rgb c = shade(scene.materials[scene.mesh_material[f.mesh]], scene.lights, f.normal, f.view,
+                            brush_tangent(f.normal, rule));
         float* p = image.at(x, y);
         for (int k = 0; k < 3; ++k) p[k] = static_cast<float>(c[k]);
       }
@@ -135,6 +141,7 @@ void add_scene_geometry(const Scene& scene, RenderScene& out) {
     if (object.shape == SceneObject::Shape::sphere) out.meshes.push_back(uv_sphere(object.center, object.radius, kSphereSegments));
     else out.meshes.push_back(load_obj(object.mesh_path));
     out.mesh_material.push_back(object.material);
+    out.mesh_tangent.push_back(object.tangent);
   }
 }
 

@@ -3,9 +3,10 @@
 //   collimated beam     N = H0 (i·n) f(i, j)        0 when i·n <= 0 (body shadow) or j·n <= 0
 //   hemispherical sky   N = N_i g(i, j, n)          i = the sky's pole, i·n in [-1, 1]
 //   Ganzfeld            N = N_i h(j, n)
-// Everything is evaluated in the LOCAL frame of the pixel's normal (n = +z, an orthonormal
-// tangent frame built from n alone): the isotropic laws only see i·n, j·n and the relative
-// azimuth of the tangential parts of i and j, which the frame preserves.
+// Everything is evaluated in the LOCAL frame of the pixel's normal (n = +z) and the object's
+// tangent (+x: the scene file's tangent rule, scene/scene.h brush_tangent): anisotropic lobes are
+// oriented by it; the isotropic laws only see i·n, j·n and the relative azimuth of the tangential
+// parts of i and j, which any frame preserves.
 // A pixel's j·n can be slightly negative only through interpolated mesh normals at a silhouette;
 // for the sky and the Ganzfeld j is then clamped to the horizon (the limit of the visible side).
 //
@@ -58,22 +59,27 @@ struct ShadingLobe {
 };
 using ShadingMaterial = std::vector<ShadingLobe>;
 
-/// A right-handed orthonormal frame (t, b, n) for unit n (Duff et al. 2017, "Building an
-/// orthonormal basis, revisited"); local(v) = (v·t, v·b, v·n).
+/// A right-handed orthonormal frame (t, b, n); local(v) = (v·t, v·b, v·n).
 struct TangentFrame {
   Vec3 t, b, n;
+  /// Any frame for unit n (Duff et al. 2017, "Building an orthonormal basis, revisited").
   explicit TangentFrame(const Vec3& n);
+  /// t = the part of `tangent` across unit n, normalized (tangent not along n); b = n x t.
+  TangentFrame(const Vec3& n, const Vec3& tangent);
   Vec3 local(const Vec3& v) const { return {glm::dot(v, t), glm::dot(v, b), glm::dot(v, n)}; }
 };
 
-/// Radiance towards j (unit, world) of a surface with unit world normal n.
-Rgb shade(const ShadingMaterial& material, const std::vector<Light>& lights, const Vec3& n, const Vec3& j);
+/// Radiance towards j (unit, world) of a surface with unit world normal n and tangent t (any
+/// vector not along n; anisotropic lobes are oriented by its part across n).
+Rgb shade(const ShadingMaterial& material, const std::vector<Light>& lights, const Vec3& n, const Vec3& j,
+          const Vec3& t);
 
 /// Everything the rasterizer needs to make a picture.
 struct RenderScene {
   Camera camera;
   std::vector<Mesh> meshes;
   std::vector<std::size_t> mesh_material;  ///< per mesh: index into materials
+  std::vector<TangentRule> mesh_tangent;   ///< per mesh: its object's tangent rule (empty: the default)
   std::vector<ShadingMaterial> materials;
   std::vector<Light> lights;
 };

@@ -1,5 +1,6 @@
 // Bakes on demand without an unbounded backlog (docs/serve.md): `jobs` worker threads take
-// bakes from a queue of at most `queue` waiting ones. Identical requests share one bake (single
+// bakes (tables, and the spheres of /api/sphere that need a cubature per pixel) from a queue of
+// at most `queue` waiting ones. Identical requests share one bake (single
 // flight): while the bake of a key is queued or running, every further request for that key
 // joins it instead of queueing another. A request that would need a new slot when all
 // jobs + queue slots are taken is refused (Busy: HTTP 503 with Retry-After), as is every
@@ -31,7 +32,9 @@ class Busy : public std::runtime_error {
 
 class Bakery {
  public:
-  using Result = std::shared_ptr<const tables::CacheResult>;
+  /// What a job makes: a table (tables::CacheResult) or a reply body (std::string); the caller
+  /// that submitted the job knows which.
+  using Result = std::shared_ptr<const void>;
   using Job = std::function<Result()>;
 
   /// `jobs` >= 1 bakes at once, `queue` >= 0 waiting.

@@ -22,40 +22,6 @@ namespace {
 
 RequestError bad(const std::string& message) { return RequestError(400, message); }
 
-/// Refuses repeated parameters and parameters the endpoint does not know, naming what it knows.
-void check_names(const Query& query, const std::string& endpoint, const std::vector<std::string>& allowed) {
-  std::string list;
-  for (const std::string& name : allowed) list += (list.empty() ? "" : ", ") + name;
-  for (auto it = query.begin(); it != query.end(); it = query.upper_bound(it->first)) {
-    if (std::find(allowed.begin(), allowed.end(), it->first) == allowed.end())
-      throw bad("unknown parameter '" + it->first + "' for " + endpoint + "; allowed: " + list);
-    if (query.count(it->first) > 1) throw bad("parameter '" + it->first + "' is given more than once");
-  }
-}
-
-std::optional<std::string> text_of(const Query& query, const std::string& name) {
-  const auto it = query.find(name);
-  if (it == query.end()) return std::nullopt;
-  return it->second;
-}
-
-std::string required(const Query& query, const std::string& name, const std::string& example) {
-  const std::optional<std::string> text = text_of(query, name);
-  if (!text || text->empty()) throw bad("missing parameter '" + name + "'; e.g. " + name + "=" + example);
-  return *text;
-}
-
-/// A finite number, all of the text.
-std::optional<double> number(const Query& query, const std::string& name) {
-  const std::optional<std::string> text = text_of(query, name);
-  if (!text) return std::nullopt;
-  char* end = nullptr;
-  const double x = std::strtod(text->c_str(), &end);
-  if (text->empty() || *end != '\0' || !std::isfinite(x))
-    throw bad(name + "='" + *text + "' is not a number; expected a finite decimal number");
-  return x;
-}
-
 double angle(const Query& query, const std::string& name, double max_deg, const std::string& why) {
   const std::optional<double> deg = number(query, name);
   if (!deg) throw bad("missing parameter '" + name + "'" + why);
@@ -109,6 +75,38 @@ std::string decoded(std::string_view text) {
 
 }  // namespace
 
+void check_names(const Query& query, const std::string& endpoint, const std::vector<std::string>& allowed) {
+  std::string list;
+  for (const std::string& name : allowed) list += (list.empty() ? "" : ", ") + name;
+  for (auto it = query.begin(); it != query.end(); it = query.upper_bound(it->first)) {
+    if (std::find(allowed.begin(), allowed.end(), it->first) == allowed.end())
+      throw bad("unknown parameter '" + it->first + "' for " + endpoint + "; allowed: " + list);
+    if (query.count(it->first) > 1) throw bad("parameter '" + it->first + "' is given more than once");
+  }
+}
+
+std::optional<std::string> text_of(const Query& query, const std::string& name) {
+  const auto it = query.find(name);
+  if (it == query.end()) return std::nullopt;
+  return it->second;
+}
+
+std::string required(const Query& query, const std::string& name, const std::string& example) {
+  const std::optional<std::string> text = text_of(query, name);
+  if (!text || text->empty()) throw bad("missing parameter '" + name + "'; e.g. " + name + "=" + example);
+  return *text;
+}
+
+std::optional<double> number(const Query& query, const std::string& name) {
+  const std::optional<std::string> text = text_of(query, name);
+  if (!text) return std::nullopt;
+  char* end = nullptr;
+  const double x = std::strtod(text->c_str(), &end);
+  if (text->empty() || *end != '\0' || !std::isfinite(x))
+    throw bad(name + "='" + *text + "' is not a number; expected a finite decimal number");
+  return x;
+}
+
 Query parse_query(std::string_view text) {
   Query query;
   while (!text.empty()) {
@@ -125,13 +123,8 @@ Query parse_query(std::string_view text) {
 }
 
 namespace {
-/// Refuses (400) a spec with a data file item (file=PATH).
-void refuse_data_file(const std::string& spec) {
-  static const std::regex file_item(R"((^|[:,])\s*file\s*=)");
-  if (std::regex_search(spec, file_item))
-    throw bad("model '" + spec + "' names a data file; the service reads no file outside its cache: allowed: "
-              "analytic models and mixtures (see /api/models)");
-}
+/// Refuses (400) a spec with a data file item (file=...): scenes name no data file.
+void refuse_data_file(const std::string& spec) { (void)DataFiles{}.resolve(spec); }
 
 /// refuse_data_file of every string in a JSON document (as decoded: escapes cannot hide one).
 void refuse_data_files(const nlohmann::json& value) {
@@ -141,16 +134,16 @@ void refuse_data_files(const nlohmann::json& value) {
 }
 }  // namespace
 
-ModelPtr parse_served_model(const std::string& spec) {
-  refuse_data_file(spec);
-  return as_request([&] { return parse_model(spec); });
+ModelPtr parse_served_model(const std::string& spec, const DataFiles& data) {
+  const std::string resolved = data.resolve(spec);
+  return as_request([&] { return parse_model(resolved); });
 }
 
-EvalQuery parse_eval(const Query& query, const Limits& limits) {
+EvalQuery parse_eval(const Query& query, const Limits& limits, const DataFiles& data) {
   check_names(query, "/api/eval", {"model", "law", "theta_i", "theta_j", "phi", "tol"});
   EvalQuery q;
   q.law = as_request([&] { return parse_law(required(query, "law", "g (one of f, g, h, a, r)")); });
-  q.model = parse_served_model(required(query, "model", "specular:alpha=8"));
+  q.model = parse_served_model(required(query, "model", "specular:alpha=8"), data);
   const bool needs_i = q.law == Law::f || q.law == Law::g || q.law == Law::a;
   const bool needs_j = q.law == Law::f || q.law == Law::g || q.law == Law::h;
   const std::string law = std::string(" (law ") + to_string(q.law) + " needs it)";
@@ -167,9 +160,9 @@ bool is_f_glsl(const Query& query) {
   return law != query.end() && law->second == "f";
 }
 
-ModelPtr parse_f_glsl(const Query& query) {
+ModelPtr parse_f_glsl(const Query& query, const DataFiles& data) {
   check_names(query, "/api/glsl with law=f", {"model", "law"});
-  return parse_served_model(required(query, "model", "specular:alpha=8"));
+  return parse_served_model(required(query, "model", "specular:alpha=8"), data);
 }
 
 namespace {
@@ -193,7 +186,7 @@ const char* to_string(TableFormat format) { return info(format).name; }
 const char* content_type(TableFormat format) { return info(format).content_type; }
 
 TableQuery parse_table(const Query& query, const Limits& limits, TableEndpoint endpoint,
-                       const scene::TableOptions& defaults) {
+                       const scene::TableOptions& defaults, const DataFiles& data) {
   std::vector<std::string> names{"model", "law", "res", "tol", "encoding", "max_error"};
   if (endpoint == TableEndpoint::table) names.push_back("format");
   check_names(query, endpoint == TableEndpoint::table ? "/api/table" : "/api/glsl", names);
@@ -201,7 +194,7 @@ TableQuery parse_table(const Query& query, const Limits& limits, TableEndpoint e
     throw bad("give res or max_error, not both: with max_error the baker chooses the resolution (issue #15)");
   TableQuery q;
   q.law = as_request([&] { return tables::parse_tabulated_law("law", required(query, "law", "g (one of g, h, a)")); });
-  q.model = parse_served_model(required(query, "model", "specular:alpha=8"));
+  q.model = parse_served_model(required(query, "model", "specular:alpha=8"), data);
   if (!q.model->traits().isotropic)
     throw bad("model '" + q.model->spec() + "' is anisotropic; tables hold isotropic models only");
   q.options = defaults.bake_options(q.law == Law::g ? Law::g : Law::h);

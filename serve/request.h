@@ -1,7 +1,8 @@
 // The requests of `ganzfeld serve` (docs/serve.md), parsed and validated apart from HTTP: a query
 // (the decoded ?key=value pairs) becomes what the library is asked, or a RequestError whose one
-// line names the bad value and what is allowed. Nothing here reads a file: models naming a
-// data file (file=PATH) are refused, so no request can make the service read outside its cache.
+// line names the bad value and what is allowed. A model naming a data file (file=NAME) is built
+// only from a file of `serve --data DIR` listed under that name (serve/data.h): refused (400)
+// without --data, 404 for a name not listed; no request can name a path.
 #pragma once
 
 #include <cstdint>
@@ -12,6 +13,7 @@
 #include <string_view>
 
 #include "integrate/cubature.h"
+#include "serve/data.h"
 #include "integrate/laws.h"
 #include "scene/plan.h"
 #include "scene/scene.h"
@@ -32,6 +34,15 @@ class RequestError : public std::runtime_error {
  private:
   int status_;
 };
+
+/// Refuses (400) repeated parameters and parameters the endpoint does not know, naming those it knows.
+void check_names(const Query& query, const std::string& endpoint, const std::vector<std::string>& allowed);
+/// The parameter's text, or nothing.
+std::optional<std::string> text_of(const Query& query, const std::string& name);
+/// The parameter's text; 400 "missing parameter" with `example` when absent or empty.
+std::string required(const Query& query, const std::string& name, const std::string& example);
+/// The parameter as a finite number (all of its text), or nothing; 400 otherwise.
+std::optional<double> number(const Query& query, const std::string& name);
 
 /// The query of a request target (the text after '?'): pairs split at '&', each at its first
 /// '=' (a spec's own '=' stays in the value: model=specular:alpha=8), %XX and '+' (a space)
@@ -56,7 +67,7 @@ struct EvalQuery {
   double tolerance = 1e-9;
   CubatureOptions options;
 };
-EvalQuery parse_eval(const Query& query, const Limits& limits);
+EvalQuery parse_eval(const Query& query, const Limits& limits, const DataFiles& data = {});
 
 enum class TableFormat { exr, ktx2, json };
 const char* to_string(TableFormat format);         ///< "exr", "ktx2", "json"
@@ -76,7 +87,7 @@ struct TableQuery {
 };
 enum class TableEndpoint { table, glsl };
 TableQuery parse_table(const Query& query, const Limits& limits, TableEndpoint endpoint,
-                       const scene::TableOptions& defaults = {});
+                       const scene::TableOptions& defaults = {}, const DataFiles& data = {});
 
 /// The TableQuery of law `law` of `model` baked with `options` (key and cache file name set);
 /// throws RequestError 400 for axes a bake would refuse.
@@ -94,10 +105,11 @@ SceneQuery parse_scene_glsl(const Query& query);
 /// GET /api/glsl?model=SPEC&law=f: f in closed form as GLSL (exporting::glsl_model_f), no table;
 /// the viewer's collimated beam. is_f_glsl: the /api/glsl query asks for law f.
 bool is_f_glsl(const Query& query);
-ModelPtr parse_f_glsl(const Query& query);
+ModelPtr parse_f_glsl(const Query& query, const DataFiles& data = {});
 
-/// The model of a spec given in a request: refuses (400) specs with a data file (file=...),
-/// then parses it (unknown model or parameter: 400 with the parser's message).
-ModelPtr parse_served_model(const std::string& spec);
+/// The model of a spec given in a request: its file=NAME items resolved by `data` (400 without
+/// --data, 404 for a name not listed), then parsed (unknown model or parameter: 400 with the
+/// parser's message).
+ModelPtr parse_served_model(const std::string& spec, const DataFiles& data = {});
 
 }  // namespace ganzfeld::serve

@@ -5,10 +5,12 @@
 #include <iterator>
 
 #include "export/glsl.h"
+#include "export/glsl_f.h"
 #include "export/texture_file.h"
 #include "scene/plan.h"
 #include "serve/assets.h"
 #include "serve/etag.h"
+#include "serve/field.h"
 #include "shapes/json.h"
 #include "tables/exr_io.h"
 #include "util/error.h"
@@ -95,23 +97,31 @@ Reply Service::handle(const Request& request) {
     const Query& query = request.query;
     // The viewer's files (serve/assets.h); the page reads its own query (model, light, test mode).
     if (const Asset* asset = find_asset(path)) return {200, std::string(asset->media_type), std::string(asset->body), {}};
-    const bool fixed = path == "/healthz" || path == "/api/models";
+    const bool fixed = path == "/healthz" || path == "/api/models" || path == "/api/data";
     if (fixed && !query.empty()) return error_reply(400, path + " takes no parameters");
     if (path == "/healthz") return json_reply(200, health());
     if (path == "/api/models") return {200, "application/json", models_, {}};
+    if (path == "/api/data") return json_reply(200, options_.data.listing());
     if (path == "/api/eval") {
-      const EvalQuery q = parse_eval(query, options_.limits);
+      const EvalQuery q = parse_eval(query, options_.limits, options_.data);
       const util::Stopwatch watch;
       const Estimate e = evaluate_law(*q.model, q.law, q.i.value_or(Vec3{0, 0, 1}), q.j.value_or(Vec3{0, 0, 1}), q.options);
-      return json_reply(200, shapes::eval_json(q.model->spec(), q.law, e, q.tolerance, q.i, q.j, watch.seconds()));
+      return json_reply(200, shapes::eval_json(options_.data.display(q.model->spec()), q.law, e, q.tolerance, q.i, q.j,
+                                               watch.seconds()));
     }
+    if (path == "/api/fgrid") {
+      const FGridQuery q = parse_fgrid(query, options_.data);
+      return cacheable(json_reply(200, fgrid_json(q, options_.data)), request.if_none_match);
+    }
+    if (path == "/api/sphere") return sphere(request);
     if (path == "/api/table") return table(request, TableEndpoint::table);
     if (path == "/api/glsl") {
       if (query.count("scene")) return scene_glsl(request);
       return is_f_glsl(query) ? f_shader(request) : table(request, TableEndpoint::glsl);
     }
     return error_reply(404, "no endpoint '" + path +
-                                "'; allowed: /, /viewer.js, /healthz, /api/models, /api/eval, /api/table, /api/glsl");
+                                "'; allowed: /, /viewer.js, /healthz, /api/models, /api/data, /api/eval, /api/fgrid, /api/sphere, "
+                                "/api/table, /api/glsl");
   } catch (const RequestError& e) {
     return error_reply(e.status(), e.what());
   } catch (const Busy& e) {
@@ -125,7 +135,7 @@ Reply Service::handle(const Request& request) {
   }
 }
 
-Bakery::Result Service::obtain(const TableQuery& q, std::string& status) {
+std::shared_ptr<const tables::CacheResult> Service::obtain(const TableQuery& q, std::string& status) {
   const std::string path = (std::filesystem::path(options_.cache_dir) / q.file_name).string();
   if (std::optional<tables::Table> table = tables::read_if_matching(path, tables::table_key(*q.model, q.law, q.options))) {
     ++reused_;
@@ -139,20 +149,30 @@ Bakery::Result Service::obtain(const TableQuery& q, std::string& status) {
     ++(r->status == tables::CacheStatus::baked ? baked_ : reused_);
     return r;
   });
-  Bakery::Result result = ticket.result.get();
+  auto result = std::static_pointer_cast<const tables::CacheResult>(ticket.result.get());
   status = ticket.joined ? "joined" : tables::to_string(result->status);
   return result;
 }
 
+Reply Service::sphere(const Request& request) {
+  const SphereQuery q = parse_sphere(request.query, options_.data);
+  if (q.law == Law::f) return cacheable(json_reply(200, sphere_json(q, options_.data)), request.if_none_match);
+  const Bakery::Ticket ticket = bakery_.submit(q.key, [q, this] {
+    return std::make_shared<const std::string>(sphere_json(q, options_.data).dump() + "\n");
+  });
+  const auto body = std::static_pointer_cast<const std::string>(ticket.result.get());
+  return cacheable({200, "application/json", *body, {}}, request.if_none_match);
+}
+
 Reply Service::f_shader(const Request& request) {
-  const ModelPtr model = parse_f_glsl(request.query);
+  const ModelPtr model = parse_f_glsl(request.query, options_.data);
   return cacheable({200, "text/plain; charset=utf-8", exporting::glsl_model_f(*model), {}}, request.if_none_match);
 }
 
 Reply Service::table(const Request& request, TableEndpoint endpoint) {
-  const TableQuery q = parse_table(request.query, options_.limits, endpoint, options_.defaults);
+  const TableQuery q = parse_table(request.query, options_.limits, endpoint, options_.defaults, options_.data);
   std::string status;
-  const Bakery::Result r = obtain(q, status);
+  const auto r = obtain(q, status);
   Reply reply;
   if (endpoint == TableEndpoint::glsl) {
     reply.content_type = "text/plain; charset=utf-8";
@@ -177,7 +197,7 @@ Reply Service::scene_glsl(const Request& request) {
   store.obtain = [&](scene::TableRequest r) {
     std::string status;
     r.options.max_evaluations = options_.limits.max_evaluations;
-    const Bakery::Result result = obtain(table_query(r.model, r.law, r.options), status);
+    const auto result = obtain(table_query(r.model, r.law, r.options), status);
     statuses += (statuses.empty() ? "" : ",") + status;
     scene::PlannedTable planned{std::move(r), std::shared_ptr<const tables::Table>(result, &result->table), result->path,
                                 result->status, result->seconds};

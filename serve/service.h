@@ -9,6 +9,8 @@
 //   GET /api/table    the table from the cache (baked on demand: serve/bakery.h) as exr, ktx2 or json
 //   GET /api/glsl     export::glsl_table_snippet of that table; with law=f, export::glsl_model_f;
 //                     with scene=SCENE the scene's shader (export::glsl_scene_shader) and its tables
+//   GET /api/data     the measured files of --data DIR, by name (serve/data.h)
+//   GET /api/fgrid    f over a direction grid; GET /api/sphere the figure's sphere (serve/field.h)
 // Errors: {"error": "one line"} with 400 (bad value), 404 (no such endpoint), 413 (too large),
 // 503 (no bake slot free: Retry-After) or 500.
 #pragma once
@@ -33,6 +35,7 @@ struct ServiceOptions {
   int queue = 4;          ///< bakes waiting; beyond: 503
   Limits limits;
   scene::TableOptions defaults;  ///< what unset table parameters mean
+  DataFiles data;                 ///< `--data DIR`: the measured files requests may name (serve/data.h)
   /// Joins the words of the equivalent `ganzfeld bake` into the line stamped into each table.
   std::function<std::string(const std::vector<std::string>&)> command_line;
 };
@@ -77,7 +80,9 @@ class Service {
   Reply scene_glsl(const Request& request);
   Reply f_shader(const Request& request);
   /// The table of `q` from the cache, or baked (single flight); `status`: baked, reused or joined.
-  Bakery::Result obtain(const TableQuery& q, std::string& status);
+  std::shared_ptr<const tables::CacheResult> obtain(const TableQuery& q, std::string& status);
+  /// GET /api/sphere: f at once, g and h (a cubature per pixel) as a bakery job.
+  Reply sphere(const Request& request);
 
   ServiceOptions options_;
   Bakery bakery_;

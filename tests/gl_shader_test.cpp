@@ -15,11 +15,6 @@
 // alone as well: the GPU samples the tables the way tables/ does, not merely within their error.
 // Measured on llvmpipe (Mesa 22.3): max |GPU - CPU| 4.9e-6, 3.5e-5 relative; 0.2% of the
 // stated table error.
-#include <EGL/egl.h>
-#include <EGL/eglext.h>
-#define GL_GLEXT_PROTOTYPES
-#include <GL/glcorearb.h>
-
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -48,6 +43,7 @@
 #include "export/texture_file.h"
 #include "rasterizer/raster.h"
 #include "rasterizer/shading.h"
+#include "tests/gl_support.h"
 #include "tests/temp_dir.h"
 
 namespace ganzfeld {
@@ -91,98 +87,13 @@ std::string lobe_scene_json() {
 constexpr double kLobeSceneMaxError = 1e-2;
 
 // ---------------------------------------------------------------------------------------------
-// EGL + GL plumbing
 
-#if defined(__SANITIZE_ADDRESS__)
-#define GANZFELD_LEAK_CHECKED 1
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-#define GANZFELD_LEAK_CHECKED 1
-#endif
-#endif
-#ifdef GANZFELD_LEAK_CHECKED
-#include <sanitizer/lsan_interface.h>
-#endif
-
-/// Under scripts/test --sanitize, llvmpipe's JIT-compiled shader code allocates blocks that Mesa
-/// keeps past eglTerminate. Their stacks end in the JIT code, outside any module, so no
-/// suppression can name them: leak checking is paused (for this thread; llvmpipe rasterizes on
-/// it too, LP_NUM_THREADS=0) while a context lives, and stays on for everything else.
-struct LeakCheckPause {
-#ifdef GANZFELD_LEAK_CHECKED
-  LeakCheckPause() { __lsan_disable(); }
-  ~LeakCheckPause() { __lsan_enable(); }
-#endif
-};
-
-struct GlContext {
-  LeakCheckPause leak_check_pause;  // destroyed last, after eglTerminate
-  EGLDisplay display = EGL_NO_DISPLAY;
-  EGLContext context = EGL_NO_CONTEXT;
-  ~GlContext() {
-    if (display != EGL_NO_DISPLAY) {
-      eglMakeCurrent(display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
-      if (context != EGL_NO_CONTEXT) eglDestroyContext(display, context);
-      eglTerminate(display);
-    }
-  }
-};
-
-/// A current GL 4.3 core (es = false) or GLSL ES 3.0 (es = true) context without any surface;
-/// `error` says why not.
-std::unique_ptr<GlContext> make_context(bool es, std::string& error) {
-  auto get_platform_display =
-      reinterpret_cast<PFNEGLGETPLATFORMDISPLAYEXTPROC>(eglGetProcAddress("eglGetPlatformDisplayEXT"));
-  if (!get_platform_display) {
-    error = "no eglGetPlatformDisplayEXT";
-    return nullptr;
-  }
-#ifdef GANZFELD_LEAK_CHECKED
-  setenv("LP_NUM_THREADS", "0", 1);  // see LeakCheckPause
-#endif
-  auto gl = std::make_unique<GlContext>();
-  gl->display = get_platform_display(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
-  EGLint major = 0, minor = 0;
-  if (gl->display == EGL_NO_DISPLAY || !eglInitialize(gl->display, &major, &minor)) {
-    error = "eglInitialize failed on the surfaceless platform (is Mesa's libegl-mesa0 installed?)";
-    gl->display = EGL_NO_DISPLAY;
-    return nullptr;
-  }
-  if (!eglBindAPI(es ? EGL_OPENGL_ES_API : EGL_OPENGL_API)) {
-    error = "eglBindAPI failed";
-    return nullptr;
-  }
-  const EGLint core[] = {EGL_CONTEXT_MAJOR_VERSION, 4, EGL_CONTEXT_MINOR_VERSION, 3, EGL_CONTEXT_OPENGL_PROFILE_MASK,
-                         EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT, EGL_NONE};
-  const EGLint gles[] = {EGL_CONTEXT_MAJOR_VERSION, 3, EGL_CONTEXT_MINOR_VERSION, 0, EGL_NONE};
-  gl->context = eglCreateContext(gl->display, EGL_NO_CONFIG_KHR, EGL_NO_CONTEXT, es ? gles : core);
-  if (gl->context == EGL_NO_CONTEXT) {
-    error = "eglCreateContext failed: EGL error " + std::to_string(eglGetError());
-    return nullptr;
-  }
-  if (!eglMakeCurrent(gl->display, EGL_NO_SURFACE, EGL_NO_SURFACE, gl->context)) {
-    error = "eglMakeCurrent (surfaceless) failed";
-    return nullptr;
-  }
-  return gl;
-}
-
-GLuint compile(GLenum stage, const std::string& source, std::string& log) {
-  const GLuint shader = glCreateShader(stage);
-  const char* text = source.c_str();
-  glShaderSource(shader, 1, &text, nullptr);
-  glCompileShader(shader);
-  GLint ok = 0;
-  glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
-  if (!ok) {
-    char buffer[8192] = {};
-    glGetShaderInfoLog(shader, sizeof buffer, nullptr, buffer);
-    log = buffer;
-    glDeleteShader(shader);
-    return 0;
-  }
-  return shader;
-}
+using gl_test::compile;
+using gl_test::float_framebuffer;
+using gl_test::kVertexCore;
+using gl_test::kVertexEs;
+using gl_test::link_program;
+using gl_test::make_context;
 
 /// Full-screen triangle; the fragment shader ray-casts spheres with the camera of
 /// raster::pixel_ray and shades them with gz_scene_radiance. The ray-sphere intersection is the
@@ -227,39 +138,6 @@ void main() {
 )";
 }
 
-const char* kVertexCore = R"(#version 430 core
-void main() {
-  vec2 p = vec2(gl_VertexID == 1 ? 3.0 : -1.0, gl_VertexID == 2 ? 3.0 : -1.0);
-  gl_Position = vec4(p, 0.0, 1.0);
-}
-)";
-const char* kVertexEs = R"(#version 300 es
-void main() {
-  vec2 p = vec2(gl_VertexID == 1 ? 3.0 : -1.0, gl_VertexID == 2 ? 3.0 : -1.0);
-  gl_Position = vec4(p, 0.0, 1.0);
-}
-)";
-
-/// A linked program of a vertex and a fragment shader (0 and `log` on failure).
-GLuint link_program(const std::string& vertex, const std::string& fragment, std::string& log) {
-  const GLuint vs = compile(GL_VERTEX_SHADER, vertex, log);
-  if (vs == 0) return 0;
-  const GLuint fs = compile(GL_FRAGMENT_SHADER, fragment, log);
-  if (fs == 0) return 0;
-  const GLuint program = glCreateProgram();
-  glAttachShader(program, vs);
-  glAttachShader(program, fs);
-  glLinkProgram(program);
-  glDeleteShader(vs);  // flagged; freed with the program
-  glDeleteShader(fs);
-  GLint linked = 0;
-  glGetProgramiv(program, GL_LINK_STATUS, &linked);
-  if (linked) return program;
-  log = "the program does not link";
-  glDeleteProgram(program);
-  return 0;
-}
-
 /// Exports `table` as KTX2 (what a user gets), reads the file back and uploads it to texture
 /// unit `unit`, bound to the program's sampler uniform `sampler`; the texture's name.
 GLuint upload_table(const tables::Table& table, const std::filesystem::path& dir, const std::string& sampler,
@@ -292,20 +170,6 @@ GLuint upload_table(const tables::Table& table, const std::filesystem::path& dir
   EXPECT_GE(location, 0) << sampler << " is not a uniform of the exported shader";
   glUniform1i(location, unit);
   return texture;
-}
-
-/// An RGBA32F framebuffer of width x height, bound; its names (framebuffer, renderbuffer).
-std::array<GLuint, 2> float_framebuffer(int width, int height) {
-  GLuint fbo = 0, color = 0;
-  glGenFramebuffers(1, &fbo);
-  glBindFramebuffer(GL_FRAMEBUFFER, fbo);
-  glGenRenderbuffers(1, &color);
-  glBindRenderbuffer(GL_RENDERBUFFER, color);
-  glRenderbufferStorage(GL_RENDERBUFFER, GL_RGBA32F, width, height);
-  glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, color);
-  EXPECT_EQ(glCheckFramebufferStatus(GL_FRAMEBUFFER), static_cast<GLenum>(GL_FRAMEBUFFER_COMPLETE));
-  glViewport(0, 0, width, height);
-  return {fbo, color};
 }
 
 // ---------------------------------------------------------------------------------------------

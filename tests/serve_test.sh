@@ -32,7 +32,7 @@ alive() { kill -0 $pid 2>/dev/null; }
 [ "$(code "/?model=specular:alpha=8")" = 200 ] && ok || fail "/ with the viewer's own query"
 # --- f's closed form as GLSL (the viewer's beam); a model without one is refused
 [ "$(code "/api/glsl?model=0.5*minnaert:xi=1%2B0.5*specular:alpha=8&law=f")" = 200 ] \
-  && grep -q "float gz_f_0_5_minnaert_xi_1_0_5_specular_alpha_8(vec3 i, vec3 j, vec3 n)" "$tmp/body" && [ -n "$(header ETag)" ] \
+  && grep -q "float gz_f_0_5_minnaert_xi_1_0_5_specular_alpha_8(vec3 i, vec3 j, vec3 n, vec3 t)" "$tmp/body" && [ -n "$(header ETag)" ] \
   && ok || fail "/api/glsl law=f: $(cat "$tmp/body")"
 [ "$(code "/api/glsl?model=ggx:alpha=0.3&law=f")" = 400 ] && grep -q "no GLSL form of f" "$tmp/body" && ok || fail "/api/glsl law=f ggx"
 [ "$(code "/api/glsl?model=lambert&law=f&res=8")" = 400 ] && grep -q "unknown parameter 'res'" "$tmp/body" && ok || fail "/api/glsl law=f res"
