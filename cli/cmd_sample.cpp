@@ -74,7 +74,7 @@ void add_sample_command(CLI::App& app, Action& action) {
   args->directions.add_to(*cmd);
   args->parameter.add_to(*cmd);
   cmd->add_option("--mu", args->mu, "parameter tables: cos theta_i in [0, 1] (instead of --theta-i)");
-  cmd->add_flag("--json", args->json, "print one JSON document");
+  add_json_flag(*cmd, args->json);
   cmd->callback([&action, args] {
     action = [args] {
       if (tables::format_version_of(args->path) == tables::kParamFormatVersion) return sample_param_table(*args);

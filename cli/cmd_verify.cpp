@@ -1,8 +1,6 @@
 #include <cstdio>
 #include <iostream>
 
-#include <nlohmann/json.hpp>
-
 #include "cli/args.h"
 #include "cli/commands.h"
 #include "util/atomic_file.h"
@@ -20,7 +18,7 @@ struct VerifyArgs {
 void add_verify_command(CLI::App& app, Action& action) {
   auto* cmd = app.add_subcommand("verify", "check every printed closed form against cubature (docs/errata.md)");
   auto args = std::make_shared<VerifyArgs>();
-  cmd->add_flag("--json", args->json, "print one JSON document");
+  add_json_flag(*cmd, args->json);
   cmd->add_option("--markdown", args->markdown, "also write the errata report (markdown) to FILE");
   cmd->callback([&action, args] {
     action = [args] {
@@ -31,24 +29,7 @@ void add_verify_command(CLI::App& app, Action& action) {
       }
       const bool passed = verification_passed(checks);
       if (args->json) {
-        nlohmann::ordered_json doc;
-        doc["checks"] = nlohmann::ordered_json::array();
-        for (const auto& c : checks) {
-          nlohmann::ordered_json item{{"id", c.id}, {"source", c.source}, {"status", c.erratum ? "erratum" : "matches"},
-                                      {"max_abs_error", c.max_abs_error}};
-          item["corrected_max_abs_error"] =
-              c.corrected_max_abs_error ? nlohmann::ordered_json(*c.corrected_max_abs_error) : nlohmann::ordered_json();
-          item["points"] = c.points;
-          item["models"] = c.models;
-          item["printed"] = c.printed;
-          if (c.erratum) item["corrected"] = c.corrected;
-          item["max_reference_error"] = c.max_reference_error;
-          item["references_converged"] = c.references_converged;
-          doc["checks"].push_back(item);
-        }
-        doc["agreement"] = kAgreement;
-        doc["passed"] = passed;
-        std::cout << doc.dump(2) << "\n";
+        std::cout << verify_json(checks).dump(2) << "\n";
       } else {
         std::printf("%-28s %-8s %12s %12s %8s\n", "id", "status", "printed", "corrected", "points");
         for (const auto& c : checks) {

@@ -3,7 +3,7 @@
 // The algorithm in three steps (after QUADPACK's qag and Genz & Malik's adaptive scheme, as in
 // S. G. Johnson's hcubature.c):
 //  1. Start from a grid of panels whose lines are given by the caller (the known lobe peaks,
-//     widths and boundary layers of the integrand: design.md, "hints"), so that the first nodes
+//     widths and boundary layers of the integrand: MassHints, models/model.h), so that the first nodes
 //     cannot all miss a sharp lobe.
 //  2. On each panel apply the 15-point Kronrod rule in every axis (15^D nodes) and its embedded
 //     7-point Gauss rule; the panel's error is the larger of |K⊗K − G⊗G| and the sum of the
@@ -22,8 +22,10 @@
 #pragma once
 
 #include <array>
+#include <atomic>
 #include <functional>
 #include <span>
+#include <string>
 #include <vector>
 
 namespace ganzfeld {
@@ -41,6 +43,10 @@ struct CubatureOptions {
   /// Budget per integral; beyond it: not converged. The initial grid is always evaluated (a
   /// result needs at least one rule per panel), so it may exceed a budget smaller than itself.
   long long max_evaluations = 50'000'000;
+  /// When set, read before every panel: once it holds true the integral stops where it is and
+  /// is returned not converged (a caller that no longer wants the answer: a deadline, a client
+  /// gone, a shutdown). The caller owns the flag and knows why it set it.
+  const std::atomic<bool>* cancel = nullptr;
 };
 
 /// Number of nodes per axis of the Kronrod rule.
@@ -63,5 +69,16 @@ Estimate adaptive_cubature(const PanelIntegrand<D>& integrand,
 /// Sorts, removes duplicates and drops lines closer than `min_gap` to a neighbour, keeping both
 /// ends: a helper for building `cuts` from hints.
 std::vector<double> tidy_cuts(std::vector<double> lines, double lo, double hi, double min_gap);
+
+/// The absolute tolerances a caller may ask for (the command line's --tol, the Python module's tol=).
+inline constexpr double kMinTolerance = 1e-15;
+inline constexpr double kMaxTolerance = 1.0;
+/// The smallest evaluation budget per integral a caller may give (--max-evals, max_evals=).
+inline constexpr long long kMinEvaluations = 1000;
+/// Refuse (InputError naming the parameter `name`, "tol" or "max_evals", which each front end
+/// spells: --tol, tol=) a tolerance that is not finite or outside [kMinTolerance, kMaxTolerance],
+/// and a budget below kMinEvaluations.
+void check_tolerance(const std::string& name, double tol);
+void check_max_evaluations(const std::string& name, long long max_evaluations);
 
 }  // namespace ganzfeld

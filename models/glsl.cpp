@@ -389,7 +389,8 @@ float gz_pf_arc_cosine_product(vec2 pi_, vec2 pj, float a, float b) {
     value = abs(gz_pf_integral_sin_squared(s * b + mid) - gz_pf_integral_sin_squared(s * a + mid)) - h * h * (b - a);
   } else {
     float s = pi_.x, off = 0.5 * (pi_.y - pj.y), sum = sin(0.5 * (pi_.y + pj.y));
-    value = sum * sum * (b - a) - abs(gz_pf_integral_sin_squared(s * b + off) - gz_pf_integral_sin_squared(s * a + off));
+    value = sum * sum * (b - a)
+            - abs(gz_pf_integral_sin_squared(s * b + off) - gz_pf_integral_sin_squared(s * a + off));
   }
   value /= sin(pi_.y) * sin(pj.y);
   return isinf(value) || isnan(value) || !(value > 0.0) ? 0.0 : value;

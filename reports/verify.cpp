@@ -458,6 +458,27 @@ bool verification_passed(const std::vector<CheckResult>& checks) {
   return true;
 }
 
+nlohmann::ordered_json verify_json(const std::vector<CheckResult>& checks) {
+  nlohmann::ordered_json doc;
+  doc["checks"] = nlohmann::ordered_json::array();
+  for (const auto& c : checks) {
+    nlohmann::ordered_json item{{"id", c.id}, {"source", c.source}, {"status", c.erratum ? "erratum" : "matches"},
+                                {"max_abs_error", c.max_abs_error}};
+    item["corrected_max_abs_error"] =
+        c.corrected_max_abs_error ? nlohmann::ordered_json(*c.corrected_max_abs_error) : nlohmann::ordered_json();
+    item["points"] = c.points;
+    item["models"] = c.models;
+    item["printed"] = c.printed;
+    if (c.erratum) item["corrected"] = c.corrected;
+    item["max_reference_error"] = c.max_reference_error;
+    item["references_converged"] = c.references_converged;
+    doc["checks"].push_back(item);
+  }
+  doc["agreement"] = kAgreement;
+  doc["passed"] = verification_passed(checks);
+  return doc;
+}
+
 std::string errata_markdown(const std::vector<CheckResult>& checks, const std::string& command) {
   auto sci = [](double x) {
     std::ostringstream s;

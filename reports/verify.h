@@ -8,9 +8,11 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 namespace ganzfeld {
 
-/// A printed form "matches" when it agrees with cubature to this (issue #2, cli-contract.md).
+/// A printed form "matches" when it agrees with cubature to this.
 inline constexpr double kAgreement = 1e-9;
 /// Cubature tolerance for the references: two orders below kAgreement so that a disagreement
 /// is the formula's, not the integrator's.
@@ -33,15 +35,20 @@ struct CheckResult {
 
 std::vector<CheckResult> run_verification();
 
-/// Checks of the halfway-vector-disk models (Edwards et al.; integrate/verify_hvd.cpp), appended
+/// Checks of the halfway-vector-disk models (Edwards et al.; reports/verify_hvd.cpp), appended
 /// to run_verification() after the Koenderink–Pont checks.
 std::vector<CheckResult> hvd_checks();
-/// Checks of the microfacet models (GGX, Charlie sheen; integrate/verify_ggx.cpp), appended after
+/// Checks of the microfacet models (GGX, Charlie sheen; reports/verify_ggx.cpp), appended after
 /// the halfway-vector-disk checks.
 std::vector<CheckResult> ggx_checks();
 
 /// True when every matching or corrected form agrees to kAgreement and all references converged.
 bool verification_passed(const std::vector<CheckResult>& checks);
+
+/// `verify --json` (and the Python module's ganzfeld.verify()): {checks: [{id, source, status
+/// ("matches" or "erratum"), max_abs_error, corrected_max_abs_error (null when none), points,
+/// models, printed, [corrected], max_reference_error, references_converged}], agreement, passed}.
+nlohmann::ordered_json verify_json(const std::vector<CheckResult>& checks);
 
 /// docs/errata.md, stamped with the command that generates it.
 std::string errata_markdown(const std::vector<CheckResult>& checks, const std::string& command);

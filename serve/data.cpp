@@ -42,13 +42,13 @@ std::string read_bytes(const fs::path& path) {
 DataFiles DataFiles::scan(const std::string& dir) {
   std::error_code ec;
   if (!fs::is_directory(dir, ec))
-    throw InputError("--data '" + dir + "' is not a directory; expected a directory of measured data files "
-                     "(MERL, tabulated, Beard-Maxwell first-surface tables)");
+    throw InputError({Named{"data", dir}, " is not a directory; expected a directory of measured data files "
+                      "(MERL, tabulated, Beard-Maxwell first-surface tables)"});
   DataFiles out;
   out.enabled_ = true;
   std::vector<fs::path> entries;
   for (const fs::directory_entry& e : fs::directory_iterator(dir, ec)) entries.push_back(e.path());
-  if (ec) throw InputError("--data '" + dir + "' cannot be read: " + ec.message());
+  if (ec) throw InputError({Named{"data", dir}, " cannot be read: " + ec.message()});
   std::sort(entries.begin(), entries.end());
   for (const fs::path& path : entries) {
     const std::string name = path.filename().string();
@@ -69,7 +69,8 @@ DataFiles DataFiles::scan(const std::string& dir) {
     }
     try {
       const ModelPtr m = parse_model(model + ":file=" + path.string());
-      out.files_.push_back({name, model, path.string(), util::content_digest_of(bytes), bytes.size(), m->traits().isotropic});
+      out.files_.push_back(
+          {name, model, path.string(), util::content_digest_of(bytes), bytes.size(), m->traits().isotropic});
     } catch (const InputError& e) {
       out.skipped_.push_back(name + ": " + e.what());
     }
@@ -77,37 +78,31 @@ DataFiles DataFiles::scan(const std::string& dir) {
   return out;
 }
 
-std::string DataFiles::resolve(const std::string& spec) const {
-  static const std::regex file_item(R"((^|[:,])(\s*file\s*=\s*)([^,+*]*))");
-  std::string out;
-  auto begin = spec.cbegin();
-  std::smatch m;
-  while (std::regex_search(begin, spec.cend(), m, file_item)) {
+Spec DataFiles::resolve(Spec spec) const {
+  for (SpecTerm& term : spec.terms) {
+    if (term.model.file.empty()) continue;
     if (!enabled_)
-      throw RequestError(400, "model '" + spec + "' names a data file; this service reads no file outside its cache "
-                              "(start it with --data DIR to serve the measured files in DIR by name): allowed: "
-                              "analytic models and mixtures (see /api/models)");
-    std::string name = m[3].str();
-    while (!name.empty() && std::isspace(static_cast<unsigned char>(name.back()))) name.pop_back();
+      throw RequestError(400, "model '" + spec_text(spec) + "' names a data file; this service reads no file "
+                              "outside its cache (one started with a data directory serves the measured files in "
+                              "it by name): allowed: analytic models and mixtures (see /api/models)");
+    const std::string& name = term.model.file;
     const auto found = std::find_if(files_.begin(), files_.end(), [&](const DataFile& f) { return f.name == name; });
     if (found == files_.end()) {
       std::string names;
       for (const DataFile& f : files_) names += (names.empty() ? "" : ", ") + f.name;
-      throw RequestError(404, "no data file '" + name + "' in this service's --data directory; available: " +
+      throw RequestError(404, "no data file '" + name + "' in this service's data directory; available: " +
                                   (names.empty() ? "none" : names) + " (see /api/data)");
     }
-    out.append(begin, m[3].first);
-    out += found->path;
-    begin = m[3].second;
+    term.model.file = found->path;
   }
-  out.append(begin, spec.cend());
-  return out;
+  return spec;
 }
 
 std::string DataFiles::display(const std::string& spec) const {
   std::string out = spec;
   for (const DataFile& f : files_)
-    for (std::size_t at; (at = out.find("file=" + f.path)) != std::string::npos;) out.replace(at + 5, f.path.size(), f.name);
+    for (std::size_t at; (at = out.find("file=" + f.path)) != std::string::npos;)
+      out.replace(at + 5, f.path.size(), f.name);
   return out;
 }
 

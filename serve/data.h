@@ -14,6 +14,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "models/spec.h"
+
 namespace ganzfeld::serve {
 
 struct DataFile {
@@ -37,9 +39,9 @@ class DataFiles {
   /// "NAME: why" for every file of DIR not listed.
   const std::vector<std::string>& skipped() const { return skipped_; }
 
-  /// The spec with the value of every file=NAME item replaced by that file's path. Throws
-  /// RequestError: 400 without --data, 404 for a NAME not listed (naming those that are).
-  std::string resolve(const std::string& spec) const;
+  /// The spec with every term's file=NAME replaced by that file's path. Throws RequestError:
+  /// 400 without --data, 404 for a NAME not listed (naming those that are).
+  Spec resolve(Spec spec) const;
   /// The reverse, for what replies show: every listed path replaced by its name.
   std::string display(const std::string& spec) const;
 

@@ -54,7 +54,7 @@ Vec3 direction_of(const std::string& name, const std::string& text) {
 FGridQuery parse_fgrid(const Query& query, const DataFiles& data) {
   check_names(query, "/api/fgrid", {"model", "theta", "phi", "res", "adjoint"});
   FGridQuery q;
-  q.model = parse_served_model(required(query, "model", "merl:file=NAME"), data);
+  q.model = parse_served_model(required(query, "model", "merl:file=NAME"), Limits{}, data);
   const double theta = in_range(query, "theta", 0.0, 90.0, 45.0, " degrees") * std::numbers::pi / 180.0;
   const double phi = in_range(query, "phi", 0.0, 360.0, 180.0, " degrees") * std::numbers::pi / 180.0;
   q.fixed = {std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta)};
@@ -84,7 +84,7 @@ nlohmann::ordered_json fgrid_json(const FGridQuery& q, const DataFiles& data) {
 SphereQuery parse_sphere(const Query& query, const DataFiles& data) {
   check_names(query, "/api/sphere", {"model", "law", "dir", "size", "along", "tol"});
   SphereQuery q;
-  q.model = parse_served_model(required(query, "model", "merl:file=NAME"), data);
+  q.model = parse_served_model(required(query, "model", "merl:file=NAME"), Limits{}, data);
   const std::string law = required(query, "law", "f (one of f, g, h)");
   if (law != "f" && law != "g" && law != "h") throw bad("law='" + law + "' is not allowed; allowed: f, g, h");
   q.law = law == "f" ? Law::f : law == "g" ? Law::g : Law::h;
@@ -115,7 +115,8 @@ nlohmann::ordered_json sphere_json(const SphereQuery& q, const DataFiles& data) 
                            : q.law == Law::g ? Light::Type::hemispherical
                                              : Light::Type::ganzfeld;
   scene.lights = {grey_light(type, q.light, 1.0)};
-  scene.materials = {{{1.0, {1, 1, 1}, q.model, q.law == Law::f ? nullptr : raster::direct_laws(q.model, q.tolerance)}}};
+  scene.materials = {
+      {{1.0, {1, 1, 1}, q.model, q.law == Law::f ? nullptr : raster::direct_laws(q.model, q.tolerance)}}};
   const raster::GBuffer gb = raster::rasterize(scene.camera, scene.meshes);
   const raster::Image image = raster::shade_image(scene, gb);
   std::vector<float> value(static_cast<std::size_t>(q.size) * q.size), mask(value.size());

@@ -1,16 +1,17 @@
 #include "serve/request.h"
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <cstdlib>
 #include <numbers>
-#include <regex>
 #include <set>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
 #include "export/glsl.h"
+#include "models/mixture.h"
 #include "models/registry.h"
 #include "models/spec.h"
 #include "tables/cache.h"
@@ -38,13 +39,13 @@ double tolerance(const Query& query, double fallback) {
   return tol;
 }
 
-/// Library refusals (InputError) become 400 with the library's message.
+/// Library refusals (InputError) become 400, their parameters named as a query names them.
 template <class F>
 auto as_request(F&& f) -> decltype(f()) {
   try {
     return f();
   } catch (const InputError& e) {
-    throw bad(e.what());
+    throw bad(e.worded(InputError::query_spelling));
   }
 }
 
@@ -100,10 +101,11 @@ std::string required(const Query& query, const std::string& name, const std::str
 std::optional<double> number(const Query& query, const std::string& name) {
   const std::optional<std::string> text = text_of(query, name);
   if (!text) return std::nullopt;
-  char* end = nullptr;
-  const double x = std::strtod(text->c_str(), &end);
-  if (text->empty() || *end != '\0' || !std::isfinite(x))
-    throw bad(name + "='" + *text + "' is not a number; expected a finite decimal number");
+  double x = 0.0;
+  const char* const last = text->data() + text->size();
+  const auto [end, status] = std::from_chars(text->data(), last, x, std::chars_format::general);
+  if (text->empty() || status != std::errc() || end != last || !std::isfinite(x))
+    throw bad(name + "='" + *text + "' is not a number; expected a finite decimal number such as 45, 0.5 or 1e-9");
   return x;
 }
 
@@ -123,32 +125,64 @@ Query parse_query(std::string_view text) {
 }
 
 namespace {
-/// Refuses (400) a spec with a data file item (file=...): scenes name no data file.
-void refuse_data_file(const std::string& spec) { (void)DataFiles{}.resolve(spec); }
+/// Refuses (400) a parsed spec with a data file item (file=PATH); nothing has read it yet.
+void refuse_data_file(const Spec& spec, const std::string& text) {
+  if (spec.names_file())
+    throw bad("model '" + text + "' names a data file; the service reads no file outside its cache: allowed: "
+              "analytic models and mixtures (see /api/models)");
+}
 
-/// refuse_data_file of every string in a JSON document (as decoded: escapes cannot hide one).
+/// refuse_data_file of every string in a JSON document that parses as a spec (as decoded:
+/// escapes cannot hide one). A string that does not parse is no model the scene parser builds.
 void refuse_data_files(const nlohmann::json& value) {
-  if (value.is_string()) refuse_data_file(value.get<std::string>());
+  if (value.is_string()) {
+    const std::string text = value.get<std::string>();
+    std::optional<Spec> spec;
+    try {
+      spec = parse_spec(text);
+    } catch (const InputError&) {
+    }
+    if (spec) refuse_data_file(*spec, text);
+  }
   if (value.is_structured())
     for (const auto& item : value) refuse_data_files(item);
 }
 }  // namespace
 
-ModelPtr parse_served_model(const std::string& spec, const DataFiles& data) {
-  const std::string resolved = data.resolve(spec);
-  return as_request([&] { return parse_model(resolved); });
+SpecQuery parse_served_spec(const std::string& text, const Limits& limits, const DataFiles& data) {
+  const Spec parsed = as_request([&] { return parse_spec(text); });
+  if (!data.enabled()) refuse_data_file(parsed, text);
+  const Spec spec = data.resolve(parsed);
+  if (spec.terms.size() > limits.max_lobes)
+    throw RequestError(413, "model '" + text.substr(0, 80) + (text.size() > 80 ? "...'" : "'") + " is a mixture of " +
+                                std::to_string(spec.terms.size()) + " lobes; this service computes at most " +
+                                std::to_string(limits.max_lobes) + " (use `ganzfeld eval` or `ganzfeld bake`)");
+  return {spec, as_request([&] { return make_model(spec); })};
+}
+
+ModelPtr parse_served_model(const std::string& spec, const Limits& limits, const DataFiles& data) {
+  return parse_served_spec(spec, limits, data).model;
+}
+
+SpecQuery parse_spec_query(const Query& query, const Limits& limits, const DataFiles& data) {
+  check_names(query, "/api/spec", {"model"});
+  return parse_served_spec(required(query, "model", "specular:alpha=8"), limits, data);
 }
 
 EvalQuery parse_eval(const Query& query, const Limits& limits, const DataFiles& data) {
   check_names(query, "/api/eval", {"model", "law", "theta_i", "theta_j", "phi", "tol"});
   EvalQuery q;
   q.law = as_request([&] { return parse_law(required(query, "law", "g (one of f, g, h, a, r)")); });
-  q.model = parse_served_model(required(query, "model", "specular:alpha=8"), data);
+  q.model = parse_served_model(required(query, "model", "specular:alpha=8"), limits, data);
   const bool needs_i = q.law == Law::f || q.law == Law::g || q.law == Law::a;
   const bool needs_j = q.law == Law::f || q.law == Law::g || q.law == Law::h;
   const std::string law = std::string(" (law ") + to_string(q.law) + " needs it)";
   if (needs_i) q.i = direction(angle(query, "theta_i", q.law == Law::g ? 180.0 : 90.0, law), 0.0);
-  if (needs_j) q.j = direction(angle(query, "theta_j", 90.0, law), number(query, "phi").value_or(0.0) * std::numbers::pi / 180.0);
+  const double phi = number(query, "phi").value_or(0.0);
+  if (std::abs(phi) > kMaxPhi)
+    throw bad("phi=" + format_number(phi) + " is out of range; allowed: [-" + format_number(kMaxPhi) + ", " +
+              format_number(kMaxPhi) + "] degrees");
+  if (needs_j) q.j = direction(angle(query, "theta_j", 90.0, law), phi * std::numbers::pi / 180.0);
   q.tolerance = tolerance(query, 1e-9);
   q.options.abs_tol = q.tolerance;
   q.options.max_evaluations = limits.max_evaluations;
@@ -160,9 +194,9 @@ bool is_f_glsl(const Query& query) {
   return law != query.end() && law->second == "f";
 }
 
-ModelPtr parse_f_glsl(const Query& query, const DataFiles& data) {
+ModelPtr parse_f_glsl(const Query& query, const Limits& limits, const DataFiles& data) {
   check_names(query, "/api/glsl with law=f", {"model", "law"});
-  return parse_served_model(required(query, "model", "specular:alpha=8"), data);
+  return parse_served_model(required(query, "model", "specular:alpha=8"), limits, data);
 }
 
 namespace {
@@ -191,23 +225,16 @@ TableQuery parse_table(const Query& query, const Limits& limits, TableEndpoint e
   if (endpoint == TableEndpoint::table) names.push_back("format");
   check_names(query, endpoint == TableEndpoint::table ? "/api/table" : "/api/glsl", names);
   if (query.count("max_error") && query.count("res"))
-    throw bad("give res or max_error, not both: with max_error the baker chooses the resolution (issue #15)");
+    throw bad("give res or max_error, not both: with max_error the baker chooses the resolution");
   TableQuery q;
   q.law = as_request([&] { return tables::parse_tabulated_law("law", required(query, "law", "g (one of g, h, a)")); });
-  q.model = parse_served_model(required(query, "model", "specular:alpha=8"), data);
+  q.model = parse_served_model(required(query, "model", "specular:alpha=8"), limits, data);
   if (!q.model->traits().isotropic)
     throw bad("model '" + q.model->spec() + "' is anisotropic; tables hold isotropic models only");
   q.options = defaults.bake_options(q.law == Law::g ? Law::g : Law::h);
   q.options.max_evaluations = limits.max_evaluations;
   if (const auto res = text_of(query, "res")) {
-    q.options.resolution = as_request([&] {
-      try {
-        return tables::parse_resolution(*res, q.law);
-      } catch (const InputError& e) {
-        const std::string what = e.what();  // "--res '...' is not ...": name the parameter as given
-        throw InputError(what.rfind("--res ", 0) == 0 ? "res=" + what.substr(6) : what);
-      }
-    });
+    q.options.resolution = as_request([&] { return tables::parse_resolution(*res, q.law); });
   }
   const std::uint64_t entries = tables::table_bytes(q.options.resolution) / tables::kBytesPerEntry;
   if (entries > limits.max_entries)
@@ -234,16 +261,7 @@ TableQuery parse_table(const Query& query, const Limits& limits, TableEndpoint e
 
 TableQuery table_query(ModelPtr model, Law law, tables::BakeOptions options, TableFormat format) {
   TableQuery q{std::move(model), law, std::move(options), format, "", ""};
-  const tables::TableKey key = as_request([&] {
-    try {
-      return tables::table_key(*q.model, q.law, q.options);
-    } catch (const InputError& e) {  // the CLI's flag names, as this query names them
-      std::string what = e.what();
-      for (const auto& [flag, name] : {std::pair{"--max-error ", "max_error="}, std::pair{"--max-bytes ", "max_bytes="}})
-        if (what.rfind(flag, 0) == 0) what = name + what.substr(std::string(flag).size());
-      throw InputError(what);
-    }
-  });
+  const tables::TableKey key = as_request([&] { return tables::table_key(*q.model, q.law, q.options); });
   q.key = tables::key_text(key);
   q.file_name = tables::cache_file_name(key);
   return q;

@@ -15,6 +15,7 @@
 #include "integrate/cubature.h"
 #include "serve/data.h"
 #include "integrate/laws.h"
+#include "models/spec.h"
 #include "scene/plan.h"
 #include "scene/scene.h"
 #include "tables/bake.h"
@@ -57,7 +58,12 @@ struct Limits {
   long long max_evaluations = CubatureOptions{}.max_evaluations;
   /// Most tables one scene request (GET /api/glsl?scene=...) may need; more: 413.
   std::size_t max_scene_tables = 16;
+  /// Most lobes of a mixture in one request; more: 413.
+  std::size_t max_lobes = 16;
 };
+
+/// The largest |phi| of /api/eval, in degrees (a whole turn either way).
+inline constexpr double kMaxPhi = 360.0;
 
 /// GET /api/eval?model=SPEC&law=f|g|h|a|r&theta_i=DEG&theta_j=DEG&phi=DEG&tol=T
 struct EvalQuery {
@@ -94,7 +100,7 @@ TableQuery parse_table(const Query& query, const Limits& limits, TableEndpoint e
 TableQuery table_query(ModelPtr model, Law law, tables::BakeOptions options, TableFormat format = TableFormat::exr);
 
 /// GET /api/glsl?scene=SCENE[&format=glsl|json]: SCENE is the text of a scene file
-/// (cli-contract.md; its meshes are never read: the shader does not need them). Refused (400):
+/// (examples/default.json; its meshes are never read: the shader does not need them). Refused (400):
 /// a malformed scene, a lobe naming a data file, a scene export-glsl refuses.
 struct SceneQuery {
   Scene scene;
@@ -105,11 +111,21 @@ SceneQuery parse_scene_glsl(const Query& query);
 /// GET /api/glsl?model=SPEC&law=f: f in closed form as GLSL (exporting::glsl_model_f), no table;
 /// the viewer's collimated beam. is_f_glsl: the /api/glsl query asks for law f.
 bool is_f_glsl(const Query& query);
-ModelPtr parse_f_glsl(const Query& query, const DataFiles& data = {});
+ModelPtr parse_f_glsl(const Query& query, const Limits& limits = {}, const DataFiles& data = {});
 
-/// The model of a spec given in a request: its file=NAME items resolved by `data` (400 without
-/// --data, 404 for a name not listed), then parsed (unknown model or parameter: 400 with the
-/// parser's message).
-ModelPtr parse_served_model(const std::string& spec, const DataFiles& data = {});
+/// A spec given in a request, parsed (unknown model or parameter: 400 with the parser's
+/// message), its file=NAME items resolved by `data` (400 naming a data file without --data, 404
+/// for a name not listed: serve/data.h), refused (413) when it is a mixture of more than
+/// limits.max_lobes lobes, and its model built.
+struct SpecQuery {
+  Spec spec;
+  ModelPtr model;
+};
+SpecQuery parse_served_spec(const std::string& text, const Limits& limits = {}, const DataFiles& data = {});
+/// parse_served_spec(spec, limits, data).model.
+ModelPtr parse_served_model(const std::string& spec, const Limits& limits = {}, const DataFiles& data = {});
+
+/// GET /api/spec?model=SPEC: the spec as the service parses it.
+SpecQuery parse_spec_query(const Query& query, const Limits& limits = {}, const DataFiles& data = {});
 
 }  // namespace ganzfeld::serve

@@ -50,23 +50,25 @@ std::string gib(std::uint64_t bytes) {
 std::vector<int> parse_resolution(const std::string& text, Law law) {
   const std::size_t axes = law == Law::g ? 3 : 1;
   const std::string form = law == Law::g ? "N or NIxNJxNPHI" : "N";
-  const std::string bad = "--res '" + text + "' is not a resolution for law " + to_string(law) + "; expected " + form +
-                          " with integers >= 2";
+  const auto bad = [&](const std::string& more = "") {
+    return InputError({Named{"res", "'" + text + "'"}, " is not a resolution for law " + std::string(to_string(law)) +
+                                                          "; expected " + form + " with integers >= 2" + more});
+  };
   std::vector<int> counts;
   std::size_t start = 0;
   while (true) {
     const std::size_t x = text.find('x', start);
     const std::string part = text.substr(start, x == std::string::npos ? std::string::npos : x - start);
     if (part.empty() || part.size() > 9 || part.find_first_not_of("0123456789") != std::string::npos)
-      throw InputError(bad);
+      throw bad();
     counts.push_back(std::stoi(part));
     if (x == std::string::npos) break;
     start = x + 1;
   }
   if (counts.size() == 1) counts.assign(axes, counts[0]);
-  if (counts.size() != axes) throw InputError(bad);
+  if (counts.size() != axes) throw bad();
   for (int c : counts)
-    if (c < 2) throw InputError(bad + " (each axis needs at least 2 nodes: the first at min, the last at max)");
+    if (c < 2) throw bad(" (each axis needs at least 2 nodes: the first at min, the last at max)");
   return counts;
 }
 
@@ -98,7 +100,8 @@ std::uint64_t value_bytes(const Table& table) noexcept {
 std::vector<Axis> bake_axes(Law law, const BakeOptions& options) {
   if (options.lobe) {
     if (law != Law::g) throw InputError(std::string("law ") + to_string(law) + " has no lobe frame; only g does");
-    if (!options.mappings.empty()) throw InputError("--mapping applies to the cosines frame only, not to lobe axes");
+    if (!options.mappings.empty())
+      throw InputError({Named{"mapping"}, " applies to the cosines frame only, not to lobe axes"});
     return lobe_axes(options.resolution, options.lobe->width);
   }
   return make_axes(law, options.resolution, options.mappings);
@@ -188,6 +191,13 @@ void quantize_unorm16(Table& table) {
   }
 }
 
+bool cancelled(const BakeOptions& options) { return options.cancel && options.cancel->load(std::memory_order_relaxed); }
+
+/// A bake whose flag was set while it ran is thrown away: some entries were skipped or cut short.
+void throw_if_cancelled(const BakeOptions& options) {
+  if (cancelled(options)) throw Cancelled("the bake was cancelled");
+}
+
 /// Bakes every node (in parallel, deterministic): value rounded to the encoding, error = the
 /// cubature estimate + that rounding, rounded up. Reports progress; refuses values the encoding
 /// cannot hold.
@@ -217,6 +227,7 @@ void bake_nodes(Table& table, const LawAt& law_at, const BakeOptions& options, c
   const std::uint64_t step = std::max<std::uint64_t>(1, n / kProgressSteps);
   tbb::parallel_for(tbb::blocked_range<std::uint64_t>(0, n, 1), [&](const tbb::blocked_range<std::uint64_t>& r) {
     for (std::uint64_t m = r.begin(); m != r.end(); ++m) {
+      if (cancelled(options)) return;
       const Estimate e = entry(m);
       const float v = round_to_encoding(e.value, options.encoding);
       if (!std::isfinite(e.value) || !std::isfinite(v)) out_of_range = true;
@@ -235,10 +246,14 @@ void bake_nodes(Table& table, const LawAt& law_at, const BakeOptions& options, c
       }
     }
   });
+  throw_if_cancelled(options);
   if (out_of_range)
-    throw InputError("law " + std::string(to_string(table.law)) + " of '" + table.model + "' has values outside the " +
-                     (options.encoding == Encoding::half ? "half range (|x| <= 65504); use --encoding float"
-                                                         : "float range"));
+    throw options.encoding == Encoding::half
+        ? InputError({"law " + std::string(to_string(table.law)) + " of '" + table.model +
+                          "' has values outside the half range (|x| <= 65504); use ",
+                      Named{"encoding", "float"}})
+        : InputError("law " + std::string(to_string(table.law)) + " of '" + table.model +
+                     "' has values outside the float range");
   if (options.encoding == Encoding::unorm16) quantize_unorm16(table);
   table.unconverged = unconverged;
   table.node_error = 0.0;
@@ -267,6 +282,7 @@ void validate(Table& table, const LawAt& law_at, const BakeOptions& options, con
   const std::uint64_t checks = centres + options.random_checks;
   std::vector<double> check_error(checks);
   tbb::parallel_for(std::uint64_t{0}, checks, [&](std::uint64_t c) {
+    if (cancelled(options)) return;
     std::vector<double> y(dims);
     if (c < centres) {
       std::uint64_t rest = chosen[c];
@@ -283,6 +299,7 @@ void validate(Table& table, const LawAt& law_at, const BakeOptions& options, con
       check_error[c] = std::abs(sample(table, x).value - exact.value) + exact.error;
     }
   });
+  throw_if_cancelled(options);
   table.interpolation_checks = static_cast<long long>(checks);
   table.interpolation_error = 0.0;
   for (double e : check_error) table.interpolation_error = std::max(table.interpolation_error, e);
@@ -297,6 +314,7 @@ Table bake_resolution(const Model& model, Law law, const BakeOptions& options) {
   CubatureOptions cubature;
   cubature.abs_tol = options.tolerance;
   cubature.max_evaluations = options.max_evaluations;
+  cubature.cancel = options.cancel;
   bake_nodes(table, law_at, options, cubature);
   CubatureOptions check = cubature;
   if (options.check_tolerance > 0.0) check.abs_tol = options.check_tolerance;

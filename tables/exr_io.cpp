@@ -17,6 +17,7 @@
 #include <OpenEXR/ImfTestFile.h>
 #include <nlohmann/json.hpp>
 
+#include "tables/exr_attributes.h"
 #include "tables/exr_guard.h"
 #include "util/error.h"
 #include "util/atomic_file.h"
@@ -55,6 +56,8 @@ constexpr const char* kAttrTargetBytes = "ganzfeld.target_bytes";  // with targe
 // unorm16 encoding only: value = offset + scale u / 65535 for the UINT code u of the value channel.
 constexpr const char* kAttrUnormOffset = "ganzfeld.unorm16_offset";
 constexpr const char* kAttrUnormScale = "ganzfeld.unorm16_scale";
+// Optional on read (files written before it existed): the digest of the numbers (values_digest).
+constexpr const char* kAttrValuesDigest = "ganzfeld.values_digest";
 
 /// The pixel type of the value channel (unorm16: UINT codes) and of the error channel.
 Imf::PixelType value_type(Encoding encoding) {
@@ -62,13 +65,6 @@ Imf::PixelType value_type(Encoding encoding) {
 }
 Imf::PixelType error_type(Encoding encoding) { return encoding == Encoding::half ? Imf::HALF : Imf::FLOAT; }
 const char* type_name(Imf::PixelType type) { return type == Imf::HALF ? "HALF" : type == Imf::UINT ? "UINT" : "FLOAT"; }
-
-/// OpenEXR messages may span lines; ours may not.
-std::string one_line(std::string text) {
-  for (char& c : text)
-    if (c == '\n' || c == '\r') c = ' ';
-  return text;
-}
 
 /// Image shape: width = count of the last axis, height = product of the others (1 for 1-D).
 std::pair<int, int> image_shape(const Table& table) {
@@ -133,6 +129,7 @@ void write_table(const Table& table, const std::string& path) {
     attr(kAttrTargetError, format_number(table.target_error));
     attr(kAttrTargetBytes, std::to_string(table.target_bytes));
   }
+  attr(kAttrValuesDigest, values_digest(table));  // the numbers as read back (check_table: exact in the encoding)
 
   // Half data are exact in float, so the conversion below loses nothing.
   std::vector<Imath::half> value_half, error_half;
@@ -173,26 +170,7 @@ void write_table(const Table& table, const std::string& path) {
 
 namespace {
 
-struct Reader {
-  std::string path;
-
-  [[noreturn]] void refuse(const std::string& why) const { throw InputError("table '" + path + "': " + one_line(why)); }
-
-  std::string attribute(const Imf::Header& header, const char* name) const {
-    const auto* a = header.findTypedAttribute<Imf::StringAttribute>(name);
-    if (!a) refuse(std::string("missing string attribute ") + name + "; not a ganzfeld table of format version " +
-                   std::to_string(kFormatVersion));
-    return a->value();
-  }
-
-  double number(const Imf::Header& header, const char* name) const {
-    const std::string text = attribute(header, name);
-    char* end = nullptr;
-    const double x = std::strtod(text.c_str(), &end);
-    if (text.empty() || *end != '\0' || !std::isfinite(x) || x < 0.0)
-      refuse(std::string(name) + " '" + text + "' is not a finite number >= 0");
-    return x;
-  }
+struct Reader : ExrAttributes {
 
   /// A finite number that a float holds exactly (the unorm16 offset and scale).
   float float_attribute(const Imf::Header& header, const char* name) const {
@@ -403,6 +381,12 @@ struct Reader {
       } catch (const InputError& e) {
         refuse(e.what());
       }
+      if (header.findTypedAttribute<Imf::StringAttribute>(kAttrValuesDigest)) {
+        table.values_digest = attribute(header, kAttrValuesDigest);
+        if (table.values_digest != values_digest(table))
+          refuse(std::string("the numbers do not match ") + kAttrValuesDigest + " " + table.values_digest +
+                 " (they hash to " + values_digest(table) + "): the file was changed or damaged after it was written");
+      }
       return table;
     } catch (const InputError&) {
       throw;
@@ -414,6 +398,8 @@ struct Reader {
 
 }  // namespace
 
-Table read_table(const std::string& path) { return Reader{path}.read(); }
+Table read_table(const std::string& path) {
+  return Reader{{path, "", "; not a ganzfeld table of format version " + std::to_string(kFormatVersion)}}.read();
+}
 
 }  // namespace ganzfeld::tables

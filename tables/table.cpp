@@ -1,6 +1,8 @@
 #include "tables/table.h"
 
 #include <algorithm>
+#include <array>
+#include <bit>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -8,6 +10,7 @@
 #include "util/error.h"
 #include "models/registry.h"
 #include "util/hash.h"
+#include "util/names.h"
 
 namespace ganzfeld::tables {
 
@@ -25,48 +28,35 @@ Law parse_tabulated_law(const std::string& flag, const std::string& text) {
 
 using std::numbers::pi;
 
-const char* to_string(Mapping mapping) {
-  switch (mapping) {
-    case Mapping::linear: return "linear";
-    case Mapping::sqrt: return "sqrt";
-    case Mapping::cos: return "cos";
-    case Mapping::sinh: return "sinh";
-    case Mapping::sinh_max: return "sinh_max";
-  }
-  return "?";
-}
+namespace {
+using util::EnumName;
+constexpr std::array kMappings{EnumName<Mapping>{Mapping::linear, "linear"}, EnumName<Mapping>{Mapping::sqrt, "sqrt"},
+                               EnumName<Mapping>{Mapping::cos, "cos"}, EnumName<Mapping>{Mapping::sinh, "sinh"},
+                               EnumName<Mapping>{Mapping::sinh_max, "sinh_max"}};
+constexpr std::array kInterpolations{EnumName<Interpolation>{Interpolation::linear, "linear"},
+                                     EnumName<Interpolation>{Interpolation::catmull_rom, "catmull-rom"}};
+constexpr std::array kFrames{EnumName<Frame>{Frame::cosines, "cosines"}, EnumName<Frame>{Frame::lobe, "lobe"}};
+constexpr std::array kPeaks{EnumName<PeakKind>{PeakKind::mirror, "mirror"}, EnumName<PeakKind>{PeakKind::retro, "retro"}};
+constexpr std::array kEncodings{EnumName<Encoding>{Encoding::half, "half"}, EnumName<Encoding>{Encoding::single, "float"},
+                                EnumName<Encoding>{Encoding::unorm16, "unorm16"}};
+}  // namespace
 
-Mapping parse_mapping(const std::string& text) {
-  for (Mapping m : {Mapping::linear, Mapping::sqrt, Mapping::cos, Mapping::sinh, Mapping::sinh_max})
-    if (text == to_string(m)) return m;
-  throw InputError("unknown axis mapping '" + text + "'; allowed: linear, sqrt, cos, sinh, sinh_max");
-}
+const char* to_string(Mapping mapping) { return util::name_of(kMappings, mapping); }
+Mapping parse_mapping(const std::string& text) { return util::parse_name(kMappings, "axis mapping", text); }
 
-const char* to_string(Interpolation interpolation) {
-  return interpolation == Interpolation::catmull_rom ? "catmull-rom" : "linear";
-}
-
+const char* to_string(Interpolation interpolation) { return util::name_of(kInterpolations, interpolation); }
 Interpolation parse_interpolation(const std::string& text) {
-  if (text == "linear") return Interpolation::linear;
-  if (text == "catmull-rom") return Interpolation::catmull_rom;
-  throw InputError("unknown interpolation '" + text + "'; allowed: linear, catmull-rom");
+  return util::parse_name(kInterpolations, "interpolation", text);
 }
 
-const char* to_string(Frame frame) { return frame == Frame::lobe ? "lobe" : "cosines"; }
+const char* to_string(Frame frame) { return util::name_of(kFrames, frame); }
+Frame parse_frame(const std::string& text) { return util::parse_name(kFrames, "frame", text); }
 
-Frame parse_frame(const std::string& text) {
-  if (text == "cosines") return Frame::cosines;
-  if (text == "lobe") return Frame::lobe;
-  throw InputError("unknown frame '" + text + "'; allowed: cosines, lobe");
-}
+const char* to_string(PeakKind peak) { return util::name_of(kPeaks, peak); }
+PeakKind parse_peak(const std::string& text) { return util::parse_name(kPeaks, "lobe peak", text); }
 
-const char* to_string(PeakKind peak) { return peak == PeakKind::retro ? "retro" : "mirror"; }
-
-PeakKind parse_peak(const std::string& text) {
-  if (text == "mirror") return PeakKind::mirror;
-  if (text == "retro") return PeakKind::retro;
-  throw InputError("unknown lobe peak '" + text + "'; allowed: mirror, retro");
-}
+const char* to_string(Encoding encoding) { return util::name_of(kEncodings, encoding); }
+Encoding parse_encoding(const std::string& text) { return util::parse_name(kEncodings, "encoding", text); }
 
 namespace {
 /// The sinh mapping's centre c, half range R and V = asinh(R / w).
@@ -76,22 +66,6 @@ struct SinhAxis {
       : c(0.5 * (a.min + a.max)), w(a.width), V(std::asinh(0.5 * (a.max - a.min) / a.width)) {}
 };
 }  // namespace
-
-const char* to_string(Encoding encoding) {
-  switch (encoding) {
-    case Encoding::half: return "half";
-    case Encoding::unorm16: return "unorm16";
-    case Encoding::single: break;
-  }
-  return "float";
-}
-
-Encoding parse_encoding(const std::string& text) {
-  if (text == "half") return Encoding::half;
-  if (text == "float") return Encoding::single;
-  if (text == "unorm16") return Encoding::unorm16;
-  throw InputError("unknown encoding '" + text + "'; allowed: half, float, unorm16");
-}
 
 unsigned bytes_per_value(Encoding encoding) noexcept { return encoding == Encoding::single ? 4u : 2u; }
 
@@ -240,6 +214,14 @@ std::vector<Mapping> parse_mappings(const std::string& text, Law law) {
 }
 
 std::size_t Table::entries() const noexcept { return static_cast<std::size_t>(entry_count(axes)); }
+
+std::string values_digest(const Table& table) {
+  static_assert(std::endian::native == std::endian::little, "the digest hashes the floats' bytes as stored in memory");
+  std::uint64_t hash = util::kFnv1aOffsetBasis;
+  for (const std::vector<float>* numbers : {&table.value, &table.error})
+    hash = util::fnv1a_64({reinterpret_cast<const char*>(numbers->data()), numbers->size() * sizeof(float)}, hash);
+  return util::content_digest(hash);
+}
 
 std::uint64_t entry_count(std::span<const Axis> axes) noexcept {
   if (axes.empty()) return 0;

@@ -106,17 +106,21 @@ double min_max_error(Encoding encoding) noexcept {
 }
 
 void check_error_target(double max_error, std::uint64_t max_bytes, Law law, Encoding encoding) {
+  const Named target{"max_error", format_number(max_error)};
   if (!std::isfinite(max_error) || !(max_error > 0.0))
-    throw InputError("--max-error " + format_number(max_error) + " is not allowed; expected a positive number");
-  if (max_error < min_max_error(encoding))
-    throw InputError("--max-error " + format_number(max_error) + " is below what a " + to_string(encoding) +
-                     " table can hold (its rounding alone); allowed: >= " + format_number(min_max_error(encoding)) +
-                     (encoding == Encoding::single ? "" : " (use --encoding float for less)"));
+    throw InputError({target, " is not allowed; expected a positive number"});
+  if (max_error < min_max_error(encoding)) {
+    std::vector<InputError::Piece> message{target, " is below what a " + std::string(to_string(encoding)) +
+                                                        " table can hold (its rounding alone); allowed: >= " +
+                                                        format_number(min_max_error(encoding))};
+    if (encoding != Encoding::single) message.insert(message.end(), {" (use ", Named{"encoding", "float"}, " for less)"});
+    throw InputError(message);
+  }
   const std::uint64_t smallest = bytes_of(std::vector<int>(law == Law::g ? 3 : 1, 4), encoding);
   if (max_bytes != 0 && max_bytes < smallest)
-    throw InputError("--max-bytes " + std::to_string(max_bytes) + " is too small; the smallest " +
-                     to_string(encoding) + " table of law " + to_string(law) + " needs " + std::to_string(smallest) +
-                     " value bytes");
+    throw InputError({Named{"max_bytes", std::to_string(max_bytes)},
+                      " is too small; the smallest " + std::string(to_string(encoding)) + " table of law " +
+                          to_string(law) + " needs " + std::to_string(smallest) + " value bytes"});
 }
 
 Table bake_to_error(const Model& model, Law law, const BakeOptions& requested) {
@@ -189,13 +193,15 @@ Table bake_to_error(const Model& model, Law law, const BakeOptions& requested) {
     options.resolution = next;
     options.interpolation = next_interpolation;
   }
-  // Only what was measured: an extrapolation to the cap said "about X within the cap" with X
-  // below E while refusing E (issue #15's note), i.e. a number no bake had checked.
-  throw InputError("cannot reach --max-error " + format_number(E) + " for law " + to_string(law) + " of '" +
-                   model.spec() + "' within " + std::to_string(cap) + " value bytes (" +
-                   (requested.max_bytes ? "--max-bytes" : "the default cap") + "); the best this search found is " +
-                   format_number(best_error) + " in " + format_number(best_bytes) + " value bytes (the search bakes at most " +
-                   std::to_string(kMaxSearchBakes) + " tables)");
+  // Only what was measured: the refusal names the best table a bake made, never an extrapolation
+  // to the cap (a number no bake has checked).
+  throw InputError({std::string("cannot reach "), Named{"max_error", format_number(E)},
+                    " for law " + std::string(to_string(law)) + " of '" + model.spec() + "' within " +
+                        std::to_string(cap) + " value bytes (",
+                    requested.max_bytes ? InputError::Piece(Named{"max_bytes"}) : "the default cap",
+                    "); the best this search found is " + format_number(best_error) + " in " +
+                        format_number(best_bytes) + " value bytes (the search bakes at most " +
+                        std::to_string(kMaxSearchBakes) + " tables)"});
 }
 
 }  // namespace ganzfeld::tables

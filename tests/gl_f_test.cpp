@@ -158,7 +158,8 @@ out vec4 out_value;
 void main() {
   ivec2 p = ivec2(gl_FragCoord.xy);
   vec3 i = texelFetch(u_i, p, 0).xyz, j = texelFetch(u_j, p, 0).xyz;
-  out_value = vec4()" + exporting::glsl_f_name(model.spec()) + R"((i, j, vec3(0.0, 0.0, 1.0), vec3(1.0, 0.0, 0.0)), 0.0, 0.0, 1.0);
+  out_value = vec4()" + exporting::glsl_f_name(model.spec()) +
+                         R"((i, j, vec3(0.0, 0.0, 1.0), vec3(1.0, 0.0, 0.0)), 0.0, 0.0, 1.0);
 }
 )";
   const GLuint program = gl_test::link_program(es ? gl_test::kVertexEs : gl_test::kVertexCore, fragment, error);

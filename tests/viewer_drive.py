@@ -64,8 +64,8 @@ class Browser:
             raise RuntimeError(f'{expression[:60]}...: {result["exceptionDetails"]}')
         return result['result'].get('value')
 
-    def wait_for(self, expression, what):
-        deadline = time.monotonic() + TIMEOUT_SECONDS
+    def wait_for(self, expression, what, timeout_seconds=TIMEOUT_SECONDS):
+        deadline = time.monotonic() + timeout_seconds
         while time.monotonic() < deadline:
             value = self.evaluate(expression)
             if value:

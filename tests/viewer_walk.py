@@ -20,16 +20,6 @@ from viewer_drive import Browser
 TIMEOUT_SECONDS = 300  # one model's row on a loaded 2-core machine: a few tables or cubature spheres
 
 
-def wait(browser, expression, what):
-    deadline = time.monotonic() + TIMEOUT_SECONDS
-    while time.monotonic() < deadline:
-        value = browser.evaluate(expression)
-        if value:
-            return value
-        time.sleep(0.1)
-    raise RuntimeError(f'timed out waiting for {what}')
-
-
 def specs(base):
     """Every registered model's example spec, but for those needing a data file: the listed files."""
     models = json.load(urllib.request.urlopen(base + '/api/models'))['models']
@@ -52,13 +42,13 @@ def main():
             target = browser.call('Target.createTarget', url='about:blank')['targetId']
             browser.session = browser.call('Target.attachToTarget', targetId=target, flatten=True)['sessionId']
             browser.call('Page.navigate', url=url)
-            wait(browser, 'document.getElementById("result")?.textContent.includes("ready")', 'the page')
+            browser.wait_for('document.getElementById("result")?.textContent.includes("ready")', 'the page', TIMEOUT_SECONDS)
             for name, spec in walk:
                 started = time.monotonic()
                 builds = browser.evaluate('state.builds')
                 browser.evaluate('(() => { const f = document.getElementById("spec-a"); f.value = %s;'
                                  ' f.dispatchEvent(new Event("change")); })()' % json.dumps(spec))
-                wait(browser, f'state.builds > {builds}', f'the row of {spec}')
+                browser.wait_for(f'state.builds > {builds}', f'the row of {spec}', TIMEOUT_SECONDS)
                 for _ in range(TIMEOUT_SECONDS // 60):  # imagesArrived gives up after 60 s; cubature spheres take longer
                     if browser.evaluate('window.imagesArrived()'):
                         break

@@ -260,23 +260,6 @@ function uploadTable(gl, unit, table) {
   gl.bindTexture(target, texture);
   if (table.law === 'g') gl.texImage3D(target, 0, gl.R32F, counts[2], counts[1], counts[0], 0, gl.RED, gl.FLOAT, data);
   else gl.texImage2D(target, 0, gl.R32F, counts[0], 1, 0, gl.RED, gl.FLOAT, data);
-  for (const [k, v] of [[gl.TEXTURE_MIN_FILTER, gl.NEAREST], [gl.TEXTURE_MAG_FILTER, gl.NEAREST],
-                        [gl.TEXTURE_WRAP_S, gl.CLAMP_TO_EDGE], [gl.TEXTURE_WRAP_T, gl.CLAMP_TO_EDGE]])
-    gl.texParameteri(target, k, v);
-  return texture;
-}
-
-/// A table as the exported shader expects it (export/glsl.h): g a 3-D texture of width n2,
-/// height n1, depth n0; h a count x 1 2-D texture; one float channel, fetched with texelFetch.
-function uploadTable(gl, unit, table) {
-  const texture = gl.createTexture();
-  const target = table.law === 'g' ? gl.TEXTURE_3D : gl.TEXTURE_2D;
-  const counts = table.axes.map((a) => a.count);
-  const data = new Float32Array(table.value);
-  gl.activeTexture(gl.TEXTURE0 + unit);
-  gl.bindTexture(target, texture);
-  if (table.law === 'g') gl.texImage3D(target, 0, gl.R32F, counts[2], counts[1], counts[0], 0, gl.RED, gl.FLOAT, data);
-  else gl.texImage2D(target, 0, gl.R32F, counts[0], 1, 0, gl.RED, gl.FLOAT, data);
   nearest(gl, target);
   return texture;
 }
@@ -912,18 +895,20 @@ function sliderScale(param) {
 
 const formatValue = (v, integer) => integer ? String(Math.round(v)) : String(Number(v.toPrecision(4)));
 
-/// A single model's spec "name:k=v,..." as {name, values}, or null (a mixture or a bad spec).
-function parseSpec(spec) {
-  const m = /^\s*([a-z][a-z0-9-]*)\s*(?::(.*))?$/.exec(spec);
-  if (!m || spec.includes('*') || spec.includes('+')) return null;
-  const values = {};
-  for (const item of (m[2] || '').split(',').filter((s) => s.trim()))
-    values[item.split('=')[0].trim()] = item.split('=')[1];
-  return {name: m[1], values};
+/// A single model's spec as the service parses it (/api/spec): {name, values} with the values the
+/// spec gives, or null (a mixture, or a spec the service refuses).
+async function parseSpec(spec) {
+  if (!spec.trim()) return null;
+  try {
+    const terms = JSON.parse(await cached(`/api/spec?model=${encodeURIComponent(spec)}`)).terms;
+    return terms.length === 1 ? {name: terms[0].model, values: terms[0].parameters} : null;
+  } catch (e) {
+    return null;
+  }
 }
 
 /// The menu and sliders of one spec field; the sliders rewrite the spec, the spec (typed or a
-/// mixture) sets the menu and the sliders where it can.
+/// mixture) sets the menu and the sliders where it can. Resolves when they show the field's spec.
 function setupEditor(letter, onChange) {
   const select = document.getElementById(`model-${letter}`);
   const sliders = document.getElementById(`sliders-${letter}`);
@@ -970,11 +955,12 @@ function setupEditor(letter, onChange) {
       sliders.appendChild(div);
     }
   };
-  const fromSpec = () => {
-    const parsed = parseSpec(field.value);
+  const fromSpec = async () => {
+    const parsed = await parseSpec(field.value);
     const model = parsed && models.find((m) => m.name === parsed.name);
     select.value = model ? model.name : (field.value.trim() ? '*' : '');
     if (model) buildSliders(model, parsed.values); else sliders.innerHTML = '';
+    showData();  // a file of --data: its menu entry, no sliders
   };
   select.addEventListener('change', () => {
     const model = models.find((m) => m.name === select.value);
@@ -983,9 +969,7 @@ function setupEditor(letter, onChange) {
     onChange();
   });
   field.addEventListener('change', () => { fromSpec(); onChange(); });
-  field.addEventListener('change', showData);
-  fromSpec();
-  showData();
+  return fromSpec();
 }
 
 function parseVector(text) {
@@ -1113,8 +1097,7 @@ async function main() {
   document.getElementById('spec-a').value = params.get('model') || 'specular:alpha=8';
   document.getElementById('spec-b').value = params.get('model_b') || '';
   window.addEventListener('mouseup', () => { state.dragging = null; state.turning = null; });
-  setupEditor('a', rebuild);
-  setupEditor('b', rebuild);
+  await Promise.all([setupEditor('a', rebuild), setupEditor('b', rebuild)]);
   setupViewControls();
   await rebuild();
   // probe=U,V: the numbers at (U, V) of model A's sphere views (spherePoint), as if the cursor
