@@ -77,7 +77,7 @@ std::string glsl_model_f(const Model& model) {
   // f of a mixture is the weighted sum of its lobes' f (models/mixture.h; weights normalized).
   std::string sum4, sum3;
   for (const Lobe& lobe : mixture->lobes()) {
-    const std::string term = glsl_float(lobe.weight) + " * " + glsl_f_name(lobe.model->spec());
+    const std::string term = decimal_literal(lobe.weight) + " * " + glsl_f_name(lobe.model->spec());
     sum4 += (sum4.empty() ? "" : " + ") + term + "(i, j, n, t)";
     sum3 += (sum3.empty() ? "" : " + ") + term + "(i, j, n)";
   }

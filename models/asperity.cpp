@@ -24,8 +24,8 @@ std::optional<GlslF> Asperity::glsl_f() const {
   // both stand near the normal.
   return GlslF{std::string(kGlslBelowHorizon) +
                    "  float u = 0.5 * (dot(i.xy, i.xy) + dot(j.xy, j.xy) + (i.z - j.z) * (i.z - j.z));\n"
-                   "  return " + glsl_float(std::numbers::inv_pi) + " * gz_pow_pair(u, i.z * j.z, " +
-                   glsl_float(alpha_) + ");\n",
+                   "  return " + decimal_literal(std::numbers::inv_pi) + " * gz_pow_pair(u, i.z * j.z, " +
+                   decimal_literal(alpha_) + ");\n",
                {"gz_pow_pair"}};
 }
 

@@ -21,8 +21,8 @@ double Backscatter::f(const Vec3& i, const Vec3& j) const noexcept {
 }
 
 std::optional<GlslF> Backscatter::glsl_f() const {
-  return GlslF{std::string(kGlslBelowHorizon) + "  return " + glsl_float(C_b_) + " * gz_half_cos_power(i, j, " +
-                   glsl_float(alpha_) + ");\n",
+  return GlslF{std::string(kGlslBelowHorizon) + "  return " + decimal_literal(C_b_) + " * gz_half_cos_power(i, j, " +
+                   decimal_literal(alpha_) + ");\n",
                {"gz_half_cos_power"}};
 }
 

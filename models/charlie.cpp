@@ -35,8 +35,8 @@ std::optional<GlslF> Charlie::glsl_f() const {
                    "  float len2 = dot(s, s);\n"
                    "  float den = 4.0 * (i.z + j.z - i.z * j.z);\n"
                    "  if (!(len2 > 0.0) || !(den > 0.0)) return 0.0;\n"
-                   "  return " + glsl_float((2.0 + 1.0 / alpha_) / (2.0 * std::numbers::pi)) +
-                   " * gz_pow_pair(dot(s.xy, s.xy) / len2, s.z * s.z / len2, " + glsl_float(0.5 / alpha_) +
+                   "  return " + decimal_literal((2.0 + 1.0 / alpha_) / (2.0 * std::numbers::pi)) +
+                   " * gz_pow_pair(dot(s.xy, s.xy) / len2, s.z * s.z / len2, " + decimal_literal(0.5 / alpha_) +
                    ") / den;\n",
                {"gz_pow_pair"}};
 }

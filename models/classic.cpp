@@ -10,6 +10,7 @@
 #include <boost/math/quadrature/gauss_kronrod.hpp>
 
 #include "models/classic_models.h"
+#include "models/schlick.h"
 #include "util/error.h"
 #include "models/registry.h"
 #include "models/spec.h"
@@ -50,20 +51,27 @@ double fresnel_complex(double cos_theta, double eta, double k) noexcept {
 }
 
 // ---------------------------------------------------------------------------------------------
-Phong::Phong(double kd, double ks, double n) : kd_(kd), ks_(ks), n_(n) {}
+Phong::Phong(double kd, double ks, double n, PhongLobe lobe) : kd_(kd), ks_(ks), n_(n), lobe_(lobe) {}
 
-std::string Phong::spec() const { return spec_text({"phong", {{"kd", kd_}, {"ks", ks_}, {"n", n_}}}); }
+std::string Phong::spec() const {
+  const char* name = lobe_ == PhongLobe::cosine_power ? "phong" : "schlick-phong";
+  return spec_text({name, {{"kd", kd_}, {"ks", ks_}, {"n", n_}}});
+}
+
+double Phong::lobe(double cos_psi) const noexcept {
+  return lobe_ == PhongLobe::cosine_power ? cosine_power(cos_psi, n_) : schlick::rational_phong(cos_psi, n_);
+}
 
 double Phong::f(const Vec3& i, const Vec3& j) const noexcept {
   if (i.z < 0.0 || j.z < 0.0) return 0.0;
   // Phong's specular intensity carries no cos(theta_i): as a BRDF it is divided by mu_i.
-  return kd_ / pi + ks_ * cosine_power(glm::dot(mirror(i), j), n_) / std::max(i.z, kGrazingCosFloor);
+  return kd_ / pi + ks_ * lobe(glm::dot(mirror(i), j)) / std::max(i.z, kGrazingCosFloor);
 }
 
 std::optional<GlslF> Phong::glsl_f() const {
-  return GlslF{std::string(kGlslBelowHorizon) + "  return " + glsl_float(kd_ / pi) + " + " + glsl_float(ks_) +
-                   " * gz_mirror_power(i, j, " + glsl_float(n_) + ") / max(i.z, " + glsl_float(kGrazingCosFloor) +
-                   ");\n",
+  return GlslF{std::string(kGlslBelowHorizon) + "  return " + decimal_literal(kd_ / pi) + " + " + decimal_literal(ks_) +
+                   " * gz_mirror_power(i, j, " + decimal_literal(n_) + ") / max(i.z, " +
+                   decimal_literal(kGrazingCosFloor) + ");\n",
                {"gz_mirror_power"}};
 }
 
@@ -76,9 +84,13 @@ MassHints Phong::mass_hints(const Vec3& fixed, Varying varying) const {
   // (tests/extremes_test.cpp, PhongGrazingLayerIsHonest). The layer holds at most ks/2 kGrazingCosFloor 2 pi
   // cos^n(e), e the mirror's elevation: it is declared when the lobe reaches the horizon, within
   // 4 widths of it (as ggx's layer).
-  const double w = 1.0 / std::sqrt(n_);
+  // Schlick's rational lobe 1/(1 + n (1 - t)/t) ~ 1/(1 + n psi^2/2) has the half width
+  // sqrt(2/n) and tails t/n that reach the horizon for every mirror direction: its layer is
+  // always declared.
+  const bool rational = lobe_ == PhongLobe::schlick_rational;
+  const double w = rational ? std::sqrt(2.0 / n_) : 1.0 / std::sqrt(n_);
   MassHints hints{{{mirror(fixed), w}}, 0.0};
-  if (varying == Varying::incident && std::asin(std::clamp(fixed.z, 0.0, 1.0)) < 4.0 * w + 0.05)
+  if (varying == Varying::incident && (rational || std::asin(std::clamp(fixed.z, 0.0, 1.0)) < 4.0 * w + 0.05))
     hints.horizon_layer = kGrazingCosFloor;
   return hints;
 }
@@ -96,8 +108,8 @@ double PhongLewis::f(const Vec3& i, const Vec3& j) const noexcept {
 }
 
 std::optional<GlslF> PhongLewis::glsl_f() const {
-  return GlslF{std::string(kGlslBelowHorizon) + "  return " + glsl_float(kd_ / pi) + " + " + glsl_float(ks_ * C_) +
-                   " * gz_mirror_power(i, j, " + glsl_float(n_) + ");\n",
+  return GlslF{std::string(kGlslBelowHorizon) + "  return " + decimal_literal(kd_ / pi) + " + " +
+                   decimal_literal(ks_ * C_) + " * gz_mirror_power(i, j, " + decimal_literal(n_) + ");\n",
                {"gz_mirror_power"}};
 }
 
@@ -130,10 +142,10 @@ std::optional<GlslF> BlinnPhong::glsl_f() const {
   return GlslF{std::string(kGlslBelowHorizon) +
                    "  vec3 s = i + j;\n"
                    "  float len = length(s);\n"
-                   "  if (!(len > 0.0)) return " + glsl_float(kd_ / pi) + ";\n"
+                   "  if (!(len > 0.0)) return " + decimal_literal(kd_ / pi) + ";\n"
                    "  float y = dot(s.xy, s.xy) / (len * (len + s.z));\n"
-                   "  return " + glsl_float(kd_ / pi) + " + " + glsl_float(ks_ * C_) + " * gz_pow_pair(s.z / len, y, " +
-                   glsl_float(n_) + ");\n",
+                   "  return " + decimal_literal(kd_ / pi) + " + " + decimal_literal(ks_ * C_) +
+                   " * gz_pow_pair(s.z / len, y, " + decimal_literal(n_) + ");\n",
                {"gz_pow_pair"}};
 }
 
@@ -207,11 +219,12 @@ std::optional<GlslF> CookTorrance::glsl_f() const {
   const std::string D =
       d_ == FacetDistribution::beckmann
           ? "  float c2 = nh * nh;\n"
-            "  float D = exp(-dot(s.xy, s.xy) / (s.z * s.z * " + glsl_float(m_ * m_) + ")) / (" +
-                glsl_float(pi * m_ * m_) + " * c2 * c2);\n"
+            "  float D = exp(-dot(s.xy, s.xy) / (s.z * s.z * " + decimal_literal(m_ * m_) + ")) / (" +
+                decimal_literal(pi * m_ * m_) + " * c2 * c2);\n"
           : "  float delta = gz_atan2(length(s.xy), s.z);\n"
-            "  float D = " + glsl_float(c_gauss_) + " * exp(-(delta * delta) * " + glsl_float(1.0 / (m_ * m_)) + ");\n";
-  const std::string diffuse = glsl_float(kd_ / pi);
+            "  float D = " + decimal_literal(c_gauss_) + " * exp(-(delta * delta) * " +
+                decimal_literal(1.0 / (m_ * m_)) + ");\n";
+  const std::string diffuse = decimal_literal(kd_ / pi);
   return GlslF{std::string(kGlslBelowHorizon) +
                    "  vec3 s = i + j;\n"
                    "  float len = length(s);\n"
@@ -223,9 +236,9 @@ std::optional<GlslF> CookTorrance::glsl_f() const {
                    "  float p = i.z * j.z;\n"
                    "  if (p > 0.0) G_over = min(G_over, 1.0 / p);\n" +
                    D +
-                   "  float spec = gz_fresnel_complex(jh, " + glsl_float(eta_) + ", " + glsl_float(k_) +
+                   "  float spec = gz_fresnel_complex(jh, " + decimal_literal(eta_) + ", " + decimal_literal(k_) +
                    ") * D * G_over / 4.0;\n"
-                   "  return isinf(spec) || isnan(spec) ? " + diffuse + " : " + diffuse + " + " + glsl_float(ks_) +
+                   "  return isinf(spec) || isnan(spec) ? " + diffuse + " : " + diffuse + " + " + decimal_literal(ks_) +
                    " * spec;\n",
                {"gz_fresnel_complex", "gz_atan2"}};
 }
@@ -259,16 +272,17 @@ double Ward::f(const Vec3& i, const Vec3& j) const noexcept {
 }
 
 std::optional<GlslF> Ward::glsl_f() const {
-  const std::string diffuse = glsl_float(rho_d_ / pi);
+  const std::string diffuse = decimal_literal(rho_d_ / pi);
   return GlslF{std::string(kGlslBelowHorizon) +
                    "  vec3 h = i + j;\n"
                    "  if (!(h.z > 0.0)) return " + diffuse + ";\n"
-                   "  float ex = h.x / (" + glsl_float(alpha_x_) + " * h.z), ey = h.y / (" + glsl_float(alpha_y_) +
-                   " * h.z);\n"
+                   "  float ex = h.x / (" + decimal_literal(alpha_x_) + " * h.z), ey = h.y / (" +
+                   decimal_literal(alpha_y_) + " * h.z);\n"
                    "  float e = ex * ex + ey * ey;\n"
                    "  if (!(e < 700.0)) return " + diffuse + ";\n"
-                   "  float root = sqrt(max(i.z * j.z, " + glsl_float(kGrazingCosFloor * kGrazingCosFloor) + "));\n"
-                   "  return " + diffuse + " + " + glsl_float(rho_s_ / (4.0 * pi * alpha_x_ * alpha_y_)) +
+                   "  float root = sqrt(max(i.z * j.z, " + decimal_literal(kGrazingCosFloor * kGrazingCosFloor) +
+                   "));\n"
+                   "  return " + diffuse + " + " + decimal_literal(rho_s_ / (4.0 * pi * alpha_x_ * alpha_y_)) +
                    " * exp(-e) / root;\n",
                {}};
 }
@@ -365,18 +379,19 @@ std::optional<GlslF> OrenNayar::glsl_f() const {
                    "  float sin_dphi = pxy > 0.0 ? (i.x * j.y - i.y * j.x) / pxy : 0.0;\n"
                    "  float one_minus_abs_cos = pxy > 0.0 ? sin_dphi * sin_dphi / (1.0 + abs(cos_dphi)) : 1.0;\n"
                    "  float two_beta_pi = 2.0 * beta / 3.1415926536, u = 2.0 * e_b / 3.1415926536;\n"
-                   "  float C2 = " + glsl_float(0.45 * s2 / (s2 + 0.09)) + " * (cos_dphi < 0.0 ? u * (3.0 - 3.0 * u + u * u)"
-                   " - mu_a * mu_a / (1.0 + s_a) : s_a);\n"
+                   "  float C2 = " + decimal_literal(0.45 * s2 / (s2 + 0.09)) +
+                   " * (cos_dphi < 0.0 ? u * (3.0 - 3.0 * u + u * u) - mu_a * mu_a / (1.0 + s_a) : s_a);\n"
                    "  float q = 4.0 * alpha * beta / 9.8696044011;\n"
-                   "  float C3 = " + glsl_float(0.125 * s2 / (s2 + 0.09)) + " * q * q;\n"
-                   "  float tan_beta = s_b / max(mu_b, " + glsl_float(kGrazingCosFloor) + ");\n"
+                   "  float C3 = " + decimal_literal(0.125 * s2 / (s2 + 0.09)) + " * q * q;\n"
+                   "  float tan_beta = s_b / max(mu_b, " + decimal_literal(kGrazingCosFloor) + ");\n"
                    "  float cos_E = s_a * s_b - mu_a * mu_b, sin_E = mu_a * s_b + s_a * mu_b;\n"
                    "  float cos_h = sqrt(max(0.5 * (1.0 + cos_E), 0.0));\n"
                    "  float sin_h = cos_h > 0.0 ? 0.5 * sin_E / cos_h : 1.0;\n"
-                   "  float tan_half = cos_h / max(sin_h, " + glsl_float(kGrazingCosFloor) + ");\n"
-                   "  float L1 = " + glsl_float(rho_ / pi) + " * (" + glsl_float(1.0 - 0.5 * s2 / (s2 + 0.33)) +
+                   "  float tan_half = cos_h / max(sin_h, " + decimal_literal(kGrazingCosFloor) + ");\n"
+                   "  float L1 = " + decimal_literal(rho_ / pi) + " * (" +
+                   decimal_literal(1.0 - 0.5 * s2 / (s2 + 0.33)) +
                    " + cos_dphi * C2 * tan_beta + one_minus_abs_cos * C3 * tan_half);\n"
-                   "  float L2 = " + glsl_float(0.17 * rho_ * rho_ / pi * s2 / (s2 + 0.13)) +
+                   "  float L2 = " + decimal_literal(0.17 * rho_ * rho_ / pi * s2 / (s2 + 0.13)) +
                    " * (1.0 - cos_dphi * two_beta_pi * two_beta_pi);\n"
                    "  return L1 + L2;\n",
                {"gz_atan2"}};
@@ -412,11 +427,11 @@ double Lafortune::f(const Vec3& i, const Vec3& j) const noexcept {
 }
 
 std::optional<GlslF> Lafortune::glsl_f() const {
-  std::string body = std::string(kGlslBelowHorizon) + "  float sum = " + glsl_float(kd_ / pi) + ";\n  float x;\n";
+  std::string body = std::string(kGlslBelowHorizon) + "  float sum = " + decimal_literal(kd_ / pi) + ";\n  float x;\n";
   double power = 0.0;
   for (const Lobe& l : lobes_) {
-    body += "  x = " + glsl_float(l.C_x) + " * i.x * j.x + " + glsl_float(l.C_y) + " * i.y * j.y + " +
-            glsl_float(l.C_z) + " * i.z * j.z;\n  if (x > 0.0) sum += pow(x, " + glsl_float(l.n) + ");\n";
+    body += "  x = " + decimal_literal(l.C_x) + " * i.x * j.x + " + decimal_literal(l.C_y) + " * i.y * j.y + " +
+            decimal_literal(l.C_z) + " * i.z * j.z;\n  if (x > 0.0) sum += pow(x, " + decimal_literal(l.n) + ");\n";
     power = std::max(power, l.n);
   }
   return GlslF{body + "  return sum;\n", {}, power};
@@ -487,12 +502,12 @@ std::optional<GlslF> Hapke::glsl_f() const {
                    "    if (!(tan_a > 0.0)) {\n"
                    "      B = 2.0;\n"
                    "    } else {\n"
-                   "      float one_minus_e = -gz_expm1(-" + glsl_float(g_) + " / tan_a);\n"
-                   "      B = 2.0 - tan_a * " + glsl_float(0.5 / g_) + " * one_minus_e * (2.0 + one_minus_e);\n"
+                   "      float one_minus_e = -gz_expm1(-" + decimal_literal(g_) + " / tan_a);\n"
+                   "      B = 2.0 - tan_a * " + decimal_literal(0.5 / g_) + " * one_minus_e * (2.0 + one_minus_e);\n"
                    "    }\n"
                    "  }\n"
-                   "  return " + glsl_float(rho_ / pi) + " * " + S + " * B / max(i.z + j.z, " +
-                   glsl_float(kGrazingCosFloor) + ");\n",
+                   "  return " + decimal_literal(rho_ / pi) + " * " + S + " * B / max(i.z + j.z, " +
+                   decimal_literal(kGrazingCosFloor) + ");\n",
                {"gz_lambert_sphere_bracket", "gz_expm1"}};
 }
 
@@ -555,6 +570,17 @@ void register_classic_models(std::vector<ModelInfo>& c) {
                [](const ParamValues& p) -> ModelPtr {
                  require_sum_at_most_one("phong", "kd", p.at("kd"), "ks", p.at("ks"));
                  return std::make_shared<Phong>(p.at("kd"), p.at("ks"), p.at("n"));
+               }});
+  c.push_back({"schlick-phong",
+               "original Phong with Schlick's rational lobe, f = kd/pi + ks t/(n - n t + t)/(i.n), t = max(0, cos psi)",
+               std::string("Schlick 1994, Computer Graphics Forum 13(3) (rational approximation); ") + kWalker +
+                   ", Phong (Figs. 17, 19)",
+               {kd_param(0.5), ks_param(0.5), n_param(20.0, "exponent the rational lobe approximates")},
+               {true, false, EnergyClass::not_plausible},
+               {},
+               [](const ParamValues& p) -> ModelPtr {
+                 require_sum_at_most_one("schlick-phong", "kd", p.at("kd"), "ks", p.at("ks"));
+                 return std::make_shared<Phong>(p.at("kd"), p.at("ks"), p.at("n"), PhongLobe::schlick_rational);
                }});
   c.push_back({"phong-lewis", "Lewis's normalized Phong, f = kd/pi + ks (n+2)/(2 pi) cos^n(psi)",
                std::string("Lewis 1994, Computer Graphics Forum 13(2); ") + kWalker + ", Phong",

@@ -138,7 +138,7 @@ std::optional<GlslF> GgxMs::glsl_f() const {
   const std::vector<double>& E = energy_->E;
   const int n = static_cast<int>(E.size()) - 1;
   std::string nodes;
-  for (double e : E) nodes += (nodes.empty() ? "" : ", ") + glsl_float(1.0 - e);
+  for (double e : E) nodes += (nodes.empty() ? "" : ", ") + decimal_literal(1.0 - e);
   return GlslF{std::string(kGlslBelowHorizon) + ggx_.glsl_single_scattering() +
                    "  const float E[" + std::to_string(n + 1) + "] = float[" + std::to_string(n + 1) + "](" + nodes +
                    ");\n"
@@ -158,7 +158,7 @@ std::optional<GlslF> GgxMs::glsl_f() const {
                    "                     + (-3.0 * t3 + 4.0 * t2 + t) * p[2] + (t3 - t2) * p[3]);\n"
                    "    one_minus_E[q] = e;\n"
                    "  }\n"
-                   "  return ggx_value + " + glsl_float(f_ms_scale_) + " * one_minus_E[0] * one_minus_E[1];\n",
+                   "  return ggx_value + " + decimal_literal(f_ms_scale_) + " * one_minus_E[0] * one_minus_E[1];\n",
                {"gz_schlick"}};
 }
 

@@ -1,12 +1,8 @@
-// The helpers the models' GLSL f call (models/glsl.h), each written once, and the float literal.
+// The helpers the models' GLSL f call (models/glsl.h), each written once.
 #include "models/glsl.h"
 
-#include <cmath>
-#include <cstdio>
 #include <set>
 #include <stdexcept>
-
-#include "util/error.h"
 
 namespace ganzfeld {
 
@@ -470,15 +466,6 @@ void collect(const std::string& name, std::set<std::string>& out) {
 }
 
 }  // namespace
-
-std::string glsl_float(double x) {
-  if (!std::isfinite(x)) throw InputError("cannot write the non-finite number " + std::to_string(x) + " into GLSL");
-  char buffer[40];
-  std::snprintf(buffer, sizeof buffer, "%.9g", x);
-  std::string text = buffer;
-  if (text.find_first_of(".e") == std::string::npos) text += ".0";
-  return text;
-}
 
 std::vector<std::string> glsl_helper_names() {
   std::vector<std::string> names;

@@ -7,7 +7,8 @@
 //   float f(vec3 i, vec3 j)
 // in the model's local frame (n = +z, the tangent = +x, the bitangent = +y; i towards the source,
 // j towards the eye, both unit: the frame and conventions of models/model.h), written step for
-// step as the model's f (the same branches, clamps and floors, its constants as float literals),
+// step as the model's f (the same branches, clamps and floors, its constants as float literals:
+// decimal_literal, util/literal.h),
 // in the common subset of GLSL ES 3.00 and GLSL 4.30 core. It may call the helpers below by name;
 // the exporter emits each helper it names (and what they call) once, before the body.
 //
@@ -21,6 +22,8 @@
 
 #include <string>
 #include <vector>
+
+#include "util/literal.h"
 
 namespace ganzfeld {
 
@@ -42,10 +45,6 @@ struct GlslF {
 /// The first statement of every body, as of every f: 0 when either direction is strictly below
 /// the horizon.
 inline constexpr const char* kGlslBelowHorizon = "  if (i.z < 0.0 || j.z < 0.0) return 0.0;\n";
-
-/// A GLSL float literal that reads back as the float nearest to x (9 significant digits); throws
-/// InputError for a non-finite x.
-std::string glsl_float(double x);
 
 /// Every helper's name, in the order they are emitted.
 std::vector<std::string> glsl_helper_names();

@@ -226,9 +226,9 @@ double HeTorrance::f(const Vec3& i, const Vec3& j) const noexcept {
 }
 
 std::optional<GlslF> HeTorrance::glsl_f() const {
-  const std::string diffuse = glsl_float(a_ / pi);
+  const std::string diffuse = decimal_literal(a_ / pi);
   if (!(sigma0_ > 0.0)) return GlslF{std::string(kGlslBelowHorizon) + "  return " + diffuse + ";\n", {}};
-  const std::string tau = glsl_float(tau_), sigma0 = glsl_float(sigma0_);
+  const std::string tau = decimal_literal(tau_), sigma0 = decimal_literal(sigma0_);
   // As directional_diffuse() + a/pi: the effective roughness of eqs. 80-83 (0 when a direction
   // grazes: K is infinite there), g of eq. 79, the series of eq. 78 over g, G (mu_i + mu_j)^2 =
   // |i + j|^4, the shadowing over the cosines, Fresnel at the bisector.
@@ -241,19 +241,20 @@ std::optional<GlslF> HeTorrance::glsl_f() const {
                    "  if (!(vv > 0.0)) return diffuse;\n"
                    "  if ((!(mu_i > 0.0) && sin_i > 0.0) || (!(mu_j > 0.0) && sin_j > 0.0)) return diffuse;\n"
                    "  float f0 = (gz_he_K(mu_i, sin_i, " + tau + ", " + sigma0 + ") + gz_he_K(mu_j, sin_j, " + tau + ", " +
-                   sigma0 + ")) * " + glsl_float(1.0 / std::sqrt(8.0 * pi)) + ";\n"
+                   sigma0 + ")) * " + decimal_literal(1.0 / std::sqrt(8.0 * pi)) + ";\n"
                    "  if (isinf(f0)) return diffuse;\n"
                    "  float x = gz_he_z0_over_sigma0(f0);\n"
                    "  float sigma = x > 1e18 ? " + sigma0 + " / x : " + sigma0 + " / sqrt(1.0 + x * x);\n"
                    "  if (!(sigma > 0.0)) return diffuse;\n"
-                   "  float kappa = sigma * " + glsl_float(2.0 * pi / lambda_) + ";\n"
+                   "  float kappa = sigma * " + decimal_literal(2.0 * pi / lambda_) + ";\n"
                    "  float g = (kappa * (mu_i + mu_j)) * (kappa * (mu_i + mu_j));\n"
-                   "  float c = " + glsl_float(c_scale_) + " * dot(v.xy, v.xy);\n"
-                   "  float D_over = " + glsl_float(prefactor_) + " * kappa * kappa * gz_he_series_over_g(g, c);\n"
+                   "  float c = " + decimal_literal(c_scale_) + " * dot(v.xy, v.xy);\n"
+                   "  float D_over = " + decimal_literal(prefactor_) + " * kappa * kappa * gz_he_series_over_g(g, c);\n"
                    "  float S_over = gz_he_shadowing_over_cos(mu_i, sin_i, " + tau + ", " + sigma0 +
                    ") * gz_he_shadowing_over_cos(mu_j, sin_j, " + tau + ", " + sigma0 + ");\n"
-                   "  float F = gz_fresnel_complex(0.5 * sqrt(vv), " + glsl_float(eta_) + ", " + glsl_float(k_) + ");\n"
-                   "  float rho = F * " + glsl_float(1.0 / pi) + " * vv * vv * S_over * D_over;\n"
+                   "  float F = gz_fresnel_complex(0.5 * sqrt(vv), " + decimal_literal(eta_) + ", " +
+                   decimal_literal(k_) + ");\n"
+                   "  float rho = F * " + decimal_literal(1.0 / pi) + " * vv * vv * S_over * D_over;\n"
                    "  return (isinf(rho) || isnan(rho) || !(rho > 0.0) ? 0.0 : rho) + diffuse;\n",
                {"gz_he_terms", "gz_he_series_over_g", "gz_fresnel_complex"}};
 }
@@ -286,7 +287,8 @@ void register_he_torrance_models(std::vector<ModelInfo>& c) {
       {"he-torrance",
        "He-Torrance-Sillion-Greenberg physical optics (Kirchhoff, Gaussian surface), unpolarized: "
        "f = rho_dd + a/pi, rho_dd = F G S D/(pi (i.n)(j.n)), D the Beckmann series in g; the specular "
-       "delta rho_s is not in f",
+       "delta rho_s(theta_i) = |F|^2 exp(-g) S^2 into the mirror direction is not in f (nor in g, h, a of f): "
+       "renders add it under skies and the Ganzfeld",
        "He, Torrance, Sillion & Greenberg 1991, SIGGRAPH '91, eqs. 69-84 and 24-25; Walker 1999, MSc thesis "
        "(U. Oregon), ch. III He-Torrance (eqs. III.13-III.18), app. D",
        {{"sigma0", ParamType::real, 0.0, 3.0, 0.15, "RMS surface height in micrometres (0 = smooth mirror)"},

@@ -142,15 +142,15 @@ std::optional<GlslF> HvdEmpirical::glsl_f() const {
   // theta_o = |j_xy|), the scaling projection and its Jacobian (hvd::scaling_uv, scaling_jacobian).
   std::string lumps;
   if (p_.k < 1.0)
-    lumps += glsl_float(1.0 - p_.k) + " * gz_hvd_lump(h, vec2(0.0), vec2(" + glsl_float(p_.rs_u) + ", " +
-             glsl_float(p_.rs_v) + ") * R_max, " + glsl_float(p_.n_s) + ")";
+    lumps += decimal_literal(1.0 - p_.k) + " * gz_hvd_lump(h, vec2(0.0), vec2(" + decimal_literal(p_.rs_u) + ", " +
+             decimal_literal(p_.rs_v) + ") * R_max, " + decimal_literal(p_.n_s) + ")";
   if (p_.k > 0.0)
-    lumps += std::string(lumps.empty() ? "" : " + ") + glsl_float(p_.k) + " * gz_hvd_lump(h, j.xy, vec2(" +
-             glsl_float(p_.rr_u) + ", " + glsl_float(p_.rr_v) + "), " + glsl_float(p_.n_r) + ")";
+    lumps += std::string(lumps.empty() ? "" : " + ") + decimal_literal(p_.k) + " * gz_hvd_lump(h, j.xy, vec2(" +
+             decimal_literal(p_.rr_u) + ", " + decimal_literal(p_.rr_v) + "), " + decimal_literal(p_.n_r) + ")";
   return GlslF{std::string(kGlslBelowHorizon) +
-                   "  float F = gz_schlick(j.z, " + glsl_float(p_.F_0) + ", 1.0);\n"
-                   "  float diffuse = gz_one_minus_schlick(j.z, " + glsl_float(p_.F_0) + ", 1.0) * " +
-                   glsl_float(p_.C_d / pi) + ";\n"
+                   "  float F = gz_schlick(j.z, " + decimal_literal(p_.F_0) + ", 1.0);\n"
+                   "  float diffuse = gz_one_minus_schlick(j.z, " + decimal_literal(p_.F_0) + ", 1.0) * " +
+                   decimal_literal(p_.C_d / pi) + ";\n"
                    "  if (!(j.z > 0.0)) return diffuse;\n"
                    "  vec3 H = i + j;\n"
                    "  if (!(H.z > 0.0)) return diffuse;\n"
@@ -283,13 +283,14 @@ double HvdFit::f(const Vec3& i, const Vec3& j) const noexcept {
 
 std::optional<GlslF> HvdFit::glsl_f() const {
   return GlslF{std::string(kGlslBelowHorizon) +
-                   "  float F = gz_schlick(j.z, " + glsl_float(p_.F_0) + ", " + glsl_float(p_.F_90) + ");\n"
+                   "  float F = gz_schlick(j.z, " + decimal_literal(p_.F_0) + ", " + decimal_literal(p_.F_90) + ");\n"
                    "  vec2 h = i.xy + j.xy;\n"
-                   "  float p = " + glsl_float(1.0 - p_.k) + " * gz_hvd_lump(h, vec2(0.0), vec2(" + glsl_float(p_.R_1) +
-                   "), " + glsl_float(p_.n_1) + ") + " + glsl_float(p_.k) + " * gz_hvd_lump(h, vec2(0.0), vec2(" +
-                   glsl_float(p_.R_2) + "), " + glsl_float(p_.n_2) + ");\n"
-                   "  return gz_one_minus_schlick(j.z, " + glsl_float(p_.F_0) + ", " + glsl_float(p_.F_90) + ") * " +
-                   glsl_float(p_.C_d / pi) + " + F * p;\n",
+                   "  float p = " + decimal_literal(1.0 - p_.k) + " * gz_hvd_lump(h, vec2(0.0), vec2(" +
+                   decimal_literal(p_.R_1) + "), " + decimal_literal(p_.n_1) + ") + " + decimal_literal(p_.k) +
+                   " * gz_hvd_lump(h, vec2(0.0), vec2(" + decimal_literal(p_.R_2) + "), " + decimal_literal(p_.n_2) +
+                   ");\n"
+                   "  return gz_one_minus_schlick(j.z, " + decimal_literal(p_.F_0) + ", " + decimal_literal(p_.F_90) +
+                   ") * " + decimal_literal(p_.C_d / pi) + " + F * p;\n",
                {"gz_schlick", "gz_one_minus_schlick", "gz_hvd_lump"}};
 }
 

@@ -21,7 +21,7 @@ double Lambert::f(const Vec3& i, const Vec3& j) const noexcept {
 }
 
 std::optional<GlslF> Lambert::glsl_f() const {
-  return GlslF{std::string(kGlslBelowHorizon) + "  return " + glsl_float(std::numbers::inv_pi) + ";\n", {}};
+  return GlslF{std::string(kGlslBelowHorizon) + "  return " + decimal_literal(std::numbers::inv_pi) + ";\n", {}};
 }
 
 double lambert::g(double c) { return 0.5 * (1.0 + c); }

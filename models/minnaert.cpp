@@ -23,11 +23,12 @@ double Minnaert::f(const Vec3& i, const Vec3& j) const noexcept {
 }
 
 std::optional<GlslF> Minnaert::glsl_f() const {
-  if (xi_ == 0.0) return GlslF{std::string(kGlslBelowHorizon) + "  return " + glsl_float(C_d_) + ";\n", {}};
+  if (xi_ == 0.0) return GlslF{std::string(kGlslBelowHorizon) + "  return " + decimal_literal(C_d_) + ";\n", {}};
   // 1 - (i.n)(j.n) = (|i_xy|^2 + |j_xy|^2 + (i.z - j.z)^2)/2 for unit i, j: accurate near the normal.
   return GlslF{std::string(kGlslBelowHorizon) +
                    "  float u = 0.5 * (dot(i.xy, i.xy) + dot(j.xy, j.xy) + (i.z - j.z) * (i.z - j.z));\n"
-                   "  return " + glsl_float(C_d_) + " * gz_pow_pair(i.z * j.z, u, " + glsl_float(xi_) + ");\n",
+                   "  return " + decimal_literal(C_d_) + " * gz_pow_pair(i.z * j.z, u, " + decimal_literal(xi_) +
+                   ");\n",
                {"gz_pow_pair"}};
 }
 

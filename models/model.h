@@ -119,6 +119,13 @@ class Model {
   /// beside f in the model's own file. Nothing for a model with no closed form to emit (measured
   /// data, tables read from a file); the viewer then asks the service for f (docs/serve.md).
   virtual std::optional<GlslF> glsl_f() const { return std::nullopt; }
+
+  /// The reflectance rho(cos theta) of a mirror (Dirac) term the model has besides f: the
+  /// fraction of the flux from k reflected coherently into mirror(k), which no BRDF value can
+  /// hold. f, and every law integrated from f (g, h, a, r, the tables), exclude it; renders add
+  /// its exact contribution under extended sources: rho(j·n) to h, and to g when mirror(j) lies
+  /// in the sky (rasterizer/shading.h). 0 for every model without one (all but he-torrance).
+  virtual double mirror_reflectance(double /*cos_theta*/) const noexcept { return 0.0; }
 };
 
 /// Cosine-weighted direction about n = +z from two uniform numbers (Malley's method: a uniform

@@ -26,8 +26,8 @@ double Specular::f(const Vec3& i, const Vec3& j) const noexcept {
 }
 
 std::optional<GlslF> Specular::glsl_f() const {
-  return GlslF{std::string(kGlslBelowHorizon) + "  return " + glsl_float(C_s_) +
-                   " * gz_half_cos_power(vec3(-i.x, -i.y, i.z), j, " + glsl_float(alpha_) + ");\n",
+  return GlslF{std::string(kGlslBelowHorizon) + "  return " + decimal_literal(C_s_) +
+                   " * gz_half_cos_power(vec3(-i.x, -i.y, i.z), j, " + decimal_literal(alpha_) + ");\n",
                {"gz_half_cos_power"}};
 }
 

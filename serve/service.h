@@ -44,7 +44,7 @@ struct ServiceOptions {
   /// connection threads always remain for cheap requests (cached tables, /healthz, the viewer).
   int max_computing = 28;
   Limits limits;
-  scene::TableOptions defaults;  ///< what unset table parameters mean
+  scene::TableOptions defaults = scene::TableOptions::scene_defaults();  ///< what unset table parameters mean
   DataFiles data;                 ///< `--data DIR`: the measured files requests may name (serve/data.h)
   /// Joins the words of the equivalent `ganzfeld bake` into the line stamped into each table.
   std::function<std::string(const std::vector<std::string>&)> command_line;

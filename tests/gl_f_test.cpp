@@ -1,5 +1,5 @@
 // Every registered model's GLSL f (Model::glsl_f, exported by export/glsl_f.h) against its C++ f,
-// on Mesa's llvmpipe through EGL (tests/gl_support.h), at kPointsSide^2 direction pairs per model
+// on Mesa's llvmpipe through EGL (gl/context.h), at kPointsSide^2 direction pairs per model
 // and parameter corner: the defaults, and each parameter at each end of its range with the others
 // at their defaults (corners the model's factory refuses, e.g. kd + ks > 1, are listed as
 // skipped). The registry is walked, so a new model is tested the day it is registered.
@@ -30,9 +30,10 @@
 
 #include "export/brdf_export.h"
 #include "export/glsl_f.h"
+#include "gl/context.h"
+#include "gl/draw.h"
 #include "models/registry.h"
 #include "models/spec.h"
-#include "tests/gl_support.h"
 #include "tests/temp_dir.h"
 #include "util/error.h"
 
@@ -146,8 +147,8 @@ double declared_rounding(const GlslF& f, const Vec3& i, const Vec3& j) {
 }
 
 /// GPU f of `model` at the points: gz_f_<spec>(i, j, n = +z, t = +x), one pixel each.
-std::vector<float> gpu_f(const Model& model, const Points& points, bool es, std::string& error) {
-  const std::string fragment = std::string("#version ") + (es ? "300 es" : "430 core") + R"(
+std::vector<float> gpu_f(const Model& model, const Points& points, std::string& error) {
+  const std::string fragment = std::string("#version ") + gl::glsl_version(gl::Api::es30) + R"(
 precision highp float;
 precision highp int;
 precision highp sampler2D;
@@ -159,37 +160,35 @@ void main() {
   ivec2 p = ivec2(gl_FragCoord.xy);
   vec3 i = texelFetch(u_i, p, 0).xyz, j = texelFetch(u_j, p, 0).xyz;
   out_value = vec4()" + exporting::glsl_f_name(model.spec()) +
-                         R"((i, j, vec3(0.0, 0.0, 1.0), vec3(1.0, 0.0, 0.0)), 0.0, 0.0, 1.0);
+                               R"((i, j, vec3(0.0, 0.0, 1.0), vec3(1.0, 0.0, 0.0)), 0.0, 0.0, 1.0);
 }
 )";
-  const GLuint program = gl_test::link_program(es ? gl_test::kVertexEs : gl_test::kVertexCore, fragment, error);
-  if (program == 0) return {};
-  glUseProgram(program);
-  GLuint textures[2] = {0, 0};
-  glGenTextures(2, textures);
+  const gl::Program program = gl::link_program(gl::fullscreen_vertex_shader(gl::Api::es30), fragment, error);
+  if (!program) return {};
+  glUseProgram(program.id());
+  std::vector<gl::Texture> textures;
   for (int k = 0; k < 2; ++k) {
+    GLuint id = 0;
+    glGenTextures(1, &id);
+    textures.emplace_back(id);
     glActiveTexture(GL_TEXTURE0 + k);
-    glBindTexture(GL_TEXTURE_2D, textures[k]);
+    glBindTexture(GL_TEXTURE_2D, id);
     glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA32F, kPointsSide, kPointsSide, 0, GL_RGBA, GL_FLOAT,
                  (k == 0 ? points.i : points.j).data());
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-    glUniform1i(glGetUniformLocation(program, k == 0 ? "u_i" : "u_j"), k);
+    glUniform1i(program.uniform(k == 0 ? "u_i" : "u_j"), k);
   }
-  const auto [fbo, color] = gl_test::float_framebuffer(kPointsSide, kPointsSide);
-  GLuint vao = 0;
-  glGenVertexArrays(1, &vao);
-  glBindVertexArray(vao);
+  const gl::Framebuffer target(kPointsSide, kPointsSide, GL_RGBA32F);
+  if (!target.complete()) {
+    error = "the RGBA32F framebuffer is incomplete";
+    return {};
+  }
+  const gl::VertexArray vertices;
   glDrawArrays(GL_TRIANGLES, 0, 3);
-  std::vector<float> pixels(4 * kPointsSide * kPointsSide);
-  glReadPixels(0, 0, kPointsSide, kPointsSide, GL_RGBA, GL_FLOAT, pixels.data());
+  const std::vector<float> pixels = target.read_rgba();
   std::vector<float> values(kPointsSide * kPointsSide);
   for (std::size_t p = 0; p < values.size(); ++p) values[p] = pixels[4 * p];
-  glDeleteVertexArrays(1, &vao);
-  glDeleteRenderbuffers(1, &color);
-  glDeleteFramebuffers(1, &fbo);
-  glDeleteTextures(2, textures);
-  glDeleteProgram(program);
   if (glGetError() != GL_NO_ERROR) error = "GL error";
   return values;
 }
@@ -335,9 +334,9 @@ std::string markdown(const std::vector<ModelReport>& reports, const std::vector<
 
 TEST(GlslF, EveryRegisteredModelMatchesItsCpuF) {
   std::string error;
-  auto gl = gl_test::make_context(true, error);
-  ASSERT_TRUE(gl) << error;
-  const char* renderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
+  const auto context = gl::make_context(gl::Api::es30, gl::Platform::surfaceless, error);
+  ASSERT_TRUE(context) << error;
+  const char* renderer = context->info().gl_renderer.c_str();
   const Points pts = points();
   std::vector<ModelReport> reports;
   std::vector<std::string> without;
@@ -362,7 +361,7 @@ TEST(GlslF, EveryRegisteredModelMatchesItsCpuF) {
         continue;
       }
       std::string gl_error;
-      const std::vector<float> gpu = gpu_f(*model, pts, true, gl_error);
+      const std::vector<float> gpu = gpu_f(*model, pts, gl_error);
       ASSERT_EQ(gpu.size(), pts.i_cpu.size()) << spec << ": " << gl_error;
       const CornerResult r = compare(*model, pts, gpu, model->glsl_f().value_or(GlslF{}));
       std::printf("%-44s max relative %.2g (%.2g at %d well-conditioned points), %d within 1e-6, %.2g of the bound%s\n",

@@ -49,7 +49,6 @@ alive() { kill -0 $pid 2>/dev/null; }
        --theta-i 0 --theta-j 0 --json | python3 -c "import json, sys; print(json.load(sys.stdin)['model'])")" ] \
   && [ "$(json_field "$tmp/body" "list(d['terms'][0]['parameters'])")" = "['eta', 'rsu', 'rsv']" ] \
   && ok || fail "/api/spec: $(cat "$tmp/body")"
-bad 400 "names a data file" "/api/spec?model=merl:file=/etc/passwd"
 
 # --- eval: the same value as the command line
 "$G" eval --model specular:alpha=8 --law g --theta-i 60 --theta-j 30 --phi 180 --json >"$tmp/eval.json"
@@ -90,6 +89,7 @@ bad() {  # bad STATUS FRAGMENT TARGET
   if ! json_field "$tmp/body" "d['error']" | grep -qF -- "$2"; then fail "$3: error lacks '$2': $(cat "$tmp/body")"; return; fi
   [ "$(wc -l <"$tmp/body")" -eq 1 ] && ok || fail "$3: error is not one line"
 }
+bad 400 "names a data file" "/api/spec?model=merl:file=/etc/passwd"
 bad 400 "unknown model 'nope'" "/api/eval?model=nope&law=h&theta_j=1"
 bad 400 "alpha" "/api/eval?model=specular:alpha=-1&law=h&theta_j=1"
 bad 400 "theta_j=91 is out of range" "/api/eval?model=lambert&law=h&theta_j=91"

@@ -13,9 +13,9 @@
 //          model); else (measured data of `serve --data DIR`) the service: /api/fgrid for the lobe
 //          and the polar plot, /api/sphere for the beam's sphere
 //   g, h   isotropic models: export-glsl's snippets (/api/glsl) sampling the tables of /api/table
-//          (format=json, uploaded as R32F), so the page shades exactly as `ganzfeld render` does
-//          from the same cache (tests/viewer_test.sh checks it); anisotropic models have no
-//          tables: /api/sphere, the cubature per pixel `render` does for them
+//          (format=json, uploaded as R32F with the table's filter), so the page shades as
+//          `ganzfeld render` does from the same cache (tests/viewer_test.sh checks it); anisotropic
+//          models have no tables: /api/sphere, the cubature per pixel `render` does for them
 // Anisotropic lobes are oriented by the sphere's tangent: along the circles of latitude or the
 // meridians about the view's up axis (scene/scene.h, TangentRule; latitude by default).
 // The URL keeps the state: ?model=SPEC&model_b=SPEC&dir=X,Y,Z (beam)&pole=X,Y,Z&theta=DEG and
@@ -250,7 +250,9 @@ function program(gl, fragment) {
 }
 
 /// A table as the exported shader expects it (export/glsl.h): g a 3-D texture of width n2,
-/// height n1, depth n0; h a count x 1 2-D texture; one float channel, fetched with texelFetch.
+/// height n1, depth n0; h a count x 1 2-D texture; one float channel. Its filter is the lookup
+/// the table's bound covers (docs/lut-format.md, `filter`): nearest for a texelFetch lookup,
+/// linear (OES_texture_float_linear) for one hardware-filtered texture().
 function uploadTable(gl, unit, table) {
   const texture = gl.createTexture();
   const target = table.law === 'g' ? gl.TEXTURE_3D : gl.TEXTURE_2D;
@@ -260,13 +262,15 @@ function uploadTable(gl, unit, table) {
   gl.bindTexture(target, texture);
   if (table.law === 'g') gl.texImage3D(target, 0, gl.R32F, counts[2], counts[1], counts[0], 0, gl.RED, gl.FLOAT, data);
   else gl.texImage2D(target, 0, gl.R32F, counts[0], 1, 0, gl.RED, gl.FLOAT, data);
-  nearest(gl, target);
+  sampling(gl, target, table.filter === 'hardware' ? gl.LINEAR : gl.NEAREST);
   return texture;
 }
 
-function nearest(gl, target) {
-  for (const [k, v] of [[gl.TEXTURE_MIN_FILTER, gl.NEAREST], [gl.TEXTURE_MAG_FILTER, gl.NEAREST],
-                        [gl.TEXTURE_WRAP_S, gl.CLAMP_TO_EDGE], [gl.TEXTURE_WRAP_T, gl.CLAMP_TO_EDGE]])
+/// Filtering `filter` (gl.NEAREST or gl.LINEAR) and edges clamped on the bound texture of `target`.
+function sampling(gl, target, filter) {
+  for (const [k, v] of [[gl.TEXTURE_MIN_FILTER, filter], [gl.TEXTURE_MAG_FILTER, filter],
+                        [gl.TEXTURE_WRAP_S, gl.CLAMP_TO_EDGE], [gl.TEXTURE_WRAP_T, gl.CLAMP_TO_EDGE],
+                        [gl.TEXTURE_WRAP_R, gl.CLAMP_TO_EDGE]])
     gl.texParameteri(target, k, v);
 }
 
@@ -327,7 +331,7 @@ class Shading {
       gl.activeTexture(gl.TEXTURE3);
       gl.bindTexture(gl.TEXTURE_2D, texture);
       gl.texImage2D(gl.TEXTURE_2D, 0, gl.RG32F, image.size, image.size, 0, gl.RG, gl.FLOAT, texels);
-      nearest(gl, gl.TEXTURE_2D);
+      sampling(gl, gl.TEXTURE_2D, gl.NEAREST);
       this.textures.set(image, texture);
     }
     return this.textures.get(image);
@@ -393,6 +397,8 @@ function context(canvas) {
   const gl = canvas.getContext('webgl2', {antialias: false, preserveDrawingBuffer: true});
   if (!gl) throw new Error('no WebGL2 context');
   if (!gl.getExtension('EXT_color_buffer_float')) throw new Error('no EXT_color_buffer_float');
+  // Hardware-filtered tables are R32F textures sampled with LINEAR.
+  if (!gl.getExtension('OES_texture_float_linear')) throw new Error('no OES_texture_float_linear');
   return gl;
 }
 
