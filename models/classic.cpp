@@ -69,10 +69,22 @@ double Phong::f(const Vec3& i, const Vec3& j) const noexcept {
 }
 
 std::optional<GlslF> Phong::glsl_f() const {
-  return GlslF{std::string(kGlslBelowHorizon) + "  return " + decimal_literal(kd_ / pi) + " + " + decimal_literal(ks_) +
-                   " * gz_mirror_power(i, j, " + decimal_literal(n_) + ") / max(i.z, " +
-                   decimal_literal(kGrazingCosFloor) + ");\n",
-               {"gz_mirror_power"}};
+  const std::string floor = decimal_literal(kGrazingCosFloor);
+  if (lobe_ == PhongLobe::cosine_power)
+    return GlslF{std::string(kGlslBelowHorizon) + "  return " + decimal_literal(kd_ / pi) + " + " +
+                     decimal_literal(ks_) + " * gz_mirror_power(i, j, " + decimal_literal(n_) + ") / max(i.z, " +
+                     floor + ");\n",
+                 {"gz_mirror_power"}};
+  // Schlick's rational t/(n - n t + t) = t/(n (1 - t) + t), t = k.j, 1 - t = |k - j|^2 / 2 for unit k, j
+  // (as gz_mirror_power): no cancellation at the peak.
+  const std::string n = decimal_literal(n_);
+  return GlslF{std::string(kGlslBelowHorizon) +
+                   "  vec3 k = vec3(-i.x, -i.y, i.z), d = k - j;\n"
+                   "  float t = dot(k, j);\n"
+                   "  float lobe = t > 0.0 ? min(t, 1.0) / (" + n + " * (0.5 * dot(d, d)) + t) : 0.0;\n"
+                   "  return " + decimal_literal(kd_ / pi) + " + " + decimal_literal(ks_) + " * lobe / max(i.z, " +
+                   floor + ");\n",
+               {}};
 }
 
 MassHints Phong::mass_hints(const Vec3& fixed, Varying varying) const {
