@@ -233,8 +233,10 @@ TableQuery parse_table(const Query& query, const Limits& limits, TableEndpoint e
     throw bad("model '" + q.model->spec() + "' is anisotropic; tables hold isotropic models only");
   q.options = defaults.bake_options(q.law == Law::g ? Law::g : Law::h);
   q.options.max_evaluations = limits.max_evaluations;
-  if (const auto res = text_of(query, "res")) {
+  if (const auto res = text_of(query, "res")) {  // exactly this resolution: the defaults' error target yields to it
     q.options.resolution = as_request([&] { return tables::parse_resolution(*res, q.law); });
+    q.options.target_error = 0.0;
+    q.options.max_fetches = 0;
   }
   const std::uint64_t entries = tables::table_bytes(q.options.resolution) / tables::kBytesPerEntry;
   if (entries > limits.max_entries)

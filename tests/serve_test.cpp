@@ -150,6 +150,22 @@ TEST(ServeRequest, TableUsesTheCacheKeysOfBake) {
   EXPECT_EQ(d.options.tolerance, scene::TableOptions{}.tolerance);
 }
 
+// The service's defaults search a lookup error (scene::TableOptions::scene_defaults): a request that
+// names res gets that resolution, as `bake --res` does, not the search; one that names neither gets
+// the search, with its fetch budget.
+TEST(ServeRequest, ResolutionGivenOverridesTheDefaultErrorTarget) {
+  const scene::TableOptions defaults = ServiceOptions{}.defaults;
+  ASSERT_GT(defaults.target_error, 0.0);
+  const TableQuery r = parse_table(parse_query("model=minnaert:xi=1&law=h&res=9"), Limits{}, TableEndpoint::table, defaults);
+  EXPECT_EQ(r.options.resolution, std::vector<int>{9});
+  EXPECT_EQ(r.options.target_error, 0.0);
+  EXPECT_EQ(r.options.max_fetches, 0);
+  EXPECT_EQ(r.file_name, parse_table(parse_query("model=minnaert:xi=1&law=h&res=9"), Limits{}, TableEndpoint::table).file_name);
+  const TableQuery d = parse_table(parse_query("model=minnaert:xi=1&law=h"), Limits{}, TableEndpoint::table, defaults);
+  EXPECT_EQ(d.options.target_error, defaults.target_error);
+  EXPECT_EQ(d.options.max_fetches, defaults.max_fetches);
+}
+
 TEST(ServeRequest, TableRefusals) {
   const std::vector<std::tuple<std::string, int, std::string>> cases{
       {"model=../../etc/passwd&law=h", 400, "unknown model '../../etc/passwd'"},
