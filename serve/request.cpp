@@ -233,9 +233,14 @@ TableQuery parse_table(const Query& query, const Limits& limits, TableEndpoint e
     throw bad("model '" + q.model->spec() + "' is anisotropic; tables hold isotropic models only");
   q.options = defaults.bake_options(q.law == Law::g ? Law::g : Law::h);
   q.options.max_evaluations = limits.max_evaluations;
-  if (const auto res = text_of(query, "res")) {  // exactly this resolution: the defaults' error target yields to it
+  if (const auto res = text_of(query, "res")) {
     q.options.resolution = as_request([&] { return tables::parse_resolution(*res, q.law); });
+  }
+  if (!query.count("max_error") && (query.count("res") || query.count("tol"))) {
+    // As the command line (cli/args.h, TableOptionArgs): a resolution or tolerance asked for bakes
+    // that table; the defaults' error target (scene_defaults) yields to it.
     q.options.target_error = 0.0;
+    q.options.max_bytes = 0;
     q.options.max_fetches = 0;
   }
   const std::uint64_t entries = tables::table_bytes(q.options.resolution) / tables::kBytesPerEntry;

@@ -151,8 +151,8 @@ TEST(ServeRequest, TableUsesTheCacheKeysOfBake) {
 }
 
 // The service's defaults search a lookup error (scene::TableOptions::scene_defaults): a request that
-// names res gets that resolution, as `bake --res` does, not the search; one that names neither gets
-// the search, with its fetch budget.
+// names res or tol gets that table, as `render --res-g/--tol` does, not the search; one that names
+// neither gets the search, with its fetch budget.
 TEST(ServeRequest, ResolutionGivenOverridesTheDefaultErrorTarget) {
   const scene::TableOptions defaults = ServiceOptions{}.defaults;
   ASSERT_GT(defaults.target_error, 0.0);
@@ -161,6 +161,9 @@ TEST(ServeRequest, ResolutionGivenOverridesTheDefaultErrorTarget) {
   EXPECT_EQ(r.options.target_error, 0.0);
   EXPECT_EQ(r.options.max_fetches, 0);
   EXPECT_EQ(r.file_name, parse_table(parse_query("model=minnaert:xi=1&law=h&res=9"), Limits{}, TableEndpoint::table).file_name);
+  const TableQuery t = parse_table(parse_query("model=minnaert:xi=1&law=h&tol=1e-6"), Limits{}, TableEndpoint::table, defaults);
+  EXPECT_EQ(t.options.target_error, 0.0);
+  EXPECT_EQ(t.options.resolution, defaults.resolution_h);
   const TableQuery d = parse_table(parse_query("model=minnaert:xi=1&law=h"), Limits{}, TableEndpoint::table, defaults);
   EXPECT_EQ(d.options.target_error, defaults.target_error);
   EXPECT_EQ(d.options.max_fetches, defaults.max_fetches);

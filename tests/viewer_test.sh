@@ -21,6 +21,15 @@ if [ -z "$BROWSER" ] || [ ! -x "$BROWSER" ]; then
   exit 1
 fi
 SIZE=64  # pixels per side: the sphere covers ~1,700 of them (viewer_compare.cpp: kMinCompared)
+# Tables: the scene defaults (a search to lookup error 1e-3, hardware-filtered where one fetch
+# reaches it: uploaded with LINEAR filtering) for the first model; small fixed tables for the rest,
+# on both sides (the page's table_res and table_tol, render's --res-g, --res-h and --tol), since the
+# page and render are compared on the same cache entries whatever their resolution, and a search
+# per model would take most of the test's time on a shared 2-core machine.
+SMALL_G=12x12x6 SMALL_H=32 SMALL_TOL=1e-5
+SMALL_PAGE="table_res=$SMALL_G,$SMALL_H&table_tol=$SMALL_TOL"
+SMALL_RENDER="--res-g $SMALL_G --res-h $SMALL_H --tol $SMALL_TOL"
+TABLES_PAGE="" TABLES_RENDER=""  # the scene defaults, until the first model's checks are done
 
 # --data: measured files the service lists by name (export-brdf writes MERL and tabulated files
 # from a model; no measured file can be downloaded here), a first-surface table, and a file it skips.
@@ -43,9 +52,10 @@ load() {
   "$BROWSER" --no-sandbox --headless --use-angle=swiftshader --enable-unsafe-swiftshader --virtual-time-budget=60000 \
     --user-data-dir="$tmp/profile" --dump-dom "http://127.0.0.1:$port/?$2" >"$tmp/$1.html" 2>"$tmp/$1.browser.log"
 }
-page() { load "$1" "test=1&size=$SIZE&$2"; }  # the test mode: one sphere, its pixels as JSON
+page() { load "$1" "test=1&size=$SIZE${TABLES_PAGE:+&$TABLES_PAGE}&$2"; }  # the test mode: one sphere, its pixels as JSON
 # reference NAME MODEL LIGHT_JSON BACKGROUND: `ganzfeld render` of the figure's sphere
-# (rasterizer/figure.cpp: eye (0, 0, 6), fov 25°) under one light, from the server's cache.
+# (rasterizer/figure.cpp: eye (0, 0, 6), fov 25°) under one light, from the server's cache, with
+# the tables the page asks for.
 reference() {
   cat >"$tmp/$1.json" <<EOF
 {"camera": {"width": $SIZE, "height": $SIZE, "eye": [0, 0, 6], "target": [0, 0, 0], "up": [0, 1, 0],
@@ -54,7 +64,7 @@ reference() {
  "objects": [{"shape": "sphere", "center": [0, 0, 0], "radius": 1, "material": "m"}],
  "lights": [$3]}
 EOF
-  "$G" render --scene "$tmp/$1.json" --cache "$tmp/cache" --quiet -o "$tmp/$1.exr" || fail "render $1"
+  "$G" render --scene "$tmp/$1.json" --cache "$tmp/cache" --quiet $TABLES_RENDER -o "$tmp/$1.exr" || fail "render $1"
 }
 # check NAME QUERY [--expect-mismatch]: the page of QUERY against reference NAME.
 check() {
@@ -72,6 +82,8 @@ reference ganzfeld "$SPEC" '{"type": "ganzfeld", "radiance": [0.8, 0.8, 0.8]}' 0
 check beam "model=$(uri "$SPEC")&light=collimated&dir=0.3,0.6,0.74" page_beam
 check sky "model=$(uri "$SPEC")&light=sky&dir=0.2,0.9,0.4" page_sky
 check ganzfeld "model=$(uri "$SPEC")&light=ganzfeld" page_ganzfeld
+grep -q '"filters":\["hardware","hardware"\]' "$tmp/page_sky.html" && ok || fail "the default tables are not hardware-filtered"
+TABLES_PAGE=$SMALL_PAGE TABLES_RENDER=$SMALL_RENDER
 
 # A mixture (f of each lobe summed in GLSL; g from the mixture's own table).
 MIX="0.7*minnaert:xi=1 + 0.3*backscatter:alpha=2"
@@ -113,7 +125,7 @@ cat >"$tmp/merl_beam.json" <<EOF
 EOF
 "$G" render --scene "$tmp/merl_beam.json" --cache "$tmp/cache" --quiet -o "$tmp/merl_beam.exr" || fail "render merl"
 # Small g and h tables: the page loads them with f, and only the beam is compared.
-page page_merl_beam "model=$(uri "$DATA_SPEC")&light=collimated&dir=0.3,0.6,0.74&display=1&table_res=5x5x3,9&table_tol=1e-3"
+TABLES_PAGE="table_res=5x5x3,9&table_tol=1e-3" page page_merl_beam "model=$(uri "$DATA_SPEC")&light=collimated&dir=0.3,0.6,0.74&display=1"
 if "$COMPARE" "$tmp/merl_beam.exr" "$tmp/page_merl_beam.html" --srgb-lsb 2 >"$tmp/merl_lsb.txt"; then ok; else fail "measured beam vs render: $(cat "$tmp/merl_lsb.txt")"; fi
 [ -n "${LSB_REPORT:-}" ] && cp "$tmp/merl_lsb.txt" "$LSB_REPORT"
 "$COMPARE" "$tmp/merl_beam.exr" "$tmp/page_merl_beam.html" && ok || fail "measured beam vs render (linear)"
@@ -134,7 +146,7 @@ reference beam20 specular:alpha=20 "{\"type\": \"collimated\", \"direction\": [0
 
 # A slider dragged with the mouse (tests/viewer_drive.py, DevTools protocol): the spec follows,
 # the row is rebuilt from the new tables, and its beam sphere is `ganzfeld render`'s of the new spec.
-if python3 "$(dirname "$0")/viewer_drive.py" "$BROWSER" "http://127.0.0.1:$port/?model=$(uri "$SPEC")&dir=0.3,0.6,0.74" \
+if python3 "$(dirname "$0")/viewer_drive.py" "$BROWSER" "http://127.0.0.1:$port/?model=$(uri "$SPEC")&dir=0.3,0.6,0.74&$SMALL_PAGE" \
      "$tmp/page_drag.html" "$SIZE" >"$tmp/drive.json" 2>"$tmp/drive.err"; then
   dragged=$(json_field "$tmp/drive.json" "d['after']")
   [ "$(json_field "$tmp/drive.json" "d['before']")" = "$SPEC" ] && [ "$dragged" != "$SPEC" ] && ok || fail "drag: $(cat "$tmp/drive.json")"
@@ -148,7 +160,7 @@ fi
 # The interactive page comes up with its panels for model A and B (no test mode), and the numbers
 # under a probed cursor are f, g, h, a, r at that point's angles: the angles computed here
 # apart from the page (the figure's camera and sphere), the values those of `ganzfeld eval`.
-load interactive "model=$(uri "$SPEC")&model_b=$(uri minnaert:xi=1)&dir=0.3,0.6,0.74&pole=0.2,0.9,0.4&probe=0.6,0.4"
+load interactive "model=$(uri "$SPEC")&model_b=$(uri minnaert:xi=1)&dir=0.3,0.6,0.74&pole=0.2,0.9,0.4&probe=0.6,0.4&$SMALL_PAGE"
 grep -q '"ready":true,"rows":\["specular:alpha=8","minnaert:xi=1"\]' "$tmp/interactive.html" && ok \
   || fail "interactive page: $(grep -o '<pre id="result">.*</pre>' "$tmp/interactive.html"; grep -o 'class="error">[^<]*' "$tmp/interactive.html")"
 python3 - "$tmp/interactive.html" "$G" "$SPEC" <<'PY' && ok || fail "numbers at the cursor"

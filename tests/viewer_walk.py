@@ -39,10 +39,7 @@ def main():
     with tempfile.TemporaryDirectory() as profile:
         browser = Browser(browser_path, profile)
         try:
-            target = browser.call('Target.createTarget', url='about:blank')['targetId']
-            browser.session = browser.call('Target.attachToTarget', targetId=target, flatten=True)['sessionId']
-            browser.call('Page.navigate', url=url)
-            browser.wait_for('document.getElementById("result")?.textContent.includes("ready")', 'the page', TIMEOUT_SECONDS)
+            browser.open(url, TIMEOUT_SECONDS)
             for name, spec in walk:
                 started = time.monotonic()
                 builds = browser.evaluate('state.builds')

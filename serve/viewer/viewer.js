@@ -1075,6 +1075,7 @@ async function testMode(params) {
     const options = {image, latitude: state.latitude, color: state.colors[0].map((c, m) => c * state.lightColors[mode][m])};
     const field = shading.readField(mode, light, size, options);
     const out = {webgl2: true, renderer: gl.getParameter(gl.RENDERER), model: model.spec, light: kViews[mode], source, dir: light,
+                 filters: [model.g, model.h].map((law) => (law ? law.table.filter : null)),  // the lookups of g, h
                  width: size, height: size, value: Array.from(field.value), mask: Array.from(field.mask)};
     if (params.get('display') === '1') {  // as shown: the canvas's 8-bit sRGB, top row first
       shading.draw(mode, light, 0, 0, size, size, true, options);
