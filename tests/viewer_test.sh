@@ -21,8 +21,8 @@ if [ -z "$BROWSER" ] || [ ! -x "$BROWSER" ]; then
   exit 1
 fi
 SIZE=64  # pixels per side: the sphere covers ~1,700 of them (viewer_compare.cpp: kMinCompared)
-# Tables: the scene defaults (a search to lookup error 1e-3, hardware-filtered where one fetch
-# reaches it: uploaded with LINEAR filtering) for the first model; small fixed tables for the rest,
+# Tables: the scene defaults (lookup error 1e-3 at one hardware-filtered fetch, best effort: uploaded
+# with LINEAR filtering) for the first model; small fixed tables for the rest,
 # on both sides (the page's table_res and table_tol, render's --res-g, --res-h and --tol), since the
 # page and render are compared on the same cache entries whatever their resolution, and a search
 # per model would take most of the test's time on a shared 2-core machine.
