@@ -518,16 +518,6 @@ void check_table_is(const Table& table, const Model& model, Law law) {
   check_table(table);
 }
 
-namespace {
-/// Whether the model has a mirror delta (Model::mirror_reflectance) at some incidence.
-bool has_mirror_term(const Model& model) {
-  constexpr int kSteps = 64;
-  for (int k = 1; k <= kSteps; ++k)
-    if (model.mirror_reflectance(static_cast<double>(k) / kSteps) > 0.0) return true;
-  return false;
-}
-}  // namespace
-
 void check_scene_exportable(const Scene& scene) {
   bool collimated = false, extended = false;
   for (const Light& light : scene.lights) {
@@ -537,7 +527,7 @@ void check_scene_exportable(const Scene& scene) {
   for (const SceneObject& object : scene.objects)
     for (const MaterialLobe& lobe : scene.materials.at(object.material).lobes) {
       if (collimated) glsl_model_f(*lobe.model);
-      if (extended && has_mirror_term(*lobe.model))
+      if (extended && has_mirror_delta(*lobe.model))
         throw InputError("model '" + lobe.spec + "' has a mirror delta besides f (the coherent specular term rho_s) that "
                          "its tables do not hold; render adds it under skies and the Ganzfeld, the GLSL would not: "
                          "allowed: models without a mirror delta under extended lights");

@@ -259,6 +259,27 @@ std::optional<GlslF> HeTorrance::glsl_f() const {
                {"gz_he_terms", "gz_he_series_over_g", "gz_fresnel_complex"}};
 }
 
+std::optional<GlslF> HeTorrance::glsl_mirror_reflectance() const {
+  // As specular_reflectance: F S^2 exp(-g), S = mu (S/mu), g of eq. 79 at theta_r = theta_i with the
+  // effective roughness of eqs. 80-83 (glsl_f's steps with both directions at mu).
+  const std::string fresnel = "gz_fresnel_complex(mu, " + decimal_literal(eta_) + ", " + decimal_literal(k_) + ")";
+  if (!(sigma0_ > 0.0))
+    return GlslF{"  float mu = clamp(c, 0.0, 1.0);\n  return " + fresnel + ";\n", {"gz_fresnel_complex"}};
+  const std::string tau = decimal_literal(tau_), sigma0 = decimal_literal(sigma0_);
+  return GlslF{"  float mu = clamp(c, 0.0, 1.0), sin_t = sqrt((1.0 - mu) * (1.0 + mu));\n"
+               "  if (!(mu > 0.0)) return 0.0;\n"
+               "  float S = mu * gz_he_shadowing_over_cos(mu, sin_t, " + tau + ", " + sigma0 + ");\n"
+               "  if (!(S > 0.0)) return 0.0;\n"
+               "  float f0 = 2.0 * gz_he_K(mu, sin_t, " + tau + ", " + sigma0 + ") * " +
+                   decimal_literal(1.0 / std::sqrt(8.0 * pi)) + ";\n"
+               "  float x = isinf(f0) ? 0.0 : gz_he_z0_over_sigma0(f0);\n"
+               "  float sigma = isinf(f0) ? 0.0 : x > 1e18 ? " + sigma0 + " / x : " + sigma0 +
+               " / sqrt(1.0 + x * x);\n"
+               "  float two_kappa_mu = 2.0 * mu * sigma * " + decimal_literal(2.0 * pi / lambda_) + ";\n"
+               "  return " + fresnel + " * exp(-two_kappa_mu * two_kappa_mu) * S * S;\n",
+               {"gz_he_terms", "gz_fresnel_complex"}};
+}
+
 MassHints HeTorrance::mass_hints(const Vec3& fixed, Varying) const {
   if (!(sigma0_ > 0.0)) return {};
   const Vec3 r = mirror(fixed);

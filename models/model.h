@@ -126,7 +126,15 @@ class Model {
   /// its exact contribution under extended sources: rho(j·n) to h, and to g when mirror(j) lies
   /// in the sky (rasterizer/shading.h). 0 for every model without one (all but he-torrance).
   virtual double mirror_reflectance(double /*cos_theta*/) const noexcept { return 0.0; }
+  /// mirror_reflectance as GLSL (models/glsl.h): the body of float rho(float c), c = cos theta,
+  /// written beside it; nothing for a model without a mirror term. The viewer adds it to its sky
+  /// and Ganzfeld spheres as render does (serve/viewer/viewer.js).
+  virtual std::optional<GlslF> glsl_mirror_reflectance() const { return std::nullopt; }
 };
+
+/// Whether the model has a mirror delta (Model::mirror_reflectance > 0) at some incidence: the
+/// cosines k/64, k = 1..64, are tried.
+bool has_mirror_delta(const Model& model) noexcept;
 
 /// Cosine-weighted direction about n = +z from two uniform numbers (Malley's method: a uniform
 /// point of the unit disk lifted to the hemisphere); density (i·n)/π.

@@ -104,6 +104,7 @@ MaterialShader::MaterialShader(const ShadingMaterial& material, const std::vecto
         prepared.lobes.push_back(term);
         continue;
       }
+      if (has_mirror_delta(*lobe.model)) prepared.mirrors.push_back(term);  // no table holds the delta
       auto shared = std::find_if(prepared.tables.begin(), prepared.tables.end(),
                                  [&](const SummedTable& t) { return tables::same_lookup(*t.layout, *table); });
       if (shared == prepared.tables.end()) {
@@ -137,6 +138,11 @@ Rgb MaterialShader::radiance(const Vec3& n, const Vec3& j_world, const Vec3& tan
         case Light::Type::ganzfeld: value = lobe.laws->h(j_clamped) + mirror_term(*lobe.model, j_clamped, nullptr); break;
       }
       for (int c = 0; c < 3; ++c) out[c] += term.scale[c] * value;
+    }
+    for (const LobeTerm& term : light.mirrors) {
+      const Vec3* sky_pole = light.type == Light::Type::hemispherical ? &i : nullptr;
+      const double rho = mirror_term(*term.lobe->model, j_clamped, sky_pole);
+      for (int c = 0; c < 3; ++c) out[c] += term.scale[c] * rho;
     }
     if (light.tables.empty()) continue;
     // The law's coordinates once per light (TableLaws: g at (i, j clamped), h at clamped j·n).

@@ -82,7 +82,8 @@ struct TangentFrame {
 /// lookup (tables::same_lookup) summed entry by entry into one colour table per light and law, so
 /// that a pixel looks each law up once per light however many lobes the material has (the laws are
 /// linear in f: a lookup's blend of the summed entries is the sum of the lobes' lookups, up to
-/// rounding). Lobes without tables (closed forms, cubature) are evaluated one by one.
+/// rounding). Lobes without tables (closed forms, cubature) are evaluated one by one, and so is the
+/// mirror delta of a lobe with tables (Model::mirror_reflectance), which its tables leave out.
 class MaterialShader {
  public:
   MaterialShader(const ShadingMaterial& material, const std::vector<Light>& lights);
@@ -104,6 +105,7 @@ class MaterialShader {
     Vec3 direction{0, 0, 1};        ///< unit, world
     std::vector<LobeTerm> lobes;    ///< collimated: every lobe; sky, Ganzfeld: lobes without a table
     std::vector<SummedTable> tables;
+    std::vector<LobeTerm> mirrors;  ///< sky, Ganzfeld: lobes in `tables` with a mirror delta, added apart
   };
   const std::vector<PreparedLight>& lights() const { return lights_; }
 

@@ -146,38 +146,36 @@ double declared_rounding(const GlslF& f, const Vec3& i, const Vec3& j) {
   return rounding;
 }
 
-/// GPU f of `model` at the points: gz_f_<spec>(i, j, n = +z, t = +x), one pixel each.
-std::vector<float> gpu_f(const Model& model, const Points& points, std::string& error) {
-  const std::string fragment = std::string("#version ") + gl::glsl_version(gl::Api::es30) + R"(
-precision highp float;
-precision highp int;
-precision highp sampler2D;
-)" + exporting::glsl_model_f(model) + R"(
-uniform highp sampler2D u_i;
-uniform highp sampler2D u_j;
-out vec4 out_value;
-void main() {
-  ivec2 p = ivec2(gl_FragCoord.xy);
-  vec3 i = texelFetch(u_i, p, 0).xyz, j = texelFetch(u_j, p, 0).xyz;
-  out_value = vec4()" + exporting::glsl_f_name(model.spec()) +
-                               R"((i, j, vec3(0.0, 0.0, 1.0), vec3(1.0, 0.0, 0.0)), 0.0, 0.0, 1.0);
-}
-)";
+/// `expression` evaluated at kPointsSide^2 points, one pixel each, after `code` (GLSL ES 3.00): each
+/// input NAME is a texture u_NAME of RGBA floats per point, read into `vec4 NAME` first. The
+/// expression's value per point; empty and `error` on a compile or link failure.
+using PointInputs = std::vector<std::pair<std::string, const std::vector<float>*>>;  ///< (NAME, RGBA per point)
+std::vector<float> gpu_values(const std::string& code, const PointInputs& inputs, const std::string& expression,
+                              std::string& error) {
+  std::string uniforms, reads;
+  for (const auto& [name, texels] : inputs) {
+    uniforms += "uniform highp sampler2D u_" + name + ";\n";
+    reads += "  vec4 " + name + " = texelFetch(u_" + name + ", p, 0);\n";
+  }
+  const std::string fragment = std::string("#version ") + gl::glsl_version(gl::Api::es30) +
+                               "\nprecision highp float;\nprecision highp int;\nprecision highp sampler2D;\n" + code +
+                               uniforms + "out vec4 out_value;\nvoid main() {\n  ivec2 p = ivec2(gl_FragCoord.xy);\n" +
+                               reads + "  out_value = vec4(" + expression + ", 0.0, 0.0, 1.0);\n}\n";
   const gl::Program program = gl::link_program(gl::fullscreen_vertex_shader(gl::Api::es30), fragment, error);
   if (!program) return {};
   glUseProgram(program.id());
   std::vector<gl::Texture> textures;
-  for (int k = 0; k < 2; ++k) {
+  for (std::size_t k = 0; k < inputs.size(); ++k) {
     GLuint id = 0;
     glGenTextures(1, &id);
     textures.emplace_back(id);
-    glActiveTexture(GL_TEXTURE0 + k);
+    glActiveTexture(GL_TEXTURE0 + static_cast<GLenum>(k));
     glBindTexture(GL_TEXTURE_2D, id);
     glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA32F, kPointsSide, kPointsSide, 0, GL_RGBA, GL_FLOAT,
-                 (k == 0 ? points.i : points.j).data());
+                 inputs[k].second->data());
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-    glUniform1i(program.uniform(k == 0 ? "u_i" : "u_j"), k);
+    glUniform1i(program.uniform(("u_" + inputs[k].first).c_str()), static_cast<GLint>(k));
   }
   const gl::Framebuffer target(kPointsSide, kPointsSide, GL_RGBA32F);
   if (!target.complete()) {
@@ -191,6 +189,13 @@ void main() {
   for (std::size_t p = 0; p < values.size(); ++p) values[p] = pixels[4 * p];
   if (glGetError() != GL_NO_ERROR) error = "GL error";
   return values;
+}
+
+/// GPU f of `model` at the points: gz_f_<spec>(i, j, n = +z, t = +x), one pixel each.
+std::vector<float> gpu_f(const Model& model, const Points& points, std::string& error) {
+  return gpu_values(exporting::glsl_model_f(model), {{"i", &points.i}, {"j", &points.j}},
+                    exporting::glsl_f_name(model.spec()) + "(i.xyz, j.xyz, vec3(0.0, 0.0, 1.0), vec3(1.0, 0.0, 0.0))",
+                    error);
 }
 
 /// f where i or j turns by kDirectionError (8 turns).
@@ -377,10 +382,118 @@ TEST(GlslF, EveryRegisteredModelMatchesItsCpuF) {
   if (const char* path = std::getenv("GANZFELD_GLSL_F_REPORT")) std::ofstream(path) << markdown(reports, without, renderer);
 }
 
-/// The world-space functions in a random frame (n, t) give the local function's value at the
-/// local coordinates: the frame change is right, and isotropic models ignore t.
+/// The reflectance of the mirror delta (Model::glsl_mirror_reflectance, gz_mirror_<spec>) against
+/// Model::mirror_reflectance at cosines over [0, 1] (uniform, log-spaced towards 0 and towards 1,
+/// and both ends), for every registered model with one at each corner, and for a mixture (its
+/// weighted sum). Bound: kMirrorRelative of the CPU value + kAbsoluteFloor of the corner's largest.
+TEST(GlslF, MirrorReflectanceMatchesTheCpu) {
+  // F, the shadowing, erfc and the z0 solve: a few float roundings each; exp(-g) carries g times the
+  // rounding of its argument, g = (4 pi sigma mu / lambda)^2 <= 90 at the corners (lambda = 0.2).
+  constexpr double kMirrorRelative = 2e-5;
+  std::string error;
+  const auto context = gl::make_context(gl::Api::es30, gl::Platform::surfaceless, error);
+  ASSERT_TRUE(context) << error;
+  std::vector<float> cosines(kPointsSide * kPointsSide);
+  for (std::size_t p = 0; p < cosines.size(); ++p) {
+    const double u = (static_cast<double>(p) + 0.5) / static_cast<double>(cosines.size());
+    const double small = std::pow(10.0, -7.0 * u);
+    cosines[p] = static_cast<float>(p % 3 == 0 ? u : p % 3 == 1 ? small : 1.0 - small);
+  }
+  cosines.front() = 0.0f;
+  cosines.back() = 1.0f;
+  std::vector<float> texels;  // RGBA, the cosine in red
+  for (float c : cosines) texels.insert(texels.end(), {c, 0.0f, 0.0f, 0.0f});
+  std::vector<std::string> specs{"0.25*he-torrance:sigma0=0.02 + 0.75*lambert"};
+  for (const ModelInfo& info : model_catalogue())
+    if (!info.make_with_file || info.file_optional)
+      for (const std::string& spec : corners(info)) specs.push_back(spec);
+  int tested = 0;
+  for (const std::string& spec : specs) {
+    ModelPtr model;
+    try {
+      model = parse_model(spec);
+    } catch (const InputError&) {
+      continue;  // a corner the model refuses (gl_f_test lists them)
+    }
+    const std::string code = exporting::glsl_model_f(*model);
+    const std::string name = exporting::glsl_mirror_name(model->spec());
+    const bool has_mirror = has_mirror_delta(*model);
+    ASSERT_EQ(code.find("float " + name + "(float c)") != std::string::npos, has_mirror) << spec;
+    if (!has_mirror) continue;
+    const std::vector<float> gpu = gpu_values(code, {{"c", &texels}}, name + "(c.x)", error);
+    ASSERT_EQ(gpu.size(), cosines.size()) << spec << ": " << error;
+    double largest = 0.0, worst = 0.0;
+    for (float c : cosines) largest = std::max(largest, model->mirror_reflectance(c));
+    int beyond = 0;
+    for (std::size_t p = 0; p < cosines.size(); ++p) {
+      const double cpu = model->mirror_reflectance(cosines[p]), difference = std::abs(gpu[p] - cpu);
+      const double bound = kMirrorRelative * cpu + kAbsoluteFloor * largest;
+      worst = std::max(worst, difference / std::max(cpu, kAbsoluteFloor * largest));
+      if (!(difference <= bound) && beyond++ < 3)
+        ADD_FAILURE() << spec << " at c = " << cosines[p] << ": GPU " << gpu[p] << ", CPU " << cpu << ", bound "
+                      << bound;
+    }
+    std::printf("%-44s mirror reflectance: max relative %.2g\n", spec.c_str(), worst);
+    ++tested;
+  }
+  EXPECT_GE(tested, 2) << "he-torrance's corners and the mixture";
+}
+
+/// The world-space functions in random frames (n, and a tangent t at a random angle to n) give the
+/// local function's value at the local coordinates: the frame change is right (t's part across n is
+/// +x), and an isotropic model's three-argument form ignores t. The CPU side projects the same float
+/// vectors on the same frame in double; the bound allows the GPU's float frame change (a wrong frame
+/// errs by the size of f).
 TEST(GlslF, WorldFrameMatchesTheLocalFrame) {
-  // (To come: the frame test.)
+  constexpr double kFrameRelative = 1e-4;
+  std::string error;
+  const auto context = gl::make_context(gl::Api::es30, gl::Platform::surfaceless, error);
+  ASSERT_TRUE(context) << error;
+  std::mt19937_64 random(kSeed + 1);
+  std::vector<float> i_world, j_world, n_world, t_world;
+  std::vector<Vec3> i_local, j_local;
+  const auto as_float = [](const Vec3& v) {
+    return Vec3{static_cast<float>(v.x), static_cast<float>(v.y), static_cast<float>(v.z)};
+  };
+  for (int p = 0; p < kPointsSide * kPointsSide; ++p) {
+    const Vec3 n = as_float(unit_of(random));
+    Vec3 t = unit_of(random);
+    while (std::abs(glm::dot(t, n)) > 0.9) t = unit_of(random);
+    t = as_float(t);
+    const Vec3 x = glm::normalize(t - glm::dot(t, n) * n), y = glm::cross(n, x);
+    Vec3 i = upper(unit_of(random)), j = upper(unit_of(random));
+    i = as_float(i.x * x + i.y * y + i.z * n);
+    j = as_float(j.x * x + j.y * y + j.z * n);
+    for (auto [v, texels] :
+         {std::pair{i, &i_world}, std::pair{j, &j_world}, std::pair{n, &n_world}, std::pair{t, &t_world}})
+      texels->insert(texels->end(), {static_cast<float>(v.x), static_cast<float>(v.y), static_cast<float>(v.z), 0.0f});
+    const auto local = [&](const Vec3& v) {
+      return glm::normalize(Vec3{glm::dot(v, x), glm::dot(v, y), glm::dot(v, n)});
+    };
+    i_local.push_back(local(i));
+    j_local.push_back(local(j));
+  }
+  const PointInputs inputs{{"i", &i_world}, {"j", &j_world}, {"n", &n_world}, {"t", &t_world}};
+  for (const std::string spec :
+       {"ward-aniso:rho_d=0.1,rho_s=0.33,alpha_x=0.2,alpha_y=0.5", "ashikhmin-shirley:nu=10,nv=300", "kajiya:n=5",
+        "schlick:p=0.3", "cook-torrance", "0.5*ward-aniso:alpha_x=0.3,alpha_y=0.6 + 0.5*minnaert"}) {
+    const ModelPtr model = parse_model(spec);
+    const std::string code = exporting::glsl_model_f(*model), name = exporting::glsl_f_name(model->spec());
+    std::vector<std::string> expressions{name + "(i.xyz, j.xyz, n.xyz, t.xyz)"};
+    if (model->traits().isotropic) expressions.push_back(name + "(i.xyz, j.xyz, n.xyz)");
+    std::vector<double> cpu(i_local.size());
+    double largest = 0.0;
+    for (std::size_t p = 0; p < cpu.size(); ++p) largest = std::max(largest, cpu[p] = model->f(i_local[p], j_local[p]));
+    for (const std::string& expression : expressions) {
+      const std::vector<float> gpu = gpu_values(code, inputs, expression, error);
+      ASSERT_EQ(gpu.size(), cpu.size()) << spec << ": " << error;
+      int beyond = 0;
+      for (std::size_t p = 0; p < cpu.size(); ++p)
+        if (!(std::abs(gpu[p] - cpu[p]) <= kFrameRelative * cpu[p] + kAbsoluteFloor * largest) && beyond++ < 3)
+          ADD_FAILURE() << expression << " at point " << p << ": GPU " << gpu[p] << ", CPU " << cpu[p];
+      EXPECT_EQ(beyond, 0) << expression;
+    }
+  }
 }
 
 /// A model with no GLSL f (measured data) is refused by name, with the models that have one.

@@ -3,7 +3,8 @@
 # SwiftShader, loads the page of a running `ganzfeld serve` in its test mode (one sphere of the
 # K&P panel rendered into a float framebuffer, the pixels written into <pre id="result">), and
 # tests/viewer_compare.cpp holds them against `ganzfeld render`'s image of the same scene, shaded
-# from the same cache: the beam, the sky and the Ganzfeld, a mixture, GGX, an anisotropic model
+# from the same cache: the beam, the sky and the Ganzfeld, a mixture, GGX, He-Torrance's sky and
+# Ganzfeld with its mirror delta, an anisotropic model
 # brushed both ways (its sky by the service's cubature), a measured file of --data (its beam from
 # the service, as shown within 2 LSB), a moved light and a changed parameter that must change the
 # image; the interactive page, its numbers at the cursor, the walk over every registered model
@@ -95,6 +96,14 @@ reference ggx_sky ggx:alpha=0.3 '{"type": "hemispherical", "pole": [0.2, 0.9, 0.
 check ggx_sky "model=$(uri ggx:alpha=0.3)&light=sky&dir=0.2,0.9,0.4" page_ggx_sky
 reference ggx_beam ggx:alpha=0.3 "{\"type\": \"collimated\", \"direction\": [0.3, 0.6, 0.74], \"irradiance\": [$PI08, $PI08, $PI08]}" 0.1
 check ggx_beam "model=$(uri ggx:alpha=0.3)&light=collimated&dir=0.3,0.6,0.74" page_ggx_beam
+
+# He-Torrance: its mirror delta, which no table holds, added to the sky (where the mirror direction
+# of j sees it) and to the Ganzfeld on both sides (the page's gz_mirror_<spec>, render's shading).
+HT=he-torrance:sigma0=0.02
+reference ht_sky "$HT" '{"type": "hemispherical", "pole": [0.2, 0.9, 0.4], "radiance": [0.8, 0.8, 0.8]}' 0.1
+check ht_sky "model=$(uri "$HT")&light=sky&dir=0.2,0.9,0.4" page_ht_sky
+reference ht_ganzfeld "$HT" '{"type": "ganzfeld", "radiance": [0.8, 0.8, 0.8]}' 0.8
+check ht_ganzfeld "model=$(uri "$HT")&light=ganzfeld" page_ht_ganzfeld
 
 # Anisotropic Ward, brushed along the latitudes about +y (the default of scenes and the page) and
 # along the meridians: the beam from its GLSL f in the sphere's tangent frame; the sky from the

@@ -117,11 +117,17 @@ async function loadModel(spec) {
   return {spec, f: fCode, g: gh.g || null, h: gh.h || null, anisotropic: Boolean(gh.error)};
 }
 
-/// The name of the last function defined in `code` whose parameter list starts with `params`.
-function functionName(code, params) {
+/// The name of the last function defined in `code` whose parameter list starts with `params` (a
+/// regular expression), or null.
+function lastFunction(code, params) {
   const pattern = new RegExp(`float (gz_\\w+)\\(${params}`, 'g');
   let name = null;
   for (const m of code.matchAll(pattern)) name = m[1];
+  return name;
+}
+/// lastFunction, which must exist.
+function functionName(code, params) {
+  const name = lastFunction(code, params);
   if (!name) throw new Error(`no function (${params}...) in the service's GLSL`);
   return name;
 }
@@ -158,6 +164,12 @@ function fragmentSource(model) {
   const fName = model.f.code ? functionName(model.f.code, 'vec3 i, vec3 j, vec3 n, vec3 t') : null;
   const gName = model.g ? functionName(model.g.code, 'highp sampler3D') : null;
   const hName = model.h ? functionName(model.h.code, 'highp sampler2D table, vec3 j') : null;
+  // A mirror delta besides f (he-torrance; export/glsl_f.h, gz_mirror_<spec>): its reflectance
+  // rho(j.n) under the Ganzfeld, and under the sky where the mirror direction of j sees the sky,
+  // as render adds it (rasterizer/shading.cpp, mirror_term); the tables hold f's laws only.
+  const mName = model.f.code ? lastFunction(model.f.code, 'float c\\)') : null;
+  const skyMirror = mName ? ` + (dot(2.0 * dot(jc, n) * n - jc, u_light) > 0.0 ? ${mName}(dot(jc, n)) : 0.0)` : '';
+  const ganzfeldMirror = mName ? ` + ${mName}(dot(jc, n))` : '';
   return `#version 300 es
 precision highp float;
 ${model.g ? model.g.code : ''}
@@ -226,8 +238,8 @@ void main() {
     if (mi > 0.0 && dot(j, n) > 0.0) radiance = u_intensity * mi * F(u_light, j, n, tangent_at(n));
   }${gName ? `
   vec3 jc = gz_clamp_to_horizon(j, n);
-  if (u_mode == 1) radiance = u_intensity * ${gName}(u_g, u_light, jc, n);
-  if (u_mode == 2) radiance = u_intensity * ${hName}(u_h, jc, n);` : ''}
+  if (u_mode == 1) radiance = u_intensity * (${gName}(u_g, u_light, jc, n)${skyMirror});
+  if (u_mode == 2) radiance = u_intensity * (${hName}(u_h, jc, n)${ganzfeldMirror});` : ''}
   color = shown(radiance, dot(j, n) > ${kSilhouetteCos} ? 1.0 : 0.5);
 }`;
 }
