@@ -185,9 +185,10 @@ int bake_one(const BakeArgs& args) {
     std::string nodes;
     for (const tables::Axis& a : table.axes) nodes += (nodes.empty() ? "" : "x") + std::to_string(a.count);
     if (table.target_error > 0.0)
-      std::printf("target lookup error %s within %llu value bytes%s: met\n", format_number(table.target_error).c_str(),
+      std::printf("target lookup error %s within %llu value bytes%s: %s\n", format_number(table.target_error).c_str(),
                   static_cast<unsigned long long>(table.target_bytes),
-                  table.target_fetches ? (" and " + std::to_string(table.target_fetches) + " fetches").c_str() : "");
+                  table.target_fetches ? (" and " + std::to_string(table.target_fetches) + " fetches").c_str() : "",
+                  table.lookup_error <= table.target_error ? "met" : "missed (best effort: the most accurate table found)");
     std::printf("baked %s of %s, %s nodes (%s frame, %s, %s filter: %d fetches per lookup, %zu entries, %s, %llu value "
                 "bytes) in %.2f s: lookup error %.3g (validated at %lld points%s; node error %.3g), %lld unconverged -> %s\n",
                 to_string(law), table.model.c_str(), nodes.c_str(), to_string(table.frame),

@@ -24,6 +24,7 @@ TableOptions TableOptions::scene_defaults() {
   TableOptions options;
   options.target_error = kSceneTargetError;
   options.max_fetches = kSceneFetches;
+  options.max_bytes = kSceneMaxBytes;
   options.best_effort = true;
   return options;
 }

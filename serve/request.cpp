@@ -254,6 +254,7 @@ TableQuery parse_table(const Query& query, const Limits& limits, TableEndpoint e
     q.options.target_error = *max_error;
     q.options.max_bytes = limits.max_entries * sizeof(float);
     q.options.best_effort = false;  // a target asked for is met or refused
+    q.options.max_fetches = scene::kSceneSearchFetches;  // as a scene's --max-error without --fetches
   }
   if (const auto fetches = number(query, "fetches")) {  // as `bake --fetches N`: the lookup's fetch budget
     if (!q.options.target_error) throw bad("fetches needs max_error (it is the fetch budget of that search)");

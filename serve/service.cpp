@@ -271,8 +271,10 @@ Bakery::Result Service::obtain(const TableQuery& q, std::string& status, const C
     tables::CacheResult baked;
     try {
       baked = tables::bake_or_reuse(path, *q.model, q.law, options, command);
-    } catch (const InputError&
-                 e) {  // the cache cannot take the file (a directory at its name, a full disk): ours, not the client's
+    } catch (const InputError& e) {
+      // A refusal naming a parameter (a max_error no scheme reaches) is the client's; the cache not
+      // taking the file (a directory at its name, a full disk) is ours.
+      if (!e.refused().parameter.empty()) throw RequestError(400, e.worded(InputError::query_spelling));
       throw std::runtime_error("the cache cannot hold " + q.file_name + ": " + e.what());
     }
     auto r = std::make_shared<const tables::CacheResult>(std::move(baked));
