@@ -130,7 +130,10 @@ int export_scene(const ExportArgs& args) {
                                  {"model", planned.request.spec},
                                  {"law", to_string(planned.request.law)},
                                  {"lookup_error", table->lookup_error},
-                                 {"node_error", table->node_error}};
+                                 {"node_error", table->node_error},
+                                 {"frame", to_string(table->frame)},
+                                 {"filter", to_string(table->filter)},
+                                 {"fetches", tables::fetches(*table)}};
     if (format) {
       const std::string file = sampler + exporting::texture_extension(*format);
       exporting::write_texture(*table, *format, (std::filesystem::path(dir) / file).string(), sampler);
