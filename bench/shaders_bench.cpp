@@ -11,6 +11,7 @@
 
 #include "bench/cubature_bench.h"
 #include "export/glsl.h"
+#include "export/glsl_f.h"
 #include "export/param_export.h"
 #include "gl/draw.h"
 #include "models/spec.h"

@@ -116,6 +116,34 @@ double Ggx::f(const Vec3& i, const Vec3& j) const noexcept {
   return std::min(value, std::numeric_limits<double>::max());
 }
 
+std::string Ggx::glsl_single_scattering() const {
+  // D(s/|s|) = |s|^4 / (pi ax ay Q^2), Q = (s_x/ax)^2 + (s_y/ay)^2 + s_z^2 (ggx::D of the unit m,
+  // multiplied out); i.h = |s|/2; the visibility as ggx::visibility.
+  const std::string den = g2_ == ggx::G2Form::height_correlated ? "2.0 * (j.z * r_i + i.z * r_j)"
+                                                                 : "(i.z + r_i) * (j.z + r_j)";
+  return "  float ggx_value = 0.0;\n"
+         "  vec3 s = i + j;\n"
+         "  float len = length(s);\n"
+         "  if (len > 0.0) {\n"
+         "    float F = gz_schlick(0.5 * len, " + decimal_literal(f0_) + ", 1.0);\n"
+         "    vec3 m = s / len;\n"
+         "    float x = m.x * " + decimal_literal(1.0 / alpha_.x) + ", y = m.y * " + decimal_literal(1.0 / alpha_.y) +
+         ";\n"
+         "    float q = x * x + y * y + m.z * m.z;\n"
+         "    float D = m.z > 0.0 ? " + decimal_literal(1.0 / (pi * alpha_.x * alpha_.y)) + " / (q * q) : 0.0;\n"
+         "    vec3 a = vec3(" + decimal_literal(alpha_.x) + ", " + decimal_literal(alpha_.y) + ", 1.0);\n"
+         "    float r_i = length(a * i), r_j = length(a * j);\n"
+         "    float den = " + den + ";\n"
+         "    ggx_value = den > 0.0 ? F * D / den : 0.0;\n"
+         "    if (isnan(ggx_value)) ggx_value = 0.0;\n"
+         "    ggx_value = min(ggx_value, 3.40282347e38);\n"
+         "  }\n";
+}
+
+std::optional<GlslF> Ggx::glsl_f() const {
+  return GlslF{std::string(kGlslBelowHorizon) + glsl_single_scattering() + "  return ggx_value;\n", {"gz_schlick"}};
+}
+
 MassHints Ggx::mass_hints(const Vec3& fixed, Varying) const {
   // D ~ (1 + tan²δ/α²)^-2 about the mirror direction (ψ ≈ 2δ) is half its peak at ψ ≈ 1.3 α:
   // width √2 α, as cook-torrance's √2 m. Towards grazing the lobe hugs the horizon: a layer.

@@ -137,6 +137,33 @@ double HvdEmpirical::f(const Vec3& i, const Vec3& j) const noexcept {
   return diffuse + F * divide_by_cos(p * J, i.z);
 }
 
+std::optional<GlslF> HvdEmpirical::glsl_f() const {
+  // As f: the lumps of eq. 32 placed for j (R_s = rs (1 - sin theta_o) = rs cos^2/(1 + sin), sin
+  // theta_o = |j_xy|), the scaling projection and its Jacobian (hvd::scaling_uv, scaling_jacobian).
+  std::string lumps;
+  if (p_.k < 1.0)
+    lumps += decimal_literal(1.0 - p_.k) + " * gz_hvd_lump(h, vec2(0.0), vec2(" + decimal_literal(p_.rs_u) + ", " +
+             decimal_literal(p_.rs_v) + ") * R_max, " + decimal_literal(p_.n_s) + ")";
+  if (p_.k > 0.0)
+    lumps += std::string(lumps.empty() ? "" : " + ") + decimal_literal(p_.k) + " * gz_hvd_lump(h, j.xy, vec2(" +
+             decimal_literal(p_.rr_u) + ", " + decimal_literal(p_.rr_v) + "), " + decimal_literal(p_.n_r) + ")";
+  return GlslF{std::string(kGlslBelowHorizon) +
+                   "  float F = gz_schlick(j.z, " + decimal_literal(p_.F_0) + ", 1.0);\n"
+                   "  float diffuse = gz_one_minus_schlick(j.z, " + decimal_literal(p_.F_0) + ", 1.0) * " +
+                   decimal_literal(p_.C_d / pi) + ";\n"
+                   "  if (!(j.z > 0.0)) return diffuse;\n"
+                   "  vec3 H = i + j;\n"
+                   "  if (!(H.z > 0.0)) return diffuse;\n"
+                   "  float J = j.z * j.z * dot(H, H) / (2.0 * H.z * H.z * H.z);\n"
+                   "  if (!(J > 0.0)) return diffuse;\n"
+                   "  vec2 h = (j.z / H.z) * H.xy;\n"
+                   "  float R_max = j.z * j.z / (1.0 + length(j.xy));\n"
+                   "  float Q = (" + lumps + ") * J;\n"
+                   "  if (!(Q > 0.0)) return diffuse;\n"
+                   "  return diffuse + F * min(Q / max(i.z, 1.17549435e-38), 3.40282347e38);\n",
+               {"gz_schlick", "gz_one_minus_schlick", "gz_hvd_lump"}};
+}
+
 namespace {
 /// Probability of drawing the diffuse part: its share of ∫ f (i·n) di.
 double diffuse_share(double diffuse, double specular) {
@@ -252,6 +279,19 @@ double HvdFit::f(const Vec3& i, const Vec3& j) const noexcept {
   // Eq. 24 reduces to ρ_s = p(h) because |ω_i + ω_o|² = 4 (ω_i·Ĥ)².
   const double p = (1.0 - p_.k) * L[0].pdf(h) + p_.k * L[1].pdf(h);
   return (1.0 - F) * p_.C_d / pi + F * p;
+}
+
+std::optional<GlslF> HvdFit::glsl_f() const {
+  return GlslF{std::string(kGlslBelowHorizon) +
+                   "  float F = gz_schlick(j.z, " + decimal_literal(p_.F_0) + ", " + decimal_literal(p_.F_90) + ");\n"
+                   "  vec2 h = i.xy + j.xy;\n"
+                   "  float p = " + decimal_literal(1.0 - p_.k) + " * gz_hvd_lump(h, vec2(0.0), vec2(" +
+                   decimal_literal(p_.R_1) + "), " + decimal_literal(p_.n_1) + ") + " + decimal_literal(p_.k) +
+                   " * gz_hvd_lump(h, vec2(0.0), vec2(" + decimal_literal(p_.R_2) + "), " + decimal_literal(p_.n_2) +
+                   ");\n"
+                   "  return gz_one_minus_schlick(j.z, " + decimal_literal(p_.F_0) + ", " + decimal_literal(p_.F_90) +
+                   ") * " + decimal_literal(p_.C_d / pi) + " + F * p;\n",
+               {"gz_schlick", "gz_one_minus_schlick", "gz_hvd_lump"}};
 }
 
 std::optional<IncidentSample> HvdFit::sample_incident(const Vec3& j, const std::array<double, 3>& u) const {

@@ -17,6 +17,8 @@
 #include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
 
+#include "models/glsl.h"
+
 namespace ganzfeld {
 
 using Vec3 = glm::dvec3;
@@ -113,13 +115,26 @@ class Model {
   /// integral over the hemisphere is the probability that a draw succeeds.
   virtual double pdf_incident(const Vec3& j, const Vec3& i) const;
 
+  /// f as GLSL (models/glsl.h): the body of float f(vec3 i, vec3 j) in the local frame, written
+  /// beside f in the model's own file. Nothing for a model with no closed form to emit (measured
+  /// data, tables read from a file); the viewer then asks the service for f (docs/serve.md).
+  virtual std::optional<GlslF> glsl_f() const { return std::nullopt; }
+
   /// The reflectance rho(cos theta) of a mirror (Dirac) term the model has besides f: the
   /// fraction of the flux from k reflected coherently into mirror(k), which no BRDF value can
   /// hold. f, and every law integrated from f (g, h, a, r, the tables), exclude it; renders add
   /// its exact contribution under extended sources: rho(j·n) to h, and to g when mirror(j) lies
   /// in the sky (rasterizer/shading.h). 0 for every model without one (all but he-torrance).
   virtual double mirror_reflectance(double /*cos_theta*/) const noexcept { return 0.0; }
+  /// mirror_reflectance as GLSL (models/glsl.h): the body of float rho(float c), c = cos theta,
+  /// written beside it; nothing for a model without a mirror term. The viewer adds it to its sky
+  /// and Ganzfeld spheres as render does (serve/viewer/viewer.js).
+  virtual std::optional<GlslF> glsl_mirror_reflectance() const { return std::nullopt; }
 };
+
+/// Whether the model has a mirror delta (Model::mirror_reflectance > 0) at some incidence: the
+/// cosines k/64, k = 1..64, are tried.
+bool has_mirror_delta(const Model& model) noexcept;
 
 /// Cosine-weighted direction about n = +z from two uniform numbers (Malley's method: a uniform
 /// point of the unit disk lifted to the hemisphere); density (i·n)/π.
