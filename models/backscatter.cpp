@@ -21,7 +21,7 @@ double Backscatter::f(const Vec3& i, const Vec3& j) const noexcept {
 }
 
 MassHints Backscatter::mass_hints(const Vec3& fixed, Varying) const {
-  return {{{fixed, std::sqrt(2.0 / alpha_)}}, 0.0};
+  return HintBuilder().lobe(fixed, std::sqrt(2.0 / alpha_)).build();
 }
 
 namespace backscatter {

@@ -70,10 +70,11 @@ MassHints Phong::mass_hints(const Vec3& fixed, Varying varying) const {
   // cos^n(e), e the mirror's elevation: it is declared when the lobe reaches the horizon, within
   // 4 widths of it (as ggx's layer).
   const double w = 1.0 / std::sqrt(n_);
-  MassHints hints{{{mirror(fixed), w}}, 0.0};
-  if (varying == Varying::incident && std::asin(std::clamp(fixed.z, 0.0, 1.0)) < 4.0 * w + 0.05)
-    hints.horizon_layer = kGrazingCosFloor;
-  return hints;
+  HintBuilder hints;
+  hints.lobe(mirror(fixed), w);
+  if (varying == Varying::incident)
+    hints.layer_where_lobe_meets_horizon(std::asin(std::clamp(fixed.z, 0.0, 1.0)), w, kGrazingCosFloor);
+  return hints.build();
 }
 
 PhongLewis::PhongLewis(double kd, double ks, double n)
@@ -89,7 +90,7 @@ double PhongLewis::f(const Vec3& i, const Vec3& j) const noexcept {
 }
 
 MassHints PhongLewis::mass_hints(const Vec3& fixed, Varying) const {
-  return {{{mirror(fixed), 1.0 / std::sqrt(n_)}}, 0.0};
+  return HintBuilder().lobe(mirror(fixed), 1.0 / std::sqrt(n_)).build();
 }
 
 double blinn_phong_normalization(double n) {
@@ -124,7 +125,7 @@ MassHints BlinnPhong::mass_hints(const Vec3& fixed, Varying) const {
   // as at that scale. On the 88-case grid of blinn-phong (n = 1, 20, 1000, tolerance 1e-8) a
   // floor of 1e-9 cost 4.6-8.7x the evaluations, 1e-3 1.5-1.9x; both honest.
   const double along = 2.0 / std::sqrt(n_);
-  return {{{mirror(fixed), along, along * std::max(fixed.z, 1e-3)}}, 0.0};
+  return HintBuilder().lobe(mirror(fixed), along, along * std::max(fixed.z, 1e-3)).build();
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -178,7 +179,7 @@ double CookTorrance::f(const Vec3& i, const Vec3& j) const noexcept {
 
 MassHints CookTorrance::mass_hints(const Vec3& fixed, Varying) const {
   // exp(-tan^2 delta/m^2) ~ exp(-psi^2/(4 m^2)) near the mirror (psi ~ 2 delta): width sqrt(2) m.
-  return {{{mirror(fixed), std::sqrt(2.0) * m_}}, 0.0};
+  return HintBuilder().lobe(mirror(fixed), std::sqrt(2.0) * m_).build();
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -243,7 +244,7 @@ double Ward::pdf_incident(const Vec3& j, const Vec3& i) const {
 }
 
 MassHints Ward::mass_hints(const Vec3& fixed, Varying) const {
-  return {{{mirror(fixed), std::sqrt(2.0) * std::min(alpha_x_, alpha_y_)}}, 0.0};
+  return HintBuilder().lobe(mirror(fixed), std::sqrt(2.0) * std::min(alpha_x_, alpha_y_)).build();
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -306,13 +307,13 @@ double Lafortune::f(const Vec3& i, const Vec3& j) const noexcept {
 
 MassHints Lafortune::mass_hints(const Vec3& fixed, Varying) const {
   // Each lobe peaks along (Cx x, Cy y, Cz z) of the fixed direction; width ~ 1/sqrt(n).
-  MassHints hints;
+  HintBuilder hints;
   for (const Lobe& l : lobes_) {
     const Vec3 axis{l.C_x * fixed.x, l.C_y * fixed.y, l.C_z * fixed.z};
     const double len = glm::length(axis);
-    if (len > 0.0) hints.peaks.push_back({axis / len, 1.0 / std::sqrt(l.n)});
+    if (len > 0.0) hints.lobe(axis / len, 1.0 / std::sqrt(l.n));
   }
-  return hints;
+  return hints.build();
 }
 
 ModelPtr lafortune_paint(int channel) {
@@ -356,8 +357,7 @@ double Hapke::f(const Vec3& i, const Vec3& j) const noexcept {
 MassHints Hapke::mass_hints(const Vec3& fixed, Varying) const {
   // The opposition surge on `fixed` (B falls from 2 over tan alpha ~ g), and the
   // Lommel–Seeliger factor (k·n)/((k + fixed)·n) switching over k·n ~ fixed·n.
-  const double layer = fixed.z < 0.3 ? fixed.z : 0.0;
-  return {{{fixed, std::min(g_, 1.0)}}, layer};
+  return HintBuilder().lobe(fixed, std::min(g_, 1.0)).layer(fixed.z).build();
 }
 
 // ---------------------------------------------------------------------------------------------
