@@ -5,6 +5,7 @@
 // mirror inside a lune, a thin lune's tip. A new model is thereby judged as soon as it registers.
 #include <cctype>
 #include <cmath>
+#include <cstdio>
 #include <numbers>
 #include <string>
 #include <vector>
@@ -22,6 +23,9 @@ using std::numbers::pi;
 
 /// The extremes grid's engine tolerance (docs/reliability.md): the reference resolves to it.
 constexpr double kEngineTol = 1e-8;
+/// The engine's budget per case: a fiftieth of the default, about a second. Not converging is a
+/// result (hvd-empirical below j·n = 3e-4, docs/hvd.md), not judged; converging wrongly fails.
+constexpr long long kEngineBudget = 1'000'000;
 
 /// Fixed directions at which the hints are checked for form: the horizon, grazing, oblique, normal.
 constexpr double kFormCos[] = {0.0, 1e-6, 0.3, 1.0};
@@ -96,17 +100,18 @@ TEST_P(EveryModelsHints, MakeTheEngineHonestAgainstTheReference) {
   for (const Geometry& g : geometries) {
     const Vec3 i = direction_from_cos(g.cos_i, g.law == Law::a ? g.phi : 0.0);
     const Vec3 j = g.law == Law::a ? Vec3{0, 0, 1} : direction_from_cos(g.cos_j, g.phi);
-    const ExtremesCase c = judge_case(*m, g.law, g.law == Law::h ? Vec3{0, 0, 1} : i, j, kEngineTol);
+    const ExtremesCase c = judge_case(*m, g.law, g.law == Law::h ? Vec3{0, 0, 1} : i, j, kEngineTol, kEngineBudget);
     const std::string where = GetParam().spec + " " + to_string(g.law) + " at i·n " + std::to_string(g.cos_i) +
                               ", j·n " + std::to_string(g.cos_j) + ", phi " + std::to_string(g.phi);
     EXPECT_TRUE(c.finite) << where;
-    EXPECT_TRUE(c.converged) << where << ": engine ± " << c.engine.error;
     EXPECT_FALSE(c.dishonest) << where << ": engine " << c.engine.value << " ± " << c.engine.error << ", reference "
                               << c.reference << " ± " << c.reference_error << ", second reference "
                               << c.second_reference << " ± " << c.second_reference_error;
     judged += c.converged && !c.reference_unresolved;
   }
-  // A case the reference cannot resolve within its budget is not judged; most must be.
+  // A case the engine does not converge on, or the reference cannot resolve, within its budget is
+  // not judged; most must be.
+  std::printf("%s: %d of %zu cases judged\n", GetParam().spec.c_str(), judged, geometries.size());
   EXPECT_GE(2 * judged, static_cast<int>(geometries.size())) << GetParam().spec << ": only " << judged << " judged";
 }
 
