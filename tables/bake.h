@@ -3,6 +3,7 @@
 // thread count or the order of work).
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <functional>
 #include <optional>
@@ -45,6 +46,9 @@ struct BakeOptions {
   /// Called with (entries done, total) at most ~kProgressSteps times, serialized (never two at
   /// once) and with increasing `done`, from whichever worker thread finished the entry.
   std::function<void(std::uint64_t done, std::uint64_t total)> progress;
+  /// When set, read before every entry and by every entry's cubature (CubatureOptions::cancel):
+  /// once it holds true the bake stops and throws Cancelled (no table, nothing written).
+  const std::atomic<bool>* cancel = nullptr;
 };
 inline constexpr int kProgressSteps = 1000;
 /// The interpolation check after baking (Table::interpolation_error): at least this many cell
@@ -81,7 +85,8 @@ std::vector<Axis> bake_axes(Law law, const BakeOptions& options);
 /// values outside the half range when encoding = half. Entries that miss the tolerance are
 /// kept with their (larger) error estimate and counted in Table::unconverged.
 /// Table::command is left empty for the caller; Table::version is this build's.
-/// With options.target_error > 0, bake_to_error (tables/to_error.h) instead.
+/// With options.target_error > 0, bake_to_error (tables/to_error.h) instead. Throws Cancelled
+/// when options.cancel is set.
 Table bake(const Model& model, Law law, const BakeOptions& options);
 
 /// bake() of exactly options.resolution (ignores target_error).

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -213,6 +214,14 @@ std::vector<Mapping> parse_mappings(const std::string& text, Law law) {
 }
 
 std::size_t Table::entries() const noexcept { return static_cast<std::size_t>(entry_count(axes)); }
+
+std::string values_digest(const Table& table) {
+  static_assert(std::endian::native == std::endian::little, "the digest hashes the floats' bytes as stored in memory");
+  std::uint64_t hash = util::kFnv1aOffsetBasis;
+  for (const std::vector<float>* numbers : {&table.value, &table.error})
+    hash = util::fnv1a_64({reinterpret_cast<const char*>(numbers->data()), numbers->size() * sizeof(float)}, hash);
+  return util::content_digest(hash);
+}
 
 std::uint64_t entry_count(std::span<const Axis> axes) noexcept {
   if (axes.empty()) return 0;

@@ -184,9 +184,18 @@ struct Table {
   Frame frame = Frame::cosines;
   PeakKind peak = PeakKind::mirror;  ///< lobe frame only
   int format_version = kFormatVersion;  ///< as read (version 1 files) or written
+  /// As read: the file's ganzfeld.values_digest, which the reader has checked against `value`
+  /// and `error` (values_digest()); "" for files written before it existed. write_table writes
+  /// the digest of the numbers it writes, whatever this holds.
+  std::string values_digest;
 
   std::size_t entries() const noexcept;
 };
+
+/// The digest of the stored numbers (docs/lut-format.md, ganzfeld.values_digest): 64-bit FNV-1a
+/// (util/hash.h) of the value then the error entries as little-endian IEEE binary32, e.g.
+/// "fnv1a64:0123456789abcdef". Guards against a file's numbers changing under its metadata.
+std::string values_digest(const Table& table);
 
 /// Product of the counts; 0 for no axes.
 std::uint64_t entry_count(std::span<const Axis> axes) noexcept;

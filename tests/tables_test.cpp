@@ -1,6 +1,7 @@
 // Tables (tables/): bake -> write -> read -> sample against closed forms and the integrator, the
 // storage encodings, and every refusal of the reader and the baker.
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -32,8 +33,10 @@
 
 #include "integrate/laws.h"
 #include "util/error.h"
+#include "util/hash.h"
 #include "models/spec.h"
 #include "tables/bake.h"
+#include "tables/cache.h"
 #include "tables/exr_io.h"
 #include "tables/sample.h"
 #include "tables/frame.h"
@@ -296,6 +299,33 @@ TEST(Table, UnconvergedEntriesAreCounted) {
   EXPECT_GT(t.node_error, options.tolerance);
 }
 
+TEST(Table, ACancelledBakeThrowsAndWritesNothing) {
+  std::atomic<bool> cancel{true};
+  BakeOptions options;
+  options.resolution = {9, 9, 5};
+  options.cancel = &cancel;
+  const ModelPtr m = parse_model("specular:alpha=8");
+  EXPECT_THROW(bake(*m, Law::g, options), Cancelled);
+  options.target_error = 1e-3;  // the --max-error search stops at its first bake
+  EXPECT_THROW(bake(*m, Law::g, options), Cancelled);
+
+  // Set while the nodes are baked (the progress callback runs on the bake's workers).
+  options.target_error = 0.0;
+  options.resolution = {33, 33, 17};
+  cancel = false;
+  std::atomic<std::uint64_t> seen{0};
+  options.progress = [&](std::uint64_t done, std::uint64_t) {
+    seen = done;
+    cancel = true;
+  };
+  const std::string path = temp_file("cancelled.exr");
+  EXPECT_THROW(bake_or_reuse(path, *m, Law::g, options, "lut_test"), Cancelled);
+  EXPECT_LT(seen.load(), 33u * 33u * 17u) << "the bake ran to its end";
+  EXPECT_FALSE(fs::exists(path));
+  for (const auto& entry : fs::directory_iterator(temp_dir()))
+    EXPECT_EQ(entry.path().filename().string().find("cancelled.exr"), std::string::npos) << entry.path();
+}
+
 // --- Refusals --------------------------------------------------------------------------------
 
 TEST(Table, BakeRefusesBadSizesBeforeAllocating) {
@@ -470,6 +500,67 @@ TEST_F(TableRefusal, ModelContentMissingReadsAsNone) {
   EXPECT_EQ(read_table(path).model_content, "");
   const std::string digest = "fnv1a64:0123456789abcdef";
   EXPECT_EQ(read_table(valid_with("ganzfeld.model_content", digest, "content.exr")).model_content, digest);
+}
+
+// ganzfeld.values_digest: one number changed under the metadata (here by the least step a
+// float takes, which no other check sees: the error channel and its maximum are untouched).
+TEST_F(TableRefusal, ANumberChangedUnderItsDigest) {
+  RawExr raw = valid();
+  float& v = raw.channels["value"][3];
+  v = std::nextafter(v, 2.0f * v + 1.0f);
+  const std::string path = temp_file("one_float.exr");
+  raw.save(path);
+  expect_refused(path, "the numbers do not match ganzfeld.values_digest");
+  RawExr error_changed = valid();
+  std::vector<float>& error = error_changed.channels["error"];
+  const auto [smallest, largest] = std::minmax_element(error.begin(), error.end());
+  ASSERT_LT(*smallest, *largest);
+  *smallest = 0.5f * (*smallest + *largest);  // below the maximum: ganzfeld.max_error still holds
+  error_changed.save(path);
+  expect_refused(path, "the numbers do not match ganzfeld.values_digest");
+}
+
+TEST_F(TableRefusal, ValuesDigestMissingReadsAsNone) {
+  const Table written = read_table(*valid_);
+  EXPECT_EQ(written.values_digest, values_digest(written));
+  EXPECT_TRUE(util::is_content_digest(written.values_digest)) << written.values_digest;
+  RawExr raw = valid();
+  raw.dropped.insert("ganzfeld.values_digest");
+  const std::string path = temp_file("no_values_digest.exr");
+  raw.save(path);
+  const Table old = read_table(path);
+  EXPECT_EQ(old.values_digest, "");
+  EXPECT_EQ(old.value, written.value);
+}
+
+// The cache reuses only verified numbers: a changed number, or no digest to check them by (a
+// file written before it existed), is re-baked, and read_if_matching says why.
+TEST(Table, CacheRebakesNumbersItCannotVerify) {
+  const ModelPtr m = parse_model("minnaert:xi=1");
+  BakeOptions options;
+  options.resolution = {9};
+  const TableKey key = table_key(*m, Law::h, options);
+  const std::string path = (fs::path(temp_dir()) / cache_file_name(key)).string();
+  const CacheResult first = bake_or_reuse(path, *m, Law::h, options, "lut_test");
+  std::string why = "unset";
+  EXPECT_TRUE(read_if_matching(path, key, &why));
+  EXPECT_EQ(why, "");
+  for (const bool drop_digest : {false, true}) {
+    RawExr raw = RawExr::load(path);
+    if (drop_digest)
+      raw.dropped.insert("ganzfeld.values_digest");
+    else
+      raw.channels["value"][4] *= 1.0f + 1e-6f;
+    raw.save(path);
+    EXPECT_FALSE(read_if_matching(path, key, &why));
+    EXPECT_NE(why.find(drop_digest ? "no ganzfeld.values_digest" : "do not match ganzfeld.values_digest"),
+              std::string::npos)
+        << why;
+    const CacheResult again = bake_or_reuse(path, *m, Law::h, options, "lut_test");
+    EXPECT_EQ(again.status, CacheStatus::baked);
+    EXPECT_EQ(read_table(path).value, first.table.value);
+    EXPECT_EQ(bake_or_reuse(path, *m, Law::h, options, "lut_test").status, CacheStatus::reused);
+  }
 }
 
 TEST_F(TableRefusal, ModelContentMalformed) {
