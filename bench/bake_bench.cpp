@@ -1,8 +1,5 @@
 // Bake throughput, repeated (timings are medians of repeated
 // runs with their spread, and the machine is read from the machine).
-#include <fstream>
-#include <thread>
-
 #include <tbb/global_control.h>
 
 #include "bench/cubature_bench.h"
@@ -32,17 +29,6 @@ std::vector<BakeTiming> run_bake_benchmark(bool quick, int repeats) {
     out.push_back(std::move(timing));
   }
   return out;
-}
-
-std::string machine_description() {
-  std::ifstream cpuinfo("/proc/cpuinfo");
-  std::string line, model = "unknown CPU";
-  while (std::getline(cpuinfo, line))
-    if (line.rfind("model name", 0) == 0) {
-      model = line.substr(line.find(':') + 2);
-      break;
-    }
-  return model + ", " + std::to_string(std::thread::hardware_concurrency()) + " hardware threads";
 }
 
 }  // namespace ganzfeld::bench

@@ -138,9 +138,6 @@ struct BakeTiming {
 };
 std::vector<BakeTiming> run_bake_benchmark(bool quick, int repeats);
 
-/// The machine, read from it: CPU model (/proc/cpuinfo) and hardware threads.
-std::string machine_description();
-
 std::string performance_markdown(const std::vector<FamilyResult>& families, const CubatureBenchOptions& options,
                                  const std::vector<BakeTiming>& bakes, const std::string& command,
                                  const std::string& plot_file);
