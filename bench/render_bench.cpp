@@ -1,10 +1,12 @@
 #include "bench/render_bench.h"
 
 #include <algorithm>
+#include <cstdio>
 #include <sstream>
 #include <vector>
 
 #include "bench/cubature_bench.h"
+#include "export/glsl.h"
 #include "models/spec.h"
 #include "scene/plan.h"
 #include "rasterizer/shading.h"
@@ -53,7 +55,14 @@ RenderBenchResult run_render_benchmark(bool quick, int repeats) {
   // Planned as `render` plans a scene, with the scene defaults (scene/plan.h), in memory.
   auto lobe_tables = [&](const char* spec) {
     const scene::ShadingPlan plan =
-        scene::plan_material(scene::material_of(spec), {sky, ambient}, scene::TableOptions{}, scene::TableStore{});
+        scene::plan_material(scene::material_of(spec), {sky, ambient}, scene::TableOptions::scene_defaults(),
+                            scene::TableStore{});
+    for (const scene::PlannedTable& t : plan.tables) {
+      char error[32];
+      std::snprintf(error, sizeof error, "%.3g", t.table->lookup_error);
+      out.tables.push_back("law " + std::string(to_string(t.table->law)) + " of `" + spec + "`: " +
+                           exporting::lookup_scheme(*t.table) + ", stated lookup error " + error);
+    }
     return raster::shading_materials(plan, 1e-6).front().front().laws;
   };
   const ModelPtr minnaert = parse_model("minnaert:xi=1"), specular = parse_model("specular:alpha=8");
@@ -104,6 +113,10 @@ std::string render_markdown(const RenderBenchResult& r, const std::string& comma
      << kTablesVsLambertTarget << ": " << (ratio <= kTablesVsLambertTarget ? "**met**" : "**missed**") << " |\n"
      << "| direct ÷ tables, per pixel | " << significant(util::median(r.direct_vs_tables)) << " | "
      << spread(r.direct_vs_tables) << " | – |\n";
+  if (!r.tables.empty()) {
+    md << "\n(b)'s tables, as `bake --scene` makes them by default:\n\n";
+    for (const std::string& t : r.tables) md << "- " << t << "\n";
+  }
   return md.str();
 }
 

@@ -19,6 +19,8 @@ struct RenderBenchResult {
   int size = 0, crop = 0, repeats = 0;
   std::vector<double> seconds_lambert, seconds_tables, seconds_direct;  ///< per repeat
   std::vector<double> tables_vs_lambert, direct_vs_tables;              ///< per repeat
+  /// (b)'s tables: "law g of SPEC: " + exporting::lookup_scheme and the stated lookup error.
+  std::vector<std::string> tables;
 };
 
 RenderBenchResult run_render_benchmark(bool quick, int repeats);

@@ -228,7 +228,7 @@ int shaders_report(const BenchArgs& args) {
   return 0;
 }
 
-/// The real-time tables' accuracy report: Markdown to --markdown, or to stdout.
+/// The real-time tables' accuracy report: its section of docs/realtime.md, printed.
 int realtime_report(const BenchArgs& args) {
   refuse_markdown_file(args);
   std::vector<std::string> words{"ganzfeld", "bench", "realtime"};

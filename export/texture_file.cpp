@@ -11,6 +11,7 @@
 #include <Imath/half.h>
 
 #include "export/literal.h"
+#include "tables/exr_io.h"
 #include "util/error.h"
 #include "util/names.h"
 #include "util/atomic_file.h"
@@ -140,7 +141,12 @@ std::vector<std::uint8_t> ktx2_bytes(const Table& table) {
       {"ganzfeld.model", table.model},
       {"ganzfeld.tolerance", number_text(table.tolerance)},
   };
-  if (table.frame == Frame::lobe) kv["ganzfeld.peak"] = to_string(table.peak);
+  if (table.frame != Frame::cosines) kv["ganzfeld.peak"] = to_string(table.peak);
+  // What the lookup needs beyond the axes (format version 4, docs/lut-format.md): the filter the
+  // bound covers, the validated domain, and a warped table's warp.
+  kv["ganzfeld.filter"] = to_string(table.filter);
+  kv["ganzfeld.min_cos_j"] = number_text(table.min_cos_j);
+  if (table.frame == Frame::warped) kv["ganzfeld.warp"] = warp_text(table.warp);
   if (unorm) {  // value = offset + scale x texel (docs/lut-format.md)
     kv["ganzfeld.unorm16_offset"] = number_text(table.unorm.offset);
     kv["ganzfeld.unorm16_scale"] = number_text(table.unorm.scale);

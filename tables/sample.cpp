@@ -10,7 +10,7 @@ namespace ganzfeld::tables {
 
 bool is_even_axis(const Axis& axis) noexcept { return axis.name == kAxisPhi || axis.name == kAxisBeta; }
 
-AxisTaps catmull_rom_taps(const Axis& axis, int k, double t) noexcept {
+AxisTaps catmull_rom_taps(const Axis& axis, int k, double t, WeightRounding rounding) noexcept {
   // Catmull–Rom on nodes k-1, k, k+1, k+2 (tangents (p[k+1] - p[k-1])/2).
   const int n = axis.count;
   const double t2 = t * t, t3 = t2 * t;
@@ -37,6 +37,12 @@ AxisTaps catmull_rom_taps(const Axis& axis, int k, double t) noexcept {
     }
     w[3] = 0.0;
   }
+  if (rounding != WeightRounding::exact) {  // nodes k, k+1: one linear fetch at fraction w2/(w1 + w2)
+    const double middle = w[1] + w[2];
+    const double f = filter_weight(w[2] / middle, rounding);
+    w[1] = middle * (1.0 - f);
+    w[2] = middle * f;
+  }
   AxisTaps out;
   out.taps = 4;
   for (int d = 0; d < 4; ++d) {
@@ -49,7 +55,15 @@ AxisTaps catmull_rom_taps(const Axis& axis, int k, double t) noexcept {
 bool same_lookup(const Table& a, const Table& b) noexcept {
   if (a.law != b.law || a.frame != b.frame || a.interpolation != b.interpolation || a.axes.size() != b.axes.size())
     return false;
-  if (a.frame == Frame::lobe && a.peak != b.peak) return false;
+  if (a.frame != Frame::cosines && a.peak != b.peak) return false;
+  if (a.frame == Frame::warped) {  // the offset axis and the envelope follow each table's own warp
+    const Warp &p = a.warp, &q = b.warp;
+    if (p.mix != q.mix || p.envelope != q.envelope || p.samples.size() != q.samples.size()) return false;
+    for (std::size_t k = 0; k < p.samples.size(); ++k)
+      if (p.samples[k].shift != q.samples[k].shift || p.samples[k].along != q.samples[k].along ||
+          p.samples[k].across != q.samples[k].across)
+        return false;
+  }
   for (std::size_t d = 0; d < a.axes.size(); ++d) {
     const Axis &p = a.axes[d], &q = b.axes[d];
     if (p.name != q.name || p.min != q.min || p.max != q.max || p.count != q.count || p.mapping != q.mapping ||
@@ -59,12 +73,19 @@ bool same_lookup(const Table& a, const Table& b) noexcept {
   return true;
 }
 
-Sample sample_axes(const Table& table, std::span<const double> y) noexcept {
+double lookup_scale(const Table& table, std::span<const double> y) noexcept {
+  return table.frame == Frame::warped && !y.empty() ? warp_envelope(table.warp, y[0]) : 1.0;
+}
+
+Sample sample_axes(const Table& table, std::span<const double> y, WeightRounding rounding) noexcept {
   Sample out;
-  for_each_node(table, y, [&](std::size_t entry, double w) {
-    out.value += w * table.value[entry];
-    out.error += std::abs(w) * table.error[entry];
-  });
+  for_each_node(
+      table, y,
+      [&](std::size_t entry, double w) {
+        out.value += w * table.value[entry];
+        out.error += std::abs(w) * table.error[entry];
+      },
+      rounding);
   return out;
 }
 
@@ -72,6 +93,11 @@ Point axis_point(const Table& table, std::span<const double> x) noexcept {
   Point out;
   if (table.frame == Frame::lobe && table.law == Law::g && x.size() == 3) {
     out.x = lobe_coordinates(table.peak, x[0], x[1], x[2]);
+    out.size = 3;
+    return out;
+  }
+  if (table.frame == Frame::warped && table.law == Law::g && x.size() == 3) {
+    out.x = warped_coordinates(table.peak, table.warp, table.axes[0], x[0], x[1], x[2]);
     out.size = 3;
     return out;
   }
@@ -85,9 +111,13 @@ std::vector<double> axis_coordinates(const Table& table, std::span<const double>
   return {y.x.begin(), y.x.begin() + static_cast<std::ptrdiff_t>(y.size)};
 }
 
-Sample sample(const Table& table, std::span<const double> x) noexcept {
+Sample sample(const Table& table, std::span<const double> x, WeightRounding rounding) noexcept {
   const Point y = axis_point(table, x);
-  return sample_axes(table, y.span());
+  return sample_axes(table, y.span(), rounding);
+}
+
+WeightRounding own_rounding(const Table& table) noexcept {
+  return table.filter == Filter::hardware ? WeightRounding::nearest : WeightRounding::exact;
 }
 
 Point law_point(Law law, const Vec3& i, const Vec3& j) noexcept {
@@ -115,9 +145,9 @@ std::vector<double> coordinates(Law law, const Vec3& i, const Vec3& j) noexcept 
   return {x.x.begin(), x.x.begin() + static_cast<std::ptrdiff_t>(x.size)};
 }
 
-Sample sample(const Table& table, const Vec3& i, const Vec3& j) noexcept {
+Sample sample(const Table& table, const Vec3& i, const Vec3& j, WeightRounding rounding) noexcept {
   const Point x = law_point(table.law, i, j);
-  return sample(table, x.span());
+  return sample(table, x.span(), rounding);
 }
 
 }  // namespace ganzfeld::tables

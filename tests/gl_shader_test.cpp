@@ -364,6 +364,16 @@ constexpr double kDequantizeError = 2.0 / (1 << 24);
 constexpr int kPointsSide = 64;
 constexpr std::uint64_t kPointSeed = 15;  // seeded points (tables::validation_points) and frames
 
+/// The warped frame's offset (tables/frame.h) is (1 + q/d)/2 of quantities known to
+/// ~kCoordinateError, with d >= the warp's smallest width times |i⊥|: at the step (|i⊥| ~ 1) an
+/// error in q moves it by up to that error / (2 width).
+double coordinate_error(const tables::Table& table, std::size_t axis) {
+  if (table.frame != tables::Frame::warped || axis != 1) return kCoordinateError;
+  double narrowest = HUGE_VAL;
+  for (const tables::WarpSample& w : table.warp.samples) narrowest = std::min({narrowest, w.along, w.across});
+  return kCoordinateError * (1.0 + 0.5 / narrowest);
+}
+
 /// The float bound (above) at law coordinates x.
 double float_bound(const tables::Table& table, std::span<const double> x) {
   const std::vector<double> y = tables::axis_coordinates(table, x);
@@ -373,8 +383,9 @@ double float_bound(const tables::Table& table, std::span<const double> x) {
   for (std::size_t d = 0; d < y.size(); ++d) {
     const tables::Axis& axis = table.axes[d];
     const double u = axis.index_coordinate(y[d]);
+    const double moved_by = coordinate_error(table, d);
     double worst = 0.0;
-    for (double moved : {y[d] - kCoordinateError, y[d] + kCoordinateError, axis.coordinate(u - kIndexError),
+    for (double moved : {y[d] - moved_by, y[d] + moved_by, axis.coordinate(u - kIndexError),
                          axis.coordinate(u + kIndexError)}) {
       std::vector<double> z = y;
       z[d] = moved;
@@ -390,13 +401,16 @@ double float_bound(const tables::Table& table, std::span<const double> x) {
 /// not matter here beyond being a real law's: both sides read the same stored values).
 tables::Table small_table(const std::string& spec, Law law, std::vector<int> resolution,
                           tables::Interpolation interpolation, bool lobe,
-                          tables::Encoding encoding = tables::Encoding::single) {
+                          tables::Encoding encoding = tables::Encoding::single, bool warped = false,
+                          tables::Filter filter = tables::Filter::texel_fetch) {
   const auto model = parse_model(spec);
   tables::BakeOptions options;
   options.encoding = encoding;
   options.resolution = std::move(resolution);
   options.tolerance = 1e-6;
   options.interpolation = interpolation;
+  options.warped = warped;
+  options.filter = filter;
   if (lobe) options.lobe = tables::lobe_frame_of(*model);
   EXPECT_EQ(options.lobe.has_value(), lobe) << spec << " has no lobe frame";
   tables::Table table = tables::bake(*model, law, options);
@@ -416,15 +430,25 @@ void compare_lookups(const tables::Table& table, bool es, bool hardware_filter =
   const gl::LookupPoints points = gl::lookup_points(table.law, kPointsSide, kPointSeed);
   const std::vector<float> gpu =
       gl::table_function_at_points(table, points, es ? gl::Api::es30 : gl::Api::core43,
-                                   hardware_filter ? "GANZFELD_HARDWARE_FILTER" : "", hardware_filter, error)
+                                   hardware_filter ? "GANZFELD_HARDWARE_FILTER" : "",
+                                   hardware_filter || table.filter == tables::Filter::hardware, error)
           .values;
   ASSERT_EQ(gpu.size(), points.x.size()) << error;
   int over = 0;
   double largest = 0.0, largest_bound = 0.0;
+  // A table whose bound covers the hardware filter is read with texture() whatever the define:
+  // the GPU must match the full-precision lookup or one of the 8-bit emulations (weights rounded
+  // to nearest or truncated) to float precision.
+  const bool filtered = table.filter == tables::Filter::hardware;
   for (std::size_t p = 0; p < gpu.size(); ++p) {
-    const double cpu = tables::sample(table, points.x[p]).value;
+    double cpu = tables::sample(table, points.x[p]).value;
+    if (filtered)
+      for (tables::WeightRounding r : {tables::WeightRounding::nearest, tables::WeightRounding::truncate}) {
+        const double emulated = tables::sample(table, points.x[p], r).value;
+        if (std::abs(gpu[p] - emulated) < std::abs(gpu[p] - cpu)) cpu = emulated;
+      }
     const double difference = std::abs(gpu[p] - cpu);
-    const double bound = hardware_filter && !exact_filter ? table.lookup_error : float_bound(table, points.x[p]);
+    const double bound = hardware_filter && !filtered && !exact_filter ? table.lookup_error : float_bound(table, points.x[p]);
     largest = std::max(largest, difference);
     largest_bound = std::max(largest_bound, difference / bound);
     if (difference > bound && over++ < 5)
@@ -433,7 +457,7 @@ void compare_lookups(const tables::Table& table, bool es, bool hardware_filter =
   }
   std::printf("%s, law %s of %s, %s frame, %s%s: %zu points, max |GPU - CPU| = %.3g, %.3g of the bound\n",
               es ? "GLSL ES 3.00" : "GLSL 4.30 core", to_string(table.law), table.model.c_str(),
-              to_string(table.frame), to_string(table.interpolation), hardware_filter ? " (hardware filter)" : "",
+              to_string(table.frame), to_string(table.interpolation), hardware_filter || filtered ? " (hardware filter)" : "",
               gpu.size(), largest, largest_bound);
   EXPECT_EQ(over, 0);
 }
@@ -449,6 +473,36 @@ TEST(GlShaderLookup, LobeFrameCatmullRomBackscatterG) {
 }
 TEST(GlShaderLookup, LobeFrameLinearSpecularG) {
   compare_lookups(small_table("specular:alpha=100", Law::g, {10, 24, 8}, tables::Interpolation::linear, true), true);
+}
+// The warped frame (version 4): its lookup read with texelFetch matches tables::sample to float
+// precision; with the hardware filter its one texture() matches the full-precision lookup or an
+// 8-bit emulation of it. specular alpha = 100 (an envelope), backscatter (retro peak) and ggx
+// (no envelope), float and unorm16 (R16: desktop GL).
+TEST(GlShaderLookup, WarpedFrameTexelFetchSpecularG) {
+  const tables::Table table = small_table("specular:alpha=100", Law::g, {10, 24, 8}, tables::Interpolation::linear,
+                                          true, tables::Encoding::single, true);
+  ASSERT_GT(table.warp.envelope, 0.0);
+  compare_lookups(table, false);
+  compare_lookups(table, true);
+}
+TEST(GlShaderLookup, WarpedFrameHardwareFilterMatchesThe8BitEmulation) {
+  for (const char* spec : {"specular:alpha=100", "backscatter:alpha=100", "ggx:roughness=0.3"}) {
+    const tables::Table table = small_table(spec, Law::g, {10, 24, 8}, tables::Interpolation::linear, true,
+                                            tables::Encoding::single, true, tables::Filter::hardware);
+    compare_lookups(table, false);
+    compare_lookups(table, true);
+  }
+  compare_lookups(small_table("specular:alpha=100", Law::g, {10, 24, 8}, tables::Interpolation::linear, true,
+                              tables::Encoding::unorm16, true, tables::Filter::hardware),
+                  false);
+}
+TEST(GlShaderLookup, HardwareFilteredCosinesFrameAndH) {
+  compare_lookups(small_table("asperity:alpha=4", Law::g, {8, 8, 6}, tables::Interpolation::linear, false,
+                              tables::Encoding::single, false, tables::Filter::hardware),
+                  false);
+  compare_lookups(small_table("specular:alpha=100", Law::h, {12}, tables::Interpolation::linear, false,
+                              tables::Encoding::single, false, tables::Filter::hardware),
+                  true);
 }
 TEST(GlShaderLookup, CosinesFrameCatmullRomAsperityG) {
   compare_lookups(small_table("asperity:alpha=4", Law::g, {8, 8, 6}, tables::Interpolation::catmull_rom, false), false);
@@ -488,12 +542,23 @@ TEST(GlShaderLookup, FetchesPerLookupAreCounted) {
       {small_table("specular:alpha=8", Law::g, {5, 6, 4}, tables::Interpolation::linear, false), 8, 1},
       {small_table("specular:alpha=100", Law::g, {10, 24, 8}, tables::Interpolation::catmull_rom, true), 64, 27},
       {small_table("minnaert:xi=1", Law::h, {9}, tables::Interpolation::linear, false), 2, 1},
-      {small_table("minnaert:xi=1", Law::h, {9}, tables::Interpolation::catmull_rom, false), 4, 3}};
+      {small_table("minnaert:xi=1", Law::h, {9}, tables::Interpolation::catmull_rom, false), 4, 3},
+      // the warped frame: 8 texel fetches read with texelFetch; a table whose bound covers the filter
+      // is one texture() whatever the define (tables::fetches says the same)
+      {small_table("specular:alpha=100", Law::g, {6, 9, 5}, tables::Interpolation::linear, true,
+                   tables::Encoding::single, true),
+       8, 1},
+      {small_table("specular:alpha=100", Law::g, {6, 9, 5}, tables::Interpolation::linear, true,
+                   tables::Encoding::single, true, tables::Filter::hardware),
+       1, 1}};
   for (const Case& c : cases) {
+    EXPECT_EQ(tables::fetches(c.table), c.table.filter == tables::Filter::hardware ? c.filtered_fetches : c.texel_fetches)
+        << c.table.model;
     const gl::LookupPoints points = gl::lookup_points(c.table.law, 16, kPointSeed);
     for (bool filtered : {false, true}) {
       const gl::Lookups lookups = gl::table_function_at_points(
-          c.table, points, gl::Api::core43, filtered ? "GANZFELD_HARDWARE_FILTER" : "", filtered, error);
+          c.table, points, gl::Api::core43, filtered ? "GANZFELD_HARDWARE_FILTER" : "",
+          filtered || c.table.filter == tables::Filter::hardware, error);
       ASSERT_EQ(lookups.fetches.size(), points.x.size()) << error;
       for (int fetches : lookups.fetches)
         ASSERT_EQ(fetches, filtered ? c.filtered_fetches : c.texel_fetches)
