@@ -10,6 +10,7 @@
 #include <boost/math/quadrature/gauss_kronrod.hpp>
 
 #include "models/classic_models.h"
+#include "models/schlick.h"
 #include "util/error.h"
 #include "models/registry.h"
 #include "models/spec.h"
@@ -50,14 +51,21 @@ double fresnel_complex(double cos_theta, double eta, double k) noexcept {
 }
 
 // ---------------------------------------------------------------------------------------------
-Phong::Phong(double kd, double ks, double n) : kd_(kd), ks_(ks), n_(n) {}
+Phong::Phong(double kd, double ks, double n, PhongLobe lobe) : kd_(kd), ks_(ks), n_(n), lobe_(lobe) {}
 
-std::string Phong::spec() const { return spec_text({"phong", {{"kd", kd_}, {"ks", ks_}, {"n", n_}}}); }
+std::string Phong::spec() const {
+  const char* name = lobe_ == PhongLobe::cosine_power ? "phong" : "schlick-phong";
+  return spec_text({name, {{"kd", kd_}, {"ks", ks_}, {"n", n_}}});
+}
+
+double Phong::lobe(double cos_psi) const noexcept {
+  return lobe_ == PhongLobe::cosine_power ? cosine_power(cos_psi, n_) : schlick::rational_phong(cos_psi, n_);
+}
 
 double Phong::f(const Vec3& i, const Vec3& j) const noexcept {
   if (i.z < 0.0 || j.z < 0.0) return 0.0;
   // Phong's specular intensity carries no cos(theta_i): as a BRDF it is divided by mu_i.
-  return kd_ / pi + ks_ * cosine_power(glm::dot(mirror(i), j), n_) / std::max(i.z, kGrazingCosFloor);
+  return kd_ / pi + ks_ * lobe(glm::dot(mirror(i), j)) / std::max(i.z, kGrazingCosFloor);
 }
 
 MassHints Phong::mass_hints(const Vec3& fixed, Varying varying) const {
@@ -69,9 +77,14 @@ MassHints Phong::mass_hints(const Vec3& fixed, Varying varying) const {
   // (tests/extremes_test.cpp, PhongGrazingLayerIsHonest). The layer holds at most ks/2 kGrazingCosFloor 2 pi
   // cos^n(e), e the mirror's elevation: it is declared when the lobe reaches the horizon, within
   // 4 widths of it (as ggx's layer).
-  const double w = 1.0 / std::sqrt(n_);
+  // Schlick's rational lobe 1/(1 + n (1 - t)/t) ~ 1/(1 + n psi^2/2) has the half width
+  // sqrt(2/n) and tails t/n that reach the horizon for every mirror direction: its layer is
+  // always declared.
+  const bool rational = lobe_ == PhongLobe::schlick_rational;
+  const double w = rational ? std::sqrt(2.0 / n_) : 1.0 / std::sqrt(n_);
   HintBuilder hints;
   hints.lobe(mirror(fixed), w);
+  if (varying == Varying::incident && rational) hints.layer(kGrazingCosFloor);
   if (varying == Varying::incident)
     hints.layer_where_lobe_meets_horizon(std::asin(std::clamp(fixed.z, 0.0, 1.0)), w, kGrazingCosFloor);
   return hints.build();
@@ -412,6 +425,17 @@ void register_classic_models(std::vector<ModelInfo>& c) {
                [](const ParamValues& p) -> ModelPtr {
                  require_sum_at_most_one("phong", "kd", p.at("kd"), "ks", p.at("ks"));
                  return std::make_shared<Phong>(p.at("kd"), p.at("ks"), p.at("n"));
+               }});
+  c.push_back({"schlick-phong",
+               "original Phong with Schlick's rational lobe, f = kd/pi + ks t/(n - n t + t)/(i.n), t = max(0, cos psi)",
+               std::string("Schlick 1994, Computer Graphics Forum 13(3) (rational approximation); ") + kWalker +
+                   ", Phong (Figs. 17, 19)",
+               {kd_param(0.5), ks_param(0.5), n_param(20.0, "exponent the rational lobe approximates")},
+               {true, false, EnergyClass::not_plausible},
+               {},
+               [](const ParamValues& p) -> ModelPtr {
+                 require_sum_at_most_one("schlick-phong", "kd", p.at("kd"), "ks", p.at("ks"));
+                 return std::make_shared<Phong>(p.at("kd"), p.at("ks"), p.at("n"), PhongLobe::schlick_rational);
                }});
   c.push_back({"phong-lewis", "Lewis's normalized Phong, f = kd/pi + ks (n+2)/(2 pi) cos^n(psi)",
                std::string("Lewis 1994, Computer Graphics Forum 13(2); ") + kWalker + ", Phong",

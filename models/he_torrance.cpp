@@ -249,7 +249,8 @@ void register_he_torrance_models(std::vector<ModelInfo>& c) {
       {"he-torrance",
        "He-Torrance-Sillion-Greenberg physical optics (Kirchhoff, Gaussian surface), unpolarized: "
        "f = rho_dd + a/pi, rho_dd = F G S D/(pi (i.n)(j.n)), D the Beckmann series in g; the specular "
-       "delta rho_s is not in f",
+       "delta rho_s(theta_i) = |F|^2 exp(-g) S^2 into the mirror direction is not in f (nor in g, h, a of f): "
+       "renders add it under skies and the Ganzfeld",
        "He, Torrance, Sillion & Greenberg 1991, SIGGRAPH '91, eqs. 69-84 and 24-25; Walker 1999, MSc thesis "
        "(U. Oregon), ch. III He-Torrance (eqs. III.13-III.18), app. D",
        {{"sigma0", ParamType::real, 0.0, 3.0, 0.15, "RMS surface height in micrometres (0 = smooth mirror)"},

@@ -95,6 +95,9 @@ class HeTorrance final : public Model {
   /// rho_s = |F(theta_i)|^2 exp(-g(theta_i, theta_i)) S(theta_i)^2 (eqs. 73-74): the weight of
   /// the specular delta, i.e. the fraction of the flux from i reflected into mirror(i).
   double specular_reflectance(double cos_theta_i) const noexcept;
+  /// The specular delta's weight, specular_reflectance: renders add it under skies and the
+  /// Ganzfeld (Model::mirror_reflectance); f and the laws of f exclude it.
+  double mirror_reflectance(double cos_theta) const noexcept override { return specular_reflectance(cos_theta); }
   /// Effective roughness sigma (micrometres) for the two cosines (eqs. 80-83).
   double effective_roughness(double cos_theta_i, double cos_theta_r) const noexcept;
   /// Shadowing S(theta) of one direction (eqs. 24-25 with Smith's exp(-a^2)).

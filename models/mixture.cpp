@@ -69,6 +69,12 @@ double Mixture::pdf_incident(const Vec3& j, const Vec3& i) const {
   return sum;
 }
 
+double Mixture::mirror_reflectance(double cos_theta) const noexcept {
+  double sum = 0.0;
+  for (const auto& lobe : lobes_) sum += lobe.weight * lobe.model->mirror_reflectance(cos_theta);
+  return sum;
+}
+
 MassHints Mixture::mass_hints(const Vec3& fixed, Varying varying) const {
   // Every cylinder model puts its cylinders along x, so the lobes' creases share one frame.
   HintBuilder all;

@@ -83,6 +83,13 @@ class Model {
   /// The density per steradian with which sample_incident draws i (0 where it never does); its
   /// integral over the hemisphere is the probability that a draw succeeds.
   virtual double pdf_incident(const Vec3& j, const Vec3& i) const;
+
+  /// The reflectance rho(cos theta) of a mirror (Dirac) term the model has besides f: the
+  /// fraction of the flux from k reflected coherently into mirror(k), which no BRDF value can
+  /// hold. f, and every law integrated from f (g, h, a, r, the tables), exclude it; renders add
+  /// its exact contribution under extended sources: rho(j·n) to h, and to g when mirror(j) lies
+  /// in the sky (rasterizer/shading.h). 0 for every model without one (all but he-torrance).
+  virtual double mirror_reflectance(double /*cos_theta*/) const noexcept { return 0.0; }
 };
 
 /// Cosine-weighted direction about n = +z from two uniform numbers (Malley's method: a uniform

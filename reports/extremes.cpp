@@ -53,6 +53,8 @@ constexpr Extra kExtras[] = {
     {"hvd-empirical", "hvd-empirical:rsu=0.001,rsv=1,k=1,nr=1000", "anisotropic radii, retro only"},
     {"ggx", "ggx:alpha_x=0.001,alpha_y=1", "anisotropic, alpha ends"},
     {"ward-aniso", "ward-aniso:alpha_x=0.01,alpha_y=1", "anisotropic, alpha ends"},
+    {"ashikhmin-shirley", "ashikhmin-shirley:nu=0,nv=1000", "anisotropic, exponent ends"},
+    {"schlick", "schlick:r=0.001,p=0.001", "sharp and anisotropic ends"},
     {"mixture", "0.5*lambert+0.5*specular:alpha=1000", "diffuse + sharp specular"},
     {"mixture", "0.3*hvd-empirical:k=0.5+0.4*ggx:alpha=0.01+0.3*asperity:alpha=1000", "three families"},
 };

@@ -34,12 +34,21 @@ struct TableOptions {
   long long max_evaluations = CubatureOptions{}.max_evaluations;
   tables::Encoding encoding = tables::Encoding::single;
   /// > 0: every table is baked to this lookup error (tables/to_error.h) instead of the
-  /// resolutions and tolerance above; max_bytes caps each table's value bytes (0: the default).
+  /// resolutions and tolerance above; max_bytes caps each table's value bytes (0: the default);
+  /// max_fetches the texture fetches per lookup (0: no budget).
   double target_error = 0.0;
   std::uint64_t max_bytes = 0;
+  int max_fetches = 0;
   /// The bake options of law g or h (no progress callback).
   tables::BakeOptions bake_options(Law law) const;
+  /// What the scene commands (bake --scene, render, export-glsl --scene) bake when no accuracy
+  /// option is given: every table to lookup error kSceneTargetError at one hardware-filtered fetch
+  /// per law (docs/lut-format.md, "Baking to an error"). The resolutions above remain what --res-g
+  /// and --res-h replace.
+  static TableOptions scene_defaults();
 };
+inline constexpr double kSceneTargetError = 1e-3;
+inline constexpr int kSceneFetches = 1;
 
 /// Which light fields a set of lights contains.
 struct LightFields {

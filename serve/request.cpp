@@ -224,7 +224,7 @@ const char* content_type(TableFormat format) { return info(format).content_type;
 
 TableQuery parse_table(const Query& query, const Limits& limits, TableEndpoint endpoint,
                        const scene::TableOptions& defaults) {
-  std::vector<std::string> names{"model", "law", "res", "tol", "encoding", "max_error"};
+  std::vector<std::string> names{"model", "law", "res", "tol", "encoding", "max_error", "fetches"};
   if (endpoint == TableEndpoint::table) names.push_back("format");
   check_names(query, endpoint == TableEndpoint::table ? "/api/table" : "/api/glsl", names);
   if (query.count("max_error") && query.count("res"))
@@ -250,6 +250,12 @@ TableQuery parse_table(const Query& query, const Limits& limits, TableEndpoint e
     // within this service's own size cap (max_entries floats of values).
     q.options.target_error = *max_error;
     q.options.max_bytes = limits.max_entries * sizeof(float);
+  }
+  if (const auto fetches = number(query, "fetches")) {  // as `bake --fetches N`: the lookup's fetch budget
+    if (!q.options.target_error) throw bad("fetches needs max_error (it is the fetch budget of that search)");
+    if (*fetches != std::floor(*fetches) || *fetches < 1 || *fetches > 1e6)
+      throw bad("fetches=" + format_number(*fetches) + " is not allowed; expected an integer >= 1");
+    q.options.max_fetches = static_cast<int>(*fetches);
   }
   if (const auto encoding = text_of(query, "encoding"))
     q.options.encoding = as_request([&] { return tables::parse_encoding(*encoding); });

@@ -57,6 +57,24 @@ for version in "430 core" "300 es"; do
     compile "$tmp/h2.glsl" "$version" "$defines" "gz_specular_alpha_100_h(tab, vec3(0.3, 0.0, 0.9), vec3(0.0, 0.0, 1.0))" sampler2D
   done
 done
+# Format version 4: the warped frame read with one hardware-filtered fetch (g), and a filtered h.
+"$G" bake --model specular:alpha=100 --law g --res 9x17x7 --tol 1e-5 --frame warped --filter hardware -o "$tmp/g4.exr" \
+  --quiet >/dev/null || fail "bake g v4"
+"$G" bake --model ggx:roughness=0.3 --law g --res 9x17x7 --tol 1e-5 --frame warped -o "$tmp/g4x.exr" --quiet >/dev/null \
+  || fail "bake ggx g v4"
+"$G" export-glsl "$tmp/g4.exr" -o "$tmp/g4.glsl" --quiet && ok || fail "export g v4"
+"$G" export-glsl "$tmp/g4x.exr" -o "$tmp/g4x.glsl" --quiet && ok || fail "export ggx g v4"
+grep -q "gz_lookup3_filtered" "$tmp/g4.glsl" && grep -q "gz_warped_offset" "$tmp/g4.glsl" \
+  && grep -q "const vec3 gz_specular_alpha_100_g_warp\[17\]" "$tmp/g4.glsl" \
+  && grep -q "// lookup: 1 texture fetch, hardware filtering" "$tmp/g4.glsl" && ok || fail "v4 g snippet: warp or filter missing"
+grep -q "// lookup: 8 texture fetches (texelFetch" "$tmp/g4x.glsl" && ! grep -q "gz_warp_envelope(cs_j" "$tmp/g4x.glsl" \
+  && ok || fail "v4 ggx snippet: lookup line or an envelope it should not have"
+for version in "430 core" "300 es"; do
+  for defines in "" GANZFELD_HARDWARE_FILTER; do
+    compile "$tmp/g4.glsl" "$version" "$defines" "gz_specular_alpha_100_g(tab, vec3(0.3, 0.0, 0.9), vec3(-0.2, 0.1, 0.9), vec3(0.0, 0.0, 1.0))" sampler3D
+    compile "$tmp/g4x.glsl" "$version" "$defines" "gz_ggx_alpha_0_09_f0_1_g2_height_correlated_g(tab, vec3(0.3, 0.0, 0.9), vec3(-0.2, 0.1, 0.9), vec3(0.0, 0.0, 1.0))" sampler3D
+  done
+done
 # Two snippets in one shader: the shared helpers are guarded.
 cat "$tmp/g.glsl" "$tmp/h.glsl" >"$tmp/both.glsl"
 compile "$tmp/both.glsl" "430 core" "" "gz_specular_alpha_8_g(tab, vec3(0.0, 0.0, 1.0), vec3(0.0, 0.0, 1.0), vec3(0.0, 0.0, 1.0))" sampler3D
