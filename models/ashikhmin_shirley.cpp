@@ -130,7 +130,7 @@ double AshikhminShirley::pdf_incident(const Vec3& j, const Vec3& i) const {
 
 MassHints AshikhminShirley::mass_hints(const Vec3& fixed, Varying) const {
   const double along = 2.0 / std::sqrt(std::max(nu_, nv_) + 1.0);
-  return {{{mirror(fixed), along, along * std::max(fixed.z, 1e-3)}}, 0.0};
+  return HintBuilder().lobe(mirror(fixed), along, along * std::max(fixed.z, 1e-3)).build();
 }
 
 // ---------------------------------------------------------------------------------------------

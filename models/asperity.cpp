@@ -31,8 +31,7 @@ std::optional<GlslF> Asperity::glsl_f() const {
 
 MassHints Asperity::mass_hints(const Vec3& fixed, Varying) const {
   // (k·n)(1 - (k·n)(fixed·n))^alpha peaks at k·n = 1/((alpha+1) fixed·n): a layer on the horizon.
-  const double layer = 1.0 / ((alpha_ + 1.0) * std::max(fixed.z, 1e-300));
-  return {{}, layer < 0.3 ? layer : 0.0};
+  return HintBuilder().layer(1.0 / ((alpha_ + 1.0) * std::max(fixed.z, 1e-300))).build();
 }
 
 namespace asperity {

@@ -27,7 +27,7 @@ std::optional<GlslF> Backscatter::glsl_f() const {
 }
 
 MassHints Backscatter::mass_hints(const Vec3& fixed, Varying) const {
-  return {{{fixed, std::sqrt(2.0 / alpha_)}}, 0.0};
+  return HintBuilder().lobe(fixed, std::sqrt(2.0 / alpha_)).build();
 }
 
 namespace backscatter {

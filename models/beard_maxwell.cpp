@@ -229,20 +229,20 @@ std::optional<GlslF> BeardMaxwell::glsl_f() const {
 }
 
 MassHints BeardMaxwell::mass_hints(const Vec3& fixed, Varying) const {
-  MassHints hints;
+  HintBuilder hints;
   const double peak = fs_.rho_fs_cos2(0.0, 1.0);
   if (peak > 0.0 || fs_.is_table()) {
     // theta_N ~ psi/2 near the mirror (psi the angle from the mirror direction).
-    hints.peaks.push_back({mirror(fixed), std::min(std::sqrt(2.0) * fs_.width(), pi / 2)});
+    hints.lobe(mirror(fixed), std::min(std::sqrt(2.0) * fs_.width(), pi / 2));
     // SO's e^{-2 beta/tau} has a conical kink at k = fixed (beta = |k - fixed|/2).
     const double mu = std::clamp(fixed.z, 0.0, 1.0);
     const double theta_fixed = std::acos(mu);
     if (tau_ < pi / 2 && fs_.rho_fs_cos2(theta_fixed, mu) > kRetroHintFraction * peak)
-      hints.peaks.push_back({fixed, std::max(tau_, 1e-3)});
+      hints.lobe(fixed, std::max(tau_, 1e-3));
   }
   // 2 rho_V/(mu + mu_fixed) switches over mu ~ mu_fixed (as Hapke's 1/(mu_i + mu_j)).
-  if (rho_V_ > 0.0 && fixed.z < 0.3) hints.horizon_layer = std::max(fixed.z, 0.0);
-  return hints;
+  if (rho_V_ > 0.0) hints.layer(fixed.z);
+  return hints.build();
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -163,19 +163,18 @@ MassHints BlinnDusty::mass_hints(const Vec3& fixed, Varying) const {
   // - the Lommel–Seeliger factor mu/(mu + mu_fixed) switching over mu ~ mu_fixed, and the thin-layer
   //   factor 1 - exp(-tau/mu ...) switching over mu ~ tau: a horizon layer min(mu_fixed, tau).
   //   The other phase functions are smooth on the scale of the sphere.
-  MassHints hints;
+  HintBuilder hints;
   const auto add_hg = [&](double g, double weight) {
     if (!(weight > 0.0) || g == 0.0) return;
     const double ag = std::abs(g);
-    hints.peaks.push_back({g > 0.0 ? fixed : -fixed, (1.0 - ag) / std::sqrt(ag)});
+    hints.lobe(g > 0.0 ? fixed : -fixed, (1.0 - ag) / std::sqrt(ag));
   };
   if (phase_.kind == BlinnPhase::henyey_greenstein) add_hg(phase_.g, 1.0);
   if (phase_.kind == BlinnPhase::two_term_hg) {
     add_hg(phase_.g, phase_.m);
     add_hg(phase_.g2, 1.0 - phase_.m);
   }
-  hints.horizon_layer = std::min(std::max(fixed.z, 0.0), tau_);
-  return hints;
+  return hints.layer(std::min(fixed.z, tau_)).build();
 }
 
 // ---------------------------------------------------------------------------------------------

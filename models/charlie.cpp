@@ -46,10 +46,10 @@ MassHints Charlie::mass_hints(const Vec3& fixed, Varying) const {
   // surface plane count, i.e. both directions near the horizon: a layer of thickness ~√α, and
   // none when the fixed direction stands higher than that. Measured: 4.5% fewer evaluations on 80
   // cases of a and g (α = 0.001 … 1, θ up to 89.9°) at 1e-9, as honest.
-  MassHints hints;
+  HintBuilder hints;
   const double layer = std::sqrt(alpha_);
-  if (fixed.z < 4.0 * layer) hints.horizon_layer = layer;
-  return hints;
+  if (fixed.z < hint_rules::kReachWidths * layer) hints.layer(layer);
+  return hints.build();
 }
 
 void register_charlie_models(std::vector<ModelInfo>& c) {

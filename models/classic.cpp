@@ -101,10 +101,12 @@ MassHints Phong::mass_hints(const Vec3& fixed, Varying varying) const {
   // always declared.
   const bool rational = lobe_ == PhongLobe::schlick_rational;
   const double w = rational ? std::sqrt(2.0 / n_) : 1.0 / std::sqrt(n_);
-  MassHints hints{{{mirror(fixed), w}}, 0.0};
-  if (varying == Varying::incident && (rational || std::asin(std::clamp(fixed.z, 0.0, 1.0)) < 4.0 * w + 0.05))
-    hints.horizon_layer = kGrazingCosFloor;
-  return hints;
+  HintBuilder hints;
+  hints.lobe(mirror(fixed), w);
+  if (varying == Varying::incident && rational) hints.layer(kGrazingCosFloor);
+  if (varying == Varying::incident)
+    hints.layer_where_lobe_meets_horizon(std::asin(std::clamp(fixed.z, 0.0, 1.0)), w, kGrazingCosFloor);
+  return hints.build();
 }
 
 PhongLewis::PhongLewis(double kd, double ks, double n)
@@ -126,7 +128,7 @@ std::optional<GlslF> PhongLewis::glsl_f() const {
 }
 
 MassHints PhongLewis::mass_hints(const Vec3& fixed, Varying) const {
-  return {{{mirror(fixed), 1.0 / std::sqrt(n_)}}, 0.0};
+  return HintBuilder().lobe(mirror(fixed), 1.0 / std::sqrt(n_)).build();
 }
 
 double blinn_phong_normalization(double n) {
@@ -173,7 +175,7 @@ MassHints BlinnPhong::mass_hints(const Vec3& fixed, Varying) const {
   // as at that scale. On the 88-case grid of blinn-phong (n = 1, 20, 1000, tolerance 1e-8) a
   // floor of 1e-9 cost 4.6-8.7x the evaluations, 1e-3 1.5-1.9x; both honest.
   const double along = 2.0 / std::sqrt(n_);
-  return {{{mirror(fixed), along, along * std::max(fixed.z, 1e-3)}}, 0.0};
+  return HintBuilder().lobe(mirror(fixed), along, along * std::max(fixed.z, 1e-3)).build();
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -257,7 +259,7 @@ std::optional<GlslF> CookTorrance::glsl_f() const {
 
 MassHints CookTorrance::mass_hints(const Vec3& fixed, Varying) const {
   // exp(-tan^2 delta/m^2) ~ exp(-psi^2/(4 m^2)) near the mirror (psi ~ 2 delta): width sqrt(2) m.
-  return {{{mirror(fixed), std::sqrt(2.0) * m_}}, 0.0};
+  return HintBuilder().lobe(mirror(fixed), std::sqrt(2.0) * m_).build();
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -338,7 +340,7 @@ double Ward::pdf_incident(const Vec3& j, const Vec3& i) const {
 }
 
 MassHints Ward::mass_hints(const Vec3& fixed, Varying) const {
-  return {{{mirror(fixed), std::sqrt(2.0) * std::min(alpha_x_, alpha_y_)}}, 0.0};
+  return HintBuilder().lobe(mirror(fixed), std::sqrt(2.0) * std::min(alpha_x_, alpha_y_)).build();
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -451,13 +453,13 @@ std::optional<GlslF> Lafortune::glsl_f() const {
 
 MassHints Lafortune::mass_hints(const Vec3& fixed, Varying) const {
   // Each lobe peaks along (Cx x, Cy y, Cz z) of the fixed direction; width ~ 1/sqrt(n).
-  MassHints hints;
+  HintBuilder hints;
   for (const Lobe& l : lobes_) {
     const Vec3 axis{l.C_x * fixed.x, l.C_y * fixed.y, l.C_z * fixed.z};
     const double len = glm::length(axis);
-    if (len > 0.0) hints.peaks.push_back({axis / len, 1.0 / std::sqrt(l.n)});
+    if (len > 0.0) hints.lobe(axis / len, 1.0 / std::sqrt(l.n));
   }
-  return hints;
+  return hints.build();
 }
 
 ModelPtr lafortune_paint(int channel) {
@@ -526,8 +528,7 @@ std::optional<GlslF> Hapke::glsl_f() const {
 MassHints Hapke::mass_hints(const Vec3& fixed, Varying) const {
   // The opposition surge on `fixed` (B falls from 2 over tan alpha ~ g), and the
   // Lommel–Seeliger factor (k·n)/((k + fixed)·n) switching over k·n ~ fixed·n.
-  const double layer = fixed.z < 0.3 ? fixed.z : 0.0;
-  return {{{fixed, std::min(g_, 1.0)}}, layer};
+  return HintBuilder().lobe(fixed, std::min(g_, 1.0)).layer(fixed.z).build();
 }
 
 // ---------------------------------------------------------------------------------------------

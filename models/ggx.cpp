@@ -152,8 +152,8 @@ MassHints Ggx::mass_hints(const Vec3& fixed, Varying) const {
   // HVD lobes) cost 43% more evaluations and was no more honest; without the layer, 1% more
   // evaluations and the worst true error reached 0.91 of the estimate (0.32 with it).
   const double w = std::sqrt(2.0) * std::min(alpha_.x, alpha_.y);
-  MassHints hints{{{mirror(fixed), w}}, 0.0};
-  if (fixed.z < 4.0 * w + 0.05) hints.horizon_layer = std::max(w, 1e-9);
+  HintBuilder hints;
+  hints.lobe(mirror(fixed), w).layer_where_lobe_meets_horizon(fixed.z, w);
   // The height-correlated visibility 1/(2 ((j·n) r_k + (k·n) r_j)) (ggx::visibility) holds, for a
   // fixed direction just above the horizon, a layer in k·n as thin as fixed·n: times (k·n) it is
   // (k·n)/(2 (j·n) r_k + 2 (k·n) r_j), flat above k·n ~ (j·n) r_k/r_j and falling to 0 below it,
@@ -162,9 +162,9 @@ MassHints Ggx::mass_hints(const Vec3& fixed, Varying) const {
   if (g2_ == ggx::G2Form::height_correlated && fixed.z > 0.0) {
     const double r_fixed = ggx::projected_root(fixed, alpha_);
     const double layer = fixed.z * std::max(alpha_.x, alpha_.y) / r_fixed;  // r_k of a grazing k <= max alpha
-    if (layer < kVisibilityLayerCeiling) hints.add_horizon_layer(layer);
+    if (layer < kVisibilityLayerCeiling) hints.layer(layer);
   }
-  return hints;
+  return hints.build();
 }
 
 std::optional<IncidentSample> Ggx::sample_incident(const Vec3& j, const std::array<double, 3>& u) const {

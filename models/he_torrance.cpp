@@ -291,15 +291,11 @@ MassHints HeTorrance::mass_hints(const Vec3& fixed, Varying) const {
   // sqrt(2m)/(k tau) = sqrt(m) lambda/(sqrt(2) pi tau). Moving j by delta across the plane of
   // n and the peak moves (i + j)_xy by delta, along it by cos(theta_r) delta.
   const double w1 = lambda_ / (std::sqrt(2.0) * pi * tau_);
-  auto peak = [&](double w) {
-    const double across = std::min(w, pi / 2);
-    const double along = std::min(w / std::max(mu, 1e-6), pi / 2);
-    return Peak{r, along, across};
-  };
-  MassHints hints;
-  hints.peaks.push_back(peak(w1));
-  if (g > 4.0) hints.peaks.push_back(peak(w1 * std::sqrt(g)));
-  return hints;
+  HintBuilder hints;
+  auto lobe = [&](double w) { hints.lobe(r, std::min(w / std::max(mu, 1e-6), pi / 2), std::min(w, pi / 2)); };
+  lobe(w1);
+  if (g > 4.0) lobe(w1 * std::sqrt(g));
+  return hints.build();
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -53,7 +53,7 @@ std::optional<GlslF> Kajiya::glsl_f() const {
 }
 
 MassHints Kajiya::mass_hints(const Vec3& fixed, Varying varying) const {
-  MassHints hints;
+  HintBuilder hints;
   const double width = 1.0 / std::sqrt(n_);
   // The cone k·x = -fixed·x: k = (-fixed_x, s cos beta, s sin beta), s = sin(t, fixed), beta in [0, pi].
   const double s = sin_to_axis(fixed);
@@ -61,10 +61,10 @@ MassHints Kajiya::mass_hints(const Vec3& fixed, Varying varying) const {
   if (ks_ > 0.0 && s > 0.0)
     for (int m = 0; m < kPoints; ++m) {
       const double beta = pi * m / (kPoints - 1);
-      hints.peaks.push_back({Vec3{-fixed.x, s * std::cos(beta), s * std::sin(beta)}, width});
+      hints.lobe(Vec3{-fixed.x, s * std::cos(beta), s * std::sin(beta)}, width);
     }
-  if (varying == Varying::incident) hints.horizon_layer = kGrazingCosFloor;
-  return hints;
+  if (varying == Varying::incident) hints.layer(kGrazingCosFloor);
+  return hints.build();
 }
 
 // ---------------------------------------------------------------------------------------------

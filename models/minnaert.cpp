@@ -35,10 +35,9 @@ std::optional<GlslF> Minnaert::glsl_f() const {
 MassHints Minnaert::mass_hints(const Vec3&, Varying) const {
   // The integrand (k·n)^(xi+1) ~ exp(-(xi+2) theta^2 / 2): a lobe on n of width 1/sqrt(xi+2).
   const double width = 1.0 / std::sqrt(xi_ + 2.0);
-  MassHints hints;
-  if (width <= 0.3) hints.peaks.push_back({Vec3{0, 0, 1}, width});
-  hints.rough_horizon = xi_ < 1.0 && xi_ > 0.0;
-  return hints;
+  HintBuilder hints;
+  if (width <= 0.3) hints.lobe(Vec3{0, 0, 1}, width);
+  return hints.rough_horizon(xi_ < 1.0 && xi_ > 0.0).build();
 }
 
 namespace minnaert {

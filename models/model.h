@@ -18,6 +18,7 @@
 #include <glm/vec3.hpp>
 
 #include "models/glsl.h"
+#include "models/mass_hints.h"
 
 namespace ganzfeld {
 
@@ -36,38 +37,6 @@ struct Traits {
   bool isotropic = true;   ///< invariant under rotation about n: laws depend on (i·n, j·n, i·j)
   bool reciprocal = true;  ///< f(i,j) = f(j,i) (Helmholtz), hence a = h
   EnergyClass energy = EnergyClass::plausible;
-};
-
-/// Where a model's integrand has its mass, so the integrator splits panels there instead of
-/// hoping its first nodes land on a lobe (integrate/cubature.h).
-struct Peak {
-  Vec3 direction;  ///< unit vector of the lobe's maximum (may lie outside the domain)
-  double width;    ///< angular scale in radians (e.g. sqrt(2/alpha) for a cosine-power lobe)
-  /// Angular scale across the plane of n and the peak, when the lobe is elongated (0: the same
-  /// as width). Halfway-vector lobes near grazing are 10^4 times thinner across than along.
-  double across = 0.0;
-};
-struct MassHints {
-  std::vector<Peak> peaks;
-  /// Thickness in k·n of a layer of mass hugging the horizon (asperity lobes, the
-  /// 1/((i+j)·n) factor of perfect backscatter); 0 when there is none.
-  double horizon_layer = 0.0;
-  /// Declares one more layer: of several, the thinnest is the one the grid must resolve.
-  void add_horizon_layer(double thickness) {
-    if (thickness > 0.0) horizon_layer = horizon_layer > 0.0 ? std::min(horizon_layer, thickness) : thickness;
-  }
-  /// The integrand behaves like (k·n)^nu at the horizon with a non-integer nu < 2 (Minnaert's
-  /// (k·n)^(1+xi)): a weak singularity at the edge of the domain, which the integrator grades.
-  bool rough_horizon = false;
-  /// Half great circles from -crease_axis to +crease_axis across which the integrand jumps or
-  /// kinks, given by their longitude about crease_axis: phi(k) = atan2(k·u, k·n) with
-  /// u = crease_axis × n, in (-pi/2, pi/2). Poulin–Fournier's cylinder shadowing depends only on
-  /// the angle of k projected on the plane perpendicular to the cylinders, so its jumps lie on
-  /// such circles. The integrator then works in a frame whose meridians are these circles and
-  /// cuts its panels there (integrate/laws_integrals.cpp): the jumps are resolved by splitting,
-  /// not by bisecting towards them. crease_axis must be horizontal (·n = 0); zero means none.
-  Vec3 crease_axis{0.0, 0.0, 0.0};
-  std::vector<double> crease_longitudes{};
 };
 
 /// Which argument of f an integral runs over while the other is held fixed.
@@ -102,7 +71,8 @@ class Model {
   virtual void f_batch(std::span<const Vec3> i, std::span<const Vec3> j,
                        std::span<double> out) const noexcept;
 
-  /// Where the integrand k -> (k·n) f(k, fixed) [or f(fixed, k)] has its mass.
+  /// Where the integrand k -> (k·n) f(k, fixed) [or f(fixed, k)] has its mass, built by HintBuilder
+  /// (models/mass_hints.h); none by default.
   virtual MassHints mass_hints(const Vec3& fixed, Varying varying) const;
 
   /// Importance sampling of the incident direction i for the outgoing (viewing) direction j,

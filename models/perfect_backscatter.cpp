@@ -38,8 +38,7 @@ std::optional<GlslF> PerfectBackscatter::glsl_f() const {
 
 MassHints PerfectBackscatter::mass_hints(const Vec3& fixed, Varying) const {
   // The lobe on `fixed`, and (k·n)/((k + fixed)·n) switching from 0 to 1 over k·n ~ fixed·n.
-  const double layer = fixed.z < 0.3 ? fixed.z : 0.0;
-  return {{{fixed, std::sqrt(2.0 / alpha_)}}, layer};
+  return HintBuilder().lobe(fixed, std::sqrt(2.0 / alpha_)).layer(fixed.z).build();
 }
 
 namespace perfect_backscatter {

@@ -324,9 +324,8 @@ std::vector<double> PoulinFournier::crease_longitudes(const Vec3& fixed) const {
 }
 
 MassHints PoulinFournier::mass_hints(const Vec3& fixed, Varying) const {
-  MassHints hints;
-  hints.crease_axis = theta_M_ > 0.0 ? Vec3{1.0, 0.0, 0.0} : Vec3{0.0, 0.0, 0.0};
-  hints.crease_longitudes = crease_longitudes(fixed);
+  HintBuilder hints;
+  hints.creases(theta_M_ > 0.0 ? Vec3{1.0, 0.0, 0.0} : Vec3{0.0, 0.0, 0.0}, crease_longitudes(fixed));
   if (ks_ > 0.0) {
     // (N.h)^n about the mirror of `fixed` in N(psi), width 2/sqrt(n) as blinn-phong; psi spans
     // the arc, so the highlight is a band (the cone j_x = -i_x): five points along it. Across the
@@ -342,10 +341,10 @@ MassHints PoulinFournier::mass_hints(const Vec3& fixed, Varying) const {
       // the along one adds nothing but cut lines a sliver apart (the reference then bisects the
       // slivers next to the creases until its budget runs out: h at j = n).
       const double height = glm::dot(N, fixed), across = width * std::max(height, 1e-3);
-      hints.peaks.push_back({2.0 * height * N - fixed, width, across < 0.5 * width ? across : 0.0});
+      hints.lobe(2.0 * height * N - fixed, width, across < 0.5 * width ? across : 0.0);
     }
   }
-  return hints;
+  return hints.build();
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -166,7 +166,7 @@ double Schlick::pdf_incident(const Vec3& j, const Vec3& i) const {
 }
 
 MassHints Schlick::mass_hints(const Vec3& fixed, Varying) const {
-  return {{{mirror(fixed), std::sqrt(2.0 * r_) * p_}}, 0.0};
+  return HintBuilder().lobe(mirror(fixed), std::sqrt(2.0 * r_) * p_).build();
 }
 
 // ---------------------------------------------------------------------------------------------

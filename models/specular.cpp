@@ -33,7 +33,7 @@ std::optional<GlslF> Specular::glsl_f() const {
 
 MassHints Specular::mass_hints(const Vec3& fixed, Varying) const {
   // ((1 + cos gamma)/2)^alpha = cos^(2 alpha)(gamma/2) ~ exp(-alpha gamma^2 / 4).
-  return {{{mirror(fixed), std::sqrt(2.0 / alpha_)}}, 0.0};
+  return HintBuilder().lobe(mirror(fixed), std::sqrt(2.0 / alpha_)).build();
 }
 
 namespace specular {
