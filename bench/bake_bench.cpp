@@ -1,5 +1,8 @@
 // Bake throughput, repeated (timings are medians of repeated
 // runs with their spread, and the machine is read from the machine).
+#include <ctime>
+#include <sstream>
+
 #include <tbb/global_control.h>
 
 #include "bench/cubature_bench.h"
@@ -29,6 +32,22 @@ std::vector<BakeTiming> run_bake_benchmark(bool quick, int repeats) {
     out.push_back(std::move(timing));
   }
   return out;
+}
+
+std::string significant(double x, int digits) {
+  std::ostringstream s;
+  s.precision(digits);
+  s << x;
+  return s.str();
+}
+
+std::string today_utc() {
+  const std::time_t now = std::time(nullptr);
+  std::tm utc{};
+  gmtime_r(&now, &utc);
+  char buffer[16];
+  std::strftime(buffer, sizeof buffer, "%Y-%m-%d", &utc);
+  return buffer;
 }
 
 }  // namespace ganzfeld::bench

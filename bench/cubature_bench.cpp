@@ -589,13 +589,6 @@ std::string number(double x, int digits = 3) { return significant(x, digits); }
 
 }  // namespace
 
-std::string significant(double x, int digits) {
-  std::ostringstream s;
-  s.precision(digits);
-  s << x;
-  return s.str();
-}
-
 std::string percent(int part, int whole) { return whole ? significant(100.0 * part / whole, 2) + "%" : std::string("—"); }
 
 namespace {

@@ -144,8 +144,11 @@ struct BakeTiming {
 };
 std::vector<BakeTiming> run_bake_benchmark(bool quick, int repeats);
 
-/// x to `digits` significant digits, as the reports print numbers; part/whole as a percentage.
+/// Today's date in UTC, YYYY-MM-DD (the stamp of a generated section).
+std::string today_utc();
+/// x with `digits` significant digits (%g): the benchmarks' Markdown numbers.
 std::string significant(double x, int digits = 3);
+/// part/whole as a percentage with two significant digits, "—" when whole is 0.
 std::string percent(int part, int whole);
 
 /// Our evaluations per family in a run of the previous engine: `family,competitor,runs,evaluations`

@@ -74,10 +74,13 @@ struct TableOptionArgs {
   std::optional<long long> max_evaluations;
   std::optional<double> max_error;
   std::optional<unsigned long long> max_bytes;
+  std::optional<long long> fetches;
+  bool best_effort = false;
   /// Registers the flags; `defaults` is what --help shows and what unset flags mean.
   void add_to(CLI::App& app, const scene::TableOptions& defaults);
   /// The options, validated (InputError naming the parameter: res_g, max_error, ...; the command line
-  /// spells it as a flag, a library file as its key); unset flags take `defaults`.
+  /// spells it as a flag, a library file as its key); unset flags take `defaults`. Defaults that bake
+  /// to an error (scene_defaults) give way to a fixed resolution when --res-g, --res-h or --tol is given.
   scene::TableOptions options(const scene::TableOptions& defaults) const;
 };
 

@@ -39,7 +39,7 @@ constexpr double kModelTol = 1e-9;
 
 struct BakeArgs {
   // one table
-  std::string model, law, res, output, mapping, frame, interpolation;
+  std::string model, law, res, output, mapping, frame, interpolation, filter;
   // a preset table over a roughness axis (tables/preset.h)
   std::string preset, dfg_layout, axis, grid;
   std::optional<unsigned long long> checks;
@@ -140,7 +140,8 @@ int bake_one(const BakeArgs& args) {
     throw InputError("--res and --max-error are mutually exclusive: --max-error chooses the resolution itself");
   if (to_error)
     for (const auto& [flag, set] : {std::pair{"--mapping", !args.mapping.empty()}, {"--frame", !args.frame.empty()},
-                                    {"--interpolation", !args.interpolation.empty()}, {"--checks", args.checks.has_value()}})
+                                    {"--interpolation", !args.interpolation.empty()}, {"--checks", args.checks.has_value()},
+                                    {"--filter", !args.filter.empty()}})
       if (set) throw InputError(std::string(flag) + " cannot be combined with --max-error, which chooses it itself");
   if (args.output.empty()) throw InputError("bake --model needs -o FILE.exr");
   const Law law = tables::parse_tabulated_law("--law", args.law);
@@ -153,12 +154,20 @@ int bake_one(const BakeArgs& args) {
   else tables::check_error_target(options.target_error, options.max_bytes, law, options.encoding);
   if (!args.mapping.empty()) options.mappings = tables::parse_mappings(args.mapping, law);
   if (!args.interpolation.empty()) options.interpolation = tables::parse_interpolation(args.interpolation);
-  if (!args.frame.empty() && tables::parse_frame(args.frame) == tables::Frame::lobe) {
-    if (law != Law::g) throw InputError("--frame lobe is for law g; h and a tables use the cosines frame");
+  const tables::Frame frame = args.frame.empty() ? tables::Frame::cosines : tables::parse_frame(args.frame);
+  if (frame != tables::Frame::cosines) {
+    if (law != Law::g)
+      throw InputError(std::string("--frame ") + to_string(frame) + " is for law g; h and a tables use the cosines frame");
     options.lobe = tables::lobe_frame_of(*model);
     if (!options.lobe)
-      throw InputError("--frame lobe: model '" + model->spec() +
+      throw InputError(std::string("--frame ") + to_string(frame) + ": model '" + model->spec() +
                        "' hints no lobe at the mirror direction or at j to follow; use --frame cosines");
+    options.warped = frame == tables::Frame::warped;
+  }
+  if (!args.filter.empty()) {
+    options.filter = tables::parse_filter(args.filter);
+    if (options.filter == tables::Filter::hardware && options.interpolation != tables::Interpolation::linear)
+      throw InputError("--filter hardware is validated for --interpolation linear only");
   }
   if (args.checks) options.random_checks = *args.checks;
   tables::table_key(*model, law, options);  // refuses bad axes now
@@ -176,14 +185,18 @@ int bake_one(const BakeArgs& args) {
     std::string nodes;
     for (const tables::Axis& a : table.axes) nodes += (nodes.empty() ? "" : "x") + std::to_string(a.count);
     if (table.target_error > 0.0)
-      std::printf("target lookup error %s within %llu value bytes: met\n", format_number(table.target_error).c_str(),
-                  static_cast<unsigned long long>(table.target_bytes));
-    std::printf("baked %s of %s, %s nodes (%s frame, %s, %zu entries, %s, %llu value bytes) in %.2f s: lookup error "
-                "%.3g (validated at %lld points; node error %.3g), %lld unconverged -> %s\n",
+      std::printf("target lookup error %s within %llu value bytes%s: %s\n", format_number(table.target_error).c_str(),
+                  static_cast<unsigned long long>(table.target_bytes),
+                  table.target_fetches ? (" and " + std::to_string(table.target_fetches) + " fetches").c_str() : "",
+                  tables::misses_target(table) ? "missed (best effort: the most accurate table found)" : "met");
+    std::printf("baked %s of %s, %s nodes (%s frame, %s, %s filter: %d fetches per lookup, %zu entries, %s, %llu value "
+                "bytes) in %.2f s: lookup error %.3g (validated at %lld points%s; node error %.3g), %lld unconverged -> %s\n",
                 to_string(law), table.model.c_str(), nodes.c_str(), to_string(table.frame),
-                to_string(table.interpolation), table.entries(), to_string(table.encoding),
-                static_cast<unsigned long long>(tables::value_bytes(table)), r.seconds, table.lookup_error,
-                table.interpolation_checks, table.node_error, table.unconverged, args.output.c_str());
+                to_string(table.interpolation), to_string(table.filter), tables::fetches(table), table.entries(),
+                to_string(table.encoding), static_cast<unsigned long long>(tables::value_bytes(table)), r.seconds,
+                table.lookup_error, table.interpolation_checks,
+                table.min_cos_j > 0.0 ? (" with j·n >= " + format_number(table.min_cos_j)).c_str() : "",
+                table.node_error, table.unconverged, args.output.c_str());
   }
   warn_unconverged(r.table, r.status);
   return 0;
@@ -213,7 +226,7 @@ std::size_t baked_count(const scene::ShadingPlan& plan) {
 
 int bake_scene(const BakeArgs& args) {
   if (args.out_dir.empty()) throw InputError("bake --scene needs --out DIR (the table cache directory)");
-  const scene::TableOptions options = args.table.options(scene::TableOptions{});
+  const scene::TableOptions options = args.table.options(scene::TableOptions::scene_defaults());
   const Scene scene = load_scene(args.scene);
   const std::string dir = prepare_directory("--out", args.out_dir);
   const scene::ShadingPlan plan = scene::plan_shading(scene, options, table_store(dir, args.quiet, args.force));
@@ -273,7 +286,8 @@ constexpr ModeFlag kModeFlags[] = {
     {"--checks", true, false, false}, {"--out", false, true, true},       {"--res-g", false, true, false},
     {"--res-h", false, true, false},  {"--shard", false, false, true},    {"--tol", true, true, false},
     {"--encoding", true, true, false}, {"--max-evals", true, true, false}, {"--max-error", true, true, false},
-    {"--max-bytes", true, true, false}, {"--preset", true, false, false}, {"--dfg-layout", true, false, false},
+    {"--max-bytes", true, true, false}, {"--fetches", true, true, false}, {"--preset", true, false, false},
+    {"--dfg-layout", true, false, false},
     {"--axis", true, false, false},   {"--grid", true, false, false}};
 
 /// Which of --model, --scene, --library was given (exactly one), with no flag of another mode.
@@ -315,8 +329,11 @@ void add_bake_command(CLI::App& app, Action& action, int argc, const char* const
   cmd->add_option("--mapping", args->mapping,
                   "one table: axis mappings, M or MxMxM for g (M = linear, sqrt, cos; default: the law's defaults)");
   cmd->add_option("--frame", args->frame,
-                  "one table: g axes, cosines (i·n, j·n, phi; default) or lobe (theta_j, psi, beta about the lobe's "
-                  "peak, docs/lut-format.md)");
+                  "one table: g axes, cosines (i·n, j·n, phi; default), lobe (theta_j, psi, beta about the lobe's "
+                  "peak) or warped (theta_j, the sky edge's warped offset from the lobe, beta; docs/lut-format.md)");
+  cmd->add_option("--filter", args->filter,
+                  "one table: the lookup its bound covers, texel-fetch (default) or hardware (one GPU-filtered fetch, "
+                  "8-bit weights; linear interpolation only)");
   cmd->add_option("--interpolation", args->interpolation, "one table: lookup, linear (default) or catmull-rom");
   cmd->add_option("--checks", args->checks,
                   "one table: seeded random validation points (besides the cell centres) against direct cubature");
@@ -338,7 +355,7 @@ void add_bake_command(CLI::App& app, Action& action, int argc, const char* const
   cmd->add_option("--out", args->out_dir,
                   "a scene's or a library's tables: the cache directory (created if its parent exists); file "
                   "names are SPEC.LAW.HASH.exr");
-  args->table.add_to(*cmd, scene::TableOptions{});  // --res-g, --res-h (scenes), --tol, --encoding, --max-evals
+  args->table.add_to(*cmd, scene::TableOptions::scene_defaults());  // --res-g, --res-h (scenes), --tol, --encoding, ...
   cmd->add_flag("--force", args->force, "bake even when the file already holds exactly this table");
   cmd->add_flag("--quiet", args->quiet, "no progress bar (it is shown only when stderr is a terminal)");
   add_json_flag(*cmd, args->json, "{\"tables\": [{path, model, law, status}, ...]}");

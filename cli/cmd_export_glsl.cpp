@@ -111,7 +111,7 @@ int export_table(const ExportArgs& args) {
 int export_scene(const ExportArgs& args) {
   if (args.out_dir.empty()) throw InputError("export-glsl --scene needs --out DIR");
   const auto format = texture_format(args.texture);
-  const scene::TableOptions options = args.tables.options(scene::TableOptions{});
+  const scene::TableOptions options = args.tables.options(scene::TableOptions::scene_defaults());
   const Scene scene = load_scene(args.scene);
   exporting::check_scene_exportable(scene);  // before any bake
   const std::string cache = args.cache.empty() ? std::string() : prepare_directory("--cache", args.cache);
@@ -130,7 +130,10 @@ int export_scene(const ExportArgs& args) {
                                  {"model", planned.request.spec},
                                  {"law", to_string(planned.request.law)},
                                  {"lookup_error", table->lookup_error},
-                                 {"node_error", table->node_error}};
+                                 {"node_error", table->node_error},
+                                 {"frame", to_string(table->frame)},
+                                 {"filter", to_string(table->filter)},
+                                 {"fetches", tables::fetches(*table)}};
     if (format) {
       const std::string file = sampler + exporting::texture_extension(*format);
       exporting::write_texture(*table, *format, (std::filesystem::path(dir) / file).string(), sampler);
@@ -174,7 +177,7 @@ void add_export_glsl_command(CLI::App& app, Action& action) {
   cmd->add_option("--scene", args->scene, "export the reference shader and every table of SCENE.json instead");
   cmd->add_option("--out", args->out_dir, "with --scene: the output directory (created if its parent exists)");
   cmd->add_option("--cache", args->cache, "with --scene: reuse/store the scene's tables in DIR (as `render --cache`)");
-  args->tables.add_to(*cmd, scene::TableOptions{});  // with --scene: --res-g, --res-h, --tol, --encoding, --max-evals
+  args->tables.add_to(*cmd, scene::TableOptions::scene_defaults());  // with --scene: --res-g, --res-h, --tol, --encoding, --max-evals
   cmd->add_flag("--quiet", args->quiet, "no progress and no summary line");
   add_json_flag(*cmd, args->json);
   cmd->callback([&action, args] {

@@ -88,11 +88,21 @@ void add_info_command(CLI::App& app, Action& action) {
                   format_number(table.lookup_error).c_str(),
                   table.format_version >= 2 ? "margin x the largest measured" : "measured", table.interpolation_checks);
       if (table.target_error > 0.0)
-        std::printf("  target       lookup error <= %s within %llu value bytes\n", format_number(table.target_error).c_str(),
-                    static_cast<unsigned long long>(table.target_bytes));
+        std::printf("  target       lookup error <= %s within %llu value bytes: %s\n", format_number(table.target_error).c_str(),
+                    static_cast<unsigned long long>(table.target_bytes),
+                    tables::misses_target(table) ? "missed (a best-effort bake)" : "met");
+      if (table.target_fetches > 0) std::printf("  fetch budget %d per lookup\n", table.target_fetches);
       std::printf("  frame        %s%s%s, %s interpolation\n", to_string(table.frame),
-                  table.frame == tables::Frame::lobe ? ", peak " : "",
-                  table.frame == tables::Frame::lobe ? to_string(table.peak) : "", to_string(table.interpolation));
+                  table.frame != tables::Frame::cosines ? ", peak " : "",
+                  table.frame != tables::Frame::cosines ? to_string(table.peak) : "", to_string(table.interpolation));
+      std::printf("  lookup       %s: %d texture fetch%s per lookup; the error above is for this lookup%s%s\n",
+                  table.filter == tables::Filter::hardware ? "hardware filter (GL_LINEAR)" : "texelFetch",
+                  tables::fetches(table), tables::fetches(table) == 1 ? "" : "es",
+                  table.filter == tables::Filter::hardware ? ", with 8-bit filter weights rounded or truncated" : "",
+                  table.min_cos_j > 0.0 ? (", at j·n >= " + format_number(table.min_cos_j)).c_str() : "");
+      if (table.frame == tables::Frame::warped)
+        std::printf("  warp         %zu samples over theta_j, mix %s, envelope width %s\n", table.warp.samples.size(),
+                    format_number(table.warp.mix).c_str(), format_number(table.warp.envelope).c_str());
       if (!table.model_content.empty()) std::printf("  model data   %s\n", table.model_content.c_str());
       for (const tables::Axis& a : table.axes)
         std::printf("  axis         %-12s [%s, %s] %d nodes, %s%s\n", a.name.c_str(), format_number(a.min).c_str(),

@@ -38,7 +38,7 @@ struct RenderArgs {
 
 int run_render(const RenderArgs& args) {
   const util::Stopwatch watch;
-  scene::TableOptions defaults;
+  scene::TableOptions defaults = scene::TableOptions::scene_defaults();
   if (args.direct) defaults.tolerance = kDirectTol;
   const scene::TableOptions options = args.table.options(defaults);
   raster::image_format(args.output);  // refuse a bad extension or path before any work
@@ -84,7 +84,7 @@ void add_render_command(CLI::App& app, Action& action) {
   cmd->add_flag("--direct", args->direct,
                 "shade g and h by cubature per pixel (the slow reference) instead of tables; Lambert lobes use their "
                 "closed forms either way");
-  args->table.add_to(*cmd, scene::TableOptions{});  // with --direct, --tol is per pixel (default 1e-6)
+  args->table.add_to(*cmd, scene::TableOptions::scene_defaults());  // with --direct, --tol is per pixel (default 1e-6)
   cmd->add_option("--cache", args->cache,
                   "reuse tables from DIR and store new ones there (created if its parent exists); the files of "
                   "`ganzfeld bake --scene SCENE --out DIR`. Default: bake in memory");

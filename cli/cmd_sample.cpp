@@ -23,6 +23,7 @@ struct SampleArgs {
   ParameterArgs parameter;
   std::optional<double> mu;
   bool json = false;
+  bool hardware_filter = false;
 };
 
 /// A parameter table (format version 3) at (--alpha | --roughness, --mu | --theta-i | --i):
@@ -75,9 +76,17 @@ void add_sample_command(CLI::App& app, Action& action) {
   args->parameter.add_to(*cmd);
   cmd->add_option("--mu", args->mu, "parameter tables: cos theta_i in [0, 1] (instead of --theta-i)");
   add_json_flag(*cmd, args->json);
+  cmd->add_flag("--hardware-filter", args->hardware_filter,
+                "emulate a GPU's linear filter: every blend weight of the exported shader's texture() calls "
+                "rounded to a multiple of 1/256 (8-bit sub-texel precision, as Direct3D and Vulkan guarantee)");
   cmd->callback([&action, args] {
     action = [args] {
-      if (tables::format_version_of(args->path) == tables::kParamFormatVersion) return sample_param_table(*args);
+      if (tables::format_version_of(args->path) == tables::kParamFormatVersion) {
+        if (args->hardware_filter)
+          throw InputError("--hardware-filter: '" + args->path +
+                           "' is a parameter table, whose exported lookup reads texels with texelFetch (no filtered path)");
+        return sample_param_table(*args);
+      }
       if (args->parameter.alpha || args->parameter.roughness || args->mu)
         throw InputError("--alpha, --roughness and --mu are for parameter tables (format version 3); '" + args->path +
                          "' is not one");
@@ -87,18 +96,29 @@ void add_sample_command(CLI::App& app, Action& action) {
       const bool needs_j = law == Law::g || law == Law::h;
       const Vec3 i = needs_i ? args->directions.incident(law) : Vec3{0, 0, 1};
       const Vec3 j = needs_j ? args->directions.outgoing(law) : Vec3{0, 0, 1};
-      const tables::Sample s = tables::sample(table, i, j);
+      if (args->hardware_filter && table.interpolation != tables::Interpolation::linear &&
+          table.interpolation != tables::Interpolation::catmull_rom)
+        throw InputError("--hardware-filter: table '" + args->path + "' has no filtered lookup");
+      const tables::WeightRounding rounding =
+          args->hardware_filter ? tables::WeightRounding::nearest : tables::WeightRounding::exact;
+      const tables::Sample s = tables::sample(table, i, j, rounding);
       if (args->json) {
         // error: the table's validated lookup error (docs/lut-format.md, "The error a lookup reports").
         nlohmann::ordered_json doc{{"value", s.value},
                                    {"error", table.lookup_error},
                                    {"node_error", s.error},
-                                   {"validation_points", table.interpolation_checks}};
+                                   {"validation_points", table.interpolation_checks},
+                                   {"lookup", args->hardware_filter ? "hardware-filter emulation (8-bit weights, nearest)"
+                                                                    : "full precision"},
+                                   {"bound_filter", to_string(table.filter)},
+                                   {"min_cos_theta_j", table.min_cos_j}};
         std::cout << doc.dump(2) << "\n";
       } else {
-        std::printf("%s %s = %.9g ± %.2g (the table's lookup error, validated at %lld points; node error here %.2g; "
-                    "table %s)\n",
+        std::printf("%s %s = %.9g ± %.2g (the table's lookup error, validated at %lld points%s for the %s lookup; "
+                    "%s here; node error here %.2g; table %s)\n",
                     table.model.c_str(), to_string(law), s.value, table.lookup_error, table.interpolation_checks,
+                    table.min_cos_j > 0.0 ? (" with j·n >= " + format_number(table.min_cos_j)).c_str() : "",
+                    to_string(table.filter), args->hardware_filter ? "8-bit filter weights emulated" : "full precision",
                     s.error, args->path.c_str());
       }
       return 0;

@@ -24,7 +24,7 @@ namespace {
 
 struct TradeoffArgs {
   std::string model, law, plot, markdown, resolutions, mappings;
-  bool json = false, quick = false, schemes = false;
+  bool json = false, quick = false, schemes = false, one_fetch = false;
   long long points = -1;  // -1: 2000, or 300 with --quick
   long long seed = 1;
   int repeats = 3;  // --schemes: bake runs per row
@@ -70,6 +70,7 @@ std::string measurement_command(const TradeoffArgs& args, const std::string& spe
   if (args.schemes) words.push_back("--schemes");
   if (args.schemes && args.repeats != 3) words.insert(words.end(), {"--repeats", std::to_string(args.repeats)});
   if (args.quick) words.push_back("--quick");
+  if (args.one_fetch) words.push_back("--one-fetch");
   if (args.points >= 0) words.insert(words.end(), {"--points", std::to_string(args.points)});
   if (args.seed != 1) words.insert(words.end(), {"--seed", std::to_string(args.seed)});
   if (!args.resolutions.empty()) words.insert(words.end(), {"--res", args.resolutions});
@@ -121,7 +122,8 @@ nlohmann::ordered_json schemes_json(const reports::SchemeReport& report, const s
     const reports::Spread t = reports::bake_spread(r);
     nlohmann::ordered_json row{{"kind", to_string(r.kind)}, {"label", reports::scheme_label(r)}};
     if (r.kind == reports::SchemeKind::max_error)  // encoding here too: refused rows name what was asked
-      row.update({{"target", r.target}, {"target_bytes", r.target_bytes}, {"encoding", to_string(r.encoding)}});
+      row.update({{"target", r.target}, {"target_bytes", r.target_bytes}, {"target_fetches", r.target_fetches},
+                  {"encoding", to_string(r.encoding)}});
     if (!r.refused.empty()) {
       row["refused"] = r.refused;
     } else {
@@ -129,7 +131,7 @@ nlohmann::ordered_json schemes_json(const reports::SchemeReport& report, const s
                   {"encoding", to_string(r.encoding)}, {"resolution", r.resolution}, {"value_bytes", r.value_bytes},
                   {"bake_seconds", r.bake_seconds}, {"bake_median", t.median}, {"bake_min", t.min}, {"bake_max", t.max},
                   {"max_error", r.max_error}, {"rms_error", r.rms_error}, {"lookup_error", r.lookup_error},
-                  {"covered", r.covered}});
+                  {"covered", r.covered}, {"fetches", r.fetches}, {"filter", to_string(r.filter)}});
     }
     rows.push_back(row);
   }
@@ -154,6 +156,7 @@ int run_schemes(const TradeoffArgs& args, const Model& model, Law law, long long
   options.seed = static_cast<std::uint64_t>(args.seed);
   options.repeats = args.repeats;
   options.quick = args.quick;
+  options.one_fetch_only = args.one_fetch;
   if (auto bar = util::progress_bar("tradeoff: schemes"))
     options.progress = [bar](std::size_t done, std::size_t total) { bar(done, total); };
   const reports::SchemeReport report = reports::measure_schemes(model, law, options);
@@ -205,6 +208,8 @@ void add_tradeoff_command(CLI::App& app, Action& action) {
                 "instead of the sweep: today's scheme vs format version 2's, what --max-error picks, linear vs "
                 "cubic, half vs float (reports/schemes.h)");
   cmd->add_option("--repeats", args->repeats, "with --schemes: bake runs per row, for the median and spread (default 3)");
+  cmd->add_flag("--one-fetch", args->one_fetch,
+                "with --schemes: only the one-fetch rows (warped frame, hardware filter, and --max-error 1e-3 --fetches 1)");
   cmd->add_option("--mapping", args->mappings,
                   "only these mapping sets, comma-separated, each default or M[xMxM] with M = linear, sqrt, cos");
   cmd->callback([&action, args] {
@@ -221,6 +226,7 @@ void add_tradeoff_command(CLI::App& app, Action& action) {
       if (!args->plot.empty()) check_writable(args->plot);
       if (!args->markdown.empty()) check_writable(args->markdown);
       if (!args->schemes && args->repeats != 3) throw InputError("--repeats needs --schemes (the sweep bakes once per row)");
+      if (!args->schemes && args->one_fetch) throw InputError("--one-fetch needs --schemes");
       if (args->schemes) {
         if (!args->resolutions.empty() || !args->mappings.empty())
           throw InputError("--res and --mapping narrow the sweep; --schemes measures fixed schemes (drop them)");

@@ -6,12 +6,12 @@
 #include <set>
 #include <sstream>
 
+#include "export/glsl_f.h"
 #include "util/error.h"
-#include "models/kp_lobes.h"
-#include "models/mixture.h"
 #include "scene/plan.h"
 #include "tables/cache.h"
 #include "tables/sample.h"
+#include "util/literal.h"
 
 namespace ganzfeld::exporting {
 
@@ -19,15 +19,8 @@ using namespace ganzfeld::tables;
 
 namespace {
 
-/// A GLSL float literal that reads back as the float nearest to x (9 significant digits).
-std::string literal(double x) {
-  if (!std::isfinite(x)) throw InputError("cannot write the non-finite number " + std::to_string(x) + " into GLSL");
-  char buffer[40];
-  std::snprintf(buffer, sizeof buffer, "%.9g", x);
-  std::string text = buffer;
-  if (text.find_first_of(".e") == std::string::npos) text += ".0";
-  return text;
-}
+/// A GLSL float literal that reads back as the float nearest to x.
+std::string literal(double x) { return decimal_literal(x); }
 
 /// A comment line-safe copy of text (no newlines; no "*/" since we use // comments anyway).
 std::string comment_text(const std::string& text) {
@@ -62,7 +55,10 @@ std::string lookup_call(const Table& table, const std::string& u) {
   for (const Axis& axis : table.axes) count += (count.empty() ? "" : ", ") + std::to_string(axis.count);
   if (table.axes.size() == 3) count = "ivec3(" + count + ")";
   const std::string dims = table.axes.size() == 3 ? "3" : "1";
-  const std::string call = "gz_lookup" + dims + (cubic ? "_catmull_rom" : "") + "(table, " + u + ", " + count +
+  // A hardware-filtered table's bound covers the GPU's filter (check_table: linear only): one
+  // texture() whatever GANZFELD_HARDWARE_FILTER says.
+  const std::string kind = cubic ? "_catmull_rom" : table.filter == Filter::hardware ? "_filtered" : "";
+  const std::string call = "gz_lookup" + dims + kind + "(table, " + u + ", " + count +
                            (cubic ? ", " + even_flags(table) : "") + ")";
   if (table.encoding != Encoding::unorm16) return call;
   // unorm16: the texture holds u / 65535 (R16 normalized); both lookups are affine (weights sum
@@ -197,8 +193,9 @@ float gz_sin_theta(vec3 v, vec3 n) {
 // of the sky's pole i and the viewing direction j about the lobe's peak p(j); s = -1 when p is
 // the mirror direction of j, +1 when it is j (retro). j below the horizon counts as on it, as on
 // the CPU (j.n clamped to 0). cos and sin of the relative azimuth phi come from the tangential
-// parts (phi = 0 when either is 0), the angles from gz_abs_angle.
-vec3 gz_lobe_coordinates(vec3 i, vec3 j, vec3 n, float s) {
+// parts (phi = 0 when either is 0), the angles from gz_abs_angle. gz_lobe_frame also returns the
+// unit pole's components (i.p, i.e1, i.e2) and (cos, sin) of theta_j, which the warped frame uses.
+void gz_lobe_frame(vec3 i, vec3 j, vec3 n, float s, out vec3 angles, out vec3 components, out vec2 cs_j) {
   float ci = gz_cos_theta(i, n), si = gz_sin_theta(i, n);
   float cj = gz_cos_theta(j, n), sj = gz_sin_theta(j, n);
   if (cj <= 0.0) { cj = 0.0; sj = 1.0; }
@@ -210,7 +207,29 @@ vec3 gz_lobe_coordinates(vec3 i, vec3 j, vec3 n, float s) {
   float ie1 = -s * si * cj * cs.x + ci * sj;
   float ie2 = si * cs.y;
   float beta = (ie1 == 0.0 && ie2 == 0.0) ? 0.0 : gz_abs_angle(ie2, ie1);
-  return vec3(gz_abs_angle(sj, cj), gz_abs_angle(length(vec2(ie1, ie2)), ip), beta);
+  angles = vec3(gz_abs_angle(sj, cj), gz_abs_angle(length(vec2(ie1, ie2)), ip), beta);
+  components = vec3(ip, ie1, ie2);
+  cs_j = vec2(cj, sj);
+}
+vec3 gz_lobe_coordinates(vec3 i, vec3 j, vec3 n, float s) {
+  vec3 angles, components;
+  vec2 cs_j;
+  gz_lobe_frame(i, j, n, s, angles, components, cs_j);
+  return angles;
+}
+// The warped frame (version 4, tables/frame.h, warped_offset): the offset of the sky's boundary
+// from the lobe, with the warp (shift, along, across) at theta_j and the table's mix:
+// q = i.p + shift i.e1, r^2 = along^2 (i.e1)^2 + across^2 (i.e2)^2,
+// offset = mix (1 + q / sqrt(q^2 + r^2)) / 2 + (1 - mix) (1 - psi / pi).
+float gz_warped_offset(vec3 warp, float mixing, vec3 c, float psi) {
+  float q = c.x + warp.x * c.y;
+  float d = sqrt(q * q + warp.y * warp.y * c.y * c.y + warp.z * warp.z * c.z * c.z);
+  float lobe = d > 0.0 ? 0.5 * (1.0 + q / d) : 0.5;
+  return mixing * lobe + (1.0 - mixing) * (1.0 - psi / 3.1415926536);
+}
+// The envelope A(theta_j) = (cos + sqrt(cos^2 + width^2 sin^2)) / 2 the stored g / A is multiplied by.
+float gz_warp_envelope(vec2 cs_j, float width) {
+  return 0.5 * (cs_j.x + sqrt(cs_j.x * cs_j.x + width * width * cs_j.y * cs_j.y));
 }
 
 // j moved onto the horizon when it is below it (interpolated normals at silhouettes), as the
@@ -231,10 +250,19 @@ void gz_cell(float u, int count, out int k, out float t) {
   k = min(int(floor(s)), count - 2);
   t = s - float(k);
 }
+// Linear interpolation by the GPU's filter: one texture() at the texel centre rule (needs
+// GL_LINEAR filtering and GL_CLAMP_TO_EDGE; the weights may be rounded to 8 bits).
+float gz_lookup1_filtered(highp sampler2D table, float u, int count) {
+  return texture(table, vec2((u * float(count - 1) + 0.5) / float(count), 0.5)).r;
+}
+float gz_lookup3_filtered(highp sampler3D table, vec3 u, ivec3 count) {
+  vec3 s = (u * vec3(count - 1) + 0.5) / vec3(count);
+  return texture(table, s.zyx).r;
+}
 // Linear interpolation of a 1-D table stored as a count x 1 texture.
 float gz_lookup1(highp sampler2D table, float u, int count) {
 #ifdef GANZFELD_HARDWARE_FILTER
-  return texture(table, vec2((u * float(count - 1) + 0.5) / float(count), 0.5)).r;
+  return gz_lookup1_filtered(table, u, count);
 #else
   int k; float t;
   gz_cell(u, count, k, t);
@@ -244,8 +272,7 @@ float gz_lookup1(highp sampler2D table, float u, int count) {
 // Trilinear interpolation of a 3-D table; u and count are slowest axis first (texture z, y, x).
 float gz_lookup3(highp sampler3D table, vec3 u, ivec3 count) {
 #ifdef GANZFELD_HARDWARE_FILTER
-  vec3 s = (u * vec3(count - 1) + 0.5) / vec3(count);
-  return texture(table, s.zyx).r;
+  return gz_lookup3_filtered(table, u, count);
 #else
   int k0, k1, k2;
   float t0, t1, t2;
@@ -346,6 +373,17 @@ float gz_lookup3_catmull_rom(highp sampler3D table, vec3 u, ivec3 count, bvec3 e
 
 namespace {
 
+/// Which lookup the function performs and the bound covers, and its texture fetches.
+std::string lookup_description(const Table& table) {
+  const int n = fetches(table);
+  const std::string count = std::to_string(n) + " texture fetch" + (n == 1 ? "" : "es");
+  if (table.filter == Filter::hardware)
+    return count + ", hardware filtering (GL_LINEAR, GL_CLAMP_TO_EDGE); the bound covers filter weights of 8 "
+                   "bits, rounded or truncated";
+  return count + " (texelFetch, weights in full precision; the bound is for this lookup, not for "
+                 "GANZFELD_HARDWARE_FILTER)";
+}
+
 /// The comment block above a table's function: metadata, the table's error, axes and texture.
 std::string table_comment(const Table& table) {
   std::ostringstream s;
@@ -354,12 +392,14 @@ std::string table_comment(const Table& table) {
     << "// made by: " << comment_text(table.command) << "\n"
     << "// ganzfeld " << comment_text(table.version) << ", format version " << table.format_version << ", encoding "
     << to_string(table.encoding) << ", frame " << to_string(table.frame);
-  if (table.frame == Frame::lobe) s << " (peak " << to_string(table.peak) << ")";
+  if (table.frame != Frame::cosines) s << " (peak " << to_string(table.peak) << ")";
   s << ", " << to_string(table.interpolation) << " lookup, cubature tolerance " << literal(table.tolerance) << "\n"
+    << "// lookup: " << lookup_description(table) << "\n"
     << "// error: lookup <= " << literal(table.lookup_error);
   if (table.interpolation_checks > 0)
     s << " (validated at " << table.interpolation_checks << " points: largest measured "
       << literal(table.interpolation_error) << ")";
+  if (table.min_cos_j > 0.0) s << " for j.n >= " << literal(table.min_cos_j) << " (not a bound below)";
   s << "; node_error <= " << literal(table.node_error) << "\n// axes, slowest first:\n";
   for (const Axis& axis : table.axes) {
     s << "//   " << axis.name << " in [" << literal(axis.min) << ", " << literal(axis.max) << "], " << axis.count
@@ -374,6 +414,39 @@ std::string table_comment(const Table& table) {
       << table.axes[1].name << "), depth " << table.axes[0].count << " (" << table.axes[0].name << ")\n";
   else
     s << "width " << table.axes[0].count << ", height 1\n";
+  return s.str();
+}
+
+/// The warp samples of a warped table as a GLSL constant array named `name`.
+std::string warp_array(const Table& table, const std::string& name) {
+  std::ostringstream s;
+  const std::size_t K = table.warp.samples.size();
+  s << "// the warp (shift, along, across) at theta_j's index coordinate k / " << K - 1 << " (tables/frame.h)\n"
+    << "const vec3 " << name << "[" << K << "] = vec3[" << K << "](";
+  for (std::size_t k = 0; k < K; ++k) {
+    const WarpSample& w = table.warp.samples[k];
+    s << (k ? ",\n    " : "\n    ") << "vec3(" << literal(w.shift) << ", " << literal(w.along) << ", " << literal(w.across)
+      << ")";
+  }
+  s << ");\n";
+  return s.str();
+}
+
+/// The body of a warped g function: the lobe frame's angles and components, the warp at theta_j,
+/// the index coordinates, the lookup times the envelope.
+std::string warped_body(const Table& table, const std::string& warp_name) {
+  std::ostringstream s;
+  const int last = static_cast<int>(table.warp.samples.size()) - 1;
+  s << "  vec3 angles, c;\n  vec2 cs_j;\n"
+    << "  gz_lobe_frame(i, j, n, " << (table.peak == PeakKind::retro ? "1.0" : "-1.0") << ", angles, c, cs_j);\n"
+    << "  float v = " << index_call(table.axes[0], "angles.x") << ";\n"
+    << "  float t = v * " << literal(last) << ";\n"
+    << "  int k = min(int(floor(t)), " << last - 1 << ");\n"
+    << "  vec3 warp = mix(" << warp_name << "[k], " << warp_name << "[k + 1], t - float(k));\n"
+    << "  vec3 u = vec3(v, gz_warped_offset(warp, " << literal(table.warp.mix) << ", c, angles.y),\n"
+    << "                " << index_call(table.axes[2], "angles.z") << ");\n"
+    << "  return " << (table.warp.envelope > 0.0 ? "gz_warp_envelope(cs_j, " + literal(table.warp.envelope) + ") * " : "")
+    << "(" << lookup_call(table, "u") << ");\n";
   return s.str();
 }
 
@@ -400,7 +473,12 @@ std::string glsl_table_function(const Table& table) {
   const std::string name = glsl_function_name(table.model, table.law);
   std::ostringstream s;
   s << table_comment(table);
-  if (table.law == Law::g) {
+  if (table.law == Law::g && table.frame == Frame::warped) {
+    s << warp_array(table, name + "_warp")
+      << "// i: the sky's pole, j: towards the viewer, n: unit normal (any common frame)\n"
+      << "float " << name << "(highp sampler3D table, vec3 i, vec3 j, vec3 n) {\n"
+      << warped_body(table, name + "_warp") << "}\n";
+  } else if (table.law == Law::g) {
     s << "// i: the sky's pole, j: towards the viewer, n: unit normal (any common frame)\n"
       << "float " << name << "(highp sampler3D table, vec3 i, vec3 j, vec3 n) {\n"
       << g_body(table) << "}\n";
@@ -411,6 +489,17 @@ std::string glsl_table_function(const Table& table) {
       << ";\n}\n";
   }
   return s.str();
+}
+
+std::string lookup_scheme(const Table& table) {
+  std::ostringstream out;
+  out << to_string(table.frame) << " frame";
+  if (table.frame != Frame::cosines) out << " (" << to_string(table.peak) << " peak)";
+  out << ", " << to_string(table.interpolation) << ", ";
+  for (std::size_t d = 0; d < table.axes.size(); ++d) out << (d ? "x" : "") << table.axes[d].count;
+  out << " nodes, " << to_string(table.encoding) << ", " << to_string(table.filter) << " (" << tables::fetches(table)
+      << (tables::fetches(table) == 1 ? " fetch)" : " fetches)");
+  return out.str();
 }
 
 std::string glsl_table_snippet(const Table& table) {
@@ -429,59 +518,6 @@ void check_table_is(const Table& table, const Model& model, Law law) {
   check_table(table);
 }
 
-std::string glsl_model_f(const Model& model) {
-  const std::string name = glsl_identifier("f_" + model.spec());
-  std::ostringstream s;
-  if (const auto* mixture = dynamic_cast<const Mixture*>(&model)) {
-    // f of a mixture is the weighted sum of its lobes' f (models/mixture.h; weights normalized).
-    std::set<std::string> emitted;
-    std::string sum;
-    for (const Lobe& lobe : mixture->lobes()) {
-      const std::string lobe_name = glsl_identifier("f_" + lobe.model->spec());
-      if (emitted.insert(lobe_name).second) s << glsl_model_f(*lobe.model);
-      sum += (sum.empty() ? "" : " + ") + literal(lobe.weight) + " * " + lobe_name + "(i, j, n)";
-    }
-    s << "// f of the mixture " << comment_text(model.spec()) << "\n"
-      << "float " << name << "(vec3 i, vec3 j, vec3 n) { return " << sum << "; }\n";
-    return s.str();
-  }
-  s << "// f of " << comment_text(model.spec()) << " (models/kp_lobes.h); i, j, n unit.\n"
-    << "float " << name << "(vec3 i, vec3 j, vec3 n) {\n"
-    << "  float mi = dot(i, n), mj = dot(j, n);\n"
-    << "  if (mi < 0.0 || mj < 0.0) return 0.0;\n";
-  if (dynamic_cast<const Lambert*>(&model)) {
-    s << "  return " << literal(std::numbers::inv_pi) << ";\n";
-  } else if (const auto* m = dynamic_cast<const Minnaert*>(&model)) {
-    // K&P "Bulk scattering": f_d = C_d ((i.n)(j.n))^xi
-    s << "  return " << literal(minnaert::C_d(m->xi())) << " * "
-      << (m->xi() == 0.0 ? std::string("1.0") : "pow(mi * mj, " + literal(m->xi()) + ")") << ";\n";
-  } else if (const auto* sp = dynamic_cast<const Specular*>(&model)) {
-    // K&P "Specular reflection": f_s = C_s ((1 + k.j)/2)^alpha, k = 2(i.n)n - i, so k.j = 2 mi mj - i.j
-    s << "  float x = clamp(0.5 * (1.0 + 2.0 * mi * mj - dot(i, j)), 0.0, 1.0);\n"
-      << "  return " << literal(sp->C_s()) << " * pow(x, " << literal(sp->alpha()) << ");\n";
-  } else if (const auto* b = dynamic_cast<const Backscatter*>(&model)) {
-    // K&P "Backscattering": f_b = C_b ((1 + i.j)/2)^alpha
-    s << "  float x = clamp(0.5 * (1.0 + dot(i, j)), 0.0, 1.0);\n"
-      << "  return " << literal(b->C_b()) << " * pow(x, " << literal(b->alpha()) << ");\n";
-  } else if (const auto* pb = dynamic_cast<const PerfectBackscatter*>(&model)) {
-    // K&P: f_pb = C_pb (1 + i.j)^alpha / ((i + j).n) = (C_pb 2^alpha) ((1 + i.j)/2)^alpha / ((i + j).n)
-    s << "  float d = mi + mj;\n"
-      << "  if (d <= 0.0) return 0.0;\n"
-      << "  float x = clamp(0.5 * (1.0 + dot(i, j)), 0.0, 1.0);\n"
-      << "  return " << literal(pb->C_pb_times_2_pow_alpha()) << " * pow(x, " << literal(pb->alpha()) << ") / d;\n";
-  } else if (const auto* a = dynamic_cast<const Asperity*>(&model)) {
-    // K&P "Asperity scattering": f_a = (1/pi) (1 - (i.n)(j.n))^alpha
-    s << "  return " << literal(std::numbers::inv_pi) << " * pow(max(1.0 - mi * mj, 0.0), " << literal(a->alpha())
-      << ");\n";
-  } else {
-    throw InputError("no GLSL form of f for model '" + model.spec() +
-                     "' (a collimated light needs f); available: lambert, minnaert, specular, backscatter, "
-                     "perfect-backscatter, asperity");
-  }
-  s << "}\n";
-  return s.str();
-}
-
 void check_scene_exportable(const Scene& scene) {
   bool collimated = false, extended = false;
   for (const Light& light : scene.lights) {
@@ -491,6 +527,10 @@ void check_scene_exportable(const Scene& scene) {
   for (const SceneObject& object : scene.objects)
     for (const MaterialLobe& lobe : scene.materials.at(object.material).lobes) {
       if (collimated) glsl_model_f(*lobe.model);
+      if (extended && has_mirror_delta(*lobe.model))
+        throw InputError("model '" + lobe.spec + "' has a mirror delta besides f (the coherent specular term rho_s) that "
+                         "its tables do not hold; render adds it under skies and the Ganzfeld, the GLSL would not: "
+                         "allowed: models without a mirror delta under extended lights");
       if (extended && !lobe.model->traits().isotropic)
         throw InputError("model '" + lobe.spec + "' is anisotropic: its sky and Ganzfeld terms have no tables (a fourth "
                          "axis would be needed), so no GLSL; allowed: isotropic models under extended lights");
@@ -527,7 +567,7 @@ struct LobeCode {
     tables << glsl_table_function(*table);
   }
   void add_f(const scene::PlannedLobe& lobe) {
-    if (done.insert(glsl_identifier("f_" + lobe.spec)).second) fs << glsl_model_f(*lobe.model);
+    if (done.insert(glsl_f_name(lobe.spec)).second) fs << glsl_model_f(*lobe.model);
   }
 };
 
@@ -553,7 +593,7 @@ std::string light_term(const Light& light, std::size_t k, const scene::PlannedMa
   const std::string L = "GZ_LIGHT" + std::to_string(k);
   std::string sum;
   for (const scene::PlannedLobe& lobe : lobes) {
-    const std::string law = light.type == Light::Type::collimated      ? glsl_identifier("f_" + lobe.spec) + "(i, j, n)"
+    const std::string law = light.type == Light::Type::collimated      ? glsl_f_name(lobe.spec) + "(i, j, n, t)"
                             : light.type == Light::Type::hemispherical ? law_expression(lobe, Law::g)
                                                                        : law_expression(lobe, Law::h);
     Rgb weighted{};
@@ -587,7 +627,7 @@ std::string material_function(const std::string& name, std::size_t m, const std:
                               const std::vector<Light>& lights, const scene::PlannedMaterial& lobes) {
   std::ostringstream out;
   out << "// material " << m << " '" << comment_text(material_name) << "'\n"
-      << "vec3 " << name << "(vec3 n, vec3 j) {\n"
+      << "vec3 " << name << "(vec3 n, vec3 j, vec3 t) {\n"
       << "  vec3 jc = gz_clamp_to_horizon(j, n);\n"
       << "  vec3 radiance = vec3(0.0);\n";
   for (std::size_t k = 0; k < lights.size(); ++k) out << light_term(lights[k], k, lobes);
@@ -609,7 +649,7 @@ std::string glsl_scene_shader(const Scene& scene, const scene::ShadingPlan& plan
     }
     const std::string name = glsl_identifier("material_" + std::to_string(m) + "_" + scene.materials[m].name);
     materials << material_function(name, m, scene.materials[m].name, scene.lights, plan.materials[m]);
-    dispatch << "  if (material == " << m << ") return " << name << "(n, j);\n";
+    dispatch << "  if (material == " << m << ") return " << name << "(n, j, t);\n";
   }
   std::ostringstream out;
   out << "// ganzfeld scene shader for " << comment_text(source) << " (generated; docs/shaders.md).\n"
@@ -620,13 +660,17 @@ std::string glsl_scene_shader(const Scene& scene, const scene::ShadingPlan& plan
       << glsl_common() << "\n"
       << code.uniforms.str() << "\n"
       << code.tables.str() << "\n"
-      << code.fs.str() << "\n"
+      << glsl_helpers({"gz_frame"}) << code.fs.str() << "\n"
       << "// Lights (world space; directions unit, towards the source), from the scene file.\n"
       << light_constants(scene.lights) << "\n"
       << materials.str()
-      << "// Radiance of material `material` (its index in the scene file) at unit normal n, towards unit j.\n"
+      << "// Radiance of material `material` (its index in the scene file) at unit normal n, towards unit j;\n"
+      << "// t the surface's tangent (anisotropic lobes are oriented by it: the object's \"tangent\" rule of the\n"
+      << "// scene file, gz_brush_tangent; isotropic ones ignore it).\n"
+      << "vec3 gz_scene_radiance(int material, vec3 n, vec3 j, vec3 t) {\n"
+      << dispatch.str() << "  return vec3(0.0);\n}\n"
       << "vec3 gz_scene_radiance(int material, vec3 n, vec3 j) {\n"
-      << dispatch.str() << "  return vec3(0.0);\n}\n";
+      << "  return gz_scene_radiance(material, n, j, gz_brush_tangent(n, vec3(0.0, 1.0, 0.0), true));\n}\n";
   return out.str();
 }
 

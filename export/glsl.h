@@ -55,6 +55,12 @@ std::string glsl_common();
 /// (n unit; i and j need not be unit). Checks the table first (check_table).
 std::string glsl_table_function(const tables::Table& table);
 
+/// One line naming the lookup glsl_table_function(table) performs, from the table's metadata:
+/// frame (and peak), interpolation, nodes per axis, encoding and the filter its bound covers with
+/// its fetches, e.g. "warped frame (mirror peak), linear, 25x49x17 nodes, float, hardware (1 fetch)"
+/// (`ganzfeld bench shaders` and `bench render` label their tables with it).
+std::string lookup_scheme(const tables::Table& table);
+
 /// glsl_common() + glsl_table_function(table): one self-contained snippet per table file.
 std::string glsl_table_snippet(const tables::Table& table);
 
@@ -63,14 +69,10 @@ std::string glsl_table_snippet(const tables::Table& table);
 /// file to a shader function.
 void check_table_is(const tables::Table& table, const Model& model, Law law);
 
-/// f of a model as GLSL, `float NAME(vec3 i, vec3 j, vec3 n)`, NAME = gz_f_<spec>, for models
-/// with a closed form we emit: the Koenderink–Pont lobes, and mixtures of them (each lobe's
-/// function, then their weighted sum). Throws InputError naming the model and what is available
-/// otherwise.
-std::string glsl_model_f(const Model& model);
-
 /// Throws what glsl_scene_shader would throw about the scene itself (a lobe lit by a collimated
-/// light without a GLSL f), so that the exporter can refuse before it bakes any table.
+/// light without a GLSL f; under extended lights an anisotropic lobe, or one with a mirror delta
+/// that render adds and no table holds: Model::mirror_reflectance), so that the exporter can
+/// refuse before it bakes any table.
 void check_scene_exportable(const Scene& scene);
 
 /// The sampler uniform of a scene table: "gz_tex_<spec>_<law>".

@@ -3,9 +3,9 @@
 // The algorithm in three steps (after QUADPACK's qag and Genz & Malik's adaptive scheme, as in
 // S. G. Johnson's hcubature.c):
 //  1. Start from a grid of panels whose lines are given by the caller (the known lobe peaks,
-//     widths and boundary layers of the integrand: MassHints, models/model.h), so that the first
-//     nodes cannot all miss a sharp lobe. Unless the caller says its lines come from such hints
-//     (CubatureOptions::bisect_initial_panels), every initial panel is bisected once at the
+//     widths and boundary layers of the integrand: MassHints, models/mass_hints.h), so that the
+//     first nodes cannot all miss a sharp lobe. Unless the caller says its lines come from such
+//     hints (CubatureOptions::bisect_initial_panels), every initial panel is bisected once at the
 //     start, so that none is accepted before its halves have been compared with it.
 //  2. On each panel apply the 15-point Kronrod rule in every axis (15^D nodes) and its embedded
 //     7-point Gauss rule. Per axis, the larger of |K⊗K − G⊗K| (the Gauss rule in that axis only)

@@ -1,6 +1,7 @@
 #include "reports/schemes.h"
 
 #include <algorithm>
+#include <cmath>
 #include <optional>
 #include <cstdio>
 #include <sstream>
@@ -24,6 +25,7 @@ const char* to_string(SchemeKind kind) {
     case SchemeKind::swapped: return "other lookup";
     case SchemeKind::half: return "half";
     case SchemeKind::trilinear: return "trilinear";
+    case SchemeKind::one_fetch: return "one-fetch";
   }
   return "?";
 }
@@ -33,11 +35,13 @@ namespace {
 /// What each kind bakes: fixed resolutions, --max-error targets (the last one of `targets` is
 /// the pick the swapped and half rows start from; `stretch` after it, with its byte cap).
 struct SchemePlan {
-  std::vector<std::vector<int>> today, trilinear;
+  std::vector<std::vector<int>> today, trilinear, one_fetch;
   std::vector<double> targets;
   std::vector<double> unorm16_targets;  ///< bake --max-error E --encoding unorm16 (the 16-bit target)
   double stretch = 0.0;
   std::uint64_t stretch_bytes = 0;
+  /// With one_fetch: the --max-error E --fetches N picks (1e-3 in one fetch, 1e-4 within 8).
+  std::vector<std::pair<double, int>> fetch_targets;
 };
 
 SchemePlan scheme_plan(Law law, bool quick) {
@@ -47,9 +51,13 @@ SchemePlan scheme_plan(Law law, bool quick) {
                        : std::vector<std::vector<int>>{{17, 17, 9}, {33, 33, 17}};
     plan.trilinear = quick ? std::vector<std::vector<int>>{{9, 17, 5}}
                            : std::vector<std::vector<int>>{{13, 25, 9}, {17, 33, 13}, {25, 49, 17}};
+    plan.one_fetch = quick ? std::vector<std::vector<int>>{{9, 17, 5}}
+                           : std::vector<std::vector<int>>{{17, 33, 11}, {21, 41, 15}, {25, 49, 17}, {29, 57, 19}};
     plan.targets = quick ? std::vector<double>{1e-2} : std::vector<double>{1e-3, 1e-4};
     plan.unorm16_targets = quick ? std::vector<double>{1e-2} : std::vector<double>{1e-4};  // <= 128 kB in 16 bits
     if (!quick) plan.stretch = 1e-5, plan.stretch_bytes = 2'000'000;  // the stretch target: 1e-5 in 2 MB
+    plan.fetch_targets = quick ? std::vector<std::pair<double, int>>{{kTrilinearTarget, 1}}
+                               : std::vector<std::pair<double, int>>{{kTrilinearTarget, 1}, {1e-4, 8}};
   } else {
     plan.today = quick ? std::vector<std::vector<int>>{{9}} : std::vector<std::vector<int>>{{33}, {129}};
     plan.targets = quick ? std::vector<double>{1e-3} : std::vector<double>{1e-4, 1e-6};
@@ -64,6 +72,7 @@ BakeOptions fixed_options(const SchemeRow& row, const Table* pick) {
   options.encoding = row.encoding;
   options.interpolation = row.interpolation;
   options.tolerance = pick ? pick->tolerance : kSchemeTolerance;
+  options.filter = row.filter;
   if (row.frame == Frame::lobe && pick) options.lobe = LobeFrame{pick->peak, pick->axes[1].width};
   return options;
 }
@@ -99,13 +108,26 @@ std::optional<Table> measure_row(const Model& model, Law law, const BakeOptions&
   row.encoding = table.encoding;
   row.resolution = counts_of(table);
   row.value_bytes = value_bytes(table);
-  const LookupError error = lookup_error(table, reference);
-  row.max_error = error.max;
-  row.rms_error = error.rms;
+  row.fetches = fetches(table);
+  row.filter = table.filter;
   row.lookup_error = table.lookup_error;
+  // A hardware-filtered table is judged by the worst of the lookups a GPU may do (8-bit weights
+  // rounded to nearest or truncated, or full precision), as its bound is.
+  const std::vector<WeightRounding> roundings =
+      table.filter == Filter::hardware
+          ? std::vector<WeightRounding>{WeightRounding::exact, WeightRounding::nearest, WeightRounding::truncate}
+          : std::vector<WeightRounding>{WeightRounding::exact};
   std::size_t covered = 0;
-  for (const ReferencePoint& p : reference.points)
-    covered += std::abs(sample(table, p.direction.i, p.direction.j).value - p.value) <= table.lookup_error;
+  double sum_sq = 0.0;
+  row.max_error = 0.0;
+  for (const ReferencePoint& p : reference.points) {
+    double e = 0.0;
+    for (WeightRounding r : roundings) e = std::max(e, std::abs(sample(table, p.direction.i, p.direction.j, r).value - p.value));
+    covered += e <= table.lookup_error;
+    sum_sq += e * e;
+    row.max_error = std::max(row.max_error, e);
+  }
+  row.rms_error = reference.points.empty() ? 0.0 : std::sqrt(sum_sq / static_cast<double>(reference.points.size()));
   row.covered = reference.points.empty() ? 0.0 : static_cast<double>(covered) / reference.points.size();
   return table;
 }
@@ -125,10 +147,18 @@ SchemeReport measure_schemes(const Model& model, Law law, const SchemeOptions& o
   report.repeats = options.repeats;
   report.reference = compute_reference(model, law, options.points, options.seed, kSchemeReferenceTolerance,
                                        /*extremes=*/false, kSchemeMinCos);
-  const SchemePlan plan = scheme_plan(law, options.quick);
+  SchemePlan plan = scheme_plan(law, options.quick);
+  if (options.one_fetch_only) {
+    if (law != Law::g) throw InputError({Named{"one_fetch"}, " measures g tables only"});
+    // The 1e-3 pick only: the 1e-4 search within 8 fetches bakes tables of ~1e5 nodes at 1e-5
+    // several times (many minutes per model on 2 cores); the texelFetch row stands for it.
+    plan = SchemePlan{{}, {}, plan.one_fetch, {}, {}, 0.0, 0, {{kTrilinearTarget, 1}}};
+  }
   const std::optional<LobeFrame> lobe = law == Law::g ? lobe_frame_of(model) : std::nullopt;
-  const std::size_t total = plan.today.size() + plan.targets.size() + plan.unorm16_targets.size() + 2 +
-                            (plan.stretch > 0) + plan.trilinear.size() + !plan.trilinear.empty();
+  const std::size_t total = plan.today.size() + plan.targets.size() + plan.unorm16_targets.size() +
+                            (plan.targets.empty() ? 0 : 2) + (plan.stretch > 0) + plan.trilinear.size() +
+                            !plan.trilinear.empty() + plan.one_fetch.size() +
+                            (plan.one_fetch.empty() ? 0 : 2 + plan.fetch_targets.size());
   auto add = [&](const SchemeRow& row) {
     report.rows.push_back(row);
     if (options.progress) options.progress(report.rows.size(), total);
@@ -194,6 +224,38 @@ SchemeReport measure_schemes(const Model& model, Law law, const SchemeOptions& o
     measure_row(model, law, bake_options, options.repeats, report.reference, row);
     add(row);
   }
+  if (!plan.one_fetch.empty()) {  // one hardware-filtered fetch: fixed resolutions, unorm16, and the --fetches 1 pick
+    auto one_fetch_row = [&](const std::vector<int>& resolution, Encoding encoding, Filter filter) {
+      SchemeRow row = row_of(SchemeKind::one_fetch, resolution, lobe ? Frame::warped : Frame::cosines);
+      row.filter = filter;
+      row.encoding = encoding;
+      BakeOptions bake_options = fixed_options(row, nullptr);
+      bake_options.lobe = lobe;
+      bake_options.warped = lobe.has_value();
+      measure_row(model, law, bake_options, options.repeats, report.reference, row);
+      add(row);
+    };
+    for (const std::vector<int>& resolution : plan.one_fetch) one_fetch_row(resolution, Encoding::single, Filter::hardware);
+    // The finest again read with texelFetch (2^D fetches, weights in full precision): what the 8-bit weights cost.
+    one_fetch_row(std::vector<int>(report.rows.back().resolution), Encoding::single, Filter::texel_fetch);
+    const SchemeRow* base = &report.rows.back();  // in unorm16: the smallest within kTrilinearTarget, else the finest
+    for (const SchemeRow& r : report.rows)
+      if (r.kind == SchemeKind::one_fetch && r.filter == Filter::hardware && r.refused.empty() &&
+          r.max_error <= kTrilinearTarget &&
+          r.value_bytes < base->value_bytes)
+        base = &r;
+    one_fetch_row(std::vector<int>(base->resolution), Encoding::unorm16, Filter::hardware);
+    for (const auto& [target, budget] : plan.fetch_targets) {
+      SchemeRow pick = row_of(SchemeKind::max_error, {});
+      pick.target = target;
+      pick.target_fetches = budget;
+      BakeOptions pick_options;
+      pick_options.target_error = target;
+      pick_options.max_fetches = budget;
+      measure_row(model, law, pick_options, options.repeats, report.reference, pick);
+      add(pick);
+    }
+  }
   report.seconds = start.seconds();
   return report;
 }
@@ -218,10 +280,12 @@ std::string scheme_label(const SchemeRow& row) {
   if (row.kind == SchemeKind::max_error)
     return "--max-error " + number("%g", row.target) +
            (row.target_bytes ? " --max-bytes " + std::to_string(row.target_bytes) : std::string()) +
+           (row.target_fetches ? " --fetches " + std::to_string(row.target_fetches) : std::string()) +
            (row.encoding == Encoding::unorm16 ? " --encoding unorm16" : "");
-  if (row.kind == SchemeKind::today || row.kind == SchemeKind::trilinear)
+  if (row.kind == SchemeKind::today || row.kind == SchemeKind::trilinear || row.kind == SchemeKind::one_fetch)
     return std::string(to_string(row.kind)) + " " + resolution_text(row.resolution) +
-           (row.encoding == Encoding::half ? " half" : "");
+           (row.encoding == Encoding::half ? " half" : row.encoding == Encoding::unorm16 ? " unorm16" : "") +
+           (row.kind == SchemeKind::one_fetch && row.filter == Filter::texel_fetch ? " texelFetch" : "");
   return std::string(row.kind == SchemeKind::half ? "pick in half" : "pick, other lookup");
 }
 
@@ -235,16 +299,18 @@ std::string schemes_markdown(const SchemeReport& report, const std::string& comm
      << ref.unconverged << " unconverged), " << number("%.1f", ref.seconds) << " s; bake times: median [min–max] of "
      << report.repeats << " runs; whole run " << number("%.0f", report.seconds) << " s.\n\n";
   if (!plot.empty()) md << "![max error vs value bytes and bake time](" << plot << ")\n\n";
-  md << "| scheme | frame | lookup | encoding | resolution | value bytes | bake s | max error | RMS error | stated "
-        "lookup_error | covered |\n|---|---|---|---|---|--:|--:|--:|--:|--:|--:|\n";
+  md << "| scheme | frame | lookup | fetches | encoding | resolution | value bytes | bake s | max error | RMS error | "
+        "stated lookup_error | covered |\n|---|---|---|--:|---|---|--:|--:|--:|--:|--:|--:|\n";
   for (const SchemeRow& r : report.rows) {
     md << "| " << scheme_label(r) << " | ";
     if (!r.refused.empty()) {
-      md << "refused: " << r.refused << " | | | | | | | | | |\n";
+      md << "refused: " << r.refused << " | | | | | | | | | | |\n";
       continue;
     }
     const Spread t = bake_spread(r);
-    md << to_string(r.frame) << " | " << to_string(r.interpolation) << " | " << to_string(r.encoding) << " | "
+    md << to_string(r.frame) << " | " << to_string(r.interpolation)
+       << (r.filter == Filter::hardware ? " (hardware filter)" : "") << " | " << r.fetches << " | "
+       << to_string(r.encoding) << " | "
        << resolution_text(r.resolution) << " | " << r.value_bytes << " | " << number("%.3g", t.median) << " ["
        << number("%.3g", t.min) << "–" << number("%.3g", t.max) << "] | " << number("%.3g", r.max_error) << " | "
        << number("%.3g", r.rms_error) << " | " << number("%.3g", r.lookup_error) << " | "
@@ -282,15 +348,15 @@ void write_schemes_plot(const SchemeReport& report, const std::string& path) {
   }
   int y = 600;
   for (SchemeKind kind : {SchemeKind::today, SchemeKind::max_error, SchemeKind::swapped, SchemeKind::half,
-                          SchemeKind::trilinear}) {
+                          SchemeKind::trilinear, SchemeKind::one_fetch}) {
     const int k = static_cast<int>(kind);
-    cv.marker(140 + 250 * k, y + 6, k, kPalette[k % 8]);
-    cv.text(156 + 250 * k, y, to_string(kind), kBlack);
+    cv.marker(140 + 205 * k, y + 6, k, kPalette[k % 8]);
+    cv.text(156 + 205 * k, y, to_string(kind), kBlack);
   }
   cv.text(130, 650, "today: cosines frame, linear.  max-error: what bake --max-error picks.  other lookup, half: the",
           kGrey);
-  cv.text(130, 674, "finest pick with the other interpolation or in half floats.  trilinear: lobe frame, one fetch.",
-          kGrey);
+  cv.text(130, 674, "finest pick with the other interpolation or in half floats.  trilinear: lobe frame, linear.  "
+          "one-fetch: warped frame, hardware filter.", kGrey);
   write_png(cv, path);
 }
 

@@ -41,6 +41,12 @@ enum class SchemeKind {
   half,       ///< the 1e-4 pick in half floats
   trilinear,  ///< g: lobe frame (cosines when the model has none), linear, fixed resolutions; and
               ///< the smallest within kTrilinearTarget in half floats
+  one_fetch,  ///< g: warped frame (cosines when the model has no lobe), linear, hardware filter, at
+              ///< fixed resolutions, the finest again read with texelFetch (2^D fetches, full-precision
+              ///< weights), the smallest within kTrilinearTarget again in unorm16; and bake
+              ///< --max-error 1e-3 --fetches 1 and (not with one_fetch_only) --max-error 1e-4 --fetches 8.
+              ///< Hardware-filtered rows' errors are the worst of the full-precision and both 8-bit
+              ///< filter lookups.
 };
 const char* to_string(SchemeKind kind);
 
@@ -59,6 +65,9 @@ struct SchemeRow {
   double rms_error = 0.0;
   double lookup_error = 0.0;       ///< the table's stated bound (Table::lookup_error)
   double covered = 0.0;            ///< fraction of the points where |lookup - reference| <= lookup_error
+  int fetches = 0;                 ///< texture fetches per lookup (tables::fetches)
+  tables::Filter filter = tables::Filter::texel_fetch;
+  int target_fetches = 0;          ///< max_error rows: --fetches (0: none)
 };
 
 struct SchemeOptions {
@@ -66,6 +75,7 @@ struct SchemeOptions {
   std::uint64_t seed = 1;
   int repeats = 3;     ///< bake runs per row (median and spread)
   bool quick = false;  ///< fewer rows (tests): coarser resolutions, E = 1e-3 only
+  bool one_fetch_only = false;  ///< only the one_fetch family (models whose other searches take too long)
   std::function<void(std::size_t done, std::size_t total)> progress;
 };
 

@@ -4,6 +4,7 @@
 
 #include "models/registry.h"
 #include "tables/bake.h"
+#include "tables/exr_io.h"
 #include "util/names.h"
 
 namespace ganzfeld::shapes {
@@ -134,12 +135,18 @@ nlohmann::ordered_json info_json(const std::string& path, const tables::Table& t
                              {"encoding", to_string(table.encoding)},
                              {"command", table.command},
                              {"version", table.version}};
-  if (table.frame == tables::Frame::lobe) doc["peak"] = to_string(table.peak);
+  if (table.frame != tables::Frame::cosines) doc["peak"] = to_string(table.peak);
+  // Which lookup `error` is for (docs/lut-format.md, "Sampling"), what it costs, and where it holds.
+  doc["filter"] = to_string(table.filter);
+  doc["fetches"] = tables::fetches(table);
+  doc["min_cos_theta_j"] = table.min_cos_j;
+  if (table.frame == tables::Frame::warped) doc["warp"] = nlohmann::ordered_json::parse(tables::warp_text(table.warp));
   if (table.encoding == tables::Encoding::unorm16)  // value = offset + scale u / 65535
     doc["unorm16"] = {{"offset", table.unorm.offset}, {"scale", table.unorm.scale}};
   if (table.target_error > 0.0) {
     doc["target_error"] = table.target_error;
     doc["target_bytes"] = table.target_bytes;
+    if (table.target_fetches > 0) doc["target_fetches"] = table.target_fetches;
   }
   return doc;
 }

@@ -102,8 +102,11 @@ std::vector<Axis> bake_axes(Law law, const BakeOptions& options) {
     if (law != Law::g) throw InputError(std::string("law ") + to_string(law) + " has no lobe frame; only g does");
     if (!options.mappings.empty())
       throw InputError({Named{"mapping"}, " applies to the cosines frame only, not to lobe axes"});
+    if (options.warped) return warped_axes(options.resolution, kWarpedThetaWidths * options.lobe->width);
     return lobe_axes(options.resolution, options.lobe->width);
   }
+  if (options.warped) throw InputError("the warped frame needs a lobe frame (a model whose lobe peaks at the mirror "
+                                       "direction or at j)");
   return make_axes(law, options.resolution, options.mappings);
 }
 
@@ -145,8 +148,13 @@ Table empty_table(const Model& model, Law law, const BakeOptions& options, std::
   table.tolerance = options.tolerance;
   table.encoding = options.encoding;
   table.interpolation = options.interpolation;
-  table.frame = options.lobe ? Frame::lobe : Frame::cosines;
+  table.frame = options.lobe ? (options.warped ? Frame::warped : Frame::lobe) : Frame::cosines;
   table.peak = options.lobe ? options.lobe->peak : PeakKind::mirror;
+  table.filter = options.filter;
+  if (table.frame == Frame::warped) {
+    table.warp = options.warp ? *options.warp : fit_warp(model, *options.lobe, table.axes[0], options.tolerance);
+    table.min_cos_j = kWarpedMinCosJ;
+  }
   table.version = GANZFELD_VERSION;
   const std::uint64_t n = entry_count(table.axes);
   table.value.resize(n);
@@ -167,13 +175,21 @@ struct LawAt {
     const Vec3 d = direction_from_cos(x[0]);
     return law == Law::h ? darkening(model, d, c) : albedo(model, d, c);
   }
-  // Axis coordinates -> the law (lobe frame: the directions of tables/frame.h).
+  // Axis coordinates -> the law (lobe and warped frames: the directions of tables/frame.h).
   Estimate axis_coordinates(std::span<const double> y, const CubatureOptions& c) const {
     if (table.frame == Frame::lobe) {
       const auto [i, j] = lobe_directions(table.peak, y[0], y[1], y[2]);
       return vignetting(model, i, j, c);
     }
+    if (table.frame == Frame::warped) {
+      const auto [i, j] = warped_directions(table.peak, table.warp, table.axes[0], y[0], y[1], y[2]);
+      return vignetting(model, i, j, c);
+    }
     return law_coordinates(y, c);
+  }
+  // What a node stores of the law there: g / A(theta_j) for the warped frame, else the law.
+  double stored_scale(std::span<const double> y) const {
+    return table.frame == Frame::warped ? 1.0 / warp_envelope(table.warp, y[0]) : 1.0;
   }
 };
 
@@ -213,7 +229,11 @@ void bake_nodes(Table& table, const LawAt& law_at, const BakeOptions& options, c
     if (table.law == Law::g) {
       const std::uint64_t n_1 = nodes[1].size(), n_2 = nodes[2].size();
       const double y[3] = {nodes[0][m / (n_1 * n_2)], nodes[1][(m / n_2) % n_1], nodes[2][m % n_2]};
-      return law_at.axis_coordinates(y, cubature);
+      Estimate e = law_at.axis_coordinates(y, cubature);
+      const double scale = law_at.stored_scale(y);
+      e.value *= scale;
+      e.error *= scale;
+      return e;
     }
     const double y[3] = {nodes[0][m], 0.0, 0.0};  // h, a read y[0] only
     return law_at.axis_coordinates(std::span<const double>(y, 1), cubature);
@@ -260,6 +280,17 @@ void bake_nodes(Table& table, const LawAt& law_at, const BakeOptions& options, c
   for (float e : table.error) table.node_error = std::max(table.node_error, static_cast<double>(e));
 }
 
+/// The largest node error in the law's units: a warped table stores g / A(theta_j), and so its
+/// error channel; the lookup multiplies by A again.
+double node_bound(const Table& table) {
+  if (table.frame != Frame::warped) return table.node_error;
+  double worst = 0.0;
+  const std::size_t plane = table.entries() / table.axes[0].count;
+  for (std::size_t m = 0; m < table.error.size(); ++m)
+    worst = std::max(worst, table.error[m] * warp_envelope(table.warp, table.axes[0].node(static_cast<int>(m / plane))));
+  return worst;
+}
+
 /// Validation at points the table was not built from, against direct cubature: cell centres
 /// (where interpolation errs most), at every cell of small tables and at a seeded sample of
 /// about 1/16 of the cells of large ones (~6% of the bake), plus options.random_checks seeded
@@ -277,10 +308,16 @@ void validate(Table& table, const LawAt& law_at, const BakeOptions& options, con
   std::mt19937_64 rng(kInterpolationSeed);
   for (std::uint64_t c = 0; c < centres; ++c)
     chosen[c] = centres == cells ? c : std::uniform_int_distribution<std::uint64_t>(0, cells - 1)(rng);
-  const std::vector<double> random = validation_points(table.law, options.random_checks);
+  const std::vector<double> random = validation_points(table.law, options.random_checks, kValidationSeed, table.min_cos_j);
   const std::size_t dims = table.axes.size();
   const std::uint64_t checks = centres + options.random_checks;
-  std::vector<double> check_error(checks);
+  std::vector<double> check_error(checks, 0.0);
+  // A hardware-filtered table's bound holds for full-precision, nearest-rounded and truncated
+  // 8-bit weights alike: the worst of the three lookups is what is measured.
+  const std::vector<WeightRounding> roundings =
+      table.filter == Filter::hardware
+          ? std::vector<WeightRounding>{WeightRounding::exact, WeightRounding::nearest, WeightRounding::truncate}
+          : std::vector<WeightRounding>{WeightRounding::exact};
   tbb::parallel_for(std::uint64_t{0}, checks, [&](std::uint64_t c) {
     if (cancelled(options)) return;
     std::vector<double> y(dims);
@@ -291,19 +328,22 @@ void validate(Table& table, const LawAt& law_at, const BakeOptions& options, con
         rest /= cell_counts[d];
         y[d] = table.axes[d].coordinate((static_cast<double>(k) + 0.5) / static_cast<double>(cell_counts[d]));
       }
+      if (table.min_cos_j > 0.0 && std::cos(y[0]) < table.min_cos_j) return;  // outside the validated domain
       const Estimate exact = law_at.axis_coordinates(y, check);
-      check_error[c] = std::abs(sample_axes(table, y).value - exact.value) + exact.error;
+      for (WeightRounding r : roundings)
+        check_error[c] = std::max(check_error[c], std::abs(sample_axes(table, y, r).value - exact.value) + exact.error);
     } else {
       const std::span<const double> x(random.data() + (c - centres) * dims, dims);
       const Estimate exact = law_at.law_coordinates(x, check);
-      check_error[c] = std::abs(sample(table, x).value - exact.value) + exact.error;
+      for (WeightRounding r : roundings)
+        check_error[c] = std::max(check_error[c], std::abs(sample(table, x, r).value - exact.value) + exact.error);
     }
   });
   throw_if_cancelled(options);
   table.interpolation_checks = static_cast<long long>(checks);
   table.interpolation_error = 0.0;
   for (double e : check_error) table.interpolation_error = std::max(table.interpolation_error, e);
-  table.lookup_error = std::max(kLookupMargin * table.interpolation_error, table.node_error);
+  table.lookup_error = std::max(kLookupMargin * table.interpolation_error, node_bound(table));
 }
 
 }  // namespace
@@ -322,7 +362,7 @@ Table bake_resolution(const Model& model, Law law, const BakeOptions& options) {
   return table;
 }
 
-std::vector<double> validation_points(Law law, std::uint64_t count, std::uint64_t seed) {
+std::vector<double> validation_points(Law law, std::uint64_t count, std::uint64_t seed, double min_cos_j) {
   const std::size_t dims = law == Law::g ? 3 : 1;
   std::vector<double> x;
   x.reserve(count * dims);
@@ -331,7 +371,7 @@ std::vector<double> validation_points(Law law, std::uint64_t count, std::uint64_
   for (std::uint64_t p = 0; p < count; ++p) {
     if (law == Law::g) {
       x.push_back(-1.0 + 2.0 * unit(rng));
-      x.push_back(unit(rng));
+      x.push_back(min_cos_j + (1.0 - min_cos_j) * unit(rng));
       x.push_back(std::numbers::pi * unit(rng));
     } else {
       x.push_back(unit(rng));

@@ -33,6 +33,13 @@ struct BakeOptions {
   /// g only: bake in the lobe frame with this peak and width (tables/frame.h); nothing: the
   /// cosines frame (version 1's axes; `mappings` apply).
   std::optional<LobeFrame> lobe;
+  /// With `lobe`: the warped frame instead of the lobe frame (tables/frame.h), with this warp, or
+  /// one fitted to the model (fit_warp) when nothing is given.
+  bool warped = false;
+  std::optional<Warp> warp;
+  /// The lookup the bound covers and the exported shader performs: hardware filtering makes the
+  /// validation take the worst of exact, nearest-rounded and truncated 8-bit weights.
+  Filter filter = Filter::texel_fetch;
   /// Validation after baking: seeded random points uniform in the law's coordinates (g: i·n in
   /// [-1, 1], j·n in [0, 1], phi in [0, pi]; h, a: [0, 1]) in addition to the cell centres.
   std::uint64_t random_checks = 0;
@@ -43,6 +50,13 @@ struct BakeOptions {
   double target_error = 0.0;
   /// With target_error: the cap of the value bytes (0: kDefaultMaxValueBytes).
   std::uint64_t max_bytes = 0;
+  /// With target_error: the most texture fetches one lookup may cost a shader (tables::fetches;
+  /// 0: no budget, the fewest value bytes the search finds among texel-fetch lookups).
+  int max_fetches = 0;
+  /// With target_error: when no scheme within the budget reaches it, keep the most accurate table
+  /// the search baked (its stated lookup error says by how much it misses) instead of refusing.
+  /// What the scene defaults ask for; an explicit --max-error is strict.
+  bool best_effort = false;
   /// Called with (entries done, total) at most ~kProgressSteps times, serialized (never two at
   /// once) and with increasing `done`, from whichever worker thread finished the entry.
   std::function<void(std::uint64_t done, std::uint64_t total)> progress;
@@ -93,7 +107,8 @@ Table bake(const Model& model, Law law, const BakeOptions& options);
 Table bake_resolution(const Model& model, Law law, const BakeOptions& options);
 
 /// `count` seeded random points uniform in the law's coordinates, flattened (g: (i·n in
-/// [-1, 1], j·n in [0, 1], phi in [0, pi]) each; h, a: cos theta in [0, 1]). Prefix-stable.
-std::vector<double> validation_points(Law law, std::uint64_t count, std::uint64_t seed = kValidationSeed);
+/// [-1, 1], j·n in [min_cos_j, 1], phi in [0, pi]) each; h, a: cos theta in [0, 1]). Prefix-stable.
+std::vector<double> validation_points(Law law, std::uint64_t count, std::uint64_t seed = kValidationSeed,
+                                      double min_cos_j = 0.0);
 
 }  // namespace ganzfeld::tables

@@ -31,14 +31,18 @@ TableKey table_key(const Model& model, Law law, const BakeOptions& options) {
     key.encoding = options.encoding;
     key.target_error = options.target_error;
     key.target_bytes = options.max_bytes ? options.max_bytes : kDefaultMaxValueBytes;
+    if (options.max_fetches != 0) check_fetch_budget(options.max_fetches);
+    key.target_fetches = options.max_fetches;
+    key.best_effort = options.best_effort;
     return key;
   }
   key.axes = bake_axes(law, options);
   key.tolerance = options.tolerance;
   key.encoding = options.encoding;
   key.interpolation = options.interpolation;
-  key.frame = options.lobe ? Frame::lobe : Frame::cosines;
+  key.frame = options.lobe ? (options.warped ? Frame::warped : Frame::lobe) : Frame::cosines;
   key.peak = options.lobe ? options.lobe->peak : PeakKind::mirror;
+  key.filter = options.filter;
   return key;
 }
 
@@ -51,6 +55,7 @@ TableKey table_key(const Table& table) {
   if (table.target_error > 0.0) {
     key.target_error = table.target_error;
     key.target_bytes = table.target_bytes;
+    key.target_fetches = table.target_fetches;
     return key;
   }
   key.axes = table.axes;
@@ -58,6 +63,7 @@ TableKey table_key(const Table& table) {
   key.interpolation = table.interpolation;
   key.frame = table.frame;
   key.peak = table.peak;
+  key.filter = table.filter;
   return key;
 }
 
@@ -67,7 +73,8 @@ std::string key_text(const TableKey& key) {
   text += std::string(" law=") + to_string(key.law);
   if (key.target_error > 0.0)
     return text + " max_error=" + format_number(key.target_error) + " max_bytes=" + std::to_string(key.target_bytes) +
-           " encoding=" + to_string(key.encoding);
+           " encoding=" + to_string(key.encoding) +
+           (key.target_fetches ? " fetches=" + std::to_string(key.target_fetches) : std::string());
   text += " axes=";
   for (std::size_t d = 0; d < key.axes.size(); ++d) {
     const Axis& a = key.axes[d];
@@ -80,7 +87,8 @@ std::string key_text(const TableKey& key) {
   }
   text += std::string(" tolerance=") + format_number(key.tolerance) + " encoding=" + to_string(key.encoding);
   text += std::string(" interpolation=") + to_string(key.interpolation) + " frame=" + to_string(key.frame);
-  if (key.frame == Frame::lobe) text += std::string(" peak=") + to_string(key.peak);
+  if (key.frame != Frame::cosines) text += std::string(" peak=") + to_string(key.peak);
+  if (key.filter != Filter::texel_fetch) text += std::string(" filter=") + to_string(key.filter);
   return text;
 }
 
@@ -98,7 +106,8 @@ bool same_key(const TableKey& a, const TableKey& b) noexcept {
   if (a.model != b.model || a.content != b.content || a.law != b.law || a.tolerance != b.tolerance ||
       a.encoding != b.encoding || a.format_version != b.format_version || a.axes.size() != b.axes.size() ||
       a.interpolation != b.interpolation || a.frame != b.frame || a.peak != b.peak ||
-      a.target_error != b.target_error || a.target_bytes != b.target_bytes)
+      a.target_error != b.target_error || a.target_bytes != b.target_bytes || a.target_fetches != b.target_fetches ||
+      a.filter != b.filter)
     return false;
   for (std::size_t d = 0; d < a.axes.size(); ++d) {
     const Axis &x = a.axes[d], &y = b.axes[d];
@@ -125,6 +134,8 @@ std::optional<Table> read_if_matching(const std::string& path, const TableKey& k
     Table table = read_table(path);
     if (!same_key(table_key(table), key))
       reason = "it holds another table (its metadata is not the key)";
+    else if (!key.best_effort && misses_target(table))
+      reason = "it misses its target error (a best-effort bake's table)";
     else if (table.values_digest.empty())
       reason = "it has no ganzfeld.values_digest to verify its numbers by";
     else

@@ -35,11 +35,16 @@ struct TableKey {
   int format_version = kFormatVersion;
   Interpolation interpolation = Interpolation::linear;
   Frame frame = Frame::cosines;
-  PeakKind peak = PeakKind::mirror;  ///< lobe frame only
+  PeakKind peak = PeakKind::mirror;  ///< lobe and warped frames
+  Filter filter = Filter::texel_fetch;
   /// A --max-error bake is keyed by its target (the baker chooses axes, tolerance, frame and
   /// interpolation, which are then not part of the key): error and value-byte cap.
   double target_error = 0.0;
   std::uint64_t target_bytes = 0;
+  int target_fetches = 0;  ///< --fetches (0: no budget)
+  /// Not part of the file's key (a table that meets its target serves both): a table that misses
+  /// its target, which only a best-effort bake (BakeOptions::best_effort) keeps, serves only those.
+  bool best_effort = false;
 };
 
 /// The key of the table bake(model, law, options) would make (axes: make_axes). Throws

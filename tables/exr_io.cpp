@@ -53,6 +53,11 @@ constexpr const char* kAttrInterpolation = "ganzfeld.interpolation";
 constexpr const char* kAttrLookupError = "ganzfeld.lookup_error";
 constexpr const char* kAttrTargetError = "ganzfeld.target_error";  // optional: --max-error bakes
 constexpr const char* kAttrTargetBytes = "ganzfeld.target_bytes";  // with target_error
+constexpr const char* kAttrTargetFetches = "ganzfeld.target_fetches";  // optional: --fetches bakes
+// Version 4: the lookup the bound covers, the validated domain, and a warped table's warp.
+constexpr const char* kAttrFilter = "ganzfeld.filter";
+constexpr const char* kAttrMinCosJ = "ganzfeld.min_cos_j";
+constexpr const char* kAttrWarp = "ganzfeld.warp";  // warped frame only
 // unorm16 encoding only: value = offset + scale u / 65535 for the UINT code u of the value channel.
 constexpr const char* kAttrUnormOffset = "ganzfeld.unorm16_offset";
 constexpr const char* kAttrUnormScale = "ganzfeld.unorm16_scale";
@@ -89,8 +94,13 @@ nlohmann::ordered_json axes_json(const Table& table) {
   return axes;
 }
 
-
 }  // namespace
+
+std::string warp_text(const Warp& warp) {
+  nlohmann::ordered_json samples = nlohmann::ordered_json::array();
+  for (const WarpSample& s : warp.samples) samples.push_back({s.shift, s.along, s.across});
+  return nlohmann::ordered_json{{"mix", warp.mix}, {"envelope", warp.envelope}, {"samples", samples}}.dump();
+}
 
 void write_table(const Table& table, const std::string& path) {
   check_table(table);  // never write what read_table would refuse
@@ -122,12 +132,16 @@ void write_table(const Table& table, const std::string& path) {
     attr(kAttrUnormScale, format_number(table.unorm.scale));
   }
   attr(kAttrFrame, to_string(table.frame));
-  if (table.frame == Frame::lobe) attr(kAttrPeak, to_string(table.peak));
+  if (table.frame != Frame::cosines) attr(kAttrPeak, to_string(table.peak));
+  attr(kAttrFilter, to_string(table.filter));
+  attr(kAttrMinCosJ, format_number(table.min_cos_j));
+  if (table.frame == Frame::warped) attr(kAttrWarp, warp_text(table.warp));
   attr(kAttrInterpolation, to_string(table.interpolation));
   attr(kAttrLookupError, format_number(table.lookup_error));
   if (table.target_error > 0.0) {
     attr(kAttrTargetError, format_number(table.target_error));
     attr(kAttrTargetBytes, std::to_string(table.target_bytes));
+    if (table.target_fetches > 0) attr(kAttrTargetFetches, std::to_string(table.target_fetches));
   }
   attr(kAttrValuesDigest, values_digest(table));  // the numbers as read back (check_table: exact in the encoding)
 
@@ -221,13 +235,38 @@ struct Reader : ExrAttributes {
     return out;
   }
 
+  /// A warped table's warp: {"mix": m, "envelope": w, "samples": [[shift, along, across], ...]}
+  /// (check_table judges the numbers).
+  Warp warp(const std::string& text) const {
+    const std::string bad = std::string(kAttrWarp) +
+                            " is not {\"mix\": number, \"envelope\": number, \"samples\": [[shift, along, across], ...]}";
+    nlohmann::json doc;
+    try {
+      doc = nlohmann::json::parse(text);
+    } catch (const nlohmann::json::exception&) {
+      refuse(bad);
+    }
+    if (!doc.is_object() || !doc.contains("mix") || !doc["mix"].is_number() || !doc.contains("envelope") ||
+        !doc["envelope"].is_number() || !doc.contains("samples") || !doc["samples"].is_array() ||
+        doc["samples"].size() > 4096)
+      refuse(bad);
+    Warp w;
+    w.mix = doc["mix"].get<double>();
+    w.envelope = doc["envelope"].get<double>();
+    for (const auto& s : doc["samples"]) {
+      if (!s.is_array() || s.size() != 3 || !s[0].is_number() || !s[1].is_number() || !s[2].is_number()) refuse(bad);
+      w.samples.push_back({s[0].get<double>(), s[1].get<double>(), s[2].get<double>()});
+    }
+    return w;
+  }
+
   /// Law, model (as text), content digest, encoding, axes, tolerance and errors; version first:
   /// a newer format is refused before anything else is judged.
   void read_metadata(const Imf::Header& header, Table& table) const {
     const std::string version = attribute(header, kAttrVersion);
-    if (version != "1" && version != std::to_string(kFormatVersion))
-      refuse("format version '" + version + "' is not supported; this ganzfeld reads versions " +
-             std::to_string(kOldestFormatVersion) + " to " + std::to_string(kFormatVersion));
+    if (version != "1" && version != "2" && version != std::to_string(kFormatVersion))
+      refuse("format version '" + version + "' is not supported; this ganzfeld reads law tables of versions 1, 2 and " +
+             std::to_string(kFormatVersion) + " (version 3 is a parameter table)");
     table.format_version = std::stoi(version);
     try {
       table.law = parse_law(attribute(header, kAttrLaw));
@@ -271,17 +310,32 @@ struct Reader : ExrAttributes {
   void read_version_2(const Imf::Header& header, Table& table) const {
     try {
       table.frame = parse_frame(attribute(header, kAttrFrame));
-      if (table.frame == Frame::lobe) table.peak = parse_peak(attribute(header, kAttrPeak));
+      if (table.frame != Frame::cosines) table.peak = parse_peak(attribute(header, kAttrPeak));
       table.interpolation = parse_interpolation(attribute(header, kAttrInterpolation));
     } catch (const InputError& e) {
       refuse(std::string(e.what()));
     }
     table.lookup_error = number(header, kAttrLookupError);
+    if (table.format_version >= kFormatVersion) {
+      try {
+        table.filter = parse_filter(attribute(header, kAttrFilter));
+      } catch (const InputError& e) {
+        refuse(std::string(e.what()));
+      }
+      table.min_cos_j = number(header, kAttrMinCosJ);
+      if (table.frame == Frame::warped) table.warp = warp(attribute(header, kAttrWarp));
+    }
     if (header.findTypedAttribute<Imf::StringAttribute>(kAttrTargetError)) {
       table.target_error = number(header, kAttrTargetError);
       const double bytes = number(header, kAttrTargetBytes);
       if (bytes != std::floor(bytes) || bytes > 1.8e19) refuse(std::string(kAttrTargetBytes) + " is not a count");
       table.target_bytes = static_cast<std::uint64_t>(bytes);
+      if (header.findTypedAttribute<Imf::StringAttribute>(kAttrTargetFetches)) {
+        const double budget = number(header, kAttrTargetFetches);
+        if (budget != std::floor(budget) || budget < 1 || budget > 1e6)
+          refuse(std::string(kAttrTargetFetches) + " is not a count >= 1");
+        table.target_fetches = static_cast<int>(budget);
+      }
     }
   }
 

@@ -13,8 +13,12 @@ namespace ganzfeld::tables {
 /// see a partial table, and on any failure (InputError) nothing is left at `path` or beside it.
 void write_table(const Table& table, const std::string& path);
 
-/// Reads and validates a table; anything that is not a complete, consistent format-version-1
-/// table is refused with a one-line InputError naming the file.
+/// Reads and validates a table; anything that is not a complete, consistent law table (format
+/// versions 1, 2, 4) is refused with a one-line InputError naming the file.
 Table read_table(const std::string& path);
+
+/// A warped table's ganzfeld.warp attribute, JSON text: {"mix", "envelope", "samples": [[shift, along,
+/// across], ...]}.
+std::string warp_text(const Warp& warp);
 
 }  // namespace ganzfeld::tables

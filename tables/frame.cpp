@@ -5,6 +5,9 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <vector>
+
+#include <tbb/parallel_for.h>
 
 namespace ganzfeld::tables {
 
@@ -18,7 +21,12 @@ constexpr double kProbeDegrees[] = {0.0, 30.0, 60.0, 85.0};
 constexpr double kSameDirection = 1e-12;
 }  // namespace
 
-std::array<double, 3> lobe_coordinates(PeakKind peak, double cos_theta_i, double cos_theta_j, double phi) noexcept {
+namespace {
+/// The lobe frame's angles and the pole's components along (p, e1, e2) of the g coordinates.
+struct LobeComponents {
+  double theta_j, psi, beta, ip, ie1, ie2;
+};
+LobeComponents lobe_components(PeakKind peak, double cos_theta_i, double cos_theta_j, double phi) noexcept {
   const double s = sign_of(peak);
   const double ci = std::clamp(cos_theta_i, -1.0, 1.0), cj = std::clamp(cos_theta_j, 0.0, 1.0);
   const double si = std::sqrt(std::max(0.0, 1.0 - ci * ci)), sj = std::sqrt(std::max(0.0, 1.0 - cj * cj));
@@ -27,7 +35,13 @@ std::array<double, 3> lobe_coordinates(PeakKind peak, double cos_theta_i, double
   const double ie1 = -s * si * cj * cp + ci * sj;
   const double ie2 = si * sp;
   const double beta = (ie1 == 0.0 && ie2 == 0.0) ? 0.0 : std::atan2(ie2, ie1);
-  return {std::atan2(sj, cj), std::atan2(std::hypot(ie1, ie2), ip), beta};
+  return {std::atan2(sj, cj), std::atan2(std::hypot(ie1, ie2), ip), beta, ip, ie1, ie2};
+}
+}  // namespace
+
+std::array<double, 3> lobe_coordinates(PeakKind peak, double cos_theta_i, double cos_theta_j, double phi) noexcept {
+  const LobeComponents c = lobe_components(peak, cos_theta_i, cos_theta_j, phi);
+  return {c.theta_j, c.psi, c.beta};
 }
 
 std::pair<Vec3, Vec3> lobe_directions(PeakKind peak, double theta_j, double psi, double beta) noexcept {
@@ -37,6 +51,117 @@ std::pair<Vec3, Vec3> lobe_directions(PeakKind peak, double theta_j, double psi,
   const Vec3 p{s * sj, 0.0, cj}, e1{-s * cj, 0.0, sj}, e2{0.0, 1.0, 0.0};
   const Vec3 i = std::cos(psi) * p + std::sin(psi) * (std::cos(beta) * e1 + std::sin(beta) * e2);
   return {glm::normalize(i), j};
+}
+
+WarpSample warp_at(const Warp& warp, const Axis& theta_axis, double theta_j) noexcept {
+  const int K = static_cast<int>(warp.samples.size());
+  if (K == 0) return {};
+  if (K == 1) return warp.samples[0];
+  const double s = theta_axis.index_coordinate(theta_j) * (K - 1);
+  const int k = static_cast<int>(std::min(std::floor(s), static_cast<double>(K - 2)));
+  const double t = s - k;
+  const WarpSample &a = warp.samples[k], &b = warp.samples[k + 1];
+  return {(1.0 - t) * a.shift + t * b.shift, (1.0 - t) * a.along + t * b.along, (1.0 - t) * a.across + t * b.across};
+}
+
+double warp_envelope(const Warp& warp, double theta_j) noexcept {
+  if (!(warp.envelope > 0.0)) return 1.0;
+  const double c = std::cos(theta_j), s = std::sin(theta_j), w = warp.envelope;
+  return 0.5 * (c + std::sqrt(c * c + w * w * s * s));
+}
+
+double warped_offset(const WarpSample& at, double mix, double ip, double ie1, double ie2, double psi) noexcept {
+  const double q = ip + at.shift * ie1;
+  const double r2 = at.along * at.along * ie1 * ie1 + at.across * at.across * ie2 * ie2;
+  const double d = std::sqrt(q * q + r2);
+  const double lobe = d > 0.0 ? 0.5 * (1.0 + q / d) : 0.5;
+  return mix * lobe + (1.0 - mix) * (1.0 - psi / std::numbers::pi);
+}
+
+std::array<double, 3> warped_coordinates(PeakKind peak, const Warp& warp, const Axis& theta_axis, double cos_theta_i,
+                                         double cos_theta_j, double phi) noexcept {
+  const LobeComponents c = lobe_components(peak, cos_theta_i, cos_theta_j, phi);
+  return {c.theta_j, warped_offset(warp_at(warp, theta_axis, c.theta_j), warp.mix, c.ip, c.ie1, c.ie2, c.psi), c.beta};
+}
+
+std::pair<Vec3, Vec3> warped_directions(PeakKind peak, const Warp& warp, const Axis& theta_axis, double theta_j,
+                                        double offset, double beta) noexcept {
+  const WarpSample at = warp_at(warp, theta_axis, theta_j);
+  const double cb = std::cos(beta), sb = std::sin(beta);
+  double lo = 0.0, hi = std::numbers::pi;  // offset(lo) = 1 >= offset >= 0 = offset(hi)
+  for (int it = 0; it < 64 && hi - lo > 1e-15; ++it) {
+    const double psi = 0.5 * (lo + hi);
+    const double sp = std::sin(psi);
+    (warped_offset(at, warp.mix, std::cos(psi), sp * cb, sp * sb, psi) > offset ? lo : hi) = psi;
+  }
+  return lobe_directions(peak, theta_j, 0.5 * (lo + hi), beta);
+}
+
+namespace {
+/// S(z) = 3/4 at z = 1/sqrt(3): the quartile spread of S is 2/sqrt(3) widths.
+constexpr double kQuartileSpread = 2.0 / 1.7320508075688772;
+/// Bisection steps for a quartile in asinh(cot psi) over [-kQuantileReach, kQuantileReach]:
+/// 16 halvings of 2 asinh(1e3) locate it to 2e-4 in asinh, ample for a warp.
+constexpr int kQuantileSteps = 16;
+constexpr double kQuantileReach = 1e3;
+}  // namespace
+
+Warp fit_warp(const Model& model, const LobeFrame& frame, const Axis& theta_axis, double tolerance) {
+  using std::numbers::pi;
+  CubatureOptions options;
+  options.abs_tol = tolerance;
+  const double w = frame.width;
+  struct Fit {
+    WarpSample sample;
+    double top = 0.0;  // g at psi = 0: the whole lobe under the sky
+  };
+  std::vector<Fit> fits(kWarpSamples);
+  tbb::parallel_for(0, kWarpSamples, [&](int k) {
+    const double theta_j = theta_axis.coordinate(static_cast<double>(k) / (kWarpSamples - 1));
+    auto g = [&](double x, double beta) {  // x = cot psi
+      const auto [i, j] = lobe_directions(frame.peak, theta_j, std::atan2(1.0, x), beta);
+      return vignetting(model, i, j, options).value;
+    };
+    const double bottom = g(-HUGE_VAL, 0.0), top = g(HUGE_VAL, 0.0);
+    auto quantile = [&](double beta, double q) {
+      const double level = bottom + q * (top - bottom);
+      double lo = -std::asinh(kQuantileReach), hi = std::asinh(kQuantileReach);
+      for (int it = 0; it < kQuantileSteps; ++it) {
+        const double m = 0.5 * (lo + hi);
+        (g(std::sinh(m), beta) < level ? lo : hi) = m;
+      }
+      return std::sinh(0.5 * (lo + hi));
+    };
+    WarpSample s{0.0, w, w};
+    if (top - bottom > 1e-6) {
+      const double a25 = quantile(0.0, 0.25), a50 = quantile(0.0, 0.5), a75 = quantile(0.0, 0.75);
+      const double b25 = quantile(pi, 0.25), b50 = quantile(pi, 0.5), b75 = quantile(pi, 0.75);
+      const double c25 = quantile(pi / 2, 0.25), c75 = quantile(pi / 2, 0.75);
+      auto bounded = [&](double x) { return std::clamp(x, w / 8.0, 8.0 * w + 1.0); };
+      s.shift = std::clamp(0.5 * (b50 - a50), -(8.0 * w + 1.0), 8.0 * w + 1.0);
+      s.along = bounded(kWarpWidthFactor * 0.5 * ((a75 - a25) + (b75 - b25)) / kQuartileSpread);
+      s.across = bounded(kWarpWidthFactor * (c75 - c25) / kQuartileSpread);
+    }
+    fits[k] = {s, top};
+  });
+  Warp warp;
+  warp.mix = kWarpMix;
+  for (const Fit& f : fits) warp.samples.push_back(f.sample);
+  // The envelope: the one under which g(psi = 0) / A bends least over the samples.
+  auto roughness = [&](double envelope) {
+    Warp trial;
+    trial.envelope = envelope;
+    double worst = 0.0;
+    for (int k = 1; k + 1 < kWarpSamples; ++k) {
+      auto at = [&](int m) {
+        return fits[m].top / warp_envelope(trial, theta_axis.coordinate(static_cast<double>(m) / (kWarpSamples - 1)));
+      };
+      worst = std::max(worst, std::abs(at(k - 1) - 2.0 * at(k) + at(k + 1)));
+    }
+    return worst;
+  };
+  warp.envelope = roughness(w) < roughness(0.0) ? w : 0.0;
+  return warp;
 }
 
 std::optional<LobeFrame> lobe_frame_of(const Model& model) {

@@ -45,6 +45,52 @@ struct LobeFrame {
   double width = 0.0;  ///< radians
 };
 
+// The warped frame (docs/lut-format.md, "The warped frame", format version 4). In the gnomonic
+// plane tangent at the peak p (k ∝ p + t1 e1 + t2 e2) the sky {k·i > 0} is the half plane
+// t·ê > -cot psi, ê = (cos beta, sin beta): g is the lobe's mass on one side of a line, i.e. its
+// marginal distribution along ê at cot psi (Koenderink & Pont's g as a "law of vignetting": the
+// lobe vignetted by the sky's edge). A lobe centred at t = shift e1 with widths `along` (e1) and
+// `across` (e2) has that marginal close to S(z), z = (cot psi + shift cos beta) / w(beta),
+// w(beta)^2 = along^2 cos^2 beta + across^2 sin^2 beta, S(z) = (1 + z / sqrt(1 + z^2)) / 2 (the
+// exact marginal of GGX's slope distribution, whose tails are algebraic). Multiplied through by
+// |i⊥| = sin psi, with q = i·p + shift (i·e1) and r^2 = along^2 (i·e1)^2 + across^2 (i·e2)^2:
+//   u_lobe = (1 + q / sqrt(q^2 + r^2)) / 2                     (no trigonometry, no division by 0)
+//   offset = mix u_lobe + (1 - mix) (1 - psi / pi)
+// The second term keeps a share of the nodes uniform in psi where a lobe's tails differ from S.
+// Along offset, g / h is then nearly the identity, so a linear filter interpolates it well; the
+// envelope A(theta_j) = (cos theta_j + sqrt(cos^2 theta_j + envelope^2 sin^2 theta_j)) / 2 (the
+// mean k·n of a lobe of width `envelope` clipped by the horizon; 1 without an envelope) takes out
+// the cos theta_j that h of a Koenderink–Pont lobe carries. The stored numbers are g / A.
+
+/// Fitting: the number of warp samples over theta_j, the share of the offset axis that follows
+/// the lobe, the factor on the quartile widths (a warp wider than the lobe's quartiles spreads a
+/// Gaussian step over more nodes: measured on specular alpha = 8, 1000 and ggx roughness 0.3),
+/// and theta_j's sinh_max width in lobe widths.
+inline constexpr int kWarpSamples = 17;
+inline constexpr double kWarpMix = 0.85;
+inline constexpr double kWarpWidthFactor = 1.5;
+inline constexpr double kWarpedThetaWidths = 3.0;
+
+/// The warp parameters at theta_j (linear between the samples in theta_axis' index coordinate).
+WarpSample warp_at(const Warp& warp, const Axis& theta_axis, double theta_j) noexcept;
+/// A(theta_j) (1 without an envelope).
+double warp_envelope(const Warp& warp, double theta_j) noexcept;
+/// The offset of a unit sky pole i with components (i·p, i·e1, i·e2) and angle psi to p.
+double warped_offset(const WarpSample& at, double mix, double ip, double ie1, double ie2, double psi) noexcept;
+/// (theta_j, offset, beta) of the g coordinates (c_i, c_j, phi).
+std::array<double, 3> warped_coordinates(PeakKind peak, const Warp& warp, const Axis& theta_axis, double cos_theta_i,
+                                         double cos_theta_j, double phi) noexcept;
+/// The directions (i, j) at warped coordinates: psi is found by bisection (offset falls with psi).
+std::pair<Vec3, Vec3> warped_directions(PeakKind peak, const Warp& warp, const Axis& theta_axis, double theta_j,
+                                        double offset, double beta) noexcept;
+/// The warp of `model`'s g: at each of kWarpSamples theta_j, the quartiles of g along cot psi at
+/// beta = 0, pi/2, pi (by bisection, cubature at `tolerance`), relative to g's range between
+/// psi = pi and 0: shift = half the distance of the medians at beta = pi and 0, along and across
+/// from the quartile spreads (S(z) = 3/4 at z = 1/sqrt(3)) times kWarpWidthFactor, kept within
+/// [width/8, 8 width + 1] of the hinted width; the envelope (the lobe's width or none) that makes
+/// g(psi = 0) / A smoother over theta_j.
+Warp fit_warp(const Model& model, const LobeFrame& frame, const Axis& theta_axis, double tolerance);
+
 /// The lobe frame of a model's g from its mass hints for the law of vignetting (varying the
 /// incident direction): the narrowest peak that sits at the mirror direction of j or at j at
 /// every probed j, and its narrowest width over them. Nothing when no peak does (Lambert,

@@ -35,7 +35,10 @@ constexpr std::array kMappings{EnumName<Mapping>{Mapping::linear, "linear"}, Enu
                                EnumName<Mapping>{Mapping::sinh_max, "sinh_max"}};
 constexpr std::array kInterpolations{EnumName<Interpolation>{Interpolation::linear, "linear"},
                                      EnumName<Interpolation>{Interpolation::catmull_rom, "catmull-rom"}};
-constexpr std::array kFrames{EnumName<Frame>{Frame::cosines, "cosines"}, EnumName<Frame>{Frame::lobe, "lobe"}};
+constexpr std::array kFrames{EnumName<Frame>{Frame::cosines, "cosines"}, EnumName<Frame>{Frame::lobe, "lobe"},
+                             EnumName<Frame>{Frame::warped, "warped"}};
+constexpr std::array kFilters{EnumName<Filter>{Filter::texel_fetch, "texel-fetch"},
+                              EnumName<Filter>{Filter::hardware, "hardware"}};
 constexpr std::array kPeaks{EnumName<PeakKind>{PeakKind::mirror, "mirror"}, EnumName<PeakKind>{PeakKind::retro, "retro"}};
 constexpr std::array kEncodings{EnumName<Encoding>{Encoding::half, "half"}, EnumName<Encoding>{Encoding::single, "float"},
                                 EnumName<Encoding>{Encoding::unorm16, "unorm16"}};
@@ -49,8 +52,27 @@ Interpolation parse_interpolation(const std::string& text) {
   return util::parse_name(kInterpolations, "interpolation", text);
 }
 
+bool is_law_table_version(int version) noexcept { return version == 1 || version == 2 || version == kFormatVersion; }
+
 const char* to_string(Frame frame) { return util::name_of(kFrames, frame); }
 Frame parse_frame(const std::string& text) { return util::parse_name(kFrames, "frame", text); }
+
+const char* to_string(Filter filter) { return util::name_of(kFilters, filter); }
+Filter parse_filter(const std::string& text) { return util::parse_name(kFilters, "lookup filter", text); }
+
+int fetches(Interpolation interpolation, Filter filter, std::size_t dims) noexcept {
+  const int per_axis = interpolation == Interpolation::catmull_rom ? (filter == Filter::hardware ? 3 : 4)
+                                                                   : (filter == Filter::hardware ? 1 : 2);
+  int n = 1;
+  for (std::size_t d = 0; d < dims; ++d) n *= per_axis;
+  return n;
+}
+
+int fetches(const Table& table) noexcept { return fetches(table.interpolation, table.filter, table.axes.size()); }
+
+bool misses_target(const Table& table) noexcept {
+  return table.target_error > 0.0 && table.lookup_error > table.target_error;
+}
 
 const char* to_string(PeakKind peak) { return util::name_of(kPeaks, peak); }
 PeakKind parse_peak(const std::string& text) { return util::parse_name(kPeaks, "lobe peak", text); }
@@ -114,14 +136,8 @@ double Axis::coordinate(double u) const noexcept {
   return min + (max - min) * t;
 }
 
-double Axis::index_coordinate(double x) const noexcept {
-  if (!(max > min)) return 0.0;
-  const double t = std::clamp((x - min) / (max - min), 0.0, 1.0);  // NaN -> clamp keeps NaN; caught below
-  if (!(t >= 0.0)) return 0.0;
+double Axis::sinh_index_coordinate(double t) const noexcept {
   switch (mapping) {
-    case Mapping::linear: return t;
-    case Mapping::sqrt: return std::sqrt(t);
-    case Mapping::cos: return std::acos(1.0 - 2.0 * t) / pi;
     case Mapping::sinh: {
       if (!(width > 0.0)) return t;
       const SinhAxis s(*this);
@@ -133,8 +149,8 @@ double Axis::index_coordinate(double x) const noexcept {
       const double V = std::asinh((max - min) / width);
       return std::clamp(1.0 - std::asinh((max - min) * (1.0 - t) / width) / V, 0.0, 1.0);
     }
+    default: return t;
   }
-  return t;
 }
 
 double Axis::node(int k) const noexcept {
@@ -191,6 +207,16 @@ std::vector<Axis> lobe_axes(std::span<const int> counts, double width) {
                             {kAxisPsi, 0.0, pi, 0, Mapping::sinh, width},
                             {kAxisBeta, 0.0, pi, 0, Mapping::linear}};
   return with_counts(std::move(axes), counts, "a lobe-frame g table");
+}
+
+std::vector<Axis> warped_axes(std::span<const int> counts, double theta_width) {
+  if (!std::isfinite(theta_width) || !(theta_width > 0.0))
+    throw InputError("theta_j width " + format_number(theta_width) +
+                     " is not allowed; expected a positive number of radians");
+  std::vector<Axis> axes = {{kAxisThetaJ, 0.0, pi / 2, 0, Mapping::sinh_max, theta_width},
+                            {kAxisOffset, 0.0, 1.0, 0, Mapping::linear},
+                            {kAxisBeta, 0.0, pi, 0, Mapping::linear}};
+  return with_counts(std::move(axes), counts, "a warped-frame g table");
 }
 
 std::vector<Mapping> parse_mappings(const std::string& text, Law law) {
@@ -275,6 +301,30 @@ void check_unorm16(const Table& table) {
 }
 }  // namespace
 
+namespace {
+/// A warped table's warp: >= 2 samples of finite shifts and positive finite widths, mix in (0, 1],
+/// a finite envelope width >= 0; other tables have none. The validated domain: j·n >= 0, < 1.
+void check_warp(const Table& table) {
+  if (!std::isfinite(table.min_cos_j) || table.min_cos_j < 0.0 || table.min_cos_j >= 1.0)
+    throw InputError("validated j·n minimum " + format_number(table.min_cos_j) + " is not allowed; expected [0, 1)");
+  const Warp& w = table.warp;
+  if (table.frame != Frame::warped) {
+    if (!w.samples.empty()) throw InputError("only a warped-frame table has a warp");
+    return;
+  }
+  if (w.samples.size() < 2)
+    throw InputError("a warped-frame table needs at least 2 warp samples, it has " + std::to_string(w.samples.size()));
+  for (const WarpSample& s : w.samples)
+    if (!std::isfinite(s.shift) || !std::isfinite(s.along) || !std::isfinite(s.across) || !(s.along > 0.0) ||
+        !(s.across > 0.0))
+      throw InputError("warp sample (shift " + format_number(s.shift) + ", along " + format_number(s.along) +
+                       ", across " + format_number(s.across) + ") is not allowed; expected finite, widths > 0");
+  if (!(w.mix > 0.0 && w.mix <= 1.0)) throw InputError("warp mix " + format_number(w.mix) + " is not in (0, 1]");
+  if (!std::isfinite(w.envelope) || w.envelope < 0.0)
+    throw InputError("warp envelope width " + format_number(w.envelope) + " is not a finite number >= 0");
+}
+}  // namespace
+
 void check_table(const Table& table) {
   check_model_text(table.model);
   check_model_content(table.model_content);
@@ -286,8 +336,15 @@ void check_table(const Table& table) {
   if (table.axes.size() != want)
     throw InputError(std::string("law ") + law + " needs " + std::to_string(want) + " axes, the metadata lists " +
                      std::to_string(table.axes.size()));
-  if (table.frame == Frame::lobe && table.law != Law::g)
-    throw InputError(std::string("law ") + law + " tables use the cosines frame; only g has a lobe frame");
+  if (table.frame != Frame::cosines && table.law != Law::g)
+    throw InputError(std::string("law ") + law + " tables use the cosines frame; only g has a " +
+                     to_string(table.frame) + " frame");
+  if (table.format_version < kFormatVersion && (table.frame == Frame::warped || table.filter != Filter::texel_fetch))
+    throw InputError("the warped frame and hardware filtering need format version " + std::to_string(kFormatVersion));
+  check_warp(table);
+  if (table.filter == Filter::hardware && table.interpolation != Interpolation::linear)
+    throw InputError("hardware filtering is validated for linear lookup only, not " +
+                     std::string(to_string(table.interpolation)));
   if (table.format_version == 1 && (table.frame != Frame::cosines || table.interpolation != Interpolation::linear))
     throw InputError("format version 1 has only the cosines frame and linear interpolation");
   if (table.interpolation == Interpolation::catmull_rom)
@@ -304,9 +361,11 @@ void check_table(const Table& table) {
     if (a.has_width() && table.format_version < 2)
       throw InputError("axis " + a.name + ": the " + to_string(a.mapping) + " mapping needs format version 2");
   }
-  const std::vector<Axis> expected = table.frame == Frame::lobe && want == 3
-                                         ? lobe_axes(counts, table.axes[1].width > 0.0 ? table.axes[1].width : 1.0)
-                                         : default_axes(table.law, counts);  // checks counts >= 2
+  const std::vector<Axis> expected =
+      want != 3                      ? default_axes(table.law, counts)  // checks counts >= 2
+      : table.frame == Frame::lobe   ? lobe_axes(counts, table.axes[1].width > 0.0 ? table.axes[1].width : 1.0)
+      : table.frame == Frame::warped ? warped_axes(counts, table.axes[0].width > 0.0 ? table.axes[0].width : 1.0)
+                                     : default_axes(table.law, counts);
   for (std::size_t d = 0; d < want; ++d) {
     const Axis& a = table.axes[d];
     const Axis& e = expected[d];

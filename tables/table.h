@@ -3,7 +3,10 @@
 // the formulas below are the normative ones and the document quotes them.
 #pragma once
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
+#include <numbers>
 #include <span>
 #include <string>
 #include <vector>
@@ -17,10 +20,14 @@ void require_tabulated(Law law);
 /// parse_law for a flag that names a tabulated law; refusals name `flag` and the text.
 Law parse_tabulated_law(const std::string& flag, const std::string& text);
 
-/// The version of docs/lut-format.md this code writes. Version 1 files (cosine axes, linear
-/// lookup, no frame or interpolation attributes) are still read.
-inline constexpr int kFormatVersion = 2;
+/// The version of docs/lut-format.md this code writes: 4 (the warped frame and the lookup filter;
+/// version 3 is the parameter tables of tables/param_table.h). Versions 1 (cosine axes, linear
+/// lookup, no frame or interpolation attributes) and 2 (no warped frame, no filter attribute) are
+/// still read.
+inline constexpr int kFormatVersion = 4;
 inline constexpr int kOldestFormatVersion = 1;
+/// Whether read_table reads law tables of this version: 1, 2 and 4.
+bool is_law_table_version(int version) noexcept;
 
 /// How an axis spends its nodes. u in [0, 1] is the index coordinate (node k at u = k/(count-1)),
 /// t = (x - min)/(max - min) the normalized coordinate:
@@ -52,10 +59,28 @@ Interpolation parse_interpolation(const std::string& text);
 ///   lobe:    (theta_j, psi, beta), relative to the peak p(j) of the model's lobe: theta_j the
 ///            polar angle of j, psi the angle between i and p, beta the azimuth of i about p
 ///            measured from the plane of n and p. psi uses the sinh mapping with the lobe's width.
+///   warped:  (theta_j, offset, beta) (version 4): psi replaced by the warped offset of the sky's
+///            boundary from the lobe, a closed-form approximation of the share of the lobe under
+///            the sky, so that g is nearly linear along it (Warp, tables/frame.h).
 /// h and a tables always use the cosines frame.
-enum class Frame { cosines, lobe };
-const char* to_string(Frame frame);  ///< "cosines" or "lobe"
+enum class Frame { cosines, lobe, warped };
+const char* to_string(Frame frame);  ///< "cosines", "lobe" or "warped"
 Frame parse_frame(const std::string& text);
+
+/// Which lookup a table's bound (Table::lookup_error) covers and its exported shader performs
+/// (docs/lut-format.md, "Sampling"):
+///   texel_fetch: the nodes read one by one and blended in full precision (texelFetch);
+///   hardware:    linear blends done by the GPU's texture filter, whose weights a GPU may round
+///                to 8 bits (Direct3D and Vulkan guarantee no more sub-texel precision): the
+///                bound holds whether the filter rounds those weights to nearest or truncates them.
+enum class Filter { texel_fetch, hardware };
+const char* to_string(Filter filter);  ///< "texel-fetch" or "hardware"
+Filter parse_filter(const std::string& text);
+/// The sub-texel precision a hardware filter is held to: weights in steps of 1/256.
+inline constexpr double kFilterWeightSteps = 256.0;
+/// How a lookup blends: exactly, or as a hardware filter with 8-bit weights rounded to nearest or
+/// truncated (the two ends of what GPUs do).
+enum class WeightRounding { exact, nearest, truncate };
 /// Where the lobe of a lobe-frame table peaks for the viewing direction j: the mirror direction
 /// m = 2(j·n)n - j (specular) or j itself (retro: backscatter).
 enum class PeakKind { mirror, retro };
@@ -99,8 +124,22 @@ struct Axis {
 
   /// x for the index coordinate u in [0, 1] (clamped).
   double coordinate(double u) const noexcept;
-  /// u in [0, 1] for x (x is clamped to [min, max] first).
-  double index_coordinate(double x) const noexcept;
+  /// u in [0, 1] for x (x is clamped to [min, max] first). Inline: a lookup makes one per axis.
+  double index_coordinate(double x) const noexcept {
+    if (!(max > min)) return 0.0;
+    const double t = std::clamp((x - min) / (max - min), 0.0, 1.0);  // NaN -> clamp keeps NaN; caught below
+    if (!(t >= 0.0)) return 0.0;
+    switch (mapping) {
+      case Mapping::linear: return t;
+      case Mapping::sqrt: return std::sqrt(t);
+      case Mapping::cos: return std::acos(1.0 - 2.0 * t) / std::numbers::pi;
+      case Mapping::sinh:
+      case Mapping::sinh_max: break;
+    }
+    return sinh_index_coordinate(t);
+  }
+  /// index_coordinate of the sinh mappings at the normalized coordinate t in [0, 1].
+  double sinh_index_coordinate(double t) const noexcept;
   /// x of node k, exact at both ends.
   double node(int k) const noexcept;
 };
@@ -113,6 +152,8 @@ inline constexpr const char* kAxisPhi = "phi";                ///< azimuth of j 
 inline constexpr const char* kAxisThetaJ = "theta_j";  ///< polar angle of j, [0, pi/2]
 inline constexpr const char* kAxisPsi = "psi";         ///< angle between i and the lobe's peak p(j), [0, pi]
 inline constexpr const char* kAxisBeta = "beta";       ///< azimuth of i about p(j), folded to [0, pi]
+/// The warped frame's second axis (version 4): the warped offset of the sky's boundary, [0, 1].
+inline constexpr const char* kAxisOffset = "offset";
 
 /// The axes of a law for an isotropic model, with the default mappings, given the node counts
 /// (g: 3 counts; h, a: 1). Throws InputError for another law, a wrong number of counts or a
@@ -140,6 +181,11 @@ inline constexpr double kThetaJWidths = 6.0;
 /// Throws InputError for a count below 2 or a width that is not a positive finite number.
 std::vector<Axis> lobe_axes(std::span<const int> counts, double width);
 
+/// The axes of a warped-frame g table (tables/frame.h) with theta_j's sinh_max width (radians, > 0)
+/// and node counts (theta_j, offset, beta): theta_j in [0, pi/2] (sinh_max), offset in [0, 1]
+/// (linear), beta in [0, pi] (linear). Throws InputError like lobe_axes.
+std::vector<Axis> warped_axes(std::span<const int> counts, double theta_width);
+
 /// Parses "M", "MxM" or "MxMxM" (M = linear, sqrt or cos) into one mapping per axis of the law;
 /// a single M stands for every axis; "default" gives the empty list (the law's defaults).
 /// Throws InputError naming the text and the expected form.
@@ -149,6 +195,25 @@ std::vector<Mapping> parse_mappings(const std::string& text, Law law);
 /// the validation points are a sample, a fresh point may err somewhat more (tests/tables_test.cpp
 /// checks the bound holds at >= 99.9% of fresh random points).
 inline constexpr double kLookupMargin = 1.5;
+
+/// The warp of a warped-frame table (docs/lut-format.md, "The warped frame"; tables/frame.h):
+/// per sample k, at theta_j's index coordinate k/(K - 1), the lobe's centre shift along e1 and its
+/// widths along e1 and e2 (gnomonic units), blended linearly in between; the share `mix` of the
+/// offset axis that follows the lobe (the rest is uniform in psi); and the envelope's width
+/// (0: none): the stored numbers are g / A(theta_j), A = (cos + sqrt(cos^2 + width^2 sin^2))/2.
+struct WarpSample {
+  double shift = 0.0, along = 1.0, across = 1.0;
+};
+struct Warp {
+  std::vector<WarpSample> samples;  ///< >= 2
+  double mix = 0.0;                 ///< in (0, 1]
+  double envelope = 0.0;            ///< >= 0
+};
+
+/// The smallest j·n at which a warped table's bound was validated: below it (the last degree
+/// and a bit above the horizon) g of microfacet models is nearly discontinuous (the
+/// height-correlated visibility layer), and the bound does not claim it. Other tables: 0.
+inline constexpr double kWarpedMinCosJ = 0.02;
 
 struct Table {
   Law law = Law::g;
@@ -176,14 +241,19 @@ struct Table {
   /// resolution): part of its cache key.
   double target_error = 0.0;
   std::uint64_t target_bytes = 0;
+  int target_fetches = 0;  ///< the --fetches budget it was baked to (0: none)
   std::string command;         ///< the command line that made the table
   std::string version;         ///< ganzfeld version that made it
   Encoding encoding = Encoding::single;
   Unorm16 unorm;  ///< unorm16 only: value[m] = unorm.value(code m) exactly
   Interpolation interpolation = Interpolation::linear;
   Frame frame = Frame::cosines;
-  PeakKind peak = PeakKind::mirror;  ///< lobe frame only
-  int format_version = kFormatVersion;  ///< as read (version 1 files) or written
+  PeakKind peak = PeakKind::mirror;  ///< lobe and warped frames
+  Warp warp;                         ///< warped frame only
+  Filter filter = Filter::texel_fetch;  ///< the lookup lookup_error covers (version 4; earlier: texel_fetch)
+  /// The smallest j·n (g) the bound was validated at (kWarpedMinCosJ for warped tables, else 0).
+  double min_cos_j = 0.0;
+  int format_version = kFormatVersion;  ///< as read (versions 1, 2) or written
   /// As read: the file's ganzfeld.values_digest, which the reader has checked against `value`
   /// and `error` (values_digest()); "" for files written before it existed. write_table writes
   /// the digest of the numbers it writes, whatever this holds.
@@ -191,6 +261,15 @@ struct Table {
 
   std::size_t entries() const noexcept;
 };
+
+/// Texture fetches one lookup of the table costs a shader (per law), as export/glsl.cpp performs
+/// it: texel_fetch reads 2 (linear) or 4 (Catmull–Rom) nodes per axis, i.e. 2^D or 4^D; hardware
+/// filtering does a linear blend in one fetch, and Catmull–Rom in 3 per axis (3^D).
+int fetches(const Table& table) noexcept;
+/// A --max-error table whose stated lookup error is above its target: only a best-effort bake
+/// (BakeOptions::best_effort) keeps one.
+bool misses_target(const Table& table) noexcept;
+int fetches(Interpolation interpolation, Filter filter, std::size_t dims) noexcept;
 
 /// The digest of the stored numbers (docs/lut-format.md, ganzfeld.values_digest): 64-bit FNV-1a
 /// (util/hash.h) of the value then the error entries as little-endian IEEE binary32, e.g.

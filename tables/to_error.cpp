@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <utility>
 #include <vector>
 
@@ -18,6 +19,12 @@ namespace {
 /// Initial node counts (g: 17x17x9; h, a: 33): cheap, and fine enough that the per-axis
 /// estimates of the first bake are in their asymptotic regime for smooth laws.
 std::vector<int> initial_counts(Law law) { return law == Law::g ? std::vector<int>{17, 17, 9} : std::vector<int>{33}; }
+
+/// The share of E a linear-only search aims its next bake at (the rest absorbs the estimate's slack),
+/// and the most it grows an axis in one step (8x the entries in 3-D): a coarse first bake far from
+/// E must not jump to a table of millions of nodes on one extrapolation.
+constexpr double kLinearAim = 0.9;
+constexpr double kLinearMaxGrowth = 2.0;
 
 /// Catmull–Rom interpolation's order (error ~ h^3) and linear's (h^2).
 double order(Interpolation interpolation) { return interpolation == Interpolation::catmull_rom ? 3.0 : 2.0; }
@@ -54,6 +61,25 @@ std::vector<double> axis_error_estimates(const Table& table, Interpolation inter
     out[d] = worst * std::pow(2.0, -order(interpolation));
   }
   return out;
+}
+
+/// How far a hardware filter's 8-bit weights may move a lookup of `table`: per axis the largest
+/// step between neighbouring nodes over kFilterWeightSteps (a weight truncated to a multiple of
+/// 1/256 moves a linear blend by at most its step / 256: tables/sample.h, filter_weight), summed
+/// over the axes. Unlike interpolation's h^2, it falls only as h.
+double weight_rounding_reach(const Table& table) {
+  const std::size_t dims = table.axes.size();
+  std::vector<std::size_t> stride(dims, 1);
+  for (std::size_t d = dims - 1; d-- > 0;) stride[d] = stride[d + 1] * table.axes[d + 1].count;
+  double reach = 0.0;
+  for (std::size_t d = 0; d < dims; ++d) {
+    double step = 0.0;
+    for (std::size_t m = 0; m < table.entries(); ++m)
+      if ((m / stride[d]) % table.axes[d].count != 0)
+        step = std::max(step, std::abs(static_cast<double>(table.value[m]) - table.value[m - stride[d]]));
+    reach += step / kFilterWeightSteps;
+  }
+  return reach;
 }
 
 std::uint64_t bytes_of(const std::vector<int>& counts, Encoding encoding) {
@@ -123,27 +149,35 @@ void check_error_target(double max_error, std::uint64_t max_bytes, Law law, Enco
                           to_string(law) + " needs " + std::to_string(smallest) + " value bytes"});
 }
 
-Table bake_to_error(const Model& model, Law law, const BakeOptions& requested) {
-  const double E = requested.target_error;
-  check_error_target(E, requested.max_bytes, law, requested.encoding);
-  const std::uint64_t cap = requested.max_bytes ? requested.max_bytes : kDefaultMaxValueBytes;
-  BakeOptions options = requested;
-  options.target_error = 0.0;
-  options.max_bytes = 0;
-  options.mappings.clear();
-  options.tolerance = E / kNodeToleranceRatio;
-  options.check_tolerance = E / kCheckToleranceRatio;
-  options.random_checks = kSearchChecks;
-  options.lobe = law == Law::g ? lobe_frame_of(model) : std::nullopt;
-  options.interpolation = Interpolation::catmull_rom;
-  options.resolution = initial_counts(law);
+void check_fetch_budget(long long fetches) {
+  if (fetches < 1)
+    throw InputError({Named{"fetches", std::to_string(fetches)},
+                      " is not allowed; expected an integer >= 1 (texture fetches per lookup)"});
+}
+
+namespace {
+
+/// What one search found: the table that met E, or the best error it measured, that table's size
+/// and, for a best-effort bake, the table.
+struct SearchResult {
+  std::optional<Table> table;
+  std::optional<Table> best_table;
+  double best_error = std::numeric_limits<double>::infinity();
+  double best_bytes = 0.0;
+  int best_fetches = 0;
+};
+
+/// The count search of the file comment for one scheme (frame, filter, starting interpolation set
+/// in `options`); Catmull–Rom searches may switch to linear when it predicts fewer bytes.
+SearchResult search_counts(const Model& model, Law law, BakeOptions options, double E, std::uint64_t cap) {
   const double dims = static_cast<double>(options.resolution.size());
   // Each axis' share of E: the validated error is kLookupMargin x the measured one, and the
   // axes' errors may add at one point.
   const double share = E / (kLookupMargin * dims) * 0.8;
-
-  double best_error = std::numeric_limits<double>::infinity(), best_bytes = 0.0;
+  const bool may_switch = options.interpolation == Interpolation::catmull_rom;
+  SearchResult result;
   std::vector<std::pair<std::vector<int>, Interpolation>> baked;
+  double previous_error = 0.0, previous_growth = 0.0;  // the last linear-only step: its error and growth
   for (int attempt = 0; attempt < kMaxSearchBakes; ++attempt) {
     // Far over the cap, the capped table would miss E by far and could take hours to bake (at
     // the default cap, 64 MiB of hvd-empirical's g): refuse with what was measured instead.
@@ -154,14 +188,16 @@ Table bake_to_error(const Model& model, Law law, const BakeOptions& requested) {
     if (std::find(baked.begin(), baked.end(), key) != baked.end()) break;  // capped to a table already measured
     baked.push_back(key);
     Table table = bake_resolution(model, law, options);
-    if (table.lookup_error < best_error) {
-      best_error = table.lookup_error;
-      best_bytes = static_cast<double>(value_bytes(table));
-    }
+    if (table.frame == Frame::warped) options.warp = table.warp;  // fitted once: it does not depend on the counts
     if (table.lookup_error <= E) {
-      table.target_error = E;
-      table.target_bytes = cap;
-      return table;
+      result.table = std::move(table);
+      return result;
+    }
+    if (table.lookup_error < result.best_error) {
+      result.best_error = table.lookup_error;
+      result.best_bytes = static_cast<double>(value_bytes(table));
+      result.best_fetches = fetches(table);
+      if (options.best_effort) result.best_table = table;
     }
     // Calibrate the per-axis estimates of each interpolation with the validated error (the
     // estimates see node differences only; the validation sees the whole domain).
@@ -171,8 +207,28 @@ Table bake_to_error(const Model& model, Law law, const BakeOptions& requested) {
     const double measured = table.interpolation_error;
     const double calibration = sum > 0.0 ? std::max(1.0, measured / sum) : 1.0;
     std::vector<int> next = counts_for(options.resolution, cubic, calibration, share, Interpolation::catmull_rom);
-    Interpolation next_interpolation = Interpolation::catmull_rom;
-    if (options.interpolation == Interpolation::catmull_rom) {  // would linear be smaller?
+    Interpolation next_interpolation = may_switch ? Interpolation::catmull_rom : Interpolation::linear;
+    if (!may_switch) {
+      // A linear-only scheme keeps its starting shape (chosen for it) and grows every axis by the
+      // factor that brings the validated error to kLinearAim x E (error ~ h^2): the per-axis
+      // estimates, maxima of second differences, overshot the warped frame's tables by ~10x in bytes.
+      // When the last growth by r cut the error by less than r (slower than first order: a feature
+      // no node count resolves, such as ggx's grazing band), a larger table is not worth its bake.
+      if (previous_growth > 0.0 && previous_error / table.lookup_error < previous_growth) break;
+      double ratio = std::clamp(std::sqrt(table.lookup_error / (kLinearAim * E)), 1.1, kLinearMaxGrowth);
+      if (options.filter == Filter::hardware) {
+        // The 8-bit weights alone must fit under E / kLookupMargin: every axis grows by at least
+        // `needed`; a table that would pass the cap for that alone is out of reach of this scheme.
+        const double needed = weight_rounding_reach(table) * kLookupMargin / (kLinearAim * E);
+        if (needed > 1.0 && static_cast<double>(value_bytes(table)) * std::pow(needed, dims) > static_cast<double>(cap))
+          break;
+        ratio = std::max(ratio, std::min(needed, kLinearMaxGrowth));
+      }
+      previous_error = table.lookup_error;
+      previous_growth = ratio;
+      for (std::size_t d = 0; d < next.size(); ++d)
+        next[d] = static_cast<int>(std::ceil((options.resolution[d] - 1) * ratio)) + 1;
+    } else if (options.interpolation == Interpolation::catmull_rom) {  // would linear be smaller?
       const std::vector<double> linear = axis_error_estimates(table, Interpolation::linear);
       std::vector<int> lin = counts_for(options.resolution, linear, 1.0, share, Interpolation::linear);
       for (int& c : lin) c = std::max(c, 2);
@@ -193,15 +249,83 @@ Table bake_to_error(const Model& model, Law law, const BakeOptions& requested) {
     options.resolution = next;
     options.interpolation = next_interpolation;
   }
-  // Only what was measured: the refusal names the best table a bake made, never an extrapolation
-  // to the cap (a number no bake has checked).
+  return result;
+}
+
+/// One scheme a fetch-budgeted search tries: frame (warped needs a lobe frame), lookup, filter.
+struct Scheme {
+  bool warped = false;
+  Interpolation interpolation = Interpolation::linear;
+  Filter filter = Filter::texel_fetch;
+};
+
+}  // namespace
+
+Table bake_to_error(const Model& model, Law law, const BakeOptions& requested) {
+  const double E = requested.target_error;
+  check_error_target(E, requested.max_bytes, law, requested.encoding);
+  if (requested.max_fetches != 0) check_fetch_budget(requested.max_fetches);
+  const std::uint64_t cap = requested.max_bytes ? requested.max_bytes : kDefaultMaxValueBytes;
+  BakeOptions options = requested;
+  options.target_error = 0.0;
+  options.max_bytes = 0;
+  options.max_fetches = 0;
+  options.mappings.clear();
+  options.tolerance = E / kNodeToleranceRatio;
+  options.check_tolerance = E / kCheckToleranceRatio;
+  options.random_checks = kSearchChecks;
+  options.lobe = law == Law::g ? lobe_frame_of(model) : std::nullopt;
+  options.resolution = initial_counts(law);
+  auto finish = [&](Table table) {
+    table.target_error = E;
+    table.target_bytes = cap;
+    table.target_fetches = requested.max_fetches;
+    return table;
+  };
+  if (requested.max_fetches == 0) {  // no budget: the fewest bytes, read with texelFetch
+    options.interpolation = Interpolation::catmull_rom;
+    SearchResult found = search_counts(model, law, options, E, cap);
+    if (found.table) return finish(std::move(*found.table));
+    if (found.best_table) return finish(std::move(*found.best_table));
+    // Only what was measured: the refusal names the best table a bake made, never an extrapolation
+    // to the cap (a number no bake has checked).
+    throw InputError({std::string("cannot reach "), Named{"max_error", format_number(E)},
+                      " for law " + std::string(to_string(law)) + " of '" + model.spec() + "' within " +
+                          std::to_string(cap) + " value bytes (",
+                      requested.max_bytes ? InputError::Piece(Named{"max_bytes"}) : "the default cap",
+                      "); the best this search found is " + format_number(found.best_error) + " in " +
+                          format_number(found.best_bytes) + " value bytes (the search bakes at most " +
+                          std::to_string(kMaxSearchBakes) + " tables)"});
+  }
+  const std::size_t D = law == Law::g ? 3 : 1;
+  // In the order of their fetches (g): 1 hardware-filtered, 8 texel fetches of the same linear blend in
+  // full precision (no 8-bit weights to absorb: the warped frame reaches 1e-4 in fewer bytes than
+  // Catmull–Rom's lobe frame), 64 of Catmull–Rom.
+  std::vector<Scheme> schemes{{options.lobe.has_value(), Interpolation::linear, Filter::hardware},
+                              {options.lobe.has_value(), Interpolation::linear, Filter::texel_fetch},
+                              {false, Interpolation::catmull_rom, Filter::texel_fetch}};
+  SearchResult best;
+  for (const Scheme& scheme : schemes) {
+    if (fetches(scheme.interpolation, scheme.filter, D) > requested.max_fetches) continue;
+    BakeOptions o = options;
+    o.warped = scheme.warped;
+    o.interpolation = scheme.interpolation;
+    o.filter = scheme.filter;
+    if (scheme.warped) o.resolution = {13, 25, 9};  // the offset axis needs the most nodes (docs/tradeoff.md)
+    SearchResult found = search_counts(model, law, o, E, cap);
+    if (found.table) return finish(std::move(*found.table));
+    if (found.best_error < best.best_error) best = std::move(found);
+  }
+  if (best.best_table) return finish(std::move(*best.best_table));
   throw InputError({std::string("cannot reach "), Named{"max_error", format_number(E)},
                     " for law " + std::string(to_string(law)) + " of '" + model.spec() + "' within " +
-                        std::to_string(cap) + " value bytes (",
+                        std::to_string(requested.max_fetches) + " texture fetch" +
+                        (requested.max_fetches == 1 ? "" : "es") + " per lookup (",
+                    Named{"fetches"}, ") and within " + std::to_string(cap) + " value bytes (",
                     requested.max_bytes ? InputError::Piece(Named{"max_bytes"}) : "the default cap",
-                    "); the best this search found is " + format_number(best_error) + " in " +
-                        format_number(best_bytes) + " value bytes (the search bakes at most " +
-                        std::to_string(kMaxSearchBakes) + " tables)"});
+                    "); the best found is " + format_number(best.best_error) + " at " +
+                        std::to_string(best.best_fetches) + " fetch" + (best.best_fetches == 1 ? "" : "es") + " in " +
+                        format_number(best.best_bytes) + " value bytes"});
 }
 
 }  // namespace ganzfeld::tables

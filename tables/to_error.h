@@ -18,6 +18,13 @@
 //     that shape within B (a search that gave up there refused with its coarse first bake).
 //     Bake again; stop when lookup_error <= E, when the capped counts repeat a bake, or after
 //     kMaxSearchBakes bakes.
+//
+// With a fetch budget N (`--fetches N`), the schemes a shader can read within N texture fetches
+// per lookup are searched in the order of their fetches, and the first that meets E is kept:
+// one hardware-filtered linear fetch (the warped frame for g of a model with a lobe frame, else
+// the cosines frame; the bound covers 8-bit filter weights, tables::Filter), then the same frame
+// read with texelFetch and blended in full precision (2^D fetches), then Catmull–Rom read with
+// texelFetch (4^D fetches; its search may settle on linear texel-fetch, 2^D).
 #pragma once
 
 #include <cstdint>
@@ -50,11 +57,14 @@ double min_max_error(Encoding encoding) noexcept;
 /// Refuses (InputError, one line) E that is not a finite number above min_max_error(encoding)
 /// and B below the smallest table (4 nodes per axis).
 void check_error_target(double max_error, std::uint64_t max_bytes, Law law, Encoding encoding);
+/// Refuses a fetch budget below 1 ("--fetches N is not allowed; expected an integer >= 1").
+void check_fetch_budget(long long fetches);
 
 /// The table of law `law` of `model` with lookup_error <= options.max_error and value_bytes <=
 /// options.max_bytes (0: kDefaultMaxValueBytes), baked as described above; options.resolution,
 /// mappings, interpolation, lobe, tolerance, random_checks and check_tolerance are chosen here.
-/// Throws InputError "cannot reach ... within ... bytes; the best ... is ..." when it cannot.
+/// Throws InputError "cannot reach ... within ... bytes; the best ... is ..." when it cannot,
+/// unless options.best_effort: then the most accurate table the search baked, target unmet.
 Table bake_to_error(const Model& model, Law law, const BakeOptions& options);
 
 }  // namespace ganzfeld::tables

@@ -130,7 +130,7 @@ expect_bad "no such file" bake --scene "$tmp/none.json" --out "$tmp/cache"
 [ "$(json_field "$tmp/to_error.json" "d['tables'][0]['lookup_error'] <= 1e-3 and d['tables'][0]['node_error'] <= d['tables'][0]['lookup_error'] and d['tables'][0]['value_bytes'] > 0")" = "True" ] \
   && ok || fail "bake --max-error JSON: $(cat "$tmp/to_error.json")"
 "$G" info "$tmp/to_error.exr" --json >"$tmp/to_error_info.json" && ok || fail "info of a --max-error table"
-[ "$(json_field "$tmp/to_error_info.json" "d['error'] <= 1e-3 and d['error'] >= d['node_error'] and d['frame']=='lobe' and d['interpolation']=='catmull-rom' and d['format_version']==2 and d['target_error']==1e-3 and d['value_bytes']==4*d['entries'] and d['validation_points'] >= 2000")" = "True" ] \
+[ "$(json_field "$tmp/to_error_info.json" "d['error'] <= 1e-3 and d['error'] >= d['node_error'] and d['frame']=='lobe' and d['interpolation']=='catmull-rom' and d['format_version']==4 and d['target_error']==1e-3 and d['value_bytes']==4*d['entries'] and d['validation_points'] >= 2000")" = "True" ] \
   && ok || fail "info --json of a --max-error table: $(cat "$tmp/to_error_info.json")"
 "$G" info "$tmp/to_error.exr" | grep -q "^  error  .*lookup error" && ok || fail "info headline is not the lookup error"
 [ "$(json_field <("$G" sample "$tmp/to_error.exr" --theta-i 60 --theta-j 45 --phi 30 --json) "d['error']==$(json_field "$tmp/to_error_info.json" "d['error']")")" = "True" ] \
@@ -147,6 +147,24 @@ expect_bad "--max-bytes needs --max-error" bake --model specular:alpha=8 --law h
 expect_bad "--max-bytes 8 is too small" bake --model specular:alpha=8 --law g --max-error 1e-3 --max-bytes 8 -o "$tmp/bad_e.exr"
 expect_bad "cannot reach --max-error" bake --model specular:alpha=100 --law g --max-error 1e-6 --max-bytes 4096 -o "$tmp/bad_e.exr"
 expect_bad "below what a unorm16 table can hold" bake --model specular:alpha=8 --law h --max-error 1e-5 --encoding unorm16 -o "$tmp/bad_e.exr"
+# --best-effort: the most accurate table the search made, its stated error the miss
+expect_bad "--best-effort needs --max-error" bake --model specular:alpha=8 --law h --res 9 --best-effort -o "$tmp/bad_e.exr"
+"$G" bake --model specular:alpha=100 --law h --max-error 1e-6 --max-bytes 32 --best-effort -o "$tmp/best.exr" --quiet &&
+  "$G" info "$tmp/best.exr" --json >"$tmp/best.json" &&
+  [ "$(json_field "$tmp/best.json" "d['error'] > d['target_error'] == 1e-6 and d['value_bytes'] <= 32")" = True ] &&
+  ok || fail "bake --best-effort: $(cat "$tmp/best.json" 2>/dev/null | head -c 300)"
+# --fetches: a fetch budget per lookup; one fetch is the hardware filter, and its bound says so
+expect_bad "--fetches 0 is not allowed" bake --model specular:alpha=8 --law h --max-error 1e-3 --fetches 0 -o "$tmp/bad_e.exr"
+expect_bad "--fetches" bake --model specular:alpha=8 --law h --max-error 1e-3 --fetches 1.5 -o "$tmp/bad_e.exr"
+expect_bad "--fetches needs --max-error" bake --model specular:alpha=8 --law h --res 9 --fetches 1 -o "$tmp/bad_e.exr"
+expect_bad "within 1 texture fetch per lookup" bake --model specular:alpha=100 --law g --max-error 1e-5 --fetches 1 --max-bytes 4096 -o "$tmp/bad_e.exr"
+expect_bad "no filtered path" sample "$tmp/dfg.exr" --roughness 0.5 --mu 0.5 --hardware-filter
+"$G" bake --model specular:alpha=100 --law h --max-error 1e-3 --fetches 1 -o "$tmp/h1.exr" >/dev/null && ok || fail "bake --fetches 1"
+"$G" info "$tmp/h1.exr" | grep -q "hardware filter (GL_LINEAR): 1 texture fetch per lookup" && ok || fail "info names the lookup"
+[ "$(json_field <("$G" info "$tmp/h1.exr" --json) "d['filter']=='hardware' and d['fetches']==1 and d['target_fetches']==1")" = "True" ] \
+  && ok || fail "info --json of a --fetches 1 table"
+[ "$(json_field <("$G" sample "$tmp/h1.exr" --theta-j 60 --hardware-filter --json) "abs(d['value'] - 0.5) < 0.5 and d['bound_filter']=='hardware'")" = "True" ] \
+  && ok || fail "sample --hardware-filter"
 expect_bad "unknown encoding 'unorm8'; allowed: half, float, unorm16" bake --model specular:alpha=8 --law h --res 9 --encoding unorm8 -o "$tmp/bad_e.exr"
 expect_bad "a preset table allows: half, float" bake --preset dfg --model ggx --res 8 --encoding unorm16 -o "$tmp/bad_e.exr"
 [ ! -e "$tmp/bad_e.exr" ] && ok || fail "a refused --max-error bake left a file"

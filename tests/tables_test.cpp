@@ -785,6 +785,50 @@ TEST(Table, CatmullRomReproducesPolynomials) {
   }
 }
 
+// Two tables share a lookup (the rasterizer sums their entries and looks them up once) exactly
+// when every lookup blends the same entries with the same weights: the same law, frame, peak,
+// interpolation and axes; the values, the model and the encoding do not matter.
+TEST(Table, SameLookupComparesEverythingTheBlendDependsOn) {
+  BakeOptions lobe;
+  lobe.resolution = {6, 9, 5};
+  lobe.tolerance = 1e-4;
+  lobe.interpolation = Interpolation::catmull_rom;
+  lobe.lobe = tables::LobeFrame{PeakKind::mirror, 0.2};
+  const Table a = bake(*parse_model("specular:alpha=100"), Law::g, lobe);
+  Table b = bake(*parse_model("backscatter:alpha=8"), Law::g, lobe);
+  b.encoding = Encoding::half;
+  EXPECT_TRUE(same_lookup(a, b));
+  const double y[3] = {0.7, 1.5, 0.4};
+  auto nodes = [&](const Table& t) {
+    std::vector<std::pair<std::size_t, double>> out;
+    EXPECT_TRUE(for_each_node(t, y, [&](std::size_t entry, double w) { out.push_back({entry, w}); }));
+    return out;
+  };
+  const auto na = nodes(a);
+  EXPECT_EQ(na, nodes(b));
+  EXPECT_GT(na.size(), 27u);  // Catmull–Rom: 4 taps per axis, 3 where an end's missing node folds in
+  double blended = 0.0;
+  for (const auto& [entry, w] : na) blended += w * a.value[entry];
+  EXPECT_EQ(blended, sample_axes(a, y).value);
+  auto differs = [&](auto change) {
+    Table c = a;
+    change(c);
+    return !same_lookup(a, c) && !same_lookup(c, a);
+  };
+  EXPECT_TRUE(differs([](Table& t) { t.peak = PeakKind::retro; }));
+  EXPECT_TRUE(differs([](Table& t) { t.frame = Frame::cosines; }));
+  EXPECT_TRUE(differs([](Table& t) { t.interpolation = Interpolation::linear; }));
+  EXPECT_TRUE(differs([](Table& t) { t.law = Law::a; }));
+  EXPECT_TRUE(differs([](Table& t) { t.axes[1].count += 1; }));
+  EXPECT_TRUE(differs([](Table& t) { t.axes[1].width *= 2.0; }));
+  EXPECT_TRUE(differs([](Table& t) { t.axes[2].max = 3.0; }));
+  EXPECT_TRUE(differs([](Table& t) { t.axes[0].min = 0.1; }));
+  EXPECT_TRUE(differs([](Table& t) { t.axes[2].mapping = Mapping::cos; }));
+  EXPECT_TRUE(differs([](Table& t) { t.axes.pop_back(); }));
+  const Table h = bake_table("minnaert:xi=1", Law::h, {9});
+  EXPECT_TRUE(differs([&](Table& t) { t = h; }));
+}
+
 // A version-1 file (no frame, interpolation or lookup_error attributes) still reads, as the
 // cosines frame with linear lookup and its measured interpolation error as its lookup error.
 TEST(Table, Version1FilesStillRead) {
@@ -811,6 +855,30 @@ TEST(Table, Version1FilesStillRead) {
 constexpr double kReferenceTol = 1e-10;
 constexpr int kFreshPoints = 2000;
 constexpr double kAllowedFreshMisses = 0.001;  // the promised 99.9%
+/// How many of kFreshPoints seeded points (j·n >= the table's validated minimum) the table's bound
+/// misses for any of `roundings` against cubature at kReferenceTol, and the largest error seen.
+std::pair<double, double> fresh_misses(const Model& model, Law law, const Table& table, std::uint64_t seed,
+                                       std::initializer_list<WeightRounding> roundings) {
+  const std::vector<double> x = validation_points(law, kFreshPoints, seed, table.min_cos_j);
+  const std::size_t dims = law == Law::g ? 3 : 1;
+  std::vector<double> miss(kFreshPoints, 0.0), err(kFreshPoints, 0.0);
+  CubatureOptions exact;
+  exact.abs_tol = kReferenceTol;
+  tbb::parallel_for(0, kFreshPoints, [&](int p) {
+    const std::span<const double> q(x.data() + p * dims, dims);
+    const Vec3 i = direction_from_cos(law == Law::h ? 1.0 : q[0]);
+    const Vec3 j = law == Law::g ? direction_from_cos(q[1], q[2]) : direction_from_cos(q[0]);
+    const double truth = evaluate_law(model, law, i, j, exact).value;
+    for (WeightRounding r : roundings) err[p] = std::max(err[p], std::abs(sample(table, q, r).value - truth));
+    miss[p] = err[p] > table.lookup_error ? 1.0 : 0.0;
+  });
+  double misses = 0.0, worst = 0.0;
+  for (int p = 0; p < kFreshPoints; ++p) {
+    misses += miss[p];
+    worst = std::max(worst, err[p]);
+  }
+  return {misses, worst};
+}
 TEST(Table, MaxErrorBakeReportsAnHonestLookupError) {
   struct Case {
     const char* spec;
@@ -834,24 +902,7 @@ TEST(Table, MaxErrorBakeReportsAnHonestLookupError) {
     EXPECT_EQ(table.target_error, c.max_error) << c.spec;
     EXPECT_EQ(table.frame, c.law == Law::g ? Frame::lobe : Frame::cosines) << c.spec;
     EXPECT_EQ(table.encoding, c.encoding) << c.spec;
-    const std::vector<double> x = validation_points(c.law, kFreshPoints, /*seed=*/4242);
-    const std::size_t dims = c.law == Law::g ? 3 : 1;
-    std::vector<double> miss(kFreshPoints, 0.0), err(kFreshPoints, 0.0);
-    CubatureOptions exact;
-    exact.abs_tol = kReferenceTol;
-    tbb::parallel_for(0, kFreshPoints, [&](int p) {
-      const std::span<const double> q(x.data() + p * dims, dims);
-      const Vec3 i = direction_from_cos(c.law == Law::h ? 1.0 : q[0]);
-      const Vec3 j = c.law == Law::g ? direction_from_cos(q[1], q[2]) : direction_from_cos(q[0]);
-      const double truth = evaluate_law(*model, c.law, i, j, exact).value;
-      err[p] = std::abs(sample(table, q).value - truth);
-      miss[p] = err[p] > table.lookup_error ? 1.0 : 0.0;
-    });
-    double misses = 0.0, worst = 0.0;
-    for (int p = 0; p < kFreshPoints; ++p) {
-      misses += miss[p];
-      worst = std::max(worst, err[p]);
-    }
+    const auto [misses, worst] = fresh_misses(*model, c.law, table, /*seed=*/4242, {WeightRounding::exact});
     std::printf("%s %s: %s nodes, lookup error %.3g, largest fresh error %.3g, %g misses of %d\n", c.spec,
                 to_string(c.law), resolution_text([&] {
                   std::vector<int> r;
@@ -860,6 +911,208 @@ TEST(Table, MaxErrorBakeReportsAnHonestLookupError) {
                 }()).c_str(),
                 table.lookup_error, worst, misses, kFreshPoints);
     EXPECT_LE(misses, kAllowedFreshMisses * kFreshPoints) << c.spec;
+  }
+}
+
+// --- Format version 4: the warped frame, the hardware filter, the fetch budget --------------
+
+/// A warp with an envelope, a shift and unequal widths that vary over theta_j (what fit_warp
+/// returns for a glossy lobe near grazing), for the tests that need no model.
+Warp test_warp() {
+  Warp w;
+  w.mix = kWarpMix;
+  w.envelope = 0.1;
+  for (int k = 0; k < 5; ++k) w.samples.push_back({0.01 * k, 0.2 + 0.05 * k, 0.2 - 0.03 * k});
+  return w;
+}
+
+// warped_directions inverts warped_coordinates: the bisection finds psi to ~1e-15 and the offset
+// then agrees to a few ulps of its O(1) arithmetic.
+constexpr double kWarpRoundTrip = 1e-9;
+TEST(Table, WarpedCoordinatesInvertWarpedDirections) {
+  const Warp warp = test_warp();
+  const std::vector<Axis> axes = warped_axes(std::vector<int>{9, 9, 9}, 0.3);
+  std::mt19937_64 rng(6);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  for (PeakKind peak : {PeakKind::mirror, PeakKind::retro})
+    for (int k = 0; k < 300; ++k) {
+      const double y[3] = {0.01 + 1.5 * u(rng), 0.001 + 0.998 * u(rng), 0.01 + 3.1 * u(rng)};
+      const auto [i, j] = warped_directions(peak, warp, axes[0], y[0], y[1], y[2]);
+      const std::vector<double> x = coordinates(Law::g, i, j);
+      const std::array<double, 3> back = warped_coordinates(peak, warp, axes[0], x[0], x[1], x[2]);
+      for (int d = 0; d < 3; ++d) EXPECT_NEAR(back[d], y[d], kWarpRoundTrip) << to_string(peak) << " axis " << d;
+    }
+  // The offset's ends: 1 at the peak (psi = 0), 0 opposite it (psi = pi).
+  const WarpSample at = warp_at(warp, axes[0], 0.5);
+  EXPECT_DOUBLE_EQ(warped_offset(at, warp.mix, 1.0, 0.0, 0.0, 0.0), 1.0);
+  EXPECT_DOUBLE_EQ(warped_offset(at, warp.mix, -1.0, 0.0, 0.0, pi), 0.0);
+}
+
+// A warped, hardware-filtered table survives the file: warp, filter and domain read back exactly,
+// and so does every lookup; a broken warp or filter attribute is refused.
+TEST_F(TableRefusal, WarpedTableRoundTripsAndBadWarpsAreRefused) {
+  const ModelPtr model = parse_model("specular:alpha=100");
+  BakeOptions options;
+  options.resolution = {9, 13, 7};
+  options.tolerance = 1e-6;
+  options.lobe = lobe_frame_of(*model);
+  options.warped = true;
+  options.filter = Filter::hardware;
+  const Table baked = bake(*model, Law::g, options);
+  EXPECT_EQ(baked.frame, Frame::warped);
+  EXPECT_EQ(baked.format_version, kFormatVersion);
+  EXPECT_EQ(baked.min_cos_j, kWarpedMinCosJ);
+  EXPECT_EQ(baked.warp.samples.size(), static_cast<std::size_t>(kWarpSamples));
+  EXPECT_GT(baked.warp.envelope, 0.0);  // a Koenderink–Pont lobe's h carries cos theta_j
+  const Table t = round_trip(baked, "warped.exr");
+  EXPECT_EQ(t.filter, Filter::hardware);
+  EXPECT_EQ(t.min_cos_j, baked.min_cos_j);
+  EXPECT_EQ(t.warp.mix, baked.warp.mix);
+  EXPECT_EQ(t.warp.envelope, baked.warp.envelope);
+  for (std::size_t k = 0; k < t.warp.samples.size(); ++k) {
+    EXPECT_EQ(t.warp.samples[k].shift, baked.warp.samples[k].shift);
+    EXPECT_EQ(t.warp.samples[k].along, baked.warp.samples[k].along);
+    EXPECT_EQ(t.warp.samples[k].across, baked.warp.samples[k].across);
+  }
+  const std::vector<double> x = validation_points(Law::g, 50, 77, kWarpedMinCosJ);
+  for (int p = 0; p < 50; ++p) {
+    const std::span<const double> q(x.data() + 3 * p, 3);
+    EXPECT_EQ(sample(t, q).value, sample(baked, q).value);
+  }
+  const std::string path = temp_file("warped.exr");
+  for (const auto& [name, value, fragment] :
+       {std::tuple{"ganzfeld.warp", "{\"mix\": 0.85}", "is not {"},
+        std::tuple{"ganzfeld.warp", "{\"mix\": 0.85, \"envelope\": 0, \"samples\": [[0, -1, 1], [0, 1, 1]]}",
+                   "widths > 0"},
+        std::tuple{"ganzfeld.warp", "{\"mix\": 2, \"envelope\": 0, \"samples\": [[0, 1, 1], [0, 1, 1]]}", "mix"},
+        std::tuple{"ganzfeld.filter", "bilinear", "unknown lookup filter"},
+        std::tuple{"ganzfeld.min_cos_j", "1", "validated j"}}) {
+    write_table(baked, path);
+    RawExr raw = RawExr::load(path);
+    raw.set(name, value);
+    raw.save(path);
+    expect_refused(path, fragment);
+  }
+  // A version-2 file cannot claim the warped frame or the hardware filter.
+  write_table(baked, path);
+  RawExr raw = RawExr::load(path);
+  raw.set("ganzfeld.format_version", "2");
+  raw.save(path);
+  expect_refused(path, "need format version 4");
+}
+
+// The 8-bit emulation: linear weights rounded to multiples of 1/256 (nearest, or down), which
+// moves a lookup by at most half (one) step of a cell's difference per axis, and never at nodes.
+TEST(Table, HardwareFilterEmulationRoundsTheWeights) {
+  EXPECT_EQ(filter_weight(0.3, WeightRounding::exact), 0.3);
+  EXPECT_EQ(filter_weight(0.3, WeightRounding::nearest), 77.0 / 256);
+  EXPECT_EQ(filter_weight(0.3, WeightRounding::truncate), 76.0 / 256);
+  EXPECT_EQ(filter_weight(1.0, WeightRounding::truncate), 1.0);
+  const Table table = bake_table("minnaert:xi=0.5", Law::h, {5});
+  double largest_step = 0.0;
+  for (std::size_t m = 1; m < table.value.size(); ++m)
+    largest_step = std::max(largest_step, std::abs(static_cast<double>(table.value[m] - table.value[m - 1])));
+  bool moved = false;
+  for (int k = 0; k <= 1000; ++k) {
+    const double x[1] = {k / 1000.0};
+    const double exact = sample(table, x).value;
+    const double nearest = sample(table, x, WeightRounding::nearest).value;
+    const double truncated = sample(table, x, WeightRounding::truncate).value;
+    EXPECT_LE(std::abs(nearest - exact), largest_step / 512 + 1e-15);
+    EXPECT_LE(std::abs(truncated - exact), largest_step / 256 + 1e-15);
+    moved = moved || nearest != exact;
+  }
+  EXPECT_TRUE(moved);
+}
+
+// bake --max-error 1e-3 --fetches 1: one hardware-filtered fetch per lookup (the warped frame for
+// g of a lobe, the cosines frame for h), the stated bound <= E, and that bound covers the
+// full-precision and both 8-bit lookups at >= 99.9% of fresh points (j·n >= the stated minimum)
+// against cubature at 1e-10.
+TEST(Table, FetchBudgetBakeIsOneFilteredFetchWithAnHonestBound) {
+  struct Case {
+    const char* spec;
+    Law law;
+  };
+  for (const Case& c : {Case{"specular:alpha=100", Law::g}, Case{"specular:alpha=1000", Law::h}}) {
+    const ModelPtr model = parse_model(c.spec);
+    BakeOptions options;
+    options.target_error = 1e-3;
+    options.max_fetches = 1;
+    const Table table = round_trip(bake(*model, c.law, options), "fetch.exr");
+    EXPECT_LE(table.lookup_error, 1e-3) << c.spec;
+    EXPECT_EQ(fetches(table), 1) << c.spec;
+    EXPECT_EQ(table.filter, Filter::hardware) << c.spec;
+    EXPECT_EQ(table.target_fetches, 1) << c.spec;
+    EXPECT_EQ(table.frame, c.law == Law::g ? Frame::warped : Frame::cosines) << c.spec;
+    const auto [misses, worst] = fresh_misses(
+        *model, c.law, table, /*seed=*/4243, {WeightRounding::exact, WeightRounding::nearest, WeightRounding::truncate});
+    std::printf("%s %s --fetches 1: lookup error %.3g, largest fresh error %.3g, %zu value bytes, %g misses of %d\n",
+                c.spec, to_string(c.law), table.lookup_error, worst, static_cast<std::size_t>(value_bytes(table)),
+                misses, kFreshPoints);
+    EXPECT_LE(misses, kAllowedFreshMisses * kFreshPoints) << c.spec;
+  }
+}
+
+// A budget of two fetches for h (one axis): where 8-bit filter weights cannot reach E within the
+// bytes (a weight truncated to 1/256 moves a blend by a node step / 256), the same linear blend
+// read with texelFetch (2 fetches, full precision) is the pick, with an honest bound.
+TEST(Table, FetchBudgetFallsBackToTexelFetchWhereFilterWeightsCannotReach) {
+  const ModelPtr model = parse_model("specular:alpha=1000");
+  BakeOptions options;
+  options.target_error = 1e-5;
+  options.max_fetches = 2;
+  options.max_bytes = 1024;
+  const Table table = round_trip(bake(*model, Law::h, options), "fetch2.exr");
+  EXPECT_LE(table.lookup_error, 1e-5);
+  EXPECT_LE(value_bytes(table), 1024u);
+  EXPECT_EQ(table.filter, Filter::texel_fetch);
+  EXPECT_EQ(table.interpolation, Interpolation::linear);
+  EXPECT_EQ(fetches(table), 2);
+  EXPECT_EQ(table.target_fetches, 2);
+  const auto [misses, worst] = fresh_misses(*model, Law::h, table, /*seed=*/4244, {WeightRounding::exact});
+  std::printf("h --max-error 1e-5 --fetches 2 --max-bytes 1024: lookup error %.3g, largest fresh error %.3g, %zu "
+              "value bytes, %g misses of %d\n", table.lookup_error, worst, static_cast<std::size_t>(value_bytes(table)),
+              misses, kFreshPoints);
+  EXPECT_LE(misses, kAllowedFreshMisses * kFreshPoints);
+  // One fetch cannot: the refusal names the best it found at one fetch.
+  options.max_fetches = 1;
+  EXPECT_THROW(bake_to_error(*model, Law::h, options), InputError);
+}
+
+TEST(Table, FetchBudgetRefusals) {
+  EXPECT_THROW(check_fetch_budget(0), InputError);
+  EXPECT_THROW(check_fetch_budget(-3), InputError);
+  EXPECT_NO_THROW(check_fetch_budget(1));
+  // Within one fetch and 4 kB, 1e-5 is out of reach: the refusal names the best error, its
+  // fetches and its bytes.
+  const ModelPtr model = parse_model("specular:alpha=8");
+  BakeOptions options;
+  options.target_error = 1e-5;
+  options.max_fetches = 1;
+  options.max_bytes = 4096;
+  try {
+    bake_to_error(*model, Law::g, options);
+    ADD_FAILURE() << "accepted";
+  } catch (const InputError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("within 1 texture fetch per lookup"), std::string::npos) << what;
+    EXPECT_NE(what.find("at 1 fetch in"), std::string::npos) << what;
+  }
+}
+
+// Schlick's F is affine in f0, so every law of ggx is: g(f0) = (1 - f0) g(0) + f0 g(1) (two tables
+// serve every f0; docs/lut-format.md). The cubature's own tolerance bounds the difference.
+constexpr double kLinearityTol = 1e-9;
+TEST(Table, GgxLawsAreAffineInF0) {
+  const ModelPtr g0 = parse_model("ggx:roughness=0.4,f0=0"), g1 = parse_model("ggx:roughness=0.4,f0=1");
+  const ModelPtr mid = parse_model("ggx:roughness=0.4,f0=0.3");
+  CubatureOptions options;
+  options.abs_tol = kLinearityTol;
+  for (const auto& [ci, cj, phi] : {std::tuple{0.3, 0.8, 0.5}, std::tuple{-0.2, 0.1, 2.5}, std::tuple{0.9, 0.05, 0.0}}) {
+    const Vec3 i = direction_from_cos(ci), j = direction_from_cos(cj, phi);
+    const double want = 0.7 * vignetting(*g0, i, j, options).value + 0.3 * vignetting(*g1, i, j, options).value;
+    EXPECT_NEAR(vignetting(*mid, i, j, options).value, want, 4 * kLinearityTol);
   }
 }
 

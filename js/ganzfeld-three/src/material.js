@@ -30,8 +30,10 @@ export const kDiffuseModes = ['three', 'lambert'];
 export const kUnsupportedLayers = ['anisotropy', 'clearcoat', 'dispersion', 'diffuseRoughness', 'iridescence',
                                    'retroreflectivity', 'sheen', 'transmission'];
 
-/// A three.js texture of a table (./table.js), one float channel read with texelFetch: nearest
-/// filtering, no mipmaps (export/glsl.h: the texture must be complete without them).
+/// A three.js texture of a table (./table.js), one float channel: nearest filtering for tables read
+/// with texelFetch, linear for those whose exported lookup is one hardware-filtered texture()
+/// (filter 'hardware', docs/lut-format.md); no mipmaps (export/glsl.h: the texture must be
+/// complete without them).
 export function tableTexture(table) {
   if (table.texture) return table.texture;
   const texture = table.law === 'g'
@@ -39,7 +41,7 @@ export function tableTexture(table) {
     : new THREE.DataTexture(table.texels, table.width, 1);
   texture.format = THREE.RedFormat;
   texture.type = THREE.FloatType;
-  texture.minFilter = texture.magFilter = THREE.NearestFilter;
+  texture.minFilter = texture.magFilter = table.filter === 'hardware' ? THREE.LinearFilter : THREE.NearestFilter;
   texture.wrapS = texture.wrapT = texture.wrapR = THREE.ClampToEdgeWrapping;
   texture.generateMipmaps = false;
   texture.unpackAlignment = 1;

@@ -12,7 +12,7 @@
 //                   (Schlick's F is linear in them; ./material.js)
 import {readKtx2} from './ktx2.js';
 
-export const kFormatVersions = ['1', '2'];
+export const kFormatVersions = ['1', '2', '4'];
 export const kLaws = ['g', 'h'];
 /// A material's roughness R matches a table of alpha when |sqrt(alpha) - R| is below this: the
 /// canonical spec stores alpha = R^2 to double precision (ggx:roughness=0.7 is alpha=0.48999999999999994).
@@ -75,7 +75,8 @@ function glslHeader(glsl, name) {
 
 /// A table checked and ready to bind: {name, model, law, formatVersion, roughness, alpha, f0,
 /// lookupError, nodeError, command, width, height, depth, texels (Float32Array, x fastest),
-/// glsl (the exported snippet), functionName, sampler ('sampler3D' | 'sampler2D')}.
+/// glsl (the exported snippet), functionName, sampler ('sampler3D' | 'sampler2D'), filter
+/// ('texel-fetch' | 'hardware': format version 4's ganzfeld.filter, the lookup the bound covers)}.
 /// `name` is where the table came from (a file or URL), used in every error.
 export function makeTable(ktx2Bytes, glsl, name) {
   const texture = readKtx2(ktx2Bytes, name);
@@ -122,6 +123,7 @@ export function makeTable(ktx2Bytes, glsl, name) {
     command: kv['ganzfeld.command'] ?? '',
     width: texture.width, height: texture.height, depth: texture.depth, texels: texture.texels,
     glsl, functionName, sampler,
+    filter: kv['ganzfeld.filter'] ?? 'texel-fetch',
   };
 }
 

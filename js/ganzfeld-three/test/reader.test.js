@@ -12,7 +12,7 @@ import os from 'node:os';
 import path from 'node:path';
 import {fileURLToPath} from 'node:url';
 import * as THREE from 'three';
-import {GanzfeldTables, glslIdentifier, makeTable, readKtx2, toGanzfeldScene} from '../src/index.js';
+import {GanzfeldTables, glslIdentifier, makeTable, readKtx2, tableTexture, toGanzfeldScene} from '../src/index.js';
 
 const here = path.dirname(fileURLToPath(import.meta.url));
 const repository = path.resolve(here, '../../..');
@@ -21,9 +21,10 @@ const dir = fs.mkdtempSync(path.join(os.tmpdir(), 'ganzfeld-three-'));
 let server, base, serve, serviceBase;
 
 /// bake + export-glsl: dir/NAME.glsl and dir/NAME.ktx2.
-function table(name, model, law, res) {
+function table(name, model, law, res, extra = []) {
   const exr = path.join(dir, `${name}.exr`);
-  execFileSync(ganzfeld, ['bake', '--model', model, '--law', law, '--res', res, '--tol', '1e-4', '-o', exr, '--quiet']);
+  execFileSync(ganzfeld, ['bake', '--model', model, '--law', law, '--res', res, '--tol', '1e-4', ...extra, '-o', exr,
+                          '--quiet']);
   execFileSync(ganzfeld, ['export-glsl', exr, '-o', path.join(dir, `${name}.glsl`), '--quiet']);
 }
 
@@ -62,6 +63,8 @@ before(async () => {
     table(`h${f0}`, `ggx:roughness=0.5,f0=${f0}`, 'h', '9');
   }
   table('specular', 'specular:alpha=8', 'g', '5x5x5');
+  // format version 4's one-fetch table: warped frame, its bound for the GPU's filter (docs/lut-format.md)
+  table('warped', 'ggx:roughness=0.5,f0=1', 'g', '5x9x5', ['--frame', 'warped', '--filter', 'hardware']);
   table('separable', 'ggx:roughness=0.5,g2=separable', 'g', '5x5x5');
   table('albedo', 'ggx:roughness=0.5', 'a', '9');
   const g1 = fs.readFileSync(path.join(dir, 'g1.ktx2'));
@@ -108,13 +111,25 @@ describe('the reader', () => {
     assert.deepEqual(tables.roughnessValues, [0.5]);
   });
 
+  test('a one-fetch table is read with the GPU\'s linear filter, a texelFetch table with nearest', async () => {
+    const [warped, g1] = await Promise.all([load('warped'), load('g1')]);
+    const w = warped.find(0.5, 'g', 1), t = g1.find(0.5, 'g', 1);
+    assert.equal(w.formatVersion, '4');
+    assert.equal(w.filter, 'hardware');
+    assert.equal(t.filter, 'texel-fetch');
+    const wt = tableTexture(w), tt = tableTexture(t);
+    assert.deepEqual([wt.minFilter, wt.magFilter], [THREE.LinearFilter, THREE.LinearFilter]);
+    assert.deepEqual([tt.minFilter, tt.magFilter], [THREE.NearestFilter, THREE.NearestFilter]);
+    assert.match(w.glsl, /gz_lookup3_filtered\(/);
+  });
+
   test('glslIdentifier is export/glsl.h\'s', () => {
     assert.equal(glslIdentifier('specular:alpha=8_g'), 'gz_specular_alpha_8_g');
     assert.equal(glslIdentifier('a--b..'), 'gz_a_b');
   });
 
   const refusals = [
-    ['version3', 'format version 3; allowed: 1, 2'],
+    ['version3', 'format version 3; allowed: 1, 2, 4'],
     ['anisotropic', "the anisotropic model 'ggx:alpha_x=0.2"],
     ['specular', "model 'specular:alpha=8'; allowed: ggx:alpha=A,f0=0|1,g2=height-correlated"],
     ['separable', 'g2 = separable'],
