@@ -1,4 +1,4 @@
-// Bake throughput, repeated (issue 8's bake targets; issue 18: timings are medians of repeated
+// Bake throughput, repeated (timings are medians of repeated
 // runs with their spread, and the machine is read from the machine).
 #include <fstream>
 #include <thread>

@@ -668,7 +668,7 @@ void targets_section(std::ostringstream& md, const std::vector<FamilyResult>& fa
   auto ratio = [](const char* who) {
     return [who](const FamilyResult& f) { const auto it = f.evals_ratio.find(who); return it == f.evals_ratio.end() ? 0.0 : it->second; };
   };
-  md << "\n## Targets (issue 8), met or missed\n\n";
+  md << "\n## Targets, met or missed\n\n";
   family_target(md, "Within 2× of the oracle (ratio ≥ 0.5)", families, ratio("oracle"), [](double r) { return r >= 0.5; });
   family_target(md, "≥ 10× fewer evaluations than hcubature on the lune", families, ratio("hcubature_lune"),
                 [](double r) { return r >= 10; });

@@ -126,7 +126,7 @@ struct FamilyResult {
 
 std::vector<FamilyResult> run_cubature_benchmark(const CubatureBenchOptions& options);
 
-/// docs/performance.md: the ratio table per family, the targets of issue 8 as measured, and
+/// docs/performance.md: the ratio table per family, the targets as measured, and
 /// the plot, stamped with `command`.
 /// Bake throughput, repeated: a 64x64x32 g table at 1e-9 per model, with 1 and 2 threads.
 struct BakeTiming {

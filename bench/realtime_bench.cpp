@@ -25,7 +25,7 @@ namespace {
 
 using tables::ParamTable;
 
-// The targets (#16, "Accuracy").
+// The targets of docs/realtime.md ("Accuracy").
 constexpr double kTexelTarget = 1e-6;        // per-texel error bound, for alpha >= kMinAlpha
 constexpr double kMinAlpha = 1e-3;
 constexpr double kBakeSecondsTarget = 10.0;  // a 64x64 table on 2 cores

@@ -1,4 +1,4 @@
-// ganzfeld-load: a load test of a running `ganzfeld serve` (issue #17, "Load, faults, scale-out";
+// ganzfeld-load: a load test of a running `ganzfeld serve` (docs/serve-load.md,
 // driven by scripts/gen-serve-load-docs, smoke-tested by tests/serve_load_test.sh). CLIENTS
 // threads, each with its own keep-alive httplib::Client, send REQUESTS requests each, a seeded mix:
 //   eval      /api/eval of a few models and laws at random angles (tol 1e-6)

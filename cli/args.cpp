@@ -103,7 +103,11 @@ Vec3 DirectionArgs::outgoing(Law law) const {
   return j;
 }
 
-void validate_tolerance(double tol) { check_tolerance("--tol", tol); }
+void add_json_flag(CLI::App& cmd, bool& json, const std::string& shape) {
+  cmd.add_flag("--json", json, "print one JSON document" + (shape.empty() ? "" : ": " + shape));
+}
+
+void validate_tolerance(double tol) { check_tolerance("tol", tol); }
 
 
 /// Words joined into a line a POSIX shell reproduces: words with anything but [A-Za-z0-9_./:=,+-]
@@ -152,7 +156,7 @@ std::string prepare_directory(const std::string& flag, const std::string& text) 
   return dir.string();
 }
 
-void check_max_evaluations(long long n) { ganzfeld::check_max_evaluations("--max-evals", n); }
+void check_max_evaluations(long long n) { ganzfeld::check_max_evaluations("max_evals", n); }
 
 void TableOptionArgs::add_to(CLI::App& app, const scene::TableOptions& defaults) {
   app.add_option("--res-g", res_g,
@@ -180,35 +184,36 @@ void TableOptionArgs::add_to(CLI::App& app, const scene::TableOptions& defaults)
 }
 
 namespace {
-/// parse_resolution with its message naming `flag` instead of --res.
-std::vector<int> resolution_for(const std::string& flag, const std::string& text, Law law) {
+/// parse_resolution with its refusal naming `parameter` (res_g, res_h) instead of res.
+std::vector<int> resolution_for(const std::string& parameter, const std::string& text, Law law) {
   try {
     return tables::parse_resolution(text, law);
   } catch (const InputError& e) {
-    std::string what = e.what();
-    if (what.rfind("--res ", 0) == 0) what = flag + what.substr(5);
-    throw InputError(what);
+    throw e.renamed("res", parameter);
   }
 }
 }  // namespace
 
 scene::TableOptions TableOptionArgs::options(const scene::TableOptions& defaults) const {
   scene::TableOptions out = defaults;
-  if (!res_g.empty()) out.resolution_g = resolution_for("--res-g", res_g, Law::g);
-  if (!res_h.empty()) out.resolution_h = resolution_for("--res-h", res_h, Law::h);
+  if (!res_g.empty()) out.resolution_g = resolution_for("res_g", res_g, Law::g);
+  if (!res_h.empty()) out.resolution_h = resolution_for("res_h", res_h, Law::h);
   if (tol) out.tolerance = *tol;
   validate_tolerance(out.tolerance);
   if (!encoding.empty()) out.encoding = tables::parse_encoding(encoding);
   if (max_evaluations) out.max_evaluations = *max_evaluations;
   check_max_evaluations(out.max_evaluations);
-  if (max_bytes && !max_error) throw InputError("--max-bytes needs --max-error (it caps the table --max-error sizes)");
+  const Named target{"max_error"};
+  if (max_bytes && !max_error)
+    throw InputError({Named{"max_bytes"}, " needs ", target, " (it caps the table ", target, " sizes)"});
   if (fetches) tables::check_fetch_budget(*fetches);
-  if (fetches && !max_error) throw InputError("--fetches needs --max-error (it is the fetch budget of that search)");
+  if (fetches && !max_error)
+    throw InputError({Named{"fetches"}, " needs ", target, " (it is the fetch budget of that search)"});
   const bool fixed = !res_g.empty() || !res_h.empty() || tol;
   if (max_error) {
     if (fixed)
-      throw InputError(std::string("--max-error chooses the resolution and the tolerance itself; drop ") +
-                       (!res_g.empty() ? "--res-g" : !res_h.empty() ? "--res-h" : "--tol") + " or --max-error");
+      throw InputError({target, " chooses the resolution and the tolerance itself; drop ",
+                        Named{!res_g.empty() ? "res_g" : !res_h.empty() ? "res_h" : "tol"}, " or ", target});
     tables::check_error_target(*max_error, max_bytes.value_or(0), Law::g, out.encoding);
     out.target_error = *max_error;
     out.max_bytes = max_bytes.value_or(0);

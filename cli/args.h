@@ -21,7 +21,7 @@
 
 namespace ganzfeld::cli {
 
-/// The direction flags of cli-contract.md: --i/--j X,Y,Z or --theta-i/--theta-j/--phi in degrees.
+/// The direction flags: --i/--j X,Y,Z or --theta-i/--theta-j/--phi in degrees.
 struct DirectionArgs {
   std::string i_text, j_text;
   std::optional<double> theta_i, theta_j;
@@ -41,6 +41,9 @@ struct ParameterArgs {
   /// roughness in [0, 1], finite; nothing when neither is given; both given is refused.
   std::optional<std::pair<std::string, double>> given() const;
 };
+
+/// --json: "print one JSON document", with its shape when given.
+void add_json_flag(CLI::App& cmd, bool& json, const std::string& shape = "");
 
 /// Parses "X,Y,Z" into a normalized vector; throws InputError naming the flag and the value.
 Vec3 parse_vector(const std::string& flag, const std::string& text);
@@ -74,9 +77,9 @@ struct TableOptionArgs {
   std::optional<long long> fetches;
   /// Registers the flags; `defaults` is what --help shows and what unset flags mean.
   void add_to(CLI::App& app, const scene::TableOptions& defaults);
-  /// The options, validated (one-line InputError naming the flag); unset flags take `defaults`.
-  /// Defaults that bake to an error (scene_defaults) give way to a fixed resolution when --res-g,
-  /// --res-h or --tol is given.
+  /// The options, validated (InputError naming the parameter: res_g, max_error, ...; the command line
+  /// spells it as a flag, a library file as its key); unset flags take `defaults`. Defaults that
+  /// bake to an error (scene_defaults) give way to a fixed resolution when res_g, res_h or tol is given.
   scene::TableOptions options(const scene::TableOptions& defaults) const;
 };
 

@@ -55,18 +55,11 @@ struct BakeArgs {
 /// Refuses a --model spec that sets what a preset's axis and channels set (alpha, roughness,
 /// alpha_x, alpha_y, f0): the table is over every alpha and fixes f0 per channel.
 void refuse_preset_parameters(const std::string& spec) {
-  const std::size_t colon = spec.find(':');
-  if (colon == std::string::npos) return;
-  std::size_t start = colon + 1;
-  while (start <= spec.size()) {
-    const std::size_t comma = std::min(spec.find(',', start), spec.size());
-    const std::string key = spec.substr(start, std::min(spec.find('=', start), comma) - start);
+  for (const SpecTerm& term : parse_spec(spec).terms)
     for (const char* set : {"alpha", "roughness", "alpha_x", "alpha_y", "f0"})
-      if (key == set)
-        throw InputError("--preset: the model spec '" + spec + "' sets " + key +
+      if (term.model.values.count(set))
+        throw InputError("--preset: the model spec '" + spec + "' sets " + set +
                          ", which the table's axis and channels set; give the model as ggx or ggx:g2=...");
-    start = comma + 1;
-  }
 }
 
 tables::PresetOptions preset_options(const BakeArgs& args) {
@@ -352,7 +345,7 @@ void add_bake_command(CLI::App& app, Action& action, int argc, const char* const
   cmd->add_option("--grid", args->grid,
                   "--preset: texel (default; sample k at (k + 0.5)/N, what a GPU lookup reads) or node (k/(N - 1))");
   cmd->add_option("-o,--output", args->output, "one table: the table to write, FILE.exr (written atomically)");
-  cmd->add_option("--scene", args->scene, "a scene's tables: the scene file, SCENE.json (cli-contract.md)");
+  cmd->add_option("--scene", args->scene, "a scene's tables: the scene file, SCENE.json (e.g. examples/default.json)");
   cmd->add_option("--library", args->library,
                   "a library's tables: LIB.json, groups of model specs x laws x accuracies (docs/scale-out.md)");
   cmd->add_option("--shard", args->shard,
@@ -364,7 +357,7 @@ void add_bake_command(CLI::App& app, Action& action, int argc, const char* const
   args->table.add_to(*cmd, scene::TableOptions::scene_defaults());  // --res-g, --res-h (scenes), --tol, --encoding, ...
   cmd->add_flag("--force", args->force, "bake even when the file already holds exactly this table");
   cmd->add_flag("--quiet", args->quiet, "no progress bar (it is shown only when stderr is a terminal)");
-  cmd->add_flag("--json", args->json, "print one JSON document: {\"tables\": [{path, model, law, status}, ...]}");
+  add_json_flag(*cmd, args->json, "{\"tables\": [{path, model, law, status}, ...]}");
   cmd->callback([&action, args, cmd] {
     action = [args, cmd] {
       const BakeMode mode = bake_mode(*cmd);

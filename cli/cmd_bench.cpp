@@ -92,7 +92,7 @@ nlohmann::ordered_json cubature_report(const BenchArgs& args) {
   return doc;
 }
 
-/// Bake throughput (issue 8): a 64x64x32 g table at 1e-9 for specular alpha = 8 and 1000, with
+/// Bake throughput: a 64x64x32 g table at 1e-9 for specular alpha = 8 and 1000, with
 /// 1 and 2 threads, repeated (bench/bake_bench.cpp).
 nlohmann::ordered_json bake_report(const BenchArgs& args) {
   nlohmann::ordered_json doc{{"benchmark", "bake"}, {"machine", bench::machine_description()}};
@@ -116,7 +116,7 @@ nlohmann::ordered_json render_report(const BenchArgs& args) {
           {"ratios", {{"tables_vs_lambert", r.tables_vs_lambert}, {"direct_vs_tables", r.direct_vs_tables}}}};
 }
 
-/// The real-time tables' accuracy report (issue 16): Markdown to --markdown, or to stdout.
+/// The real-time tables' accuracy report: Markdown to --markdown, or to stdout.
 int realtime_report(const BenchArgs& args) {
   std::vector<std::string> words{"ganzfeld", "bench", "realtime"};
   if (args.quick) words.push_back("--quick");
@@ -137,7 +137,7 @@ void add_bench_command(CLI::App& app, Action& action) {
   auto* cmd = app.add_subcommand("bench", "benchmarks that print ratios measured in one run");
   auto args = std::make_shared<BenchArgs>();
   cmd->add_option("what", args->what, "cubature | bake | render | realtime")->required();
-  cmd->add_flag("--json", args->json, "print one JSON document");
+  add_json_flag(*cmd, args->json);
   cmd->add_flag("--quick", args->quick, "a small sample (CI); the full run takes minutes");
   cmd->add_option("--cases", args->cases, "cases per integrand family (cubature; default 200, quick 4)");
   cmd->add_option("--repeats", args->repeats, "runs of each bake timing (default 5, quick 1); medians and spread");

@@ -30,13 +30,14 @@ void add_eval_command(CLI::App& app, Action& action) {
   args->parameter.add_to(*cmd);
   cmd->add_option("--tol", args->tol, "absolute tolerance of the cubature (default 1e-9)");
   cmd->add_option("--max-evals", args->max_evaluations, "evaluation budget; beyond it the result is reported as not converged");
-  cmd->add_flag("--json", args->json, "print one JSON document");
+  add_json_flag(*cmd, args->json);
   cmd->callback([&action, args] {
     action = [args] {
       const Law law = parse_law(args->law);
       const auto parameter = args->parameter.given();
-      const ModelPtr model =
-          parse_model(parameter ? with_parameter(args->model, parameter->first, parameter->second) : args->model);
+      const ModelPtr model = parameter ? make_model(with_parameter(parse_spec(args->model), parameter->first,
+                                                                   parameter->second))
+                                       : parse_model(args->model);
       validate_tolerance(args->tol);
       check_max_evaluations(args->max_evaluations);
       const bool needs_i = law == Law::f || law == Law::g || law == Law::a;

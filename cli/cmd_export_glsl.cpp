@@ -176,7 +176,7 @@ void add_export_glsl_command(CLI::App& app, Action& action) {
   cmd->add_option("--cache", args->cache, "with --scene: reuse/store the scene's tables in DIR (as `render --cache`)");
   args->tables.add_to(*cmd, scene::TableOptions::scene_defaults());  // with --scene: --res-g, --res-h, --tol, --encoding, --max-evals
   cmd->add_flag("--quiet", args->quiet, "no progress and no summary line");
-  cmd->add_flag("--json", args->json, "print one JSON document");
+  add_json_flag(*cmd, args->json);
   cmd->callback([&action, args] {
     action = [args] {
       if (args->scene.empty() == args->table.empty())

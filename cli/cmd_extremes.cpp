@@ -1,4 +1,4 @@
-// ganzfeld extremes: the extremes grid of issue #20 (reports/extremes.h) — every model at the ends
+// ganzfeld extremes: the extremes grid (reports/extremes.h) — every model at the ends
 // of its parameters' ranges and the laws at extreme directions, judged against the independent
 // reference; --markdown prints the section of docs/reliability.md (scripts/docs --reliability).
 #include <cstdio>
@@ -63,7 +63,7 @@ void add_extremes_command(CLI::App& app, Action& action) {
                                  "the extremes grid: every model at its parameters' ends and extreme directions, "
                                  "the engine's estimates judged against the independent reference");
   auto args = std::make_shared<ExtremesArgs>();
-  cmd->add_flag("--json", args->json, "print one JSON document");
+  add_json_flag(*cmd, args->json);
   cmd->add_flag("--markdown", args->markdown, "print the Markdown section of docs/reliability.md");
   cmd->add_flag("--quick", args->quick, "the slice ctest runs: default specs, the grid's corners");
   cmd->add_flag("--defaults-only", args->defaults_only,

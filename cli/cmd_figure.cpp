@@ -37,7 +37,7 @@ void add_figure_command(CLI::App& app, Action& action) {
   args->tables.add_to(*cmd, raster::FigureOptions{}.tables);  // the small tables of g and h
   cmd->add_option("--cache", args->cache, "reuse the tables from DIR and store new ones there (as `render --cache`)");
   cmd->add_flag("--quiet", args->quiet, "no summary line");
-  cmd->add_flag("--json", args->json, "print one JSON document");
+  add_json_flag(*cmd, args->json);
   cmd->callback([&action, args] {
     action = [args] {
       const util::Stopwatch watch;

@@ -4,6 +4,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "cli/args.h"
 #include "cli/commands.h"
 #include "models/registry.h"
 #include "shapes/json.h"
@@ -71,7 +72,7 @@ void add_info_command(CLI::App& app, Action& action) {
   auto* cmd = app.add_subcommand("info", "metadata of a baked table (refuses files that are not valid tables)");
   auto args = std::make_shared<InfoArgs>();
   cmd->add_option("FILE", args->path, "table written by `ganzfeld bake`")->required();
-  cmd->add_flag("--json", args->json, "print one JSON document");
+  add_json_flag(*cmd, args->json);
   cmd->callback([&action, args] {
     action = [args] {
       if (tables::format_version_of(args->path) == tables::kParamFormatVersion) return param_info(args->path, args->json);

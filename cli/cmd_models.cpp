@@ -2,6 +2,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "cli/args.h"
 #include "cli/commands.h"
 #include "models/registry.h"
 #include "shapes/json.h"
@@ -55,7 +56,7 @@ void add_models_command(CLI::App& app, Action& action) {
   auto* cmd = app.add_subcommand("models", "list every model: parameters, traits, closed forms");
   auto json = std::make_shared<bool>(false);
   auto markdown = std::make_shared<std::string>();
-  cmd->add_flag("--json", *json, "print one JSON document");
+  add_json_flag(*cmd, *json);
   cmd->add_option("--markdown", *markdown, "write every model's parameter table as markdown (docs/model-parameters.md)");
   cmd->callback([&action, json, markdown] {
     action = [json, markdown] {

@@ -1,5 +1,5 @@
 // ganzfeld plausibility: non-negativity, reciprocity, energy conservation and Ganzfeld
-// invisibility measured for every model (integrate/plausibility.h); --markdown writes
+// invisibility measured for every model (reports/plausibility.h); --markdown writes
 // docs/plausibility.md.
 #include <cstdio>
 #include <iostream>
@@ -27,7 +27,7 @@ void add_plausibility_command(CLI::App& app, Action& action) {
   auto* cmd = app.add_subcommand("plausibility",
                                  "measure min f, reciprocity, max albedo and Ganzfeld invisibility of every model");
   auto args = std::make_shared<PlausibilityArgs>();
-  cmd->add_flag("--json", args->json, "print one JSON document");
+  add_json_flag(*cmd, args->json);
   cmd->add_option("--markdown", args->markdown, "also write the report as Markdown (docs/plausibility.md)");
   cmd->add_option("--tol", args->tol, "absolute tolerance of the albedo and h integrals (default 1e-6)");
   cmd->callback([&action, args] {

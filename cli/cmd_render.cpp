@@ -1,4 +1,4 @@
-// ganzfeld render: a scene file (cli-contract.md) to a linear EXR or an sRGB PNG. The scene decides
+// ganzfeld render: a scene file (examples/default.json) to a linear EXR or an sRGB PNG. The scene decides
 // which tables exist (scene/plan.h): only those are baked, or reused from --cache DIR (tables/cache.h,
 // the same files `ganzfeld bake --scene SCENE --out DIR` makes with the same table options).
 #include <optional>
@@ -76,7 +76,7 @@ int run_render(const RenderArgs& args) {
 void add_render_command(CLI::App& app, Action& action) {
   auto* cmd = app.add_subcommand("render", "render a scene file to a linear EXR or an sRGB PNG");
   auto args = std::make_shared<RenderArgs>();
-  cmd->add_option("--scene", args->scene, "the scene, SCENE.json (cli-contract.md)")->required();
+  cmd->add_option("--scene", args->scene, "the scene, SCENE.json (e.g. examples/default.json)")->required();
   cmd->add_option("-o,--output", args->output,
                   "the image: IMAGE.exr (linear radiance, RGB float) or IMAGE.png (linear clamped to [0,1], sRGB "
                   "8-bit); written atomically")
@@ -89,7 +89,7 @@ void add_render_command(CLI::App& app, Action& action) {
                   "reuse tables from DIR and store new ones there (created if its parent exists); the files of "
                   "`ganzfeld bake --scene SCENE --out DIR`. Default: bake in memory");
   cmd->add_flag("--quiet", args->quiet, "no progress and no summary line");
-  cmd->add_flag("--json", args->json, "print one JSON document");
+  add_json_flag(*cmd, args->json);
   cmd->callback([&action, args] { action = [args] { return run_render(*args); }; });
 }
 

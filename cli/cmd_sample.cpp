@@ -75,7 +75,7 @@ void add_sample_command(CLI::App& app, Action& action) {
   args->directions.add_to(*cmd);
   args->parameter.add_to(*cmd);
   cmd->add_option("--mu", args->mu, "parameter tables: cos theta_i in [0, 1] (instead of --theta-i)");
-  cmd->add_flag("--json", args->json, "print one JSON document");
+  add_json_flag(*cmd, args->json);
   cmd->add_flag("--hardware-filter", args->hardware_filter,
                 "emulate a GPU's linear filter: every blend weight of the exported shader's texture() calls "
                 "rounded to a multiple of 1/256 (8-bit sub-texel precision, as Direct3D and Vulkan guarantee)");

@@ -197,7 +197,7 @@ void add_tradeoff_command(CLI::App& app, Action& action) {
   auto args = std::make_shared<TradeoffArgs>();
   cmd->add_option("--model", args->model, "model spec, e.g. specular:alpha=8 (see `ganzfeld models`)")->required();
   cmd->add_option("--law", args->law, "g (vignetting), h (darkening) or a (albedo)")->required();
-  cmd->add_flag("--json", args->json, "print one JSON document");
+  add_json_flag(*cmd, args->json);
   cmd->add_option("--plot", args->plot, "write a PNG: max error vs bytes and vs bake time");
   cmd->add_option("--markdown", args->markdown, "write the summary and the table as Markdown");
   cmd->add_flag("--quick", args->quick, "a few configurations and 300 points (seconds; for tests and CI)");

@@ -18,7 +18,7 @@ struct VerifyArgs {
 void add_verify_command(CLI::App& app, Action& action) {
   auto* cmd = app.add_subcommand("verify", "check every printed closed form against cubature (docs/errata.md)");
   auto args = std::make_shared<VerifyArgs>();
-  cmd->add_flag("--json", args->json, "print one JSON document");
+  add_json_flag(*cmd, args->json);
   cmd->add_option("--markdown", args->markdown, "also write the errata report (markdown) to FILE");
   cmd->callback([&action, args] {
     action = [args] {

@@ -47,13 +47,14 @@ class LibraryParser {
     throw InputError("library '" + path_ + "': " + where + ": " + why);
   }
 
-  /// `what`, rethrowing its InputError with `where` in front.
+  /// `what`, rethrowing its InputError with `where` in front and its parameters named as the
+  /// file's keys are (max_error, res_g: what `where` holds).
   template <class F>
   auto at(const std::string& where, F&& what) const {
     try {
       return what();
     } catch (const InputError& e) {
-      refuse(where, e.what());
+      refuse(where, e.worded(InputError::query_spelling));
     }
   }
 

@@ -1,5 +1,5 @@
 // ganzfeld: extended-source shading tables from BRDFs. run_cli catches once and maps to the exit
-// codes of cli-contract.md: 0 ok, 2 bad input (one line on stderr), 1 internal failure.
+// codes: 0 ok, 2 bad input (one line on stderr), 1 internal failure.
 #include "cli/run.h"
 
 #include <exception>
@@ -51,7 +51,7 @@ int run_cli(int argc, const char* const* argv, bool parse_only) {
   try {
     return action ? action() : 2;
   } catch (const ganzfeld::InputError& e) {
-    std::cerr << "ganzfeld: " << e.what() << "\n";
+    std::cerr << "ganzfeld: " << e.worded(ganzfeld::InputError::flag_spelling) << "\n";
     return 2;
   } catch (const std::exception& e) {
     std::cerr << "ganzfeld: internal error: " << e.what() << "\n";

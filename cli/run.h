@@ -5,7 +5,7 @@
 
 namespace ganzfeld::cli {
 
-/// Parses argv and runs the selected sub-command; returns the exit code of cli-contract.md:
+/// Parses argv and runs the selected sub-command; returns the exit code:
 /// 0 ok, 2 bad input (one line on stderr), 1 internal failure. With `parse_only`, stops after
 /// parsing: 0 when a sub-command was selected, 2 (or CLI11's code for --help) otherwise.
 int run_cli(int argc, const char* const* argv, bool parse_only = false);

@@ -1,5 +1,5 @@
-// GLSL export (design.md, tables/: "the same mapping is emitted as GLSL so a shader samples exactly
-// what the CPU samples"). The emitted code compiles as GLSL 4.30 core and GLSL ES 3.00; it is a
+// GLSL export: tables/'s mappings and interpolation emitted as GLSL, so a shader samples exactly
+// what the CPU samples. The emitted code compiles as GLSL 4.30 core and GLSL ES 3.00; it is a
 // snippet without #version, to be included in the user's shader (docs/shaders.md).
 //
 // What the shader reproduces, step for step, is tables/sample.h:

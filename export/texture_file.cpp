@@ -1,7 +1,6 @@
 #include "export/texture_file.h"
 
-#include "tables/exr_io.h"
-
+#include <array>
 #include <bit>
 #include <cstdio>
 #include <cstring>
@@ -11,7 +10,9 @@
 
 #include <Imath/half.h>
 
+#include "tables/exr_io.h"
 #include "util/error.h"
+#include "util/names.h"
 #include "util/atomic_file.h"
 
 namespace ganzfeld::exporting {
@@ -67,12 +68,14 @@ std::string axes_text(const Table& table) {
 
 }  // namespace
 
-const char* to_string(TextureFormat format) { return format == TextureFormat::ktx2 ? "ktx2" : "header"; }
+namespace {
+constexpr std::array kTextureFormats{util::EnumName<TextureFormat>{TextureFormat::ktx2, "ktx2"},
+                                     util::EnumName<TextureFormat>{TextureFormat::header, "header"}};
+}  // namespace
 
+const char* to_string(TextureFormat format) { return util::name_of(kTextureFormats, format); }
 TextureFormat parse_texture_format(const std::string& text) {
-  if (text == "ktx2") return TextureFormat::ktx2;
-  if (text == "header") return TextureFormat::header;
-  throw InputError("unknown texture format '" + text + "'; allowed: ktx2, header");
+  return util::parse_name(kTextureFormats, "texture format", text);
 }
 
 const char* texture_extension(TextureFormat format) { return format == TextureFormat::ktx2 ? ".ktx2" : ".h"; }

@@ -20,7 +20,7 @@ inline std::string text(const std::uint8_t* data, std::size_t size) {
   return std::string(reinterpret_cast<const char*>(data), size);
 }
 
-/// Runs `read`; an InputError must be one line (cli-contract.md), any other exception escapes
+/// Runs `read`; an InputError must be one line (util/error.h), any other exception escapes
 /// and libFuzzer reports it (uncaught exception = crash), as ASan/UBSan report memory and UB.
 template <class F>
 void expect_clean(F&& read) {

@@ -3,7 +3,7 @@
 // The algorithm in three steps (after QUADPACK's qag and Genz & Malik's adaptive scheme, as in
 // S. G. Johnson's hcubature.c):
 //  1. Start from a grid of panels whose lines are given by the caller (the known lobe peaks,
-//     widths and boundary layers of the integrand: design.md, "hints"), so that the first nodes
+//     widths and boundary layers of the integrand: MassHints, models/model.h), so that the first nodes
 //     cannot all miss a sharp lobe.
 //  2. On each panel apply the 15-point Kronrod rule in every axis (15^D nodes) and its embedded
 //     7-point Gauss rule; the panel's error is the larger of |K⊗K − G⊗G| and the sum of the
@@ -70,9 +70,9 @@ inline constexpr double kMinTolerance = 1e-15;
 inline constexpr double kMaxTolerance = 1.0;
 /// The smallest evaluation budget per integral a caller may give (--max-evals, max_evals=).
 inline constexpr long long kMinEvaluations = 1000;
-/// Refuse (InputError, one line naming `name` as the caller spells it: "--tol", "tol") a
-/// tolerance that is not finite or outside [kMinTolerance, kMaxTolerance], and a budget below
-/// kMinEvaluations.
+/// Refuse (InputError naming the parameter `name`, "tol" or "max_evals", which each front end
+/// spells: --tol, tol=) a tolerance that is not finite or outside [kMinTolerance, kMaxTolerance],
+/// and a budget below kMinEvaluations.
 void check_tolerance(const std::string& name, double tol);
 void check_max_evaluations(const std::string& name, long long max_evaluations);
 

@@ -3,7 +3,7 @@
 //   h(j)    = ∫_{k·n>0} (k·n) f(k, j) dk            law of darkening (Ganzfeld)
 //   a(i)    = ∫_{k·n>0} (k·n) f(i, k) dk            albedo
 //   r       = (1/pi) ∫ (i·n) a(i) di                double-diffuse reflectance
-// Domains are parametrized exactly (design.md): the lune {k·n > 0} ∩ {k·i > 0} is rotated about
+// Domains are parametrized exactly: the lune {k·n > 0} ∩ {k·i > 0} is rotated about
 // its edge axis e = n×i/|n×i| into the rectangle t ∈ [-pi/2, pi/2] (latitude from the plane ⊥ e)
 // × phi ∈ [theta_i - pi/2, pi/2] (longitude from n towards i), with weight cos t; the hemisphere
 // is the lune with i = n. No indicator functions anywhere.

@@ -1,4 +1,5 @@
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <numbers>
 
@@ -7,27 +8,20 @@
 
 #include "integrate/laws.h"
 #include "util/error.h"
+#include "util/names.h"
 
 namespace ganzfeld {
 
 using std::numbers::pi;
 
-const char* to_string(Law law) {
-  switch (law) {
-    case Law::f: return "f";
-    case Law::g: return "g";
-    case Law::h: return "h";
-    case Law::a: return "a";
-    case Law::r: return "r";
-  }
-  return "?";
-}
+namespace {
+constexpr std::array kLaws{util::EnumName<Law>{Law::f, "f"}, util::EnumName<Law>{Law::g, "g"},
+                           util::EnumName<Law>{Law::h, "h"}, util::EnumName<Law>{Law::a, "a"},
+                           util::EnumName<Law>{Law::r, "r"}};
+}  // namespace
 
-Law parse_law(const std::string& text) {
-  for (Law law : {Law::f, Law::g, Law::h, Law::a, Law::r})
-    if (text == to_string(law)) return law;
-  throw InputError("unknown law '" + text + "'; allowed: f, g, h, a, r");
-}
+const char* to_string(Law law) { return util::name_of(kLaws, law); }
+Law parse_law(const std::string& text) { return util::parse_name(kLaws, "law", text); }
 
 Vec3 direction(double theta, double phi) {
   return {std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta)};
@@ -123,15 +117,15 @@ std::array<std::vector<double>, 2> cuts_from_hints(const MassHints& hints, const
       const double w_phi = w / std::max(std::cos(t_d), w);  // longitude shrinks towards the poles
       // Within a few widths of a pole t = ±pi/2 of the coordinates (the lune's tip: a thin lune
       // of g with the lobe at its end) the lobe's centre lies on the rectangle's edge, where no
-      // panels meet around it: it needs its ±2w lines whatever its width (ganzfeld extremes found
-      // specular:alpha=1000 at i·n = -0.99, j on the horizon, 2e-6 off with 2e-11 estimated).
+      // panels meet around it: it needs its ±2w lines whatever its width (tests/extremes_test.cpp,
+      // SharpLobeAtTheTipOfAThinLuneIsHonest).
       const bool at_pole = std::abs(t_d) + 4.0 * w > pi / 2;
       // A lobe at a pole t = ±pi/2 of the coordinates: every longitude meets there, so the part
       // of the lobe inside the domain can be far smaller than the lobe (a thin lune's tip cuts a
-      // sliver 1e-8 wide from a lobe 1e-2 wide: cook-torrance m=0.01 at i·n = -0.999, j·n = 1e-6,
-      // where the ±2w lines left the whole sliver to one panel and the engine reported 2.7e-18 for
-      // 1e-12 missed, found by ganzfeld extremes). A geometric ladder of lines towards the pole,
-      // w/8, w/64, ... down to 1e-12 rad, gives the refinement a panel at every scale there.
+      // sliver 1e-8 wide from a lobe 1e-2 wide, which the ±2w lines leave to one panel whose nodes
+      // all miss it: tests/extremes_test.cpp, SliverOfALobeAtTheTipIsHonest). A geometric ladder of
+      // lines towards the pole, w/8, w/64, ... down to 1e-12 rad, gives the refinement a panel at
+      // every scale there.
       if (at_pole)
         for (double offset = w / 8.0; offset > kPoleLadderEnd; offset /= 8.0)
           pole_ladder.push_back(first_axis((t_d < 0.0 ? -1.0 : 1.0) * (pi / 2 - offset), phi_d));
@@ -213,7 +207,7 @@ Estimate integrate_rectangle(const Model& model, const Vec3& fixed, Varying vary
 /// panel coordinate scaled to [0, 1], with psi' vanishing at a graded end (psi = 3u^2 - 2u^3 at
 /// both ends, u + u^2 - u^3 at the upper one only; either way b - x ~ (1 - u)^2 at a graded end
 /// b). An integrand (b - x)^nu there becomes ~ (1 - u)^(2 nu + 1), much smoother for the
-/// Gauss–Kronrod rule (design.md: "variable transforms at non-smooth edges"). Smooth integrands
+/// Gauss–Kronrod rule. Smooth integrands
 /// pay for it (specular alpha=10: 1.9x more evaluations), so only hinted edges are graded; the
 /// crease frame is not graded (no creased model hints a rough horizon).
 struct Grading {

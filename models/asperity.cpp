@@ -4,6 +4,7 @@
 
 #include "models/kp_lobes.h"
 #include "models/registry.h"
+#include "models/spec.h"
 
 namespace ganzfeld {
 
@@ -11,7 +12,7 @@ using std::numbers::pi;
 
 Asperity::Asperity(double alpha) : alpha_(alpha) {}
 
-std::string Asperity::spec() const { return "asperity:alpha=" + format_number(alpha_); }
+std::string Asperity::spec() const { return spec_text({"asperity", {{"alpha", alpha_}}}); }
 
 double Asperity::f(const Vec3& i, const Vec3& j) const noexcept {
   if (i.z < 0.0 || j.z < 0.0) return 0.0;

@@ -4,6 +4,7 @@
 
 #include "models/kp_lobes.h"
 #include "models/registry.h"
+#include "models/spec.h"
 
 namespace ganzfeld {
 
@@ -11,7 +12,7 @@ using std::numbers::pi;
 
 Backscatter::Backscatter(double alpha) : alpha_(alpha), C_b_(backscatter::C_b(alpha)) {}
 
-std::string Backscatter::spec() const { return "backscatter:alpha=" + format_number(alpha_); }
+std::string Backscatter::spec() const { return spec_text({"backscatter", {{"alpha", alpha_}}}); }
 
 double Backscatter::f(const Vec3& i, const Vec3& j) const noexcept {
   if (i.z < 0.0 || j.z < 0.0) return 0.0;

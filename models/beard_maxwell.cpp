@@ -9,6 +9,7 @@
 
 #include "models/classic_models.h"  // fresnel_complex, kGrazingCosFloor
 #include "util/error.h"
+#include "models/spec.h"
 #include "models/text_data.h"
 #include "util/hash.h"
 
@@ -161,13 +162,13 @@ BeardMaxwell::BeardMaxwell(double n, double k, FirstSurface first_surface, doubl
       R0_(fresnel_complex(1.0, n, k)) {}
 
 std::string BeardMaxwell::spec() const {
-  if (fs_.is_table()) {
-    const std::string rest = spec_of("beard-maxwell", {{"n", n_}, {"k", k_}, {"tau", tau_deg_},
-                                                       {"omega", omega_deg_}, {"rho_d", rho_D_}, {"rho_v", rho_V_}});
-    return "beard-maxwell:file=" + fs_.path() + "," + rest.substr(rest.find(':') + 1);
-  }
-  return spec_of("beard-maxwell", {{"n", n_}, {"k", k_}, {"b", fs_.B()}, {"m", fs_.m()}, {"tau", tau_deg_},
-                                   {"omega", omega_deg_}, {"rho_d", rho_D_}, {"rho_v", rho_V_}});
+  ModelSpec spec{"beard-maxwell", {{"n", n_}, {"k", k_}, {"tau", tau_deg_}, {"omega", omega_deg_},
+                                   {"rho_d", rho_D_}, {"rho_v", rho_V_}}};
+  if (fs_.is_table())  // the table replaces the analytic first surface's b and m
+    spec.file = fs_.path();
+  else
+    spec.values.insert({{"b", fs_.B()}, {"m", fs_.m()}});
+  return spec_text(spec);
 }
 
 double BeardMaxwell::fresnel_ratio(double cos_beta) const noexcept {

@@ -11,6 +11,7 @@
 
 #include "models/classic_models.h"  // kGrazingCosFloor
 #include "models/registry.h"
+#include "models/spec.h"
 
 namespace ganzfeld {
 
@@ -87,13 +88,13 @@ double BlinnPhaseFunction::operator()(const PhaseAngle& a) const noexcept {
 BlinnDusty::BlinnDusty(double w, double tau, BlinnPhaseFunction phase) : w_(w), tau_(tau), phase_(phase) {}
 
 std::string BlinnDusty::spec() const {
-  return spec_of("blinn-dusty", {{"w", w_},
+  return spec_text({"blinn-dusty", {{"w", w_},
                                  {"tau", tau_},
                                  {"phase", static_cast<double>(phase_.kind)},
                                  {"x", phase_.x},
                                  {"g", phase_.g},
                                  {"g2", phase_.g2},
-                                 {"m", phase_.m}});
+                                 {"m", phase_.m}}});
 }
 
 double BlinnDusty::f(const Vec3& i, const Vec3& j) const noexcept {

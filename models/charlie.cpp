@@ -8,10 +8,11 @@
 #include <numbers>
 
 #include "models/registry.h"
+#include "models/spec.h"
 
 namespace ganzfeld {
 
-std::string Charlie::spec() const { return spec_of("charlie", {{"alpha", alpha_}}); }
+std::string Charlie::spec() const { return spec_text({"charlie", {{"alpha", alpha_}}}); }
 
 double Charlie::D(double sin2_theta_h) const noexcept {
   return (2.0 + 1.0 / alpha_) * std::pow(sin2_theta_h, 0.5 / alpha_) / (2.0 * std::numbers::pi);

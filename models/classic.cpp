@@ -1,4 +1,4 @@
-// The classic models of the Oregon BRDF Library survey (Walker 1999; issue 7): registered here.
+// The classic models of the Oregon BRDF Library survey (Walker 1999): registered here.
 // Formulas, sources and the differences from the thesis's summaries: models/classic_models.h and
 // docs/models.md.
 #include <algorithm>
@@ -12,6 +12,7 @@
 #include "models/classic_models.h"
 #include "util/error.h"
 #include "models/registry.h"
+#include "models/spec.h"
 
 namespace ganzfeld {
 
@@ -51,7 +52,7 @@ double fresnel_complex(double cos_theta, double eta, double k) noexcept {
 // ---------------------------------------------------------------------------------------------
 Phong::Phong(double kd, double ks, double n) : kd_(kd), ks_(ks), n_(n) {}
 
-std::string Phong::spec() const { return spec_of("phong", {{"kd", kd_}, {"ks", ks_}, {"n", n_}}); }
+std::string Phong::spec() const { return spec_text({"phong", {{"kd", kd_}, {"ks", ks_}, {"n", n_}}}); }
 
 double Phong::f(const Vec3& i, const Vec3& j) const noexcept {
   if (i.z < 0.0 || j.z < 0.0) return 0.0;
@@ -64,8 +65,8 @@ MassHints Phong::mass_hints(const Vec3& fixed, Varying varying) const {
   // Over incident directions k the specular part of (k·n) f is ks cos^n psi min(1, (k·n) /
   // kGrazingCosFloor): it falls linearly to 0 across the layer k·n < kGrazingCosFloor. With the
   // mirror lobe on the horizon (view at j·n <= 1e-6) the layer takes ks/2 kGrazingCosFloor times
-  // the lobe's length along the horizon, ~1.4e-7 at n = 20, which no node saw (ganzfeld extremes:
-  // g 1.4e-7 off with 8.5e-9 estimated). The layer holds at most ks/2 kGrazingCosFloor 2 pi
+  // the lobe's length along the horizon, ~1.4e-7 at n = 20, which no initial node sees
+  // (tests/extremes_test.cpp, PhongGrazingLayerIsHonest). The layer holds at most ks/2 kGrazingCosFloor 2 pi
   // cos^n(e), e the mirror's elevation: it is declared when the lobe reaches the horizon, within
   // 4 widths of it (as ggx's layer).
   const double w = 1.0 / std::sqrt(n_);
@@ -79,7 +80,7 @@ PhongLewis::PhongLewis(double kd, double ks, double n)
     : kd_(kd), ks_(ks), n_(n), C_((n + 2.0) / (2.0 * pi)) {}
 
 std::string PhongLewis::spec() const {
-  return spec_of("phong-lewis", {{"kd", kd_}, {"ks", ks_}, {"n", n_}});
+  return spec_text({"phong-lewis", {{"kd", kd_}, {"ks", ks_}, {"n", n_}}});
 }
 
 double PhongLewis::f(const Vec3& i, const Vec3& j) const noexcept {
@@ -101,7 +102,7 @@ BlinnPhong::BlinnPhong(double kd, double ks, double n)
     : kd_(kd), ks_(ks), n_(n), C_(blinn_phong_normalization(n)) {}
 
 std::string BlinnPhong::spec() const {
-  return spec_of("blinn-phong", {{"kd", kd_}, {"ks", ks_}, {"n", n_}});
+  return spec_text({"blinn-phong", {{"kd", kd_}, {"ks", ks_}, {"n", n_}}});
 }
 
 double BlinnPhong::f(const Vec3& i, const Vec3& j) const noexcept {
@@ -141,8 +142,8 @@ CookTorrance::CookTorrance(FacetDistribution d, double kd, double ks, double m, 
 }
 
 std::string CookTorrance::spec() const {
-  return spec_of(d_ == FacetDistribution::beckmann ? "cook-torrance" : "cook-torrance-gaussian",
-                 {{"kd", kd_}, {"ks", ks_}, {"m", m_}, {"eta", eta_}, {"k", k_}});
+  return spec_text({d_ == FacetDistribution::beckmann ? "cook-torrance" : "cook-torrance-gaussian",
+                    {{"kd", kd_}, {"ks", ks_}, {"m", m_}, {"eta", eta_}, {"k", k_}}});
 }
 
 double CookTorrance::D(double c) const noexcept {
@@ -186,9 +187,9 @@ Ward::Ward(double rho_d, double rho_s, double alpha_x, double alpha_y, bool anis
 
 std::string Ward::spec() const {
   if (anisotropic_)
-    return spec_of("ward-aniso", {{"rho_d", rho_d_}, {"rho_s", rho_s_}, {"alpha_x", alpha_x_},
-                                  {"alpha_y", alpha_y_}});
-  return spec_of("ward", {{"rho_d", rho_d_}, {"rho_s", rho_s_}, {"alpha", alpha_x_}});
+    return spec_text({"ward-aniso", {{"rho_d", rho_d_}, {"rho_s", rho_s_}, {"alpha_x", alpha_x_},
+                                     {"alpha_y", alpha_y_}}});
+  return spec_text({"ward", {{"rho_d", rho_d_}, {"rho_s", rho_s_}, {"alpha", alpha_x_}}});
 }
 
 double Ward::f(const Vec3& i, const Vec3& j) const noexcept {
@@ -248,7 +249,7 @@ MassHints Ward::mass_hints(const Vec3& fixed, Varying) const {
 // ---------------------------------------------------------------------------------------------
 OrenNayar::OrenNayar(double sigma, double rho) : sigma_(sigma), rho_(rho) {}
 
-std::string OrenNayar::spec() const { return spec_of("oren-nayar", {{"sigma", sigma_}, {"rho", rho_}}); }
+std::string OrenNayar::spec() const { return spec_text({"oren-nayar", {{"sigma", sigma_}, {"rho", rho_}}}); }
 
 double OrenNayar::f(const Vec3& i, const Vec3& j) const noexcept {
   if (i.z < 0.0 || j.z < 0.0) return 0.0;
@@ -284,7 +285,7 @@ Lafortune::Lafortune(double kd, std::vector<Lobe> lobes, std::string spec)
 std::string Lafortune::spec() const {
   if (!preset_.empty()) return preset_;
   const Lobe& l = lobes_.front();
-  return spec_of("lafortune", {{"kd", kd_}, {"Cx", l.C_x}, {"Cy", l.C_y}, {"Cz", l.C_z}, {"n", l.n}});
+  return spec_text({"lafortune", {{"kd", kd_}, {"Cx", l.C_x}, {"Cy", l.C_y}, {"Cz", l.C_z}, {"n", l.n}}});
 }
 
 Traits Lafortune::traits() const {
@@ -323,14 +324,14 @@ ModelPtr lafortune_paint(int channel) {
       {{0.670982, 0.586674, 7.472717}, {-0.477976, 0.227295, 3.677653}, {-1.026588, 0.687715, 57.489181}}};
   std::vector<Lafortune::Lobe> l;
   for (const auto& c : lobes[channel]) l.push_back({c[0], c[0], c[1], c[2]});
-  return std::make_shared<Lafortune>(kd[channel], std::move(l), "lafortune-paint:channel=" + std::to_string(channel));
+  return std::make_shared<Lafortune>(kd[channel], std::move(l), spec_text({"lafortune-paint", {{"channel", static_cast<double>(channel)}}}));
 }
 
 // ---------------------------------------------------------------------------------------------
 Hapke::Hapke(double rho, double g, HapkePhase phase) : rho_(rho), g_(g), phase_(phase) {}
 
 std::string Hapke::spec() const {
-  return spec_of("hapke", {{"rho", rho_}, {"g", g_}, {"phase", static_cast<double>(phase_)}});
+  return spec_text({"hapke", {{"rho", rho_}, {"g", g_}, {"phase", static_cast<double>(phase_)}}});
 }
 
 double Hapke::B(double tan_alpha, double cos_alpha, double g) noexcept {

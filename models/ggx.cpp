@@ -19,6 +19,7 @@
 #include "util/error.h"
 #include "models/hvd.h"
 #include "models/registry.h"
+#include "models/spec.h"
 
 namespace ganzfeld {
 
@@ -91,11 +92,16 @@ constexpr double kVisibilityLayerCeiling = 1e-3;
 
 Ggx::Ggx(ggx::Alpha alpha, double f0, ggx::G2Form g2) : alpha_(alpha), f0_(f0), g2_(g2) {}
 
-std::string Ggx::spec() const {
-  const std::string s = alpha_.x == alpha_.y ? spec_of("ggx", {{"alpha", alpha_.x}, {"f0", f0_}})
-                                             : spec_of("ggx", {{"alpha_x", alpha_.x}, {"alpha_y", alpha_.y}, {"f0", f0_}});
-  return s + ",g2=" + kG2Names[static_cast<int>(g2_)];
+ParamValues Ggx::parameters() const {
+  ParamValues values{{"f0", f0_}, {"g2", static_cast<double>(g2_)}};
+  if (alpha_.x == alpha_.y)
+    values["alpha"] = alpha_.x;
+  else
+    values.insert({{"alpha_x", alpha_.x}, {"alpha_y", alpha_.y}});
+  return values;
 }
+
+std::string Ggx::spec() const { return spec_text({"ggx", parameters()}); }
 
 double Ggx::f(const Vec3& i, const Vec3& j) const noexcept {
   if (i.z < 0.0 || j.z < 0.0) return 0.0;
@@ -123,8 +129,8 @@ MassHints Ggx::mass_hints(const Vec3& fixed, Varying) const {
   // The height-correlated visibility 1/(2 ((j·n) r_k + (k·n) r_j)) (ggx::visibility) holds, for a
   // fixed direction just above the horizon, a layer in k·n as thin as fixed·n: times (k·n) it is
   // (k·n)/(2 (j·n) r_k + 2 (k·n) r_j), flat above k·n ~ (j·n) r_k/r_j and falling to 0 below it,
-  // with a 1/(k·n) tail that carries ~(j·n) ln(1/(j·n)) of the mass. No initial node saw it:
-  // ggx:alpha=0.5 g at i·n = -0.999, j·n = 1e-9 was 2.5e-9 off with 4.6e-10 estimated (issue #20).
+  // with a 1/(k·n) tail that carries ~(j·n) ln(1/(j·n)) of the mass, which no initial node sees
+  // unless the layer is declared (tests/extremes_test.cpp, GgxGrazingVisibilityLayerIsHonest).
   if (g2_ == ggx::G2Form::height_correlated && fixed.z > 0.0) {
     const double r_fixed = ggx::projected_root(fixed, alpha_);
     const double layer = fixed.z * std::max(alpha_.x, alpha_.y) / r_fixed;  // r_k of a grazing k <= max alpha
@@ -186,9 +192,9 @@ ggx::Alpha alpha_from(const ParamValues& v, double default_alpha) {
   return {a, a};
 }
 
-ParamInfo alpha_param(const char* name, const std::string& meaning) {
+ParamInfo alpha_param(const char* name, const std::string& meaning, const char* alternative_of = "") {
   return {.name = name, .type = ParamType::real, .min = 0.0, .max = 1.0, .default_value = 0.5,
-          .meaning = meaning, .optional = true, .min_exclusive = true};
+          .meaning = meaning, .optional = true, .min_exclusive = true, .alternative_of = alternative_of};
 }
 
 }  // namespace
@@ -200,9 +206,9 @@ void register_ggx_models(std::vector<ModelInfo>& c) {
        "GGX (Trowbridge-Reitz) microfacets with Smith masking-shadowing, f = F D G2/(4 (i.n)(j.n)), Schlick F",
        kSources,
        {alpha_param("alpha", "GGX roughness alpha (0.5 when neither alpha, roughness nor alpha_x/alpha_y is given)"),
-        alpha_param("roughness", "perceptual roughness R, alpha = R^2 (engines' convention); instead of alpha"),
-        alpha_param("alpha_x", "alpha along the tangent (local x); with alpha_y, instead of alpha"),
-        alpha_param("alpha_y", "alpha along the bitangent (local y); with alpha_x"),
+        alpha_param("roughness", "perceptual roughness R, alpha = R^2 (engines' convention); instead of alpha", "alpha"),
+        alpha_param("alpha_x", "alpha along the tangent (local x); with alpha_y, instead of alpha", "alpha"),
+        alpha_param("alpha_y", "alpha along the bitangent (local y); with alpha_x", "alpha"),
         {"f0", ParamType::real, 0.0, 1.0, 1.0, "Schlick reflectance at normal incidence (1: F = 1)"},
         {.name = "g2", .type = ParamType::choice, .min = 0.0, .max = 1.0, .default_value = 0.0,
          .meaning = "Smith masking-shadowing: 1/(1 + L(i) + L(j)) or G1(i) G1(j)",

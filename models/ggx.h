@@ -24,6 +24,7 @@
 #include <string>
 
 #include "models/model.h"
+#include "models/registry.h"
 
 namespace ganzfeld {
 
@@ -72,6 +73,8 @@ class Ggx final : public Model {
  public:
   Ggx(ggx::Alpha alpha, double f0, ggx::G2Form g2);
   std::string spec() const override;
+  /// The parameters of its canonical spec: alpha (or alpha_x and alpha_y), f0, g2.
+  ParamValues parameters() const;
   Traits traits() const override { return {alpha_.x == alpha_.y, true, EnergyClass::plausible}; }
   double f(const Vec3& i, const Vec3& j) const noexcept override;
   MassHints mass_hints(const Vec3& fixed, Varying varying) const override;

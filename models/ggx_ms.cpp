@@ -11,6 +11,7 @@
 
 #include "models/ggx_energy.h"
 #include "models/registry.h"
+#include "models/spec.h"
 
 namespace ganzfeld {
 
@@ -122,8 +123,7 @@ GgxMs::GgxMs(double alpha, double f0, ggx::G2Form g2)
 }
 
 std::string GgxMs::spec() const {
-  const std::string s = ggx_.spec();  // "ggx:alpha=..,f0=..,g2=.."
-  return "ggx-ms" + s.substr(3);
+  return spec_text({"ggx-ms", ggx_.parameters()});
 }
 
 double GgxMs::f(const Vec3& i, const Vec3& j) const noexcept {

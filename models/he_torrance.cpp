@@ -10,6 +10,7 @@
 #include <boost/math/special_functions/gamma.hpp>
 
 #include "models/classic_models.h"  // fresnel_complex
+#include "models/spec.h"
 #include "util/error.h"
 
 namespace ganzfeld {
@@ -135,8 +136,8 @@ HeTorrance::HeTorrance(double sigma0, double tau, double lambda, double eta, dou
       c_scale_((pi * tau / lambda) * (pi * tau / lambda)) {}
 
 std::string HeTorrance::spec() const {
-  return spec_of("he-torrance", {{"sigma0", sigma0_}, {"tau", tau_}, {"lambda", lambda_},
-                                 {"eta", eta_}, {"k", k_}, {"a", a_}});
+  return spec_text({"he-torrance", {{"sigma0", sigma0_}, {"tau", tau_}, {"lambda", lambda_},
+                                    {"eta", eta_}, {"k", k_}, {"a", a_}}});
 }
 
 double HeTorrance::shadowing_over_cos(double mu, double sin_theta) const noexcept {

@@ -20,6 +20,7 @@
 
 #include "util/error.h"
 #include "models/registry.h"
+#include "models/spec.h"
 
 namespace ganzfeld {
 
@@ -209,25 +210,27 @@ MassHints HvdEmpirical::mass_hints(const Vec3& fixed, Varying) const {
   if (p_.k < 1.0 && height < 4.0 * w_s + 0.05) hints.horizon_layer = std::max(w_s, 1e-9);
   // The scaling projection's Jacobian j_z² |H|²/(2 H_z³) and its uv = (j_z/H_z) H_xy change within
   // k·n ~ fixed·n of the horizon (H_z = k_z + fixed_z): a layer of that thickness holding O(1) of
-  // either lump's mass, whatever k. Retro only (k = 1) had no layer: g at i·n = 1e-6, view at
-  // 89.99° opposite, was 8.1e-7 off with 9.6e-9 estimated (ganzfeld extremes, issue #20).
+  // either lump's mass, whatever k, retro only (k = 1) included (tests/extremes_test.cpp,
+  // HvdScalingLayerIsHonest).
   if (height < kScalingLayerCeiling) hints.add_horizon_layer(height);
   return hints;
 }
 
 std::string HvdEmpirical::spec() const {
-  std::string s = "hvd-empirical:cd=" + num(p_.C_d);
-  s += p_.eta > 0.0 ? ",eta=" + num(p_.eta) : ",f0=" + num(p_.F_0);
-  s += ",k=" + num(p_.k) + ",ns=" + num(p_.n_s) + ",nr=" + num(p_.n_r);
+  ModelSpec spec{"hvd-empirical", {{"cd", p_.C_d}, {"k", p_.k}, {"ns", p_.n_s}, {"nr", p_.n_r}}};
+  if (p_.eta > 0.0)
+    spec.values["eta"] = p_.eta;
+  else
+    spec.values["f0"] = p_.F_0;
   if (p_.rs_u == p_.rs_v)
-    s += ",rs=" + num(p_.rs_u);
+    spec.values["rs"] = p_.rs_u;
   else
-    s += ",rsu=" + num(p_.rs_u) + ",rsv=" + num(p_.rs_v);
+    spec.values.insert({{"rsu", p_.rs_u}, {"rsv", p_.rs_v}});
   if (p_.rr_u == p_.rr_v)
-    s += ",rr=" + num(p_.rr_u);
+    spec.values["rr"] = p_.rr_u;
   else
-    s += ",rru=" + num(p_.rr_u) + ",rrv=" + num(p_.rr_v);
-  return s;
+    spec.values.insert({{"rru", p_.rr_u}, {"rrv", p_.rr_v}});
+  return spec_text(spec);
 }
 
 Traits HvdEmpirical::traits() const {
@@ -284,8 +287,8 @@ MassHints HvdFit::mass_hints(const Vec3& fixed, Varying) const {
 }
 
 std::string HvdFit::spec() const {
-  return "hvd-fit:cd=" + num(p_.C_d) + ",f0=" + num(p_.F_0) + ",f90=" + num(p_.F_90) + ",k=" + num(p_.k) +
-         ",n1=" + num(p_.n_1) + ",r1=" + num(p_.R_1) + ",n2=" + num(p_.n_2) + ",r2=" + num(p_.R_2);
+  return spec_text({"hvd-fit", {{"cd", p_.C_d}, {"f0", p_.F_0}, {"f90", p_.F_90}, {"k", p_.k}, {"n1", p_.n_1},
+                                {"r1", p_.R_1}, {"n2", p_.n_2}, {"r2", p_.R_2}}});
 }
 
 Traits HvdFit::traits() const { return {true, false, EnergyClass::not_plausible}; }
@@ -327,6 +330,10 @@ HvdEmpirical::Params empirical_params(const ParamValues& v) {
 
 void register_hvd_models(std::vector<ModelInfo>& catalogue) {
   using P = ParamType;
+  const auto radius_axis = [](const char* name, const char* meaning, const char* radius) {
+    return ParamInfo{.name = name, .type = P::real, .min = 0.0, .max = 1.0, .default_value = 0.0, .meaning = meaning,
+                     .alternative_of = radius};
+  };
   const std::string radius_note = " (fraction of the largest radius keeping the lump on the disk; > 1 would lose energy)";
   catalogue.push_back(
       {"hvd-empirical",
@@ -334,16 +341,17 @@ void register_hvd_models(std::vector<ModelInfo>& catalogue) {
        std::string(kEdwards) + ", section 4, eq. 32-33",
        {{"cd", P::real, 0.0, 1.0, 0.5, "diffuse colour C_d"},
         {"f0", P::real, 0.0, 1.0, 0.04, "Schlick F_0, reflectance at normal incidence (eq. 30)"},
-        {"eta", P::real, 0.0, 100.0, 0.0, "refractive index; > 0 sets F_0 = ((eta-1)/(eta+1))^2 (eq. 31); 0 = use f0"},
+        {.name = "eta", .type = P::real, .min = 0.0, .max = 100.0, .default_value = 0.0,
+         .meaning = "refractive index; > 0 sets F_0 = ((eta-1)/(eta+1))^2 (eq. 31); 0 = use f0", .alternative_of = "f0"},
         {"k", P::real, 0.0, 1.0, 0.0, "weight of the retro-reflective lump (0 = specular only)"},
         {"ns", P::real, 0.0, 1e6, 100.0, "specular lump exponent n_s (0 = uniform)"},
         {"nr", P::real, 0.0, 1e6, 10.0, "retro-reflective lump exponent n_r"},
         {"rs", P::real, 1e-3, 1.0, 1.0, "specular radius R_s / (1 - sin theta_o)" + radius_note},
         {"rr", P::real, 1e-3, 1.0, 1.0, "retro-reflective radius R_r" + radius_note},
-        {"rsu", P::real, 0.0, 1.0, 0.0, "specular radius along u = +x, as rs (0 = rs)"},
-        {"rsv", P::real, 0.0, 1.0, 0.0, "specular radius along v = +y, as rs (0 = rs)"},
-        {"rru", P::real, 0.0, 1.0, 0.0, "retro-reflective radius along u = +x, as rr (0 = rr)"},
-        {"rrv", P::real, 0.0, 1.0, 0.0, "retro-reflective radius along v = +y, as rr (0 = rr)"}},
+        radius_axis("rsu", "specular radius along u = +x, as rs (0 = rs)", "rs"),
+        radius_axis("rsv", "specular radius along v = +y, as rs (0 = rs)", "rs"),
+        radius_axis("rru", "retro-reflective radius along u = +x, as rr (0 = rr)", "rr"),
+        radius_axis("rrv", "retro-reflective radius along v = +y, as rr (0 = rr)", "rr")},
        {true, false, EnergyClass::not_plausible},
        {"hvd.lump.volume", "hvd.energy.scaling", "hvd.reciprocity"},
        [](const ParamValues& v) -> ModelPtr {

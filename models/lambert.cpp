@@ -1,18 +1,18 @@
+#include <array>
 #include <cmath>
 #include <numbers>
 
 #include "models/kp_lobes.h"
+#include "util/names.h"
 
 namespace ganzfeld {
 
 // Defaults of the Model interface live here, with the simplest model.
 const char* to_string(EnergyClass c) {
-  switch (c) {
-    case EnergyClass::conserving: return "conserving";
-    case EnergyClass::plausible: return "plausible";
-    case EnergyClass::not_plausible: return "not plausible";
-  }
-  return "?";
+  constexpr std::array kNames{util::EnumName<EnergyClass>{EnergyClass::conserving, "conserving"},
+                              util::EnumName<EnergyClass>{EnergyClass::plausible, "plausible"},
+                              util::EnumName<EnergyClass>{EnergyClass::not_plausible, "not plausible"}};
+  return util::name_of(kNames, c);
 }
 
 double Lambert::f(const Vec3& i, const Vec3& j) const noexcept {

@@ -11,6 +11,7 @@
 
 #include "util/error.h"
 #include "models/registry.h"
+#include "models/spec.h"
 #include "models/text_data.h"
 #include "util/hash.h"
 
@@ -156,7 +157,7 @@ MassHints MerlModel::mass_hints(const Vec3& fixed, Varying) const {
 }
 
 std::string MerlModel::spec() const {
-  return "merl:file=" + path_ + ",channel=" + std::to_string(channel_) + ",lookup=" + std::to_string(lookup_);
+  return spec_text({"merl", {{"channel", static_cast<double>(channel_)}, {"lookup", static_cast<double>(lookup_)}}, path_});
 }
 
 Traits MerlModel::traits() const {
@@ -229,7 +230,7 @@ std::string format_tabulated(const TabulatedBrdf& table, const std::string& comm
 TabulatedModel::TabulatedModel(std::string path, TabulatedBrdf table, int lookup, std::string digest)
     : path_(std::move(path)), table_(std::move(table)), lookup_(lookup), digest_(std::move(digest)) {}
 
-std::string TabulatedModel::spec() const { return "tabulated:file=" + path_ + ",lookup=" + std::to_string(lookup_); }
+std::string TabulatedModel::spec() const { return spec_text({"tabulated", {{"lookup", static_cast<double>(lookup_)}}, path_}); }
 
 Traits TabulatedModel::traits() const { return {true, false, EnergyClass::not_plausible}; }
 

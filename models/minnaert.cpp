@@ -7,6 +7,7 @@
 
 #include "models/kp_lobes.h"
 #include "models/registry.h"
+#include "models/spec.h"
 
 namespace ganzfeld {
 
@@ -14,7 +15,7 @@ using std::numbers::pi;
 
 Minnaert::Minnaert(double xi) : xi_(xi), C_d_(minnaert::C_d(xi)) {}
 
-std::string Minnaert::spec() const { return "minnaert:xi=" + format_number(xi_); }
+std::string Minnaert::spec() const { return spec_text({"minnaert", {{"xi", xi_}}}); }
 
 double Minnaert::f(const Vec3& i, const Vec3& j) const noexcept {
   if (i.z < 0.0 || j.z < 0.0) return 0.0;

@@ -11,12 +11,9 @@ namespace ganzfeld {
 Mixture::Mixture(std::vector<Lobe> lobes) : lobes_(std::move(lobes)) { normalize_weights(lobes_); }
 
 std::string Mixture::spec() const {
-  std::string out;
-  for (const auto& lobe : lobes_) {
-    if (!out.empty()) out += " + ";
-    out += format_number(lobe.weight) + "*" + lobe.model->spec();
-  }
-  return out;
+  Spec spec;
+  for (const auto& lobe : lobes_) spec.terms.push_back({lobe.weight, parse_spec(lobe.model->spec()).terms.front().model});
+  return spec_text(spec);
 }
 
 std::string Mixture::content_digest() const {

@@ -37,7 +37,7 @@ struct Traits {
 };
 
 /// Where a model's integrand has its mass, so the integrator splits panels there instead of
-/// hoping its first nodes land on a lobe (design.md, integrate/).
+/// hoping its first nodes land on a lobe (integrate/cubature.h).
 struct Peak {
   Vec3 direction;  ///< unit vector of the lobe's maximum (may lie outside the domain)
   double width;    ///< angular scale in radians (e.g. sqrt(2/alpha) for a cosine-power lobe)

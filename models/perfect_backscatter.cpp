@@ -4,6 +4,7 @@
 
 #include "models/kp_lobes.h"
 #include "models/registry.h"
+#include "models/spec.h"
 
 namespace ganzfeld {
 
@@ -13,7 +14,7 @@ PerfectBackscatter::PerfectBackscatter(int alpha)
     : alpha_(alpha), C_pb_times_2_pow_alpha_((1.0 + alpha) / (2.0 * pi)) {}
 
 std::string PerfectBackscatter::spec() const {
-  return "perfect-backscatter:alpha=" + std::to_string(alpha_);
+  return spec_text({"perfect-backscatter", {{"alpha", static_cast<double>(alpha_)}}});
 }
 
 double PerfectBackscatter::f(const Vec3& i, const Vec3& j) const noexcept {

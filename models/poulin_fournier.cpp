@@ -8,6 +8,7 @@
 
 #include <boost/math/special_functions/beta.hpp>
 
+#include "models/spec.h"
 #include "util/error.h"
 
 namespace ganzfeld {
@@ -100,7 +101,7 @@ PoulinFournier::PoulinFournier(double kd, double ks, double n, double d, double 
 }
 
 std::string PoulinFournier::spec() const {
-  return spec_of("poulin-fournier", {{"kd", kd_}, {"ks", ks_}, {"n", n_}, {"d", d_}, {"h", h_}});
+  return spec_text({"poulin-fournier", {{"kd", kd_}, {"ks", ks_}, {"n", n_}, {"d", d_}, {"h", h_}}});
 }
 
 PfProjection PoulinFournier::project(const Vec3& k) const noexcept {
@@ -299,9 +300,8 @@ MassHints PoulinFournier::mass_hints(const Vec3& fixed, Varying) const {
     // (N.h)^n about the mirror of `fixed` in N(psi), width 2/sqrt(n) as blinn-phong; psi spans
     // the arc, so the highlight is a band (the cone j_x = -i_x): five points along it. Across the
     // plane of N and `fixed` the halfway lobe is (fixed·N) times thinner, floored at 1e-3, as
-    // blinn-phong's (models/classic.cpp): without it, d = 0 (a plane) in the thin lune of g at
-    // i·n = -0.999 with the view on the horizon opposite was 4.6e-9 off with 2.3e-9 estimated
-    // (ganzfeld extremes at the parameters' ends).
+    // blinn-phong's (models/classic.cpp), so that d = 0 (a plane) is honest in the thin lune of g
+    // with the view on the horizon opposite (tests/extremes_test.cpp, PoulinFournierPlaneConeIsHonest).
     const double width = 2.0 / std::sqrt(n_);
     const int count = theta_M_ > 0.0 ? 5 : 1;
     for (int m = 0; m < count; ++m) {

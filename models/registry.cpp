@@ -78,23 +78,15 @@ const ModelInfo& find_model(const std::string& name) {
   throw InputError("unknown model '" + name + "'; known models: " + known);
 }
 
-std::string spec_of(const std::string& name, std::initializer_list<std::pair<const char*, double>> kv) {
-  std::string s = name;
-  char sep = ':';
-  for (const auto& [key, value] : kv) {
-    s += sep;
-    s += key;
-    s += '=';
-    s += format_number(value);
-    sep = ',';
-  }
-  return s;
-}
-
 std::string format_number(double value) {
   char buf[64];
   const auto result = std::to_chars(buf, buf + sizeof buf, value);
   return std::string(buf, result.ptr);
+}
+
+std::string value_text(const ParamInfo& param, double value) {
+  if (param.type == ParamType::choice) return param.choices.at(static_cast<std::size_t>(value));
+  return format_number(value);
 }
 
 std::string allowed_values(const ParamInfo& param) {

@@ -3,8 +3,6 @@
 #pragma once
 
 #include <functional>
-#include <initializer_list>
-#include <utility>
 #include <map>
 #include <string>
 #include <vector>
@@ -29,6 +27,9 @@ struct ParamInfo {
   /// of the alternatives is given.
   bool optional = false;
   bool min_exclusive = false;  ///< the range is (min, max]: e.g. a roughness that must be > 0
+  /// The parameter this one stands in for (ggx's roughness for alpha, hvd-empirical's rsu and
+  /// rsv for rs): a spec gives one of them; spec_text writes it in that parameter's place.
+  std::string alternative_of{};
 };
 
 using ParamValues = std::map<std::string, double>;
@@ -77,8 +78,7 @@ double parse_choice(const ModelInfo& model, const ParamInfo& param, const std::s
 
 /// Shortest text that round-trips the double (used in canonical spec strings).
 std::string format_number(double value);
-
-/// A canonical spec "name:key=value,key=value" with format_number values, in the given order.
-std::string spec_of(const std::string& name, std::initializer_list<std::pair<const char*, double>> kv);
+/// A parameter's value as a spec writes it: a choice by name, else format_number.
+std::string value_text(const ParamInfo& param, double value);
 
 }  // namespace ganzfeld

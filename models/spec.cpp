@@ -2,12 +2,12 @@
 
 #include <cctype>
 #include <cmath>
-#include <limits>
 #include <cstdlib>
+#include <limits>
+#include <stdexcept>
 
 #include "util/error.h"
 #include "models/mixture.h"
-#include "models/registry.h"
 
 namespace ganzfeld {
 
@@ -40,17 +40,26 @@ bool parse_double(const std::string& text, double& value) {
   return end == text.c_str() + text.size();
 }
 
-ModelPtr parse_single(const std::string& spec_text) {
-  const std::string spec = trim(spec_text);
+/// The parameter `key` of the model; throws InputError naming the model and its parameters.
+const ParamInfo& find_param(const ModelInfo& info, const std::string& key) {
+  std::string allowed;
+  for (const auto& p : info.parameters) {
+    if (p.name == key) return p;
+    allowed += (allowed.empty() ? "" : ", ") + p.name;
+  }
+  throw InputError("unknown parameter '" + key + "' for model '" + info.name + "'; allowed: " +
+                   (allowed.empty() ? "none" : allowed));
+}
+
+/// NAME[:KEY=VALUE,...] of one model. A data file's path is text up to the next ',' (it may
+/// hold ':' after the first one).
+ModelSpec parse_model_spec(const std::string& term) {
+  const std::string spec = trim(term);
   if (spec.empty()) throw InputError("empty model spec; expected NAME[:KEY=VALUE,...], e.g. specular:alpha=8");
   const auto colon = spec.find(':');
-  const std::string name = trim(spec.substr(0, colon));
+  ModelSpec parsed{trim(spec.substr(0, colon))};
+  const std::string& name = parsed.name;
   const ModelInfo& info = find_model(name);
-
-  ParamValues values;
-  for (const auto& p : info.parameters)
-    if (!p.optional) values[p.name] = p.default_value;
-  std::string file;
   if (colon != std::string::npos) {
     std::vector<std::string> seen;
     for (const auto& item : split(spec.substr(colon + 1), ',')) {
@@ -60,20 +69,12 @@ ModelPtr parse_single(const std::string& spec_text) {
       const std::string key = trim(item.substr(0, eq));
       const std::string text = trim(item.substr(eq + 1));
       if (key == "file" && info.make_with_file) {  // a path, not a number
-        if (!file.empty()) throw InputError("parameter 'file' given twice in '" + spec + "'");
+        if (!parsed.file.empty()) throw InputError("parameter 'file' given twice in '" + spec + "'");
         if (text.empty()) throw InputError(name + ": file= needs a path");
-        file = text;
+        parsed.file = text;
         continue;
       }
-      const ParamInfo* param = nullptr;
-      std::string allowed;
-      for (const auto& p : info.parameters) {
-        if (p.name == key) param = &p;
-        allowed += (allowed.empty() ? "" : ", ") + p.name;
-      }
-      if (!param)
-        throw InputError("unknown parameter '" + key + "' for model '" + name + "'; allowed: " +
-                         (allowed.empty() ? "none" : allowed));
+      const ParamInfo* param = &find_param(info, key);
       for (const auto& s : seen)
         if (s == key) throw InputError("parameter '" + key + "' given twice in '" + spec + "'");
       seen.push_back(key);
@@ -83,15 +84,12 @@ ModelPtr parse_single(const std::string& spec_text) {
       else if (!parse_double(text, value))
         throw InputError(name + ": " + key + "='" + text + "' is not a number");
       validate_param(info, *param, value);
-      values[key] = value;
+      parsed.values[key] = value;
     }
   }
-  if (info.make_with_file) {
-    if (file.empty() && !info.file_optional)
-      throw InputError(name + " needs file=PATH (the measured data), e.g. " + name + ":file=data.binary");
-    return info.make_with_file(file, values);
-  }
-  return info.make(values);
+  if (info.make_with_file && parsed.file.empty() && !info.file_optional)
+    throw InputError(name + " needs file=PATH (the measured data), e.g. " + name + ":file=data.binary");
+  return parsed;
 }
 
 /// Mixture terms are separated by '+', except the '+' of an exponent such as 1e+3.
@@ -109,83 +107,142 @@ std::vector<std::string> split_terms(const std::string& s) {
   return parts;
 }
 
+/// What n weights summing to `total` are divided by: 1 when they sum to 1 within rounding.
+double normalizing_divisor(double total, std::size_t n) {
+  const double rounding = 4.0 * static_cast<double>(n) * std::numeric_limits<double>::epsilon();
+  return std::abs(total - 1.0) <= rounding ? 1.0 : total;
+}
+
 }  // namespace
 
-std::vector<Lobe> parse_lobes(const std::string& spec) {
-  std::vector<Lobe> lobes;
-  for (const auto& term_text : split_terms(spec)) {
+bool Spec::names_file() const {
+  for (const SpecTerm& term : terms)
+    if (!term.model.file.empty()) return true;
+  return false;
+}
+
+Spec parse_spec(const std::string& text) {
+  Spec spec;
+  double total = 0.0;
+  for (const auto& term_text : split_terms(text)) {
     const std::string term = trim(term_text);
-    if (term.empty()) throw InputError("malformed mixture '" + spec + "': empty term around '+'");
+    if (term.empty()) throw InputError("malformed mixture '" + text + "': empty term around '+'");
     double weight = 1.0;
     std::string body = term;
     const auto star = term.find('*');
     if (star != std::string::npos) {
       const std::string w = trim(term.substr(0, star));
       if (!parse_double(w, weight))
-        throw InputError("malformed mixture weight '" + w + "' in '" + spec + "'; expected a number");
+        throw InputError("malformed mixture weight '" + w + "' in '" + text + "'; expected a number");
       if (!std::isfinite(weight) || weight <= 0.0)
-        throw InputError("mixture weight " + w + " in '" + spec + "' is not allowed; weights must be finite and > 0");
+        throw InputError("mixture weight " + w + " in '" + text + "' is not allowed; weights must be finite and > 0");
       body = term.substr(star + 1);
     }
-    lobes.push_back({weight, parse_single(body)});
+    spec.terms.push_back({weight, parse_model_spec(body)});
+    total += weight;
   }
-  normalize_weights(lobes);
-  return lobes;
+  const double divisor = normalizing_divisor(total, spec.terms.size());
+  for (SpecTerm& term : spec.terms) term.weight /= divisor;
+  return spec;
+}
+
+std::string spec_text(const ModelSpec& spec) {
+  const ModelInfo& info = find_model(spec.name);
+  std::vector<std::string> items;
+  const auto given = [&](const std::string& name) { return spec.values.count(name) > 0; };
+  const auto write = [&](const ParamInfo& p) { items.push_back(p.name + "=" + value_text(p, spec.values.at(p.name))); };
+  std::size_t written = 0;
+  if (!spec.file.empty()) items.push_back("file=" + spec.file);
+  for (const ParamInfo& p : info.parameters) {
+    if (!p.alternative_of.empty() && !given(p.alternative_of)) continue;  // written in that parameter's place
+    if (given(p.name)) {
+      write(p);
+      ++written;
+    } else {
+      for (const ParamInfo& alternative : info.parameters)
+        if (alternative.alternative_of == p.name && given(alternative.name)) {
+          write(alternative);
+          ++written;
+        }
+    }
+  }
+  if (written != spec.values.size())
+    throw std::logic_error("spec_text: a value of '" + spec.name + "' is no registered parameter");
+  std::string text = spec.name;
+  for (std::size_t k = 0; k < items.size(); ++k) text += (k ? "," : ":") + items[k];
+  return text;
+}
+
+std::string spec_text(const Spec& spec) {
+  if (spec.terms.size() == 1) return spec_text(spec.terms.front().model);
+  std::string text;
+  for (const SpecTerm& term : spec.terms)
+    text += (text.empty() ? "" : " + ") + format_number(term.weight) + "*" + spec_text(term.model);
+  return text;
+}
+
+ModelPtr make_model(const ModelSpec& spec) {
+  const ModelInfo& info = find_model(spec.name);
+  ParamValues values;
+  for (const auto& p : info.parameters)
+    if (!p.optional) values[p.name] = p.default_value;
+  for (const auto& [key, value] : spec.values) {
+    validate_param(info, find_param(info, key), value);
+    values[key] = value;
+  }
+  if (info.make_with_file) return info.make_with_file(spec.file, values);
+  return info.make(values);
 }
 
 void normalize_weights(std::vector<Lobe>& lobes) {
   double total = 0.0;
   for (const auto& lobe : lobes) total += lobe.weight;
-  const double rounding = 4.0 * static_cast<double>(lobes.size()) * std::numeric_limits<double>::epsilon();
-  if (std::abs(total - 1.0) <= rounding) return;
-  for (auto& lobe : lobes) lobe.weight /= total;
+  const double divisor = normalizing_divisor(total, lobes.size());
+  for (auto& lobe : lobes) lobe.weight /= divisor;
 }
 
-std::string spec_without_paths(const std::string& spec) {
-  std::string out;
-  const std::vector<std::string> terms = split_terms(spec);
-  for (std::size_t t = 0; t < terms.size(); ++t) {
-    const std::string& term = terms[t];
-    const auto colon = term.find(':');  // a path never holds ',' or '+', but may hold ':' after this one
-    std::string kept = term.substr(0, colon);
-    std::string items;
-    if (colon != std::string::npos)
-      for (const std::string& item : split(term.substr(colon + 1), ','))
-        if (trim(item.substr(0, item.find('='))) != "file") items += (items.empty() ? "" : ",") + item;
-    out += (t ? "+" : "") + kept + (items.empty() ? "" : ":" + items);
-  }
-  return out;
+std::vector<Lobe> make_lobes(const Spec& spec) {
+  std::vector<Lobe> lobes;
+  for (const SpecTerm& term : spec.terms) lobes.push_back({term.weight, make_model(term.model)});
+  return lobes;
 }
 
-std::string with_parameter(const std::string& spec, const std::string& key, double value) {
-  const std::vector<std::string> terms = split_terms(spec);
-  if (terms.size() != 1)
-    throw InputError("--" + key + " applies to a single model, not to the mixture '" + spec + "'");
-  const std::string& term = terms.front();
-  const auto colon = term.find(':');
-  const std::string name = trim(term.substr(0, colon));
-  std::string known;
-  bool has = false;
-  for (const ParamInfo& p : find_model(name).parameters) {
-    has = has || p.name == key;
-    known += (known.empty() ? "" : ", ") + p.name;
-  }
-  if (!has)
-    throw InputError("model '" + name + "' has no parameter " + key + " for --" + key + "; its parameters: " +
-                     (known.empty() ? "none" : known));
-  std::string items;  // the spec's items without the roughness alternatives the flag replaces
-  if (colon != std::string::npos)
-    for (const std::string& item : split(term.substr(colon + 1), ',')) {
-      const std::string k = trim(item.substr(0, item.find('=')));
-      if (k != "alpha" && k != "roughness" && k != "alpha_x" && k != "alpha_y") items += item + ",";
-    }
-  return name + ":" + items + key + "=" + format_number(value);
-}
-
-ModelPtr parse_model(const std::string& spec) {
-  auto lobes = parse_lobes(spec);
+ModelPtr make_model(const Spec& spec) {
+  auto lobes = make_lobes(spec);
   if (lobes.size() == 1) return lobes.front().model;
   return std::make_shared<Mixture>(std::move(lobes));
+}
+
+ModelPtr parse_model(const std::string& text) { return make_model(parse_spec(text)); }
+
+std::vector<Lobe> parse_lobes(const std::string& text) { return make_lobes(parse_spec(text)); }
+
+std::string spec_without_paths(const std::string& text) {
+  Spec spec = parse_spec(text);
+  for (SpecTerm& term : spec.terms) term.model.file.clear();
+  return spec_text(spec);
+}
+
+ModelSpec with_parameter(const Spec& spec, const std::string& key, double value) {
+  if (spec.is_mixture())
+    throw InputError({Named{key}, " applies to a single model, not to the mixture '" + spec_text(spec) + "'"});
+  ModelSpec model = spec.terms.front().model;
+  const ModelInfo& info = find_model(model.name);
+  const ParamInfo* param = nullptr;
+  std::string known;
+  for (const ParamInfo& p : info.parameters) {
+    if (p.name == key) param = &p;
+    known += (known.empty() ? "" : ", ") + p.name;
+  }
+  if (!param)
+    throw InputError({"model '" + model.name + "' has no parameter " + key + " for ", Named{key},
+                      "; its parameters: " + (known.empty() ? "none" : known)});
+  const std::string& principal = param->alternative_of.empty() ? param->name : param->alternative_of;
+  for (const ParamInfo& p : info.parameters)
+    if (p.name == principal || p.alternative_of == principal) model.values.erase(p.name);
+  validate_param(info, *param, value);
+  model.values[key] = value;
+  return model;
 }
 
 }  // namespace ganzfeld

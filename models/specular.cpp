@@ -4,6 +4,7 @@
 
 #include "models/kp_lobes.h"
 #include "models/registry.h"
+#include "models/spec.h"
 
 namespace ganzfeld {
 
@@ -15,7 +16,7 @@ double cosine_power_lobe_normalization(double alpha) {
 
 Specular::Specular(double alpha) : alpha_(alpha), C_s_(cosine_power_lobe_normalization(alpha)) {}
 
-std::string Specular::spec() const { return "specular:alpha=" + format_number(alpha_); }
+std::string Specular::spec() const { return spec_text({"specular", {{"alpha", alpha_}}}); }
 
 double Specular::f(const Vec3& i, const Vec3& j) const noexcept {
   if (i.z < 0.0 || j.z < 0.0) return 0.0;

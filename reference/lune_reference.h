@@ -1,4 +1,4 @@
-// The laws g, h, a by a reference that is not ganzfeld's engine (issue #18, #20): Boost.Math's
+// The laws g, h, a by a reference that is not ganzfeld's engine: Boost.Math's
 // adaptive gauss_kronrod<61>, nested (an outer integral over t of inner integrals over psi), on
 // the lune written out here from its definition, with panels cut at the directions where the
 // model's lobes peak. It shares with integrate/ only the definition of the domain:
@@ -39,7 +39,7 @@ struct Options {
   bool use_mass_hints = true;
   bool swapped = false;      ///< psi outer, t inner, gauss_kronrod<31>: the second reference
   /// The tolerance relative to each integral's L1 norm over all its panels (false: relative to
-  /// each panel's own integral, as Boost does and as issue #18's reference did).
+  /// each panel's own integral, as Boost does and as tests/independent_reference_test.cpp pins it).
   bool global_tolerance = true;
 };
 

@@ -29,13 +29,13 @@ using std::numbers::pi;
 /// 1e-13 of tests/independent_reference_test.cpp, relative to the value when it exceeds 1.
 constexpr double kRoundingSlack = 1e-13;
 
-// The grid of the issue: cosines of the incident direction (sky pole) and of the view, azimuths
+// The grid: cosines of the incident direction (sky pole) and of the view, azimuths
 // of the view about n.
 constexpr double kIncidentCos[] = {-1.0, -0.999, 0.0, 1e-9, 1e-6, 1.0};
 constexpr double kViewCos[] = {0.0, 1e-9, 1e-6, 1.0};
 constexpr double kPhi[] = {0.0, pi / 2, pi};
 /// The halfway-vector-disk models' own extremes: theta_o = 89.99 degrees and j·n = 1e-4, where
-/// issue #20 found their estimates dishonest.
+/// their lumps are thinnest (docs/hvd.md).
 const double kHvdViewCos[] = {1e-4, std::cos(89.99 * pi / 180)};
 // The quick slice (ctest): the corners that break the most.
 constexpr double kQuickIncidentCos[] = {-0.999, 1e-6, 1.0};

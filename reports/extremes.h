@@ -1,4 +1,4 @@
-// The extremes grid (issue #20, section 2): every registered model (and mixtures) with its
+// The extremes grid: every registered model (and mixtures) with its
 // parameters at the ends of their documented ranges, the laws f, g, h, a at extreme directions
 // (i·n ∈ {−1, −0.999, 0, 1e-9, 1e-6, 1}, j·n ∈ {0, 1e-9, 1e-6, 1}, φ ∈ {0, π/2, π}), the engine
 // at a fixed absolute tolerance judged against the independent reference (reference/, Boost
@@ -42,7 +42,7 @@ struct ExtremesSpec {
 /// exponent's end is capped at kExtremesExponentCap), and the extra cases listed in extremes.cpp
 /// (anisotropic radii, mixtures). Measured models need a data file and are skipped here.
 std::vector<ExtremesSpec> extremes_specs(const ExtremesOptions& options);
-/// The issue's α ∈ {min, 1000}: beyond 1000 a lobe is narrower than the reference resolves.
+/// α ∈ {min, 1000}: beyond 1000 a lobe is narrower than the reference resolves.
 inline constexpr double kExtremesExponentCap = 1000.0;
 /// Evaluations of f the reference may spend on one case (about a second) before the case is
 /// reported as unresolved.

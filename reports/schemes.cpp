@@ -37,7 +37,7 @@ namespace {
 struct SchemePlan {
   std::vector<std::vector<int>> today, trilinear, one_fetch;
   std::vector<double> targets;
-  std::vector<double> unorm16_targets;  ///< bake --max-error E --encoding unorm16 (issue #15's 16-bit target)
+  std::vector<double> unorm16_targets;  ///< bake --max-error E --encoding unorm16 (the 16-bit target)
   double stretch = 0.0;
   std::uint64_t stretch_bytes = 0;
 };
@@ -53,7 +53,7 @@ SchemePlan scheme_plan(Law law, bool quick) {
                            : std::vector<std::vector<int>>{{17, 33, 11}, {21, 41, 15}, {25, 49, 17}, {29, 57, 19}};
     plan.targets = quick ? std::vector<double>{1e-2} : std::vector<double>{1e-3, 1e-4};
     plan.unorm16_targets = quick ? std::vector<double>{1e-2} : std::vector<double>{1e-4};  // <= 128 kB in 16 bits
-    if (!quick) plan.stretch = 1e-5, plan.stretch_bytes = 2'000'000;  // issue #15's stretch: 1e-5 in 2 MB
+    if (!quick) plan.stretch = 1e-5, plan.stretch_bytes = 2'000'000;  // the stretch target: 1e-5 in 2 MB
   } else {
     plan.today = quick ? std::vector<std::vector<int>>{{9}} : std::vector<std::vector<int>>{{33}, {129}};
     plan.targets = quick ? std::vector<double>{1e-3} : std::vector<double>{1e-4, 1e-6};
@@ -88,15 +88,15 @@ std::vector<int> counts_of(const Table& table) {
 }
 
 /// Bakes `options` `repeats` times, fills the row from the table and the reference. A bake the
-/// baker refuses (a --max-error it cannot reach, values outside the half range) leaves its
-/// message in row.refused and nothing.
+/// baker refuses (an error target it cannot reach, values outside the half range) leaves its
+/// message in row.refused, worded as the rows' `bake` flags are, and nothing.
 std::optional<Table> measure_row(const Model& model, Law law, const BakeOptions& options, int repeats,
                                  const Reference& reference, SchemeRow& row) {
   Table table;
   try {
     row.bake_seconds = util::time_runs(repeats, [&] { table = bake(model, law, options); });
   } catch (const InputError& refused) {
-    row.refused = refused.what();
+    row.refused = refused.worded(InputError::flag_spelling);
     return std::nullopt;
   }
   row.frame = table.frame;
@@ -135,7 +135,7 @@ SchemeReport measure_schemes(const Model& model, Law law, const SchemeOptions& o
   if (!model.traits().isotropic)
     throw InputError("model '" + model.spec() + "' is anisotropic; tables exist only for isotropic models");
   if (options.repeats < 1)
-    throw InputError("--repeats=" + std::to_string(options.repeats) + " is not allowed; expected an integer >= 1");
+    throw InputError({Named{"repeats", std::to_string(options.repeats)}, " is not allowed; expected an integer >= 1"});
   const util::Stopwatch start;
   SchemeReport report;
   report.model = model.spec();

@@ -1,7 +1,7 @@
-// The table schemes side by side (issue #15, `ganzfeld tradeoff --schemes`): for one model and
+// The table schemes side by side (`ganzfeld tradeoff --schemes`): for one model and
 // law, format version 1's scheme (cosines frame, linear lookup) against version 2's (lobe frame,
 // Catmull–Rom) and what `bake --max-error` picks (float, and for g `--encoding unorm16`: issue
-// #15's 16-bit target), linear vs cubic and half vs float at that pick,
+// the 16-bit target), linear vs cubic and half vs float at that pick,
 // and for g the plain trilinear lookup (one hardware-filtered fetch) in the lobe frame, each
 // measured for error, value bytes and bake time.
 //
@@ -24,12 +24,12 @@
 
 namespace ganzfeld::reports {
 
-/// Issue #15's measurement: >= 2000 points, j·n in [0.02, 1], cubature at 1e-10.
+/// The measurement of docs/tradeoff.md, part 1: >= 2000 points, j·n in [0.02, 1], cubature at 1e-10.
 inline constexpr double kSchemeMinCos = 0.02;
 inline constexpr double kSchemeReferenceTolerance = 1e-10;
 /// Cubature tolerance of the fixed-resolution rows: far below their interpolation errors.
 inline constexpr double kSchemeTolerance = 1e-6;
-/// The trilinear rows' target (issue #15: <= 1e-3 with one hardware-filtered fetch); the smallest
+/// The trilinear rows' target (<= 1e-3 with one hardware-filtered fetch); the smallest
 /// float row within it is measured in half floats too.
 inline constexpr double kTrilinearTarget = 1e-3;
 

@@ -142,7 +142,7 @@ Reference compute_reference(const Model& model, Law law, int random_points, std:
                             bool extremes, double min_cos) {
   require_tabulated(law);
   if (random_points < 1)
-    throw InputError("--points=" + std::to_string(random_points) + " is not allowed; expected an integer >= 1");
+    throw InputError({Named{"points", std::to_string(random_points)}, " is not allowed; expected an integer >= 1"});
   const util::Stopwatch start;
   Reference ref;
   ref.seed = seed;

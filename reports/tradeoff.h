@@ -62,7 +62,7 @@ struct Direction {
   Vec3 i, j;
 };
 /// With extremes = false only the random ones; min_cos (< 1) lower-bounds the random j·n of g and
-/// the cosine of h and a (issue #15's targets: j·n in [0.02, 1]).
+/// the cosine of h and a (the targets' range: j·n in [0.02, 1]).
 std::vector<Direction> reference_directions(Law law, int random_points, std::uint64_t seed, bool extremes = true,
                                             double min_cos = 0.0);
 

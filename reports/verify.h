@@ -12,7 +12,7 @@
 
 namespace ganzfeld {
 
-/// A printed form "matches" when it agrees with cubature to this (issue #2, cli-contract.md).
+/// A printed form "matches" when it agrees with cubature to this.
 inline constexpr double kAgreement = 1e-9;
 /// Cubature tolerance for the references: two orders below kAgreement so that a disagreement
 /// is the formula's, not the integrator's.
@@ -35,10 +35,10 @@ struct CheckResult {
 
 std::vector<CheckResult> run_verification();
 
-/// Checks of the halfway-vector-disk models (Edwards et al.; integrate/verify_hvd.cpp), appended
+/// Checks of the halfway-vector-disk models (Edwards et al.; reports/verify_hvd.cpp), appended
 /// to run_verification() after the Koenderink–Pont checks.
 std::vector<CheckResult> hvd_checks();
-/// Checks of the microfacet models (GGX, Charlie sheen; integrate/verify_ggx.cpp), appended after
+/// Checks of the microfacet models (GGX, Charlie sheen; reports/verify_ggx.cpp), appended after
 /// the halfway-vector-disk checks.
 std::vector<CheckResult> ggx_checks();
 

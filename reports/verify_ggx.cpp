@@ -132,7 +132,7 @@ CheckResult furnace_check() {
       const Estimate e = albedo(*parse_model(spec), Vec3{0.0, 0.0, 1.0}, reference_options());
       return Sample{1.0 - std::log(2.0), kNaN, e.value, e.error, e.converged, 1};
     });
-  return run_check(meta("ggx.furnace.e11", "white furnace (issue #16)", specs[0] + "; " + specs[1],
+  return run_check(meta("ggx.furnace.e11", "white furnace", specs[0] + "; " + specs[1],
                         "E(mu = 1, alpha = 1) = integral of f(n, o)(o.n) do = 1 - ln 2 with F = 1: at i = n, Lambda(i) = 0, "
                         "so both G2 forms are G1(o) = 2 mu/(1 + mu); alpha = 1 makes D = 1/pi, and E = (1/(4 pi)) 2 pi "
                         "integral_0^1 2 mu/(1 + mu) d mu = 1 - ln 2"),

@@ -1,5 +1,5 @@
-// The machinery shared by the checks of `ganzfeld verify` (integrate/verify.cpp for
-// Koenderink & Pont, integrate/verify_hvd.cpp for Edwards et al.).
+// The machinery shared by the checks of `ganzfeld verify` (reports/verify.cpp for
+// Koenderink & Pont, reports/verify_hvd.cpp for Edwards et al., reports/verify_ggx.cpp for GGX).
 #pragma once
 
 #include <functional>

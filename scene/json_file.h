@@ -1,5 +1,5 @@
 // JSON documents read from the files a user writes (scene files, material libraries): one reader,
-// so every such file refuses the same way, in one line "KIND 'FILE': why" (style.md).
+// so every such file refuses the same way, in one line "KIND 'FILE': why".
 #pragma once
 
 #include <optional>

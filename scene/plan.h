@@ -1,4 +1,4 @@
-// The one path from a scene to pixels (design.md, "Scene file"): scene + table options → the
+// The one path from a scene to pixels: scene + table options → the
 // tables it needs → cache lookups or bakes → a shading plan that the rasterizer, the GLSL
 // exporter, the figures and the benchmark all consume. Every command that takes a scene reads
 // the same TableOptions (cli/args.h: add_table_options), so they all reach the same cache entries.

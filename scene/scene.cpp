@@ -1,5 +1,5 @@
-// The scene file of cli-contract.md, parsed with nlohmann-json and validated at the boundary:
-// every refusal is one line "scene 'FILE': KEY.PATH = VALUE ...; allowed: ..." (style.md).
+// The scene file (examples/default.json), parsed with nlohmann-json and validated at the boundary:
+// every refusal is one line "scene 'FILE': KEY.PATH = VALUE ...; allowed: ...".
 // Unknown keys are errors (Mitsuba's habit); missing optional keys take the defaults of
 // scene/scene.h; a present key of the wrong type is an error, never a silent default.
 #include "scene/scene.h"

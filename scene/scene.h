@@ -1,4 +1,4 @@
-// The scene file of cli-contract.md as plain data. The planner beside it (scene/plan.h) decides
+// The scene file (examples/default.json) as plain data. The planner beside it (scene/plan.h) decides
 // from it which tables exist (lights × lobes); rasterizer/, export/ and cli/ read the same structures.
 // Directions are in world space; a light's direction/pole points *towards* the source.
 #pragma once

@@ -1,4 +1,4 @@
-// A bounded connection queue for cpp-httplib (issue #17, "never an unbounded backlog"). Debian's
+// A bounded connection queue for cpp-httplib (never an unbounded backlog). Debian's
 // cpp-httplib 0.11 hands every accepted connection to Server::new_task_queue, whose ThreadPool
 // queues without limit: under a flood, connections wait for minutes, each holding a socket.
 // This pool runs `threads` connections at once and lets at most `max_waiting` wait; a connection

@@ -105,8 +105,9 @@ int run(const ServiceOptions& service_options, const ServerOptions& options) {
   int port = options.port;
   const bool bound = port == 0 ? (port = server.bind_to_any_port(options.bind)) > 0 : server.bind_to_port(options.bind, port);
   if (!bound)
-    throw InputError("cannot listen on " + options.bind + ":" + std::to_string(options.port) +
-                     " (address in use, not local, or not allowed); choose another --bind or --port");
+    throw InputError({"cannot listen on " + options.bind + ":" + std::to_string(options.port) +
+                          " (address in use, not local, or not allowed); choose another ",
+                      Named{"bind"}, " or ", Named{"port"}});
   if (listener >= 0) ::listen(listener, kListenBacklog);
   log_line("listening on http://" + options.bind + ":" + std::to_string(port) + "/ (cache " + service_options.cache_dir +
            ", " + std::to_string(service_options.jobs) + " bake jobs, " + std::to_string(service_options.queue) +

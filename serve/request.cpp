@@ -4,7 +4,6 @@
 #include <cmath>
 #include <cstdlib>
 #include <numbers>
-#include <regex>
 #include <set>
 #include <vector>
 
@@ -72,13 +71,13 @@ double tolerance(const Query& query, double fallback) {
   return tol;
 }
 
-/// Library refusals (InputError) become 400 with the library's message.
+/// Library refusals (InputError) become 400, their parameters named as a query names them.
 template <class F>
 auto as_request(F&& f) -> decltype(f()) {
   try {
     return f();
   } catch (const InputError& e) {
-    throw bad(e.what());
+    throw bad(e.worded(InputError::query_spelling));
   }
 }
 
@@ -125,25 +124,41 @@ Query parse_query(std::string_view text) {
 }
 
 namespace {
-/// Refuses (400) a spec with a data file item (file=PATH).
-void refuse_data_file(const std::string& spec) {
-  static const std::regex file_item(R"((^|[:,])\s*file\s*=)");
-  if (std::regex_search(spec, file_item))
-    throw bad("model '" + spec + "' names a data file; the service reads no file outside its cache: allowed: "
+/// Refuses (400) a parsed spec with a data file item (file=PATH); nothing has read it yet.
+void refuse_data_file(const Spec& spec, const std::string& text) {
+  if (spec.names_file())
+    throw bad("model '" + text + "' names a data file; the service reads no file outside its cache: allowed: "
               "analytic models and mixtures (see /api/models)");
 }
 
-/// refuse_data_file of every string in a JSON document (as decoded: escapes cannot hide one).
+/// refuse_data_file of every string in a JSON document that parses as a spec (as decoded:
+/// escapes cannot hide one). A string that does not parse is no model the scene parser builds.
 void refuse_data_files(const nlohmann::json& value) {
-  if (value.is_string()) refuse_data_file(value.get<std::string>());
+  if (value.is_string()) {
+    const std::string text = value.get<std::string>();
+    std::optional<Spec> spec;
+    try {
+      spec = parse_spec(text);
+    } catch (const InputError&) {
+    }
+    if (spec) refuse_data_file(*spec, text);
+  }
   if (value.is_structured())
     for (const auto& item : value) refuse_data_files(item);
 }
 }  // namespace
 
-ModelPtr parse_served_model(const std::string& spec) {
-  refuse_data_file(spec);
-  return as_request([&] { return parse_model(spec); });
+SpecQuery parse_served_spec(const std::string& text) {
+  const Spec spec = as_request([&] { return parse_spec(text); });
+  refuse_data_file(spec, text);
+  return {spec, as_request([&] { return make_model(spec); })};
+}
+
+ModelPtr parse_served_model(const std::string& spec) { return parse_served_spec(spec).model; }
+
+SpecQuery parse_spec_query(const Query& query) {
+  check_names(query, "/api/spec", {"model"});
+  return parse_served_spec(required(query, "model", "specular:alpha=8"));
 }
 
 EvalQuery parse_eval(const Query& query, const Limits& limits) {
@@ -198,7 +213,7 @@ TableQuery parse_table(const Query& query, const Limits& limits, TableEndpoint e
   if (endpoint == TableEndpoint::table) names.push_back("format");
   check_names(query, endpoint == TableEndpoint::table ? "/api/table" : "/api/glsl", names);
   if (query.count("max_error") && query.count("res"))
-    throw bad("give res or max_error, not both: with max_error the baker chooses the resolution (issue #15)");
+    throw bad("give res or max_error, not both: with max_error the baker chooses the resolution");
   TableQuery q;
   q.law = as_request([&] { return tables::parse_tabulated_law("law", required(query, "law", "g (one of g, h, a)")); });
   q.model = parse_served_model(required(query, "model", "specular:alpha=8"));
@@ -207,14 +222,7 @@ TableQuery parse_table(const Query& query, const Limits& limits, TableEndpoint e
   q.options = defaults.bake_options(q.law == Law::g ? Law::g : Law::h);
   q.options.max_evaluations = limits.max_evaluations;
   if (const auto res = text_of(query, "res")) {
-    q.options.resolution = as_request([&] {
-      try {
-        return tables::parse_resolution(*res, q.law);
-      } catch (const InputError& e) {
-        const std::string what = e.what();  // "--res '...' is not ...": name the parameter as given
-        throw InputError(what.rfind("--res ", 0) == 0 ? "res=" + what.substr(6) : what);
-      }
-    });
+    q.options.resolution = as_request([&] { return tables::parse_resolution(*res, q.law); });
   }
   const std::uint64_t entries = tables::table_bytes(q.options.resolution) / tables::kBytesPerEntry;
   if (entries > limits.max_entries)
@@ -247,16 +255,7 @@ TableQuery parse_table(const Query& query, const Limits& limits, TableEndpoint e
 
 TableQuery table_query(ModelPtr model, Law law, tables::BakeOptions options, TableFormat format) {
   TableQuery q{std::move(model), law, std::move(options), format, "", ""};
-  const tables::TableKey key = as_request([&] {
-    try {
-      return tables::table_key(*q.model, q.law, q.options);
-    } catch (const InputError& e) {  // the CLI's flag names, as this query names them
-      std::string what = e.what();
-      for (const auto& [flag, name] : {std::pair{"--max-error ", "max_error="}, std::pair{"--max-bytes ", "max_bytes="}})
-        if (what.rfind(flag, 0) == 0) what = name + what.substr(std::string(flag).size());
-      throw InputError(what);
-    }
-  });
+  const tables::TableKey key = as_request([&] { return tables::table_key(*q.model, q.law, q.options); });
   q.key = tables::key_text(key);
   q.file_name = tables::cache_file_name(key);
   return q;

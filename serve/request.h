@@ -13,6 +13,7 @@
 
 #include "integrate/cubature.h"
 #include "integrate/laws.h"
+#include "models/spec.h"
 #include "scene/plan.h"
 #include "scene/scene.h"
 #include "tables/bake.h"
@@ -83,7 +84,7 @@ TableQuery parse_table(const Query& query, const Limits& limits, TableEndpoint e
 TableQuery table_query(ModelPtr model, Law law, tables::BakeOptions options, TableFormat format = TableFormat::exr);
 
 /// GET /api/glsl?scene=SCENE[&format=glsl|json]: SCENE is the text of a scene file
-/// (cli-contract.md; its meshes are never read: the shader does not need them). Refused (400):
+/// (examples/default.json; its meshes are never read: the shader does not need them). Refused (400):
 /// a malformed scene, a lobe naming a data file, a scene export-glsl refuses.
 struct SceneQuery {
   Scene scene;
@@ -96,8 +97,17 @@ SceneQuery parse_scene_glsl(const Query& query);
 bool is_f_glsl(const Query& query);
 ModelPtr parse_f_glsl(const Query& query);
 
-/// The model of a spec given in a request: refuses (400) specs with a data file (file=...),
-/// then parses it (unknown model or parameter: 400 with the parser's message).
+/// A spec given in a request, parsed (unknown model or parameter: 400 with the parser's
+/// message), refused (400) when it names a data file (file=...), and its model built.
+struct SpecQuery {
+  Spec spec;
+  ModelPtr model;
+};
+SpecQuery parse_served_spec(const std::string& text);
+/// parse_served_spec(spec).model.
 ModelPtr parse_served_model(const std::string& spec);
+
+/// GET /api/spec?model=SPEC: the spec as the service parses it.
+SpecQuery parse_spec_query(const Query& query);
 
 }  // namespace ganzfeld::serve

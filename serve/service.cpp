@@ -105,13 +105,17 @@ Reply Service::handle(const Request& request) {
       const Estimate e = evaluate_law(*q.model, q.law, q.i.value_or(Vec3{0, 0, 1}), q.j.value_or(Vec3{0, 0, 1}), q.options);
       return json_reply(200, shapes::eval_json(q.model->spec(), q.law, e, q.tolerance, q.i, q.j, watch.seconds()));
     }
+    if (path == "/api/spec") {
+      const SpecQuery q = parse_spec_query(query);
+      return json_reply(200, shapes::spec_json(q.spec, q.model->spec()));
+    }
     if (path == "/api/table") return table(request, TableEndpoint::table);
     if (path == "/api/glsl") {
       if (query.count("scene")) return scene_glsl(request);
       return is_f_glsl(query) ? f_shader(request) : table(request, TableEndpoint::glsl);
     }
     return error_reply(404, "no endpoint '" + path +
-                                "'; allowed: /, /viewer.js, /healthz, /api/models, /api/eval, /api/table, /api/glsl");
+                                "'; allowed: /, /viewer.js, /healthz, /api/models, /api/spec, /api/eval, /api/table, /api/glsl");
   } catch (const RequestError& e) {
     return error_reply(e.status(), e.what());
   } catch (const Busy& e) {
@@ -119,7 +123,7 @@ Reply Service::handle(const Request& request) {
     reply.headers.emplace_back("Retry-After", std::to_string(kRetryAfterSeconds));
     return reply;
   } catch (const InputError& e) {
-    return error_reply(400, e.what());
+    return error_reply(400, e.worded(InputError::query_spelling));
   } catch (const std::exception& e) {
     return error_reply(500, std::string("internal error: ") + e.what());
   }

@@ -1,38 +1,32 @@
 #include "shapes/json.h"
 
-#include "tables/exr_io.h"
+#include <array>
 
 #include "models/registry.h"
 #include "tables/bake.h"
+#include "tables/exr_io.h"
+#include "util/names.h"
 
 namespace ganzfeld::shapes {
 
 namespace {
 
 const char* type_name(ParamType t) {
-  switch (t) {
-    case ParamType::real: return "real";
-    case ParamType::integer: return "integer";
-    case ParamType::choice: return "choice";
-  }
-  return "?";
-}
-
-/// A default as a spec would write it: the name of a choice, else the number.
-std::string default_text(const ParamInfo& p) {
-  if (p.type == ParamType::choice) return p.choices.at(static_cast<std::size_t>(p.default_value));
-  return format_number(p.default_value);
+  constexpr std::array kNames{util::EnumName<ParamType>{ParamType::real, "real"},
+                              util::EnumName<ParamType>{ParamType::integer, "integer"},
+                              util::EnumName<ParamType>{ParamType::choice, "choice"}};
+  return util::name_of(kNames, t);
 }
 
 nlohmann::ordered_json model_json(const ModelInfo& m) {
   nlohmann::ordered_json params = nlohmann::ordered_json::array();
-  std::string example = m.name;
+  ModelSpec example{m.name};  // every parameter at its default; a required data file as DATA
   if (m.make_with_file) {  // file=PATH comes first; required unless the model has a default
     params.push_back({{"name", "file"},
                       {"type", "path"},
                       {"required", !m.file_optional},
                       {"meaning", m.file_meaning + " (no ',', '+' or '*' in the path)"}});
-    if (!m.file_optional) example += ":file=DATA";
+    if (!m.file_optional) example.file = "DATA";
   }
   for (const auto& p : m.parameters) {
     nlohmann::ordered_json param{{"name", p.name},         {"type", type_name(p.type)}, {"min", p.min},
@@ -40,18 +34,18 @@ nlohmann::ordered_json model_json(const ModelInfo& m) {
                                  {"meaning", p.meaning}};
     if (p.type == ParamType::choice) {
       param["choices"] = p.choices;
-      param["default"] = default_text(p);  // the name, as a spec gives it
+      param["default"] = value_text(p, p.default_value);  // the name, as a spec gives it
     }
     if (p.min_exclusive) param["min_exclusive"] = true;
     if (p.optional) param["optional"] = true;
     param["allowed"] = allowed_values(p);
     params.push_back(param);
-    if (!p.optional) example += (example == m.name ? ":" : ",") + p.name + "=" + default_text(p);
+    if (!p.optional) example.values[p.name] = p.default_value;
   }
   return {{"name", m.name},
           {"summary", m.summary},
           {"source", m.source},
-          {"example", example},
+          {"example", spec_text(example)},
           {"parameters", params},
           {"isotropic", m.traits.isotropic},
           {"reciprocal", m.traits.reciprocal},
@@ -67,6 +61,25 @@ nlohmann::ordered_json models_json() {
   for (const auto& m : model_catalogue()) doc["models"].push_back(model_json(m));
   doc["mixtures"] = "W1*SPEC1 + W2*SPEC2 + ... (partitive mixture; weights > 0 are normalized)";
   return doc;
+}
+
+nlohmann::ordered_json spec_json(const Spec& spec, const std::string& canonical) {
+  nlohmann::ordered_json terms = nlohmann::ordered_json::array();
+  for (const SpecTerm& term : spec.terms) {
+    nlohmann::ordered_json parameters = nlohmann::ordered_json::object();
+    for (const ParamInfo& p : find_model(term.model.name).parameters) {
+      const auto given = term.model.values.find(p.name);
+      if (given == term.model.values.end()) continue;
+      if (p.type == ParamType::choice)
+        parameters[p.name] = value_text(p, given->second);
+      else
+        parameters[p.name] = given->second;
+    }
+    nlohmann::ordered_json t{{"weight", term.weight}, {"model", term.model.name}, {"parameters", parameters}};
+    if (!term.model.file.empty()) t["file"] = term.model.file;
+    terms.push_back(t);
+  }
+  return {{"canonical", canonical}, {"terms", terms}};
 }
 
 nlohmann::ordered_json eval_json(const std::string& spec, Law law, const Estimate& e, double tolerance,

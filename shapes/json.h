@@ -1,4 +1,4 @@
-// The JSON documents of cli-contract.md, built in one place so that the command line
+// The JSON documents ganzfeld writes, built in one place so that the command line
 // (`models --json`, `eval --json`, `info --json`, `bake --json`) and the service (serve/:
 // /api/models, /api/eval, /api/table) answer with the same shapes.
 #pragma once
@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "integrate/laws.h"
+#include "models/spec.h"
 #include "tables/cache.h"
 #include "tables/table.h"
 
@@ -19,6 +20,11 @@ namespace ganzfeld::shapes {
 /// default, meaning, [choices], [min_exclusive], [optional], allowed} or, for a data file,
 /// {name: "file", type: "path", required, meaning}.
 nlohmann::ordered_json models_json();
+
+/// A parsed spec (models/spec.h) and its model's canonical text: {canonical, terms: [{weight,
+/// model, parameters: {KEY: VALUE}, [file]}]}; the parameters as the spec gives them, in the
+/// registry's order, a choice by name.
+nlohmann::ordered_json spec_json(const Spec& spec, const std::string& canonical);
 
 /// One value of a law: {model, law, value, error, evaluations, converged, tolerance, [i], [j],
 /// seconds}; i and j only when the law uses them.

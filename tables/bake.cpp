@@ -50,23 +50,25 @@ std::string gib(std::uint64_t bytes) {
 std::vector<int> parse_resolution(const std::string& text, Law law) {
   const std::size_t axes = law == Law::g ? 3 : 1;
   const std::string form = law == Law::g ? "N or NIxNJxNPHI" : "N";
-  const std::string bad = "--res '" + text + "' is not a resolution for law " + to_string(law) + "; expected " + form +
-                          " with integers >= 2";
+  const auto bad = [&](const std::string& more = "") {
+    return InputError({Named{"res", "'" + text + "'"}, " is not a resolution for law " + std::string(to_string(law)) +
+                                                          "; expected " + form + " with integers >= 2" + more});
+  };
   std::vector<int> counts;
   std::size_t start = 0;
   while (true) {
     const std::size_t x = text.find('x', start);
     const std::string part = text.substr(start, x == std::string::npos ? std::string::npos : x - start);
     if (part.empty() || part.size() > 9 || part.find_first_not_of("0123456789") != std::string::npos)
-      throw InputError(bad);
+      throw bad();
     counts.push_back(std::stoi(part));
     if (x == std::string::npos) break;
     start = x + 1;
   }
   if (counts.size() == 1) counts.assign(axes, counts[0]);
-  if (counts.size() != axes) throw InputError(bad);
+  if (counts.size() != axes) throw bad();
   for (int c : counts)
-    if (c < 2) throw InputError(bad + " (each axis needs at least 2 nodes: the first at min, the last at max)");
+    if (c < 2) throw bad(" (each axis needs at least 2 nodes: the first at min, the last at max)");
   return counts;
 }
 
@@ -98,7 +100,8 @@ std::uint64_t value_bytes(const Table& table) noexcept {
 std::vector<Axis> bake_axes(Law law, const BakeOptions& options) {
   if (options.lobe) {
     if (law != Law::g) throw InputError(std::string("law ") + to_string(law) + " has no lobe frame; only g does");
-    if (!options.mappings.empty()) throw InputError("--mapping applies to the cosines frame only, not to lobe axes");
+    if (!options.mappings.empty())
+      throw InputError({Named{"mapping"}, " applies to the cosines frame only, not to lobe axes"});
     if (options.warped) return warped_axes(options.resolution, kWarpedThetaWidths * options.lobe->width);
     return lobe_axes(options.resolution, options.lobe->width);
   }
@@ -256,9 +259,12 @@ void bake_nodes(Table& table, const LawAt& law_at, const BakeOptions& options, c
     }
   });
   if (out_of_range)
-    throw InputError("law " + std::string(to_string(table.law)) + " of '" + table.model + "' has values outside the " +
-                     (options.encoding == Encoding::half ? "half range (|x| <= 65504); use --encoding float"
-                                                         : "float range"));
+    throw options.encoding == Encoding::half
+        ? InputError({"law " + std::string(to_string(table.law)) + " of '" + table.model +
+                          "' has values outside the half range (|x| <= 65504); use ",
+                      Named{"encoding", "float"}})
+        : InputError("law " + std::string(to_string(table.law)) + " of '" + table.model +
+                     "' has values outside the float range");
   if (options.encoding == Encoding::unorm16) quantize_unorm16(table);
   table.unconverged = unconverged;
   table.node_error = 0.0;

@@ -1,4 +1,4 @@
-// A cache of baked tables (design.md, tables/): a table is identified by everything that
+// A cache of baked tables: a table is identified by everything that
 // determines its numbers and layout — the model, law, axes (names, ranges, counts, mappings),
 // tolerance, encoding and format version. The model is its canonical spec without file paths
 // (spec_without_paths) plus the digest of its data files' bytes (Model::content_digest,

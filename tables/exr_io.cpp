@@ -17,6 +17,7 @@
 #include <OpenEXR/ImfTestFile.h>
 #include <nlohmann/json.hpp>
 
+#include "tables/exr_attributes.h"
 #include "tables/exr_guard.h"
 #include "util/error.h"
 #include "util/atomic_file.h"
@@ -67,13 +68,6 @@ Imf::PixelType value_type(Encoding encoding) {
 }
 Imf::PixelType error_type(Encoding encoding) { return encoding == Encoding::half ? Imf::HALF : Imf::FLOAT; }
 const char* type_name(Imf::PixelType type) { return type == Imf::HALF ? "HALF" : type == Imf::UINT ? "UINT" : "FLOAT"; }
-
-/// OpenEXR messages may span lines; ours may not.
-std::string one_line(std::string text) {
-  for (char& c : text)
-    if (c == '\n' || c == '\r') c = ' ';
-  return text;
-}
 
 /// Image shape: width = count of the last axis, height = product of the others (1 for 1-D).
 std::pair<int, int> image_shape(const Table& table) {
@@ -187,26 +181,7 @@ void write_table(const Table& table, const std::string& path) {
 
 namespace {
 
-struct Reader {
-  std::string path;
-
-  [[noreturn]] void refuse(const std::string& why) const { throw InputError("table '" + path + "': " + one_line(why)); }
-
-  std::string attribute(const Imf::Header& header, const char* name) const {
-    const auto* a = header.findTypedAttribute<Imf::StringAttribute>(name);
-    if (!a) refuse(std::string("missing string attribute ") + name + "; not a ganzfeld table of format version " +
-                   std::to_string(kFormatVersion));
-    return a->value();
-  }
-
-  double number(const Imf::Header& header, const char* name) const {
-    const std::string text = attribute(header, name);
-    char* end = nullptr;
-    const double x = std::strtod(text.c_str(), &end);
-    if (text.empty() || *end != '\0' || !std::isfinite(x) || x < 0.0)
-      refuse(std::string(name) + " '" + text + "' is not a finite number >= 0");
-    return x;
-  }
+struct Reader : ExrAttributes {
 
   /// A finite number that a float holds exactly (the unorm16 offset and scale).
   float float_attribute(const Imf::Header& header, const char* name) const {
@@ -468,6 +443,8 @@ struct Reader {
 
 }  // namespace
 
-Table read_table(const std::string& path) { return Reader{path}.read(); }
+Table read_table(const std::string& path) {
+  return Reader{{path, "", "; not a ganzfeld table of format version " + std::to_string(kFormatVersion)}}.read();
+}
 
 }  // namespace ganzfeld::tables

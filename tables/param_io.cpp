@@ -19,6 +19,7 @@
 #include <nlohmann/json.hpp>
 
 #include "models/registry.h"
+#include "tables/exr_attributes.h"
 #include "tables/exr_guard.h"
 #include "tables/param_table.h"
 #include "util/atomic_file.h"
@@ -103,25 +104,7 @@ void write_param_table(const ParamTable& table, const std::string& path) {
 
 namespace {
 
-struct ParamReader {
-  std::string path;
-
-  [[noreturn]] void refuse(const std::string& why) const { throw InputError("table '" + path + "': " + why); }
-
-  std::string attribute(const Imf::Header& header, const char* key) const {
-    const auto* a = header.findTypedAttribute<Imf::StringAttribute>(attribute_name(key));
-    if (!a) refuse("missing string attribute " + attribute_name(key) + " (format version 3)");
-    return a->value();
-  }
-
-  double number(const Imf::Header& header, const char* name) const {
-    const std::string text = attribute(header, name);
-    char* end = nullptr;
-    const double x = std::strtod(text.c_str(), &end);
-    if (text.empty() || *end != '\0' || !std::isfinite(x) || x < 0.0)
-      refuse(attribute_name(name) + " '" + text + "' is not a finite number >= 0");
-    return x;
-  }
+struct ParamReader : ExrAttributes {
 
   nlohmann::json json_array(const Imf::Header& header, const char* name) const {
     try {
@@ -221,7 +204,9 @@ struct ParamReader {
 
 }  // namespace
 
-ParamTable read_param_table(const std::string& path) { return ParamReader{path}.read(); }
+ParamTable read_param_table(const std::string& path) {
+  return ParamReader{{path, "ganzfeld.", " (format version 3)"}}.read();
+}
 
 int format_version_of(const std::string& path) {
   std::error_code ec;

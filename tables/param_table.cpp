@@ -1,20 +1,21 @@
 #include "tables/param_table.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 #include "models/registry.h"
 #include "util/error.h"
+#include "util/names.h"
 
 namespace ganzfeld::tables {
 
-const char* to_string(Grid grid) { return grid == Grid::texel ? "texel" : "node"; }
+namespace {
+constexpr std::array kGrids{util::EnumName<Grid>{Grid::node, "node"}, util::EnumName<Grid>{Grid::texel, "texel"}};
+}  // namespace
 
-Grid parse_grid(const std::string& text) {
-  if (text == "node") return Grid::node;
-  if (text == "texel") return Grid::texel;
-  throw InputError("unknown grid '" + text + "'; allowed: node, texel");
-}
+const char* to_string(Grid grid) { return util::name_of(kGrids, grid); }
+Grid parse_grid(const std::string& text) { return util::parse_name(kGrids, "grid", text); }
 
 double alpha_of(const std::string& name, double x) noexcept { return name == kAxisRoughness ? x * x : x; }
 

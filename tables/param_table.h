@@ -85,8 +85,8 @@ struct ParamSample {
 ParamSample sample_param(const ParamTable& table, std::size_t c, double x_param, double mu) noexcept;
 
 /// The domain over which a parameter table's lookup error is validated: alpha >= kMinValidatedAlpha
-/// (below it the charlie sheen has no limit) and cos_theta_i >= kMinValidatedMu (issue #15's
-/// domain for every table). Towards mu = 0 the albedos of small alpha fall to 0 in a layer about
+/// (below it the charlie sheen has no limit) and cos_theta_i >= kMinValidatedMu (as for every
+/// table's lookup error). Towards mu = 0 the albedos of small alpha fall to 0 in a layer about
 /// alpha wide that no bilinear table of a few dozen samples resolves (docs/lut-format.md,
 /// "Version 3").
 inline constexpr double kMinValidatedAlpha = 1e-3;

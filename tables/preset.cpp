@@ -1,6 +1,7 @@
 #include "tables/preset.h"
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cmath>
 #include <limits>
@@ -13,59 +14,58 @@
 #include "models/charlie.h"
 #include "models/ggx.h"
 #include "models/registry.h"
+#include "models/spec.h"
 #include "tables/bake.h"
 #include "util/error.h"
+#include "util/names.h"
 
 namespace ganzfeld::tables {
 
-const char* to_string(Preset preset) { return preset == Preset::dfg ? "dfg" : "kulla-conty"; }
+namespace {
+constexpr std::array kPresets{util::EnumName<Preset>{Preset::dfg, "dfg"},
+                              util::EnumName<Preset>{Preset::kulla_conty, "kulla-conty"}};
+constexpr std::array kDfgLayouts{util::EnumName<DfgLayout>{DfgLayout::filament, "filament"},
+                                 util::EnumName<DfgLayout>{DfgLayout::ue4, "ue4"}};
+}  // namespace
 
-Preset parse_preset(const std::string& text) {
-  if (text == "dfg") return Preset::dfg;
-  if (text == "kulla-conty") return Preset::kulla_conty;
-  throw InputError("unknown preset '" + text + "'; allowed: dfg, kulla-conty");
-}
+const char* to_string(Preset preset) { return util::name_of(kPresets, preset); }
+Preset parse_preset(const std::string& text) { return util::parse_name(kPresets, "preset", text); }
 
-const char* to_string(DfgLayout layout) { return layout == DfgLayout::ue4 ? "ue4" : "filament"; }
-
-DfgLayout parse_dfg_layout(const std::string& text) {
-  if (text == "filament") return DfgLayout::filament;
-  if (text == "ue4") return DfgLayout::ue4;
-  throw InputError("unknown DFG layout '" + text + "'; allowed: filament, ue4");
-}
+const char* to_string(DfgLayout layout) { return util::name_of(kDfgLayouts, layout); }
+DfgLayout parse_dfg_layout(const std::string& text) { return util::parse_name(kDfgLayouts, "DFG layout", text); }
 
 std::string preset_family(const Model& model, const PresetOptions& options) {
   const auto* ggx = dynamic_cast<const Ggx*>(&model);
+  const Named preset{"preset", to_string(options.preset)};
   if (!ggx) {
-    const std::string spec = model.spec(), name = spec.substr(0, spec.find(':'));
-    bool has_axis = false;  // the name of a mixture is no model's: it has no parameters either
-    for (const ModelInfo& info : model_catalogue())
-      for (const ParamInfo& p : info.parameters) has_axis = has_axis || (info.name == name && p.name == options.axis);
+    const std::string spec = model.spec();
+    const Spec parsed = parse_spec(spec);
+    bool has_axis = false;  // a mixture has no parameters of its own
+    if (!parsed.is_mixture())
+      for (const ParamInfo& p : find_model(parsed.terms.front().model.name).parameters)
+        has_axis = has_axis || p.name == options.axis;
     if (!has_axis)
-      throw InputError(std::string("--preset ") + to_string(options.preset) + " needs a ggx model: '" + spec +
-                       "' has no parameter " + options.axis + " for the table's axis");
-    throw InputError(std::string("--preset ") + to_string(options.preset) +
-                     " is defined for ggx (its channels are GGX and Charlie albedos), not for '" + spec + "'");
+      throw InputError({preset, " needs a ggx model: '" + spec + "' has no parameter " + options.axis +
+                                    " for the table's axis"});
+    throw InputError({preset, " is defined for ggx (its channels are GGX and Charlie albedos), not for '" + spec + "'"});
   }
   if (!model.traits().isotropic)
-    throw InputError(std::string("--preset ") + to_string(options.preset) + " needs an isotropic ggx model, not '" +
-                     model.spec() + "'");
-  const std::string spec = model.spec();
-  return "ggx:" + spec.substr(spec.find("g2="));
+    throw InputError({preset, " needs an isotropic ggx model, not '" + model.spec() + "'"});
+  return spec_text({"ggx", {{"g2", ggx->parameters().at("g2")}}});
 }
 
 std::vector<int> parse_preset_resolution(const std::string& text) {
-  const std::string bad = "--res '" + text + "' is not a preset resolution; expected N or NPxNMU (parameter x "
-                          "cos_theta_i samples) with integers from 2 to 4096";
+  const InputError bad({Named{"res", "'" + text + "'"}, " is not a preset resolution; expected N or NPxNMU (parameter x "
+                                                      "cos_theta_i samples) with integers from 2 to 4096"});
   std::vector<int> counts;
   try {  // each part is a one-axis resolution "N"
     const std::size_t x = text.find('x');
     counts.push_back(parse_resolution(text.substr(0, x), Law::a).front());
     counts.push_back(x == std::string::npos ? counts[0] : parse_resolution(text.substr(x + 1), Law::a).front());
   } catch (const InputError&) {
-    throw InputError(bad);
+    throw bad;
   }
-  if (std::max(counts[0], counts[1]) > 4096) throw InputError(bad);
+  if (std::max(counts[0], counts[1]) > 4096) throw bad;
   return counts;
 }
 
@@ -254,9 +254,8 @@ void validate_lookup(ParamTable& table, const std::vector<ChannelRecipe>& channe
 ParamTable bake_preset(const Model& model, const PresetOptions& options) {
   check_options(options);
   ParamTable table;
-  table.model = preset_family(model, options);
-  const ggx::G2Form g2 = model.spec().find("g2=separable") != std::string::npos ? ggx::G2Form::separable
-                                                                               : ggx::G2Form::height_correlated;
+  table.model = preset_family(model, options);  // refuses all but isotropic ggx
+  const auto g2 = static_cast<ggx::G2Form>(static_cast<int>(dynamic_cast<const Ggx&>(model).parameters().at("g2")));
   table.preset = to_string(options.preset);
   table.layout = options.preset == Preset::dfg ? to_string(options.layout) : "kulla-conty";
   table.axes = {{options.axis, 0.0, 1.0, options.resolution[0], Mapping::linear},

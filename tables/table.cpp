@@ -1,6 +1,7 @@
 #include "tables/table.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -8,6 +9,7 @@
 #include "util/error.h"
 #include "models/registry.h"
 #include "util/hash.h"
+#include "util/names.h"
 
 namespace ganzfeld::tables {
 
@@ -25,57 +27,37 @@ Law parse_tabulated_law(const std::string& flag, const std::string& text) {
 
 using std::numbers::pi;
 
-const char* to_string(Mapping mapping) {
-  switch (mapping) {
-    case Mapping::linear: return "linear";
-    case Mapping::sqrt: return "sqrt";
-    case Mapping::cos: return "cos";
-    case Mapping::sinh: return "sinh";
-    case Mapping::sinh_max: return "sinh_max";
-  }
-  return "?";
-}
+namespace {
+using util::EnumName;
+constexpr std::array kMappings{EnumName<Mapping>{Mapping::linear, "linear"}, EnumName<Mapping>{Mapping::sqrt, "sqrt"},
+                               EnumName<Mapping>{Mapping::cos, "cos"}, EnumName<Mapping>{Mapping::sinh, "sinh"},
+                               EnumName<Mapping>{Mapping::sinh_max, "sinh_max"}};
+constexpr std::array kInterpolations{EnumName<Interpolation>{Interpolation::linear, "linear"},
+                                     EnumName<Interpolation>{Interpolation::catmull_rom, "catmull-rom"}};
+constexpr std::array kFrames{EnumName<Frame>{Frame::cosines, "cosines"}, EnumName<Frame>{Frame::lobe, "lobe"},
+                             EnumName<Frame>{Frame::warped, "warped"}};
+constexpr std::array kFilters{EnumName<Filter>{Filter::texel_fetch, "texel-fetch"},
+                              EnumName<Filter>{Filter::hardware, "hardware"}};
+constexpr std::array kPeaks{EnumName<PeakKind>{PeakKind::mirror, "mirror"}, EnumName<PeakKind>{PeakKind::retro, "retro"}};
+constexpr std::array kEncodings{EnumName<Encoding>{Encoding::half, "half"}, EnumName<Encoding>{Encoding::single, "float"},
+                                EnumName<Encoding>{Encoding::unorm16, "unorm16"}};
+}  // namespace
 
-Mapping parse_mapping(const std::string& text) {
-  for (Mapping m : {Mapping::linear, Mapping::sqrt, Mapping::cos, Mapping::sinh, Mapping::sinh_max})
-    if (text == to_string(m)) return m;
-  throw InputError("unknown axis mapping '" + text + "'; allowed: linear, sqrt, cos, sinh, sinh_max");
-}
+const char* to_string(Mapping mapping) { return util::name_of(kMappings, mapping); }
+Mapping parse_mapping(const std::string& text) { return util::parse_name(kMappings, "axis mapping", text); }
 
-const char* to_string(Interpolation interpolation) {
-  return interpolation == Interpolation::catmull_rom ? "catmull-rom" : "linear";
-}
-
+const char* to_string(Interpolation interpolation) { return util::name_of(kInterpolations, interpolation); }
 Interpolation parse_interpolation(const std::string& text) {
-  if (text == "linear") return Interpolation::linear;
-  if (text == "catmull-rom") return Interpolation::catmull_rom;
-  throw InputError("unknown interpolation '" + text + "'; allowed: linear, catmull-rom");
+  return util::parse_name(kInterpolations, "interpolation", text);
 }
 
 bool is_law_table_version(int version) noexcept { return version == 1 || version == 2 || version == kFormatVersion; }
 
-const char* to_string(Frame frame) {
-  switch (frame) {
-    case Frame::lobe: return "lobe";
-    case Frame::warped: return "warped";
-    case Frame::cosines: break;
-  }
-  return "cosines";
-}
+const char* to_string(Frame frame) { return util::name_of(kFrames, frame); }
+Frame parse_frame(const std::string& text) { return util::parse_name(kFrames, "frame", text); }
 
-Frame parse_frame(const std::string& text) {
-  for (Frame f : {Frame::cosines, Frame::lobe, Frame::warped})
-    if (text == to_string(f)) return f;
-  throw InputError("unknown frame '" + text + "'; allowed: cosines, lobe, warped");
-}
-
-const char* to_string(Filter filter) { return filter == Filter::hardware ? "hardware" : "texel-fetch"; }
-
-Filter parse_filter(const std::string& text) {
-  if (text == "texel-fetch") return Filter::texel_fetch;
-  if (text == "hardware") return Filter::hardware;
-  throw InputError("unknown lookup filter '" + text + "'; allowed: texel-fetch, hardware");
-}
+const char* to_string(Filter filter) { return util::name_of(kFilters, filter); }
+Filter parse_filter(const std::string& text) { return util::parse_name(kFilters, "lookup filter", text); }
 
 int fetches(Interpolation interpolation, Filter filter, std::size_t dims) noexcept {
   const int per_axis = interpolation == Interpolation::catmull_rom ? (filter == Filter::hardware ? 3 : 4)
@@ -87,13 +69,11 @@ int fetches(Interpolation interpolation, Filter filter, std::size_t dims) noexce
 
 int fetches(const Table& table) noexcept { return fetches(table.interpolation, table.filter, table.axes.size()); }
 
-const char* to_string(PeakKind peak) { return peak == PeakKind::retro ? "retro" : "mirror"; }
+const char* to_string(PeakKind peak) { return util::name_of(kPeaks, peak); }
+PeakKind parse_peak(const std::string& text) { return util::parse_name(kPeaks, "lobe peak", text); }
 
-PeakKind parse_peak(const std::string& text) {
-  if (text == "mirror") return PeakKind::mirror;
-  if (text == "retro") return PeakKind::retro;
-  throw InputError("unknown lobe peak '" + text + "'; allowed: mirror, retro");
-}
+const char* to_string(Encoding encoding) { return util::name_of(kEncodings, encoding); }
+Encoding parse_encoding(const std::string& text) { return util::parse_name(kEncodings, "encoding", text); }
 
 namespace {
 /// The sinh mapping's centre c, half range R and V = asinh(R / w).
@@ -103,22 +83,6 @@ struct SinhAxis {
       : c(0.5 * (a.min + a.max)), w(a.width), V(std::asinh(0.5 * (a.max - a.min) / a.width)) {}
 };
 }  // namespace
-
-const char* to_string(Encoding encoding) {
-  switch (encoding) {
-    case Encoding::half: return "half";
-    case Encoding::unorm16: return "unorm16";
-    case Encoding::single: break;
-  }
-  return "float";
-}
-
-Encoding parse_encoding(const std::string& text) {
-  if (text == "half") return Encoding::half;
-  if (text == "float") return Encoding::single;
-  if (text == "unorm16") return Encoding::unorm16;
-  throw InputError("unknown encoding '" + text + "'; allowed: half, float, unorm16");
-}
 
 unsigned bytes_per_value(Encoding encoding) noexcept { return encoding == Encoding::single ? 4u : 2u; }
 

@@ -113,23 +113,27 @@ double min_max_error(Encoding encoding) noexcept {
 }
 
 void check_error_target(double max_error, std::uint64_t max_bytes, Law law, Encoding encoding) {
+  const Named target{"max_error", format_number(max_error)};
   if (!std::isfinite(max_error) || !(max_error > 0.0))
-    throw InputError("--max-error " + format_number(max_error) + " is not allowed; expected a positive number");
-  if (max_error < min_max_error(encoding))
-    throw InputError("--max-error " + format_number(max_error) + " is below what a " + to_string(encoding) +
-                     " table can hold (its rounding alone); allowed: >= " + format_number(min_max_error(encoding)) +
-                     (encoding == Encoding::single ? "" : " (use --encoding float for less)"));
+    throw InputError({target, " is not allowed; expected a positive number"});
+  if (max_error < min_max_error(encoding)) {
+    std::vector<InputError::Piece> message{target, " is below what a " + std::string(to_string(encoding)) +
+                                                        " table can hold (its rounding alone); allowed: >= " +
+                                                        format_number(min_max_error(encoding))};
+    if (encoding != Encoding::single) message.insert(message.end(), {" (use ", Named{"encoding", "float"}, " for less)"});
+    throw InputError(message);
+  }
   const std::uint64_t smallest = bytes_of(std::vector<int>(law == Law::g ? 3 : 1, 4), encoding);
   if (max_bytes != 0 && max_bytes < smallest)
-    throw InputError("--max-bytes " + std::to_string(max_bytes) + " is too small; the smallest " +
-                     to_string(encoding) + " table of law " + to_string(law) + " needs " + std::to_string(smallest) +
-                     " value bytes");
+    throw InputError({Named{"max_bytes", std::to_string(max_bytes)},
+                      " is too small; the smallest " + std::string(to_string(encoding)) + " table of law " +
+                          to_string(law) + " needs " + std::to_string(smallest) + " value bytes"});
 }
 
 void check_fetch_budget(long long fetches) {
   if (fetches < 1)
-    throw InputError("--fetches " + std::to_string(fetches) +
-                     " is not allowed; expected an integer >= 1 (texture fetches per lookup)");
+    throw InputError({Named{"fetches", std::to_string(fetches)},
+                      " is not allowed; expected an integer >= 1 (texture fetches per lookup)"});
 }
 
 namespace {
@@ -248,18 +252,25 @@ Table bake_to_error(const Model& model, Law law, const BakeOptions& requested) {
     table.target_fetches = requested.max_fetches;
     return table;
   };
-  const std::string within = " within " + std::to_string(cap) + " value bytes (" +
-                             (requested.max_bytes ? "--max-bytes" : "the default cap") + ")";
+  const std::vector<InputError::Piece> within{
+      " within " + std::to_string(cap) + " value bytes (",
+      requested.max_bytes ? InputError::Piece(Named{"max_bytes"}) : "the default cap", ")"};
+  auto refusal = [&](std::vector<InputError::Piece> pieces) {  // "cannot reach max_error=E ... within ..."
+    pieces.insert(pieces.begin(), {std::string("cannot reach "), Named{"max_error", format_number(E)},
+                                   " for law " + std::string(to_string(law)) + " of '" + model.spec() + "'"});
+    return InputError(std::move(pieces));
+  };
   if (requested.max_fetches == 0) {  // no budget: the fewest bytes, read with texelFetch
     options.interpolation = Interpolation::catmull_rom;
     SearchResult found = search_counts(model, law, options, E, cap);
     if (found.table) return finish(std::move(*found.table));
-    // Only what was measured: an extrapolation to the cap said "about X within the cap" with X
-    // below E while refusing E (issue #15's note), i.e. a number no bake had checked.
-    throw InputError("cannot reach --max-error " + format_number(E) + " for law " + to_string(law) + " of '" +
-                     model.spec() + "'" + within + "; the best this search found is " + format_number(found.best_error) +
-                     " in " + format_number(found.best_bytes) + " value bytes (the search bakes at most " +
+    // Only what was measured: the refusal names the best table a bake made, never an extrapolation
+    // to the cap (a number no bake has checked).
+    std::vector<InputError::Piece> pieces = within;
+    pieces.push_back("; the best this search found is " + format_number(found.best_error) + " in " +
+                     format_number(found.best_bytes) + " value bytes (the search bakes at most " +
                      std::to_string(kMaxSearchBakes) + " tables)");
+    throw refusal(std::move(pieces));
   }
   const std::size_t D = law == Law::g ? 3 : 1;
   std::vector<Scheme> schemes{{options.lobe.has_value(), Interpolation::linear, Filter::hardware},
@@ -276,12 +287,14 @@ Table bake_to_error(const Model& model, Law law, const BakeOptions& requested) {
     if (found.table) return finish(std::move(*found.table));
     if (found.best_error < best.best_error) best = std::move(found);
   }
-  throw InputError("cannot reach --max-error " + format_number(E) + " for law " + to_string(law) + " of '" +
-                   model.spec() + "' within " + std::to_string(requested.max_fetches) + " texture fetch" +
-                   (requested.max_fetches == 1 ? "" : "es") + " per lookup (--fetches) and" + within +
-                   "; the best found is " + format_number(best.best_error) + " at " +
+  std::vector<InputError::Piece> pieces{" within " + std::to_string(requested.max_fetches) + " texture fetch" +
+                                            (requested.max_fetches == 1 ? "" : "es") + " per lookup (",
+                                        Named{"fetches"}, ") and"};
+  pieces.insert(pieces.end(), within.begin(), within.end());
+  pieces.push_back("; the best found is " + format_number(best.best_error) + " at " +
                    std::to_string(best.best_fetches) + " fetch" + (best.best_fetches == 1 ? "" : "es") + " in " +
                    format_number(best.best_bytes) + " value bytes");
+  throw refusal(std::move(pieces));
 }
 
 }  // namespace ganzfeld::tables

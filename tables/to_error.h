@@ -1,4 +1,4 @@
-// Baking to a requested lookup error (issue 15, `bake --max-error E [--max-bytes B]`): the baker
+// Baking to a requested lookup error (`bake --max-error E [--max-bytes B]`): the baker
 // chooses the node counts per axis, the frame and the interpolation so that the validated lookup
 // error (Table::lookup_error) is <= E with as few value bytes as it can find, sets the cubature
 // tolerance itself (E/kNodeToleranceRatio), and refuses when E cannot be met within B.

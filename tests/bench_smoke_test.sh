@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# The benchmarks build and run in CI in their short mode; this checks the JSON shapes of
-# cli-contract.md (never timings: those are reported, not asserted).
+# The benchmarks build and run in CI in their short mode; this checks the JSON shapes they
+# print (never timings: those are reported, not asserted).
 set -eu
 G="$1"; tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
 "$G" bench cubature --quick --json >"$tmp/c.json"
@@ -19,7 +19,7 @@ PY
 python3 -c "import json,sys; d=json.load(open('$tmp/b.json')); assert len(d['tables'])==2 and all(t['speedup_2_threads']>0 for t in d['tables'])"
 "$G" bench render --quick --json >"$tmp/r.json"
 python3 -c "import json; d=json.load(open('$tmp/r.json')); r=d['ratios']; assert r['tables_vs_lambert']>0 and r['direct_vs_tables']>0"
-# The real-time tables' report (issue 16): every section and a verdict on each target.
+# The real-time tables' report: every section and a verdict on each target.
 "$G" bench realtime --quick --markdown "$tmp/realtime.md"
 for section in "Per-texel error bound" "Bake time" "White furnace" "independent estimator"; do grep -q "$section" "$tmp/realtime.md"; done
 [ "$(grep -cE '\*\*(met|missed)\*\*' "$tmp/realtime.md")" -ge 14 ]

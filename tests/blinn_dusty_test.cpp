@@ -22,6 +22,7 @@
 #include "util/error.h"
 #include "models/mixture.h"
 #include "models/registry.h"
+#include "models/spec.h"
 
 namespace ganzfeld {
 namespace {
@@ -62,36 +63,11 @@ const ModelInfo& info() {
   return catalogue.at(0);
 }
 
-/// What models/spec.cpp does for "blinn-dusty:k=v,...": defaults, validate_param per given key,
-/// then ModelInfo::make.
-ModelPtr make(const ParamValues& given = {}) {
-  const ModelInfo& m = info();
-  ParamValues values;
-  for (const auto& p : m.parameters) values[p.name] = p.default_value;
-  for (const auto& [key, value] : given) {
-    const auto it = std::find_if(m.parameters.begin(), m.parameters.end(), [&key = key](const ParamInfo& p) { return p.name == key; });
-    if (it == m.parameters.end()) throw InputError("unknown parameter '" + key + "'");
-    validate_param(m, *it, value);
-    values[key] = value;
-  }
-  return m.make(values);
-}
+/// blinn-dusty with `given` parameters (validated), the rest at their defaults.
+ModelPtr make(const ParamValues& given = {}) { return make_model(ModelSpec{"blinn-dusty", given}); }
 
-/// Parses a canonical spec of this model back into parameters (round-trip check).
-ParamValues params_of_spec(const std::string& spec) {
-  ParamValues v;
-  const auto colon = spec.find(':');
-  std::size_t start = colon + 1;
-  while (start < spec.size()) {
-    auto end = spec.find(',', start);
-    if (end == std::string::npos) end = spec.size();
-    const std::string item = spec.substr(start, end - start);
-    const auto eq = item.find('=');
-    v[item.substr(0, eq)] = std::stod(item.substr(eq + 1));
-    start = end + 1;
-  }
-  return v;
-}
+/// The parameters of a canonical spec of this model (round-trip check).
+ParamValues params_of_spec(const std::string& spec) { return parse_spec(spec).terms.front().model.values; }
 
 // A spread of materials: every phase function, extreme parameters, thin and thick layers.
 const std::vector<ParamValues> kMaterials{

@@ -141,18 +141,25 @@ TEST(ClassicModels, FiniteNonNegativeAndZeroBelowTheHorizon) {
   }
 }
 
-TEST(ClassicModels, MeasuredReciprocityMatchesTraits) {
+/// The largest relative difference between f(i, j) and `other(i, j)` over pairs of test
+/// directions away from the horizon layer (regularized, rounding-dominated there).
+template <class Other>
+double worst_relative_difference(const Model& m, Other&& other) {
   const auto dirs = test_directions();
+  double worst = 0.0;
+  for (const Vec3& i : dirs)
+    for (const Vec3& j : dirs) {
+      if (i.z < 1e-3 || j.z < 1e-3) continue;
+      const double a = m.f(i, j), b = other(i, j);
+      worst = std::max(worst, std::abs(a - b) / std::max({std::abs(a), std::abs(b), kValueFloor}));
+    }
+  return worst;
+}
+
+TEST(ClassicModels, MeasuredReciprocityMatchesTraits) {
   for (const auto& spec : kSpecs) {
     const ModelPtr m = parse_model(spec);
-    double worst = 0.0;
-    for (const Vec3& i : dirs)
-      for (const Vec3& j : dirs) {
-        if (i.z < 1e-3 || j.z < 1e-3) continue;  // away from the regularized horizon layer
-        const double a = m->f(i, j), b = m->f(j, i);
-        const double scale = std::max({std::abs(a), std::abs(b), kValueFloor});
-        worst = std::max(worst, std::abs(a - b) / scale);
-      }
+    const double worst = worst_relative_difference(*m, [&](const Vec3& i, const Vec3& j) { return m->f(j, i); });
     if (m->traits().reciprocal)
       EXPECT_LE(worst, kSymmetricRel) << spec;
     else
@@ -161,17 +168,10 @@ TEST(ClassicModels, MeasuredReciprocityMatchesTraits) {
 }
 
 TEST(ClassicModels, MeasuredIsotropyMatchesTraits) {
-  const auto dirs = test_directions();
   for (const auto& spec : kSpecs) {
     const ModelPtr m = parse_model(spec);
-    double worst = 0.0;
-    for (const Vec3& i : dirs)
-      for (const Vec3& j : dirs) {
-        if (i.z < 1e-3 || j.z < 1e-3) continue;  // the horizon layer is rounding-dominated
-        const double a = m->f(i, j), b = m->f(rotate_z(i, 0.7), rotate_z(j, 0.7));
-        const double scale = std::max({std::abs(a), std::abs(b), kValueFloor});
-        worst = std::max(worst, std::abs(a - b) / scale);
-      }
+    const double worst = worst_relative_difference(
+        *m, [&](const Vec3& i, const Vec3& j) { return m->f(rotate_z(i, 0.7), rotate_z(j, 0.7)); });
     if (m->traits().isotropic)
       EXPECT_LE(worst, kRotationRel) << spec;
     else

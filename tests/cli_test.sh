@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The command line as users and scripts see it (cli-contract.md): exit codes, one-line errors
+# The command line as users and scripts see it: exit codes, one-line errors
 # on stderr, JSON on stdout, no partial output files. Usage: cli_test.sh PATH/TO/ganzfeld
 set -u
 G="$1"
@@ -46,8 +46,8 @@ expect_bad "--theta-i=181" eval --model lambert --law g --theta-i 181 --theta-j 
 expect_bad "zero length" eval --model lambert --law h --j 0,0,0
 expect_bad "three finite numbers" eval --model lambert --law h --j 1,2
 expect_bad "below the surface" eval --model lambert --law h --j 0,0,-1
-expect_bad "--tol=0" eval --model lambert --law h --theta-j 1 --tol 0
-expect_bad "--tol=nan" eval --model lambert --law h --theta-j 1 --tol nan
+expect_bad "--tol 0 is not allowed" eval --model lambert --law h --theta-j 1 --tol 0
+expect_bad "--tol nan is not allowed" eval --model lambert --law h --theta-j 1 --tol nan
 expect_bad "needs the view direction" eval --model lambert --law h
 expect_bad "not expected" eval --model lambert --law h --theta-j 1 --no-such-flag
 expect_bad "cannot write" verify --markdown "$tmp/no/such/dir/errata.md"
@@ -67,7 +67,7 @@ expect_bad "cannot write" plausibility --markdown "$tmp/no/such/dir/p.md"
 grep -q "minnaert.g.hyp2f1" "$tmp/errata.md" && ok || fail "errata markdown"
 ls -a "$tmp" | grep -q '\.tmp-' && fail "temporary file left behind" || ok
 
-# --- parameter tables (issue 16): bake --preset, info and sample at (alpha | roughness, mu), eval --alpha
+# --- parameter tables: bake --preset, info and sample at (alpha | roughness, mu), eval --alpha
 "$G" bake --preset dfg --model ggx --res 4x5 -o "$tmp/dfg.exr" >/dev/null && ok || fail "bake --preset dfg"
 [ "$(json_field <("$G" info "$tmp/dfg.exr" --json) "d['format_version']==3 and [a['name'] for a in d['axes']]==['roughness','cos_theta_i'] and [c['name'] for c in d['channels']]==['dfg_fc','dfg_e','charlie'] and d['axes'][1]['grid']=='texel' and d['max_error']<=1e-6")" = "True" ] \
   && ok || fail "info of a dfg table"
@@ -123,7 +123,7 @@ expect_bad "does not exist" bake --scene "$scene" --out "$tmp/no/such/cache" "${
 expect_bad "mutually exclusive" bake --scene "$scene" --model lambert --out "$tmp/cache"
 expect_bad "no such file" bake --scene "$tmp/none.json" --out "$tmp/cache"
 
-# --- bake --max-error (issue 15): the baker chooses the table; its headline error is the
+# --- bake --max-error: the baker chooses the table; its headline error is the
 # validated lookup error (bake, info --json, sample), the node-only error a secondary field
 "$G" bake --model specular:alpha=100 --law g --max-error 1e-3 -o "$tmp/to_error.exr" --json >"$tmp/to_error.json" \
   && ok || fail "bake --max-error"
@@ -162,7 +162,7 @@ expect_bad "no filtered path" sample "$tmp/dfg.exr" --roughness 0.5 --mu 0.5 --h
 expect_bad "unknown encoding 'unorm8'; allowed: half, float, unorm16" bake --model specular:alpha=8 --law h --res 9 --encoding unorm8 -o "$tmp/bad_e.exr"
 expect_bad "a preset table allows: half, float" bake --preset dfg --model ggx --res 8 --encoding unorm16 -o "$tmp/bad_e.exr"
 [ ! -e "$tmp/bad_e.exr" ] && ok || fail "a refused --max-error bake left a file"
-# unorm16 (issue 15's 16-bit encoding): 2 value bytes per entry, offset and scale in info --json
+# unorm16 (the 16-bit encoding): 2 value bytes per entry, offset and scale in info --json
 "$G" bake --model specular:alpha=8 --law h --res 33 --encoding unorm16 -o "$tmp/unorm16.exr" >/dev/null && ok || fail "bake --encoding unorm16"
 [ "$(json_field <("$G" info "$tmp/unorm16.exr" --json) "(d['encoding'], d['value_bytes'], d['unorm16']['scale'] > 0)")" = "('unorm16', 66, True)" ] \
   && ok || fail "info --json of a unorm16 table: $("$G" info "$tmp/unorm16.exr" --json)"
@@ -176,7 +176,7 @@ expect_bad "drop --res-g or --max-error" bake --scene "$scene" --out "$tmp/err_c
 # tradeoff --schemes (docs/tradeoff.md part 1): refusals before any bake
 expect_bad "--schemes measures fixed schemes" tradeoff --schemes --model specular:alpha=8 --law g --res 9x9x5
 expect_bad "--repeats needs --schemes" tradeoff --model specular:alpha=8 --law g --repeats 2
-expect_bad "--repeats=0 is not allowed" tradeoff --schemes --model specular:alpha=8 --law g --repeats 0 --quick
+expect_bad "--repeats 0 is not allowed" tradeoff --schemes --model specular:alpha=8 --law g --repeats 0 --quick
 
 # --- one planner: a cache baked with non-default table options is what render and export-glsl
 # reach with the same options (nothing baked again), and tables from the cache shade exactly as
@@ -199,7 +199,7 @@ cmp -s "$tmp/cached.exr" "$tmp/memory.exr" && ok || fail "cached and in-memory t
 [ "$(json_field "$tmp/plan_glsl.json" "sorted((t['model'], t['law'], t['lookup_error'], t['node_error']) for t in d['textures']) == sorted((t['model'], t['law'], t['lookup_error'], t['node_error']) for t in $(cat "$tmp/plan_bake.json")['tables'])")" = "True" ] \
   && ok || fail "export-glsl's tables are not the baked ones"
 
-# --- a table is self-describing: it reads without its model's data file (issue #19)
+# --- a table is self-describing: it reads without its model's data file
 "$G" export-brdf --model minnaert:xi=0.5 --format tabulated --res 7x7x5 -o "$tmp/m.tab" >/dev/null && ok || fail "export-brdf"
 "$G" bake --model "tabulated:file=$tmp/m.tab" --law h --res 5 --tol 1e-4 -o "$tmp/m.h.exr" >/dev/null && ok || fail "bake tabulated"
 mv "$tmp/m.tab" "$tmp/m-moved.tab"
@@ -207,7 +207,7 @@ mv "$tmp/m.tab" "$tmp/m-moved.tab"
 "$G" sample "$tmp/m.h.exr" --theta-j 30 >/dev/null && ok || fail "sample after the data file moved"
 "$G" export-glsl "$tmp/m.h.exr" -o "$tmp/m.h.glsl" >/dev/null && ok || fail "export-glsl after the data file moved"
 
-# --- a measured model is keyed by its file's bytes, not its path (issue #19)
+# --- a measured model is keyed by its file's bytes, not its path
 bake_status() { json_field <("$G" bake --model "tabulated:file=$1" --law h --res 5 --tol 1e-4 -o "$tmp/k.h.exr" --json) "d['tables'][0]['status']"; }
 "$G" export-brdf --model minnaert:xi=0.5 --format tabulated --res 7x7x5 -o "$tmp/k.tab" >/dev/null && ok || fail "export-brdf k.tab"
 [ "$(bake_status "$tmp/k.tab")" = "baked" ] && ok || fail "first bake of k.tab"

@@ -1,4 +1,4 @@
-// The extremes grid (reports/extremes.h, issue #20): a slice that ctest can afford — the grid's
+// The extremes grid (reports/extremes.h): a slice that ctest can afford — the grid's
 // corners for the models whose reference is quick — must be finite and honest against the
 // independent reference (reference/). The whole grid is docs/reliability.md (scripts/docs
 // --reliability, tens of minutes).

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Faults on every file ganzfeld writes (issue #20, part 3): after a kill -9 at a random moment,
+# Faults on every file ganzfeld writes: after a kill -9 at a random moment,
 # a file-size limit, a full disk, a read-only or impossible output, and eight processes sharing
 # one cache, every target path holds nothing or a complete valid file, the cache holds only
 # valid entries, and refusals are one line with exit 2.

@@ -20,7 +20,7 @@ TEST(GgxMs, WhiteFurnace) {
     const ModelPtr model = parse_model(spec);
     const auto& ms = dynamic_cast<const GgxMs&>(*model);
     // With f0 = 1 the albedo is E(mu) + (1 − E_table(mu)): 1 within the table's error.
-    EXPECT_LE(ms.energy().error, 1e-5) << spec;  // the white-furnace target
+    EXPECT_LE(ms.energy().error, 1e-5) << spec;  // the white-furnace target of docs/models.md
     for (double mu : {0.01, 0.2, 0.5, 0.8, 1.0}) {
       const Estimate a = albedo(*model, direction_from_cos(mu), {kTol});
       EXPECT_NEAR(a.value, 1.0, ms.energy().error + a.error) << spec << " mu " << mu;

@@ -1,7 +1,7 @@
 // The microfacet models (models/ggx.h, models/charlie.h; docs/models.md): values computed by hand,
 // reciprocity and positivity, the refusals of the spec, roughness = sqrt(alpha), anisotropy,
 // energy (albedo by cubature), the visible-normal density and its sample weights. The
-// closed forms (normalization, G1, the white furnace) are `verify` checks (integrate/verify_ggx.cpp).
+// closed forms (normalization, G1, the white furnace) are `verify` checks (reports/verify_ggx.cpp).
 #include <cmath>
 #include <numbers>
 #include <random>

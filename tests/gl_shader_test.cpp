@@ -1,4 +1,4 @@
-// The exported shader in a real OpenGL implementation (issue #5): Mesa's llvmpipe through EGL
+// The exported shader in a real OpenGL implementation: Mesa's llvmpipe through EGL
 // surfaceless — headless, no GPU, no window system. A fragment shader ray-casts the scene's
 // spheres, shades each pixel with the exported ganzfeld_scene.glsl and the exported KTX2
 // textures, and the pixels read back are compared with the software rasterizer's image of the
@@ -792,7 +792,7 @@ TEST(GlShader, HardwareFilteringStaysWithinTheStatedTableError) {
 }
 
 // ---------------------------------------------------------------------------------------------
-// Parameter tables (issue 16): the exported GLSL lookup, reading the exported C header's half
+// Parameter tables: the exported GLSL lookup, reading the exported C header's half
 // texels, against tables::sample_param on the same half values, at points across and beyond
 // both axes (the clamping), in GLSL 4.30 core and ES 3.00.
 

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# `ganzfeld export-glsl` (issue #5): every exported snippet compiles with glslangValidator as
+# `ganzfeld export-glsl`: every exported snippet compiles with glslangValidator as
 # GLSL 4.30 core and GLSL ES 3.00 fragment shaders, with texelFetch and with hardware filtering;
 # the scene shader compiles; mismatched tables and bad input are refused with exit 2 and leave no
 # output. Usage: glsl_export_test.sh PATH/TO/ganzfeld PATH/TO/glslangValidator

@@ -1,5 +1,5 @@
 # Shared by the shell tests (source it after setting G, the ganzfeld executable): a temporary
-# directory $tmp removed at exit, pass/fail counters and the refusal check of cli-contract.md.
+# directory $tmp removed at exit, pass/fail counters and the refusal check (one line, exit code 2).
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 passed=0 failed=0

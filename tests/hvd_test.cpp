@@ -13,8 +13,8 @@ namespace ganzfeld {
 namespace {
 
 using std::numbers::pi;
-/// Cubature tolerance of the energy tests, and the agreement asked of h = 1: the 1e-9
-/// (integrate/verify.h kAgreement), with the integrator two orders tighter.
+/// Cubature tolerance of the energy tests, and the agreement asked of h = 1: verify's 1e-9
+/// (reports/verify.h kAgreement), with the integrator two orders tighter.
 constexpr double kEnergyTolerance = 1e-9;
 constexpr double kCubatureTolerance = 1e-11;
 /// a must differ from h by more than this for the non-reciprocity claim (measured: 0.16 at 0°).

@@ -1,5 +1,5 @@
 // g and h of every Koenderink–Pont lobe, both halfway-vector-disk models and five classic models
-// against a reference that is not ganzfeld's engine (issue #18): reference/ (Boost.Math's adaptive
+// against a reference that is not ganzfeld's engine: reference/ (Boost.Math's adaptive
 // gauss_kronrod<61>, nested, on the lune written out from its definition apart from integrate/,
 // with break points at the directions where each lobe peaks). The engine's answer must agree
 // within its own error estimate plus the reference's.
@@ -24,7 +24,7 @@ namespace {
 using std::numbers::pi;
 constexpr double kEngineTol = 1e-8, kReferenceTol = 1e-10;
 
-/// The reference as issue #18 first wrote it: break points at the mirror and view directions
+/// The reference as this test first pinned it: break points at the mirror and view directions
 /// only (not the model's mass hints), each panel to its own relative tolerance, so its figures
 /// are those this test has always pinned.
 reference::Options reference_options() {

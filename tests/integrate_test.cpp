@@ -1,5 +1,5 @@
 // integrate/: laws against closed forms and against an independent high-order reference, honesty
-// of the error estimate, the extremes of the Core issue, determinism, reported non-convergence.
+// of the error estimate, extreme geometries, determinism, reported non-convergence.
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -22,7 +22,7 @@ namespace {
 using std::numbers::pi;
 
 constexpr double kTol = 1e-10;  // requested absolute tolerance of the cubature under test
-// Honesty (Core issue): the estimate must bound the true error in >= 99.9% of cases.
+// Honesty: the estimate must bound the true error in >= 99.9% of cases.
 constexpr double kHonestFraction = 0.999;
 
 CubatureOptions options(double tol = kTol) {
@@ -185,7 +185,7 @@ TEST(LawIntegrals, PoleLimits) {
 }
 
 // ---------------------------------------------------------------------------------------------
-// The extremes of the Core issue: converged, finite, never NaN/Inf, for every law.
+// Extreme geometries: converged, finite, never NaN/Inf, for every law.
 TEST(LawIntegrals, ConvergesAtTheExtremes) {
   const std::vector<std::string> specs{"minnaert:xi=1e-6", "minnaert:xi=0.3", "minnaert:xi=50",
                                        "specular:alpha=1000", "backscatter:alpha=1000",

@@ -1,4 +1,4 @@
-// The plausibility report (integrate/plausibility.h): every model's declared traits agree with
+// The plausibility report (reports/plausibility.h): every model's declared traits agree with
 // what is measured, and the report finds what it must find — the known plausible models pass,
 // the known violations show, and K&P's claim about Phong and Blinn-Phong comes out in the form
 // the report states (intensity forms non-reciprocal, BRDF forms reciprocal).

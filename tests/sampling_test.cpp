@@ -248,11 +248,14 @@ TEST(SamplingWeights, HvdWeightIsConstantUpToGrazing) {
                                  "hvd-empirical:cd=1,eta=1.5,k=0,ns=1000,nr=10,rsu=1,rsv=0.05",
                                  "hvd-fit:cd=0.4,f0=0.1,f90=1,k=0.5,n1=50,r1=0.3,n2=5,r2=0.9"}) {
     const ModelPtr model = parse_model(spec);
-    const bool fit = spec.rfind("hvd-fit", 0) == 0;
+    const ModelSpec given = parse_spec(spec).terms.front().model;
+    const bool fit = given.name == "hvd-fit";
+    const auto& v = given.values;
     for (double theta : {0.0, 45.0, 80.0, 89.0, 89.9, 89.99}) {
       const Vec3 j = outgoing(theta, 25.0);
-      const double F = fit ? hvd::schlick(j.z, 0.1, 1.0) : hvd::schlick(j.z, spec.find("eta") != std::string::npos ? hvd::f0_from_eta(1.5) : 0.04);
-      const double cd = fit ? 0.4 : (spec.find("cd=1") != std::string::npos ? 1.0 : 0.7);
+      const double F = fit ? hvd::schlick(j.z, v.at("f0"), v.at("f90"))
+                           : hvd::schlick(j.z, v.count("eta") ? hvd::f0_from_eta(v.at("eta")) : v.at("f0"));
+      const double cd = v.at("cd");
       const double expected = (1.0 - F) * cd + F;
       int drawn = 0;
       for (int s = 0; s < 20000; ++s) {

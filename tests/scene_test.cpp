@@ -368,7 +368,7 @@ void write_constant_brdf(const std::string& path, const char* f) {
   for (int k = 0; k < 8; ++k) out << f << " ";
 }
 
-// Issue #19: a measured model is keyed by its file's bytes, not by its path.
+// A measured model is keyed by its file's bytes, not by its path.
 TEST(Scene, CacheKeysMeasuredModelsByContent) {
   const std::string dir = fresh_dir("content"), data = (fs::path(dir) / "m.tab").string();
   write_constant_brdf(data, "0.3");

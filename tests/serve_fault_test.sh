@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# kill -9 of `ganzfeld serve` in the middle of a bake (issue #17, "Load, faults, scale-out"): the
+# kill -9 of `ganzfeld serve` in the middle of a bake: the
 # cache it leaves holds no partial file, the next `serve` answers from it (reusing what was
 # finished, baking what was lost) and `bake` reads every entry without error. Also: a temporary
 # file left by a writer killed mid-rename and a truncated entry are ignored / re-baked, never served.

@@ -81,7 +81,7 @@ TEST(ServeRequest, EvalRefusalsNameTheBadValue) {
       {"model=lambert&law=h&theta_j=1&bogus=1", "unknown parameter 'bogus' for /api/eval; allowed: model, law"},
       {"model=lambert&law=h&theta_j=1&theta_j=2", "'theta_j' is given more than once"},
       {"model=merl:file=/etc/passwd&law=h&theta_j=1", "names a data file"},
-      {"model=0.5*lambert + 0.5*tabulated: file = ../x&law=h&theta_j=1", "names a data file"},
+      {"model=0.5*lambert %2B 0.5*tabulated: file = ../x&law=h&theta_j=1", "names a data file"},
   };
   for (const auto& [query, fragment] : cases) {
     const auto [status, message] = eval_refusal(query);
@@ -125,7 +125,7 @@ TEST(ServeRequest, TableRefusals) {
     EXPECT_EQ(got, status) << query;
     EXPECT_NE(message.find(fragment), std::string::npos) << query << " -> " << message;
   }
-  // max_error (issue #15): as bake --max-error, named as the query names it
+  // max_error: as bake --max-error, named as the query names it
   for (const auto& [query, fragment] :
        {std::pair{"model=lambert&law=h&max_error=-1", "max_error=-1 is not allowed; expected a positive number"},
         std::pair{"model=lambert&law=h&max_error=1e-3&res=9", "give res or max_error, not both"}}) {
@@ -270,6 +270,33 @@ TEST_F(ServeService, ErrorsAreOneLineJson) {
     const auto doc = nlohmann::json::parse(r.body);
     ASSERT_TRUE(doc.contains("error")) << r.body;
     EXPECT_EQ(doc["error"].get<std::string>().find('\n'), std::string::npos);
+  }
+}
+
+// The viewer parses no spec itself: /api/spec answers with the parser's form (the parameters as
+// given, a choice by name) and the model's canonical spec, the cache's key.
+TEST_F(ServeService, SpecIsParsedByTheOneParser) {
+  const Reply r = get("/api/spec", "model=ggx:g2=separable,roughness=0.5");
+  ASSERT_EQ(r.status, 200) << r.body;
+  const auto doc = nlohmann::json::parse(r.body);
+  EXPECT_EQ(doc["canonical"], "ggx:alpha=0.25,f0=1,g2=separable");
+  ASSERT_EQ(doc["terms"].size(), 1u);
+  EXPECT_EQ(doc["terms"][0]["model"], "ggx");
+  EXPECT_EQ(doc["terms"][0]["weight"], 1.0);
+  EXPECT_EQ(doc["terms"][0]["parameters"], (nlohmann::json{{"roughness", 0.5}, {"g2", "separable"}}));
+  const auto mixture = nlohmann::json::parse(get("/api/spec", "model=1*lambert %2B 3*specular").body);
+  EXPECT_EQ(mixture["canonical"], "0.25*lambert + 0.75*specular:alpha=8");
+  ASSERT_EQ(mixture["terms"].size(), 2u);
+  EXPECT_EQ(mixture["terms"][1]["weight"], 0.75);
+  EXPECT_TRUE(mixture["terms"][1]["parameters"].empty());
+  for (const auto& [query, fragment] : std::vector<std::pair<std::string, std::string>>{
+           {"model=specular:alpha=0", "alpha=0 is out of range"},
+           {"model=merl:file=/etc/passwd", "names a data file"},
+           {"", "missing parameter 'model'"},
+           {"model=lambert&law=h", "unknown parameter 'law' for /api/spec; allowed: model"}}) {
+    const Reply bad = get("/api/spec", query);
+    EXPECT_EQ(bad.status, 400) << query;
+    EXPECT_NE(nlohmann::json::parse(bad.body)["error"].get<std::string>().find(fragment), std::string::npos) << bad.body;
   }
 }
 

@@ -41,6 +41,14 @@ alive() { kill -0 $pid 2>/dev/null; }
   [ "$(python3 -c "import json; print(json.load(open('$tmp/body')) == json.load(open('$tmp/models.json')))")" = True ] \
   && ok || fail "/api/models differs from models --json"
 
+# --- spec: the one parser's form and the canonical spec that eval --json names
+[ "$(code "/api/spec?model=hvd-empirical:rsv=0.2,rsu=1,eta=1.5")" = 200 ] \
+  && [ "$(json_field "$tmp/body" "d['canonical']")" = "$("$G" eval --model hvd-empirical:rsv=0.2,rsu=1,eta=1.5 --law f \
+       --theta-i 0 --theta-j 0 --json | python3 -c "import json, sys; print(json.load(sys.stdin)['model'])")" ] \
+  && [ "$(json_field "$tmp/body" "list(d['terms'][0]['parameters'])")" = "['eta', 'rsu', 'rsv']" ] \
+  && ok || fail "/api/spec: $(cat "$tmp/body")"
+bad 400 "names a data file" "/api/spec?model=merl:file=/etc/passwd"
+
 # --- eval: the same value as the command line
 "$G" eval --model specular:alpha=8 --law g --theta-i 60 --theta-j 30 --phi 180 --json >"$tmp/eval.json"
 [ "$(code "/api/eval?model=specular:alpha=8&law=g&theta_i=60&theta_j=30&phi=180")" = 200 ] && ok || fail "/api/eval: $(cat "$tmp/body")"
@@ -66,7 +74,7 @@ cached=("$tmp"/cache/*.exr)
   && ok || fail "format=ktx2"
 [ "$(code "/api/table?$FAST&format=json")" = 200 ] && [ "$(json_field "$tmp/body" "(len(d['value']), d['law'])")" = "(32, 'h')" ] \
   && ok || fail "format=json"
-# max_error: the table baked to a validated lookup error, as `bake --max-error` bakes it (issue #15)
+# max_error: the table baked to a validated lookup error, as `bake --max-error` bakes it
 [ "$(code "/api/table?model=specular:alpha=8&law=h&max_error=1e-5")" = 200 ] && ok || fail "max_error: $(cat "$tmp/body")"
 "$G" info "$tmp/body" --json >"$tmp/maxerr.json" 2>&1 && ok || fail "the max_error table does not read"
 [ "$(json_field "$tmp/maxerr.json" "d['target_error'] == 1e-5 and d['error'] <= 1e-5")" = "True" ] \

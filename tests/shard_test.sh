@@ -97,8 +97,8 @@ bad_lib "groups[0].models[0]: 3 is not a string" '{"groups": [{"models": [3], "l
 bad_lib "groups[0].laws[0]: law 'f' has no table; allowed: g, h, a" '{"groups": [{"models": ["lambert"], "laws": ["f"]}]}'
 bad_lib "is anisotropic" '{"groups": [{"models": ["ward-aniso:alpha_x=0.1,alpha_y=0.3"], "laws": ["h"]}]}'
 bad_lib "accuracies[0]: unknown key 'res'" '{"groups": [{"models": ["lambert"], "laws": ["h"], "accuracies": [{"res": "9"}]}]}'
-bad_lib "accuracies[0]: --res-g" '{"groups": [{"models": ["lambert"], "laws": ["g"], "accuracies": [{"res_g": "1x1"}]}]}'
-bad_lib "accuracies[1]: --max-error chooses the resolution" '{"groups": [{"models": ["lambert"], "laws": ["h"], "accuracies": [{}, {"max_error": 1e-3, "res_h": "9"}]}]}'
+bad_lib "accuracies[0]: res_g='1x1' is not a resolution for law g" '{"groups": [{"models": ["lambert"], "laws": ["g"], "accuracies": [{"res_g": "1x1"}]}]}'
+bad_lib "accuracies[1]: max_error chooses the resolution and the tolerance itself; drop res_h or max_error" '{"groups": [{"models": ["lambert"], "laws": ["h"], "accuracies": [{}, {"max_error": 1e-3, "res_h": "9"}]}]}'
 bad_lib "accuracies[0].tol: \"small\" is not a number" '{"groups": [{"models": ["lambert"], "laws": ["h"], "accuracies": [{"tol": "small"}]}]}'
 bad_lib "is not for --library bakes" "$(cat "$lib")" --res-g 9x9x5
 expect_bad "is not for --scene bakes" bake --scene "$(dirname "$0")/../examples/default.json" --out "$never" --shard 0/2

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <numbers>
 #include <random>
@@ -387,13 +388,17 @@ class TableRefusal : public ::testing::Test {
   }
 
   static RawExr valid() { return RawExr::load(*valid_); }
+  /// `raw` saved as `file`; its path.
+  static std::string saved(RawExr raw, const std::string& file) {
+    const std::string path = temp_file(file);
+    raw.save(path);
+    return path;
+  }
   /// The valid table with attribute `name` set to `value`, saved as `file`; its path.
   static std::string valid_with(const char* name, const std::string& value, const std::string& file) {
     RawExr raw = valid();
     raw.set(name, value);
-    const std::string path = temp_file(file);
-    raw.save(path);
-    return path;
+    return saved(raw, file);
   }
   static std::string* valid_;
 };
@@ -419,61 +424,30 @@ TEST_F(TableRefusal, Truncated) {
   }
 }
 
-TEST_F(TableRefusal, MissingVersion) {
-  RawExr raw = valid();
-  raw.dropped.insert("ganzfeld.format_version");
-  const std::string path = temp_file("no_version.exr");
-  raw.save(path);
-  expect_refused(path, "missing string attribute ganzfeld.format_version");
-}
-
-TEST_F(TableRefusal, UnknownVersion) {
-  RawExr raw = valid();
-  raw.set("ganzfeld.format_version", "3");
-  const std::string path = temp_file("version3.exr");
-  raw.save(path);
-  expect_refused(path, "format version '3' is not supported");
-}
-
-TEST_F(TableRefusal, WrongShape) {
-  RawExr raw = valid();  // 9 x 1 image for a 9-node axis
-  raw.width = 8;
-  for (auto& [name, data] : raw.channels) data.resize(8);
-  const std::string path = temp_file("wrong_shape.exr");
-  raw.save(path);
-  expect_refused(path, "image is 8x1 but the axes need 9x1");
-}
-
-TEST_F(TableRefusal, WrongChannels) {
-  RawExr raw = valid();
-  raw.channels.erase("error");
-  const std::string path = temp_file("one_channel.exr");
-  raw.save(path);
-  expect_refused(path, "expected exactly {error, value}");
-}
-
-TEST_F(TableRefusal, LawInconsistentWithAxes) {
-  RawExr raw = valid();
-  raw.set("ganzfeld.law", "g");  // g needs 3 axes, the file has 1
-  const std::string path = temp_file("g_one_axis.exr");
-  raw.save(path);
-  expect_refused(path, "law g needs 3 axes");
-}
-
-TEST_F(TableRefusal, NaNInData) {
-  RawExr raw = valid();
-  raw.channels["value"][3] = std::nanf("");
-  const std::string path = temp_file("nan.exr");
-  raw.save(path);
-  expect_refused(path, "every value must be finite");
-}
-
-TEST_F(TableRefusal, MaxErrorDisagreesWithData) {
-  RawExr raw = valid();
-  raw.set("ganzfeld.max_error", "0");
-  const std::string path = temp_file("max_error.exr");
-  raw.save(path);
-  expect_refused(path, "disagrees with the error data");
+// Each edit of a valid table's header or pixels, and the refusal it must draw.
+TEST_F(TableRefusal, BrokenHeadersAndPixels) {
+  const std::vector<std::tuple<const char*, std::function<void(RawExr&)>, const char*>> cases{
+      {"no_version.exr", [](RawExr& raw) { raw.dropped.insert("ganzfeld.format_version"); },
+       "missing string attribute ganzfeld.format_version"},
+      {"version3.exr", [](RawExr& raw) { raw.set("ganzfeld.format_version", "3"); },
+       "format version '3' is not supported"},
+      {"wrong_shape.exr",  // 9 x 1 image for a 9-node axis
+       [](RawExr& raw) {
+         raw.width = 8;
+         for (auto& [name, data] : raw.channels) data.resize(8);
+       },
+       "image is 8x1 but the axes need 9x1"},
+      {"one_channel.exr", [](RawExr& raw) { raw.channels.erase("error"); }, "expected exactly {error, value}"},
+      {"g_one_axis.exr", [](RawExr& raw) { raw.set("ganzfeld.law", "g"); },  // g needs 3 axes, the file has 1
+       "law g needs 3 axes"},
+      {"nan.exr", [](RawExr& raw) { raw.channels["value"][3] = std::nanf(""); }, "every value must be finite"},
+      {"max_error.exr", [](RawExr& raw) { raw.set("ganzfeld.max_error", "0"); }, "disagrees with the error data"},
+  };
+  for (const auto& [file, edit, reason] : cases) {
+    RawExr raw = valid();
+    edit(raw);
+    expect_refused(saved(raw, file), reason);
+  }
 }
 
 // The model spec is kept as text: a model this build does not know (or whose data file is gone,
@@ -487,7 +461,7 @@ TEST_F(TableRefusal, ModelSpecBlankOrMultiLine) {
     expect_refused(valid_with("ganzfeld.model", spec, "bad_model.exr"), "expected one non-empty line of printable text");
 }
 
-// ganzfeld.model_content (issue #19): optional, so tables written before it existed still read.
+// ganzfeld.model_content: optional, so tables written before it existed still read.
 TEST_F(TableRefusal, ModelContentMissingReadsAsNone) {
   RawExr raw = valid();
   raw.dropped.insert("ganzfeld.model_content");
@@ -504,8 +478,8 @@ TEST_F(TableRefusal, ModelContentMalformed) {
                    std::string("model content '") + digest + "' is not allowed");
 }
 
-// A table whose header declares more than its bytes hold (the issue-20 memory bomb: an 852-byte
-// file whose attribute size of 1.6 GB OpenEXR allocated before any check) is refused by
+// A table whose header declares more than its bytes hold (a memory bomb: an 852-byte file whose
+// attribute size of 1.6 GB OpenEXR 3.1 allocates before any check) is refused by
 // tables/exr_guard.cpp before OpenEXR reads it: one line naming the attribute, no allocation
 // beyond a small multiple of the file, quickly.
 TEST_F(TableRefusal, ForgedSizesAreRefusedBeforeAllocating) {
@@ -630,7 +604,7 @@ TEST(Table, ReportedErrorCoversInterpolationBetweenNodes) {
 }
 
 
-// --- Format version 2: the lobe frame, Catmull–Rom, baking to a lookup error (issue 15) ------
+// --- Format version 2: the lobe frame, Catmull–Rom, baking to a lookup error -----------------
 
 // Lobe coordinates -> directions -> (i·n, j·n, phi) -> lobe coordinates: atan2 of well-scaled
 // dot products, a few ulps of pi (psi and beta are angles up to pi).
@@ -742,10 +716,10 @@ TEST(Table, Version1FilesStillRead) {
 
 // bake --max-error: the table meets E, in the lobe frame, and its reported error (the headline)
 // covers |lookup - law| at >= 99.9% of fresh random points (another seed than the validation's)
-// against direct cubature at 1e-10 (issue 15: "reported bound >= actual error at >= 99.9%").
+// against direct cubature at 1e-10 (the promise: "reported bound >= actual error at >= 99.9%").
 constexpr double kReferenceTol = 1e-10;
 constexpr int kFreshPoints = 2000;
-constexpr double kAllowedFreshMisses = 0.001;  // the issue's 99.9%
+constexpr double kAllowedFreshMisses = 0.001;  // the promised 99.9%
 /// How many of kFreshPoints seeded points (j·n >= the table's validated minimum) the table's bound
 /// misses for any of `roundings` against cubature at kReferenceTol, and the largest error seen.
 std::pair<double, double> fresh_misses(const Model& model, Law law, const Table& table, std::uint64_t seed,
@@ -1005,14 +979,40 @@ TEST(Table, MaxErrorRefusesWhatCannotBeMet) {
   refused(1e-8, 0, Encoding::single, "below what a float table can hold");
   refused(1e-4, 0, Encoding::half, "below what a half table can hold");
   refused(1e-5, 0, Encoding::unorm16, "below what a unorm16 table can hold");
-  refused(1e-3, 100, Encoding::single, "--max-bytes 100 is too small");
-  refused(1e-6, 4096, Encoding::single, "cannot reach --max-error 1e-06");
+  refused(1e-3, 100, Encoding::single, "max_bytes=100 is too small");
+  refused(1e-6, 4096, Encoding::single, "cannot reach max_error=1e-06");
+}
+
+// The library names parameters, not a front end's flags: the command line and a query word the
+// same refusal each in its own spelling.
+TEST(Table, RefusalsNameParametersThatEachFrontEndSpells) {
+  try {
+    check_error_target(1e-4, 0, Law::h, Encoding::half);
+    ADD_FAILURE() << "accepted";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.refused().parameter, "max_error");
+    EXPECT_EQ(e.refused().value, "1e-04");  // format_number: the shortest text that round-trips
+    EXPECT_EQ(std::string(e.what()),
+              "max_error=1e-04 is below what a half table can hold (its rounding alone); allowed: >= 0.0009765625 "
+              "(use encoding=float for less)");
+    EXPECT_EQ(e.worded(InputError::flag_spelling),
+              "--max-error 1e-04 is below what a half table can hold (its rounding alone); allowed: >= 0.0009765625 "
+              "(use --encoding float for less)");
+  }
+  try {
+    parse_resolution("0x0", Law::g);
+    ADD_FAILURE() << "accepted";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.worded(InputError::flag_spelling).rfind("--res '0x0' is not a resolution for law g", 0), 0u);
+    EXPECT_EQ(e.renamed("res", "res_g").worded(InputError::flag_spelling).rfind("--res-g '0x0' is not", 0), 0u);
+    EXPECT_EQ(std::string(e.what()).rfind("res='0x0' is not", 0), 0u);
+  }
 }
 
 // --max-error under a tight --max-bytes: when the counts the search predicts exceed the cap, it
 // bakes the largest table of that shape within the cap, and the refusal names what that reached.
 // specular alpha=8 g, E = 1e-5, B = 200000: the first bake (17x17x9 lobe frame, 10 kB) measures
-// 1.45e-3; a table within B reaches ~4.3e-5 (issue #15's report), so a refusal naming an error
+// 1.45e-3; a table within B reaches ~4.3e-5 (docs/tradeoff.md), so a refusal naming an error
 // above kCappedBest kept the coarse first bake.
 constexpr double kCappedBest = 1e-4;
 constexpr std::uint64_t kCap = 200000;

@@ -299,7 +299,7 @@ const SchemeRow& only_row(SchemeKind kind, Encoding encoding = Encoding::single)
   return found ? *found : missing;
 }
 
-// Issue #15's promise, at points no table was built from: a --max-error bake's lookup is within
+// The promise of docs/tradeoff.md, at points no table was built from: a --max-error bake's lookup is within
 // E, and its stated lookup_error holds at >= 99.9% of them.
 constexpr double kQuickTarget = 1e-2;
 constexpr double kCoverage = 0.999;
@@ -318,7 +318,7 @@ TEST(TradeoffSchemes, TheMaxErrorPickMeetsItsTargetAtFreshPoints) {
     }
 }
 
-// The 16-bit row (issue #15: "a 16-bit unsigned-normalized encoding with a scale"): the same
+// The 16-bit row (a 16-bit unsigned-normalized encoding with a scale): the same
 // target met at fresh points, 2 value bytes per entry.
 TEST(TradeoffSchemes, TheUnorm16PickMeetsItsTargetInTwoBytesPerValue) {
   const SchemeRow& unorm = only_row(SchemeKind::max_error, Encoding::unorm16);

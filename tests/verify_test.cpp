@@ -1,4 +1,4 @@
-// reports/verify: every id of the Core issue is checked, every matching or corrected form
+// reports/verify: every closed form a model registers is checked, every matching or corrected form
 // agrees with cubature, and the committed docs/errata.md is what `ganzfeld verify` generates.
 #include <cmath>
 #include <fstream>
@@ -27,7 +27,7 @@ TEST(Verify, ChecksEveryPrintedClaimOfThePapers) {
       "specular.a.alpha8", "specular.norm", "backscatter.g.alpha1", "backscatter.h.alpha1", "backscatter.norm",
       "perfect-backscatter.norm", "perfect-backscatter.retro", "asperity.g.alpha1", "asperity.h.alpha1",
       "asperity.norm", "reciprocity.a_equals_h", "mixture.plausible",
-      // the microfacet models (issue #16, integrate/verify_ggx.cpp)
+      // the microfacet models (reports/verify_ggx.cpp)
       "ggx.norm", "ggx.g1", "ggx.furnace.e11", "charlie.norm"};
   std::set<std::string> seen;
   for (const auto& c : report()) {

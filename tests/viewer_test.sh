@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The viewer in a real browser (issue #17): Debian's chromium-headless-shell, WebGL2 through
+# The viewer in a real browser: Debian's chromium-headless-shell, WebGL2 through
 # SwiftShader, loads the page of a running `ganzfeld serve` in its test mode (one sphere of the
 # K&P panel rendered into a float framebuffer, the pixels written into <pre id="result">), and
 # tests/viewer_compare.cpp holds them against `ganzfeld render`'s image of the same scene, shaded

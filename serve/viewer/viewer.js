@@ -614,18 +614,20 @@ function sliderScale(param) {
 
 const formatValue = (v, integer) => integer ? String(Math.round(v)) : String(Number(v.toPrecision(4)));
 
-/// A single model's spec "name:k=v,..." as {name, values}, or null (a mixture or a bad spec).
-function parseSpec(spec) {
-  const m = /^\s*([a-z][a-z0-9-]*)\s*(?::(.*))?$/.exec(spec);
-  if (!m || spec.includes('*') || spec.includes('+')) return null;
-  const values = {};
-  for (const item of (m[2] || '').split(',').filter((s) => s.trim()))
-    values[item.split('=')[0].trim()] = item.split('=')[1];
-  return {name: m[1], values};
+/// A single model's spec as the service parses it (/api/spec): {name, values} with the values the
+/// spec gives, or null (a mixture, or a spec the service refuses).
+async function parseSpec(spec) {
+  if (!spec.trim()) return null;
+  try {
+    const terms = JSON.parse(await cached(`/api/spec?model=${encodeURIComponent(spec)}`)).terms;
+    return terms.length === 1 ? {name: terms[0].model, values: terms[0].parameters} : null;
+  } catch (e) {
+    return null;
+  }
 }
 
 /// The menu and sliders of one spec field; the sliders rewrite the spec, the spec (typed or a
-/// mixture) sets the menu and the sliders where it can.
+/// mixture) sets the menu and the sliders where it can. Resolves when they show the field's spec.
 function setupEditor(letter, onChange) {
   const select = document.getElementById(`model-${letter}`);
   const sliders = document.getElementById(`sliders-${letter}`);
@@ -666,8 +668,8 @@ function setupEditor(letter, onChange) {
       sliders.appendChild(div);
     }
   };
-  const fromSpec = () => {
-    const parsed = parseSpec(field.value);
+  const fromSpec = async () => {
+    const parsed = await parseSpec(field.value);
     const model = parsed && models.find((m) => m.name === parsed.name);
     select.value = model ? model.name : (field.value.trim() ? '*' : '');
     if (model) buildSliders(model, parsed.values); else sliders.innerHTML = '';
@@ -678,7 +680,7 @@ function setupEditor(letter, onChange) {
     onChange();
   });
   field.addEventListener('change', () => { fromSpec(); onChange(); });
-  fromSpec();
+  return fromSpec();
 }
 
 function parseVector(text) {
@@ -726,8 +728,7 @@ async function main() {
   document.getElementById('spec-a').value = params.get('model') || 'specular:alpha=8';
   document.getElementById('spec-b').value = params.get('model_b') || '';
   window.addEventListener('mouseup', () => { state.dragging = null; state.turning = null; });
-  setupEditor('a', rebuild);
-  setupEditor('b', rebuild);
+  await Promise.all([setupEditor('a', rebuild), setupEditor('b', rebuild)]);
   await rebuild();
   // probe=U,V: the numbers at (U, V) of model A's sphere views (spherePoint), as if the cursor
   // were there (for screenshots and tests/viewer_test.sh).

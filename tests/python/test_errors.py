@@ -27,11 +27,11 @@ def test_tolerance_and_budget_messages_match_the_cli(cli):
         expected = cli.refusal("eval", "--model", "specular:alpha=8", "--law", "h", "--theta-j", "10", "--tol", tol)
         with pytest.raises(ValueError) as raised:
             model.h(theta_j=10, tol=tol)
-        assert str(raised.value) == expected.replace("--tol=", "tol=")
+        assert str(raised.value) == expected.replace("--tol ", "tol=")  # one refusal, each front end's spelling
     expected = cli.refusal("eval", "--model", "specular:alpha=8", "--law", "h", "--theta-j", "10", "--max-evals", 10)
     with pytest.raises(ValueError) as raised:
         model.h(theta_j=10, max_evals=10)
-    assert str(raised.value) == expected.replace("--max-evals=", "max_evals=")
+    assert str(raised.value) == expected.replace("--max-evals ", "max_evals=")
 
 
 @pytest.mark.parametrize("call, error, message", [

@@ -1,4 +1,4 @@
-// A three.js scene as a ganzfeld scene file (cli-contract.md; examples/default.json): what
+// A three.js scene as a ganzfeld scene file (as examples/default.json): what
 // `ganzfeld bake --scene`, `export-glsl --scene` and `render --scene` read, so that ganzfeld bakes
 // exactly the tables the scene's materials need and renders the picture three.js should show.
 //
