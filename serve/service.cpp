@@ -180,7 +180,7 @@ Reply Service::scene_glsl(const Request& request) {
   std::string statuses;  // "baked", "reused", "joined" of each table, comma-separated
   store.obtain = [&](scene::TableRequest r) {
     std::string status;
-    r.options.max_evaluations = options_.limits.max_evaluations;
+    tables::common(r.options).max_evaluations = options_.limits.max_evaluations;
     const Bakery::Result result = obtain(table_query(r.model, r.law, r.options), status);
     statuses += (statuses.empty() ? "" : ",") + status;
     scene::PlannedTable planned{std::move(r), std::shared_ptr<const tables::Table>(result, &result->table), result->path,

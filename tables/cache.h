@@ -10,7 +10,7 @@
 // and atomically replaced (write_table renames a complete temporary file over it).
 //
 // Not in the key: data file paths, the evaluation budget per entry
-// (BakeOptions::max_evaluations, not stored in the file), the command line and the ganzfeld
+// (BakeCommon::max_evaluations, not stored in the file), the command line and the ganzfeld
 // version that made the table.
 #pragma once
 
@@ -42,9 +42,9 @@ struct TableKey {
   int target_fetches = 0;  ///< --fetches (0: no budget)
 };
 
-/// The key of the table bake(model, law, options) would make (axes: make_axes). Throws
-/// InputError for what bake would refuse about the axes (law, counts, mappings).
-TableKey table_key(const Model& model, Law law, const BakeOptions& options);
+/// The key of the table bake(model, law, request) would make (axes: make_axes). Throws
+/// InputError for what bake would refuse about the axes (law, counts, mappings) or the target.
+TableKey table_key(const Model& model, Law law, const BakeRequest& request);
 /// The key a table read from a file carries.
 TableKey table_key(const Table& table);
 
@@ -79,10 +79,10 @@ std::optional<Table> read_if_matching(const std::string& path, const TableKey& k
 
 /// Reuses the table at `path` if read_if_matching accepts it (and not `force`); otherwise bakes
 /// it, stamps `command` into it and writes it atomically over `path`.
-CacheResult bake_or_reuse(const std::string& path, const Model& model, Law law, const BakeOptions& options,
+CacheResult bake_or_reuse(const std::string& path, const Model& model, Law law, const BakeRequest& request,
                           const std::string& command, bool force = false);
 
 /// The path of this table in the cache `directory`: directory/cache_file_name(key).
-std::string cache_path(const std::string& directory, const Model& model, Law law, const BakeOptions& options);
+std::string cache_path(const std::string& directory, const Model& model, Law law, const BakeRequest& request);
 
 }  // namespace ganzfeld::tables

@@ -231,16 +231,14 @@ struct Scheme {
 
 }  // namespace
 
-Table bake_to_error(const Model& model, Law law, const BakeOptions& requested) {
-  const double E = requested.target_error;
-  check_error_target(E, requested.max_bytes, law, requested.encoding);
-  if (requested.max_fetches != 0) check_fetch_budget(requested.max_fetches);
-  const std::uint64_t cap = requested.max_bytes ? requested.max_bytes : kDefaultMaxValueBytes;
-  BakeOptions options = requested;
-  options.target_error = 0.0;
-  options.max_bytes = 0;
-  options.max_fetches = 0;
-  options.mappings.clear();
+Table bake_to_error(const Model& model, Law law, const TargetBake& requested) {
+  const ErrorTarget& target = requested.target;
+  const double E = target.lookup_error;
+  check_error_target(E, target.max_bytes, law, requested.encoding);
+  if (target.max_fetches != 0) check_fetch_budget(target.max_fetches);
+  const std::uint64_t cap = target.max_bytes ? target.max_bytes : kDefaultMaxValueBytes;
+  BakeOptions options;  // every grid choice is the search's; encoding, budget and progress are the caller's
+  static_cast<BakeCommon&>(options) = requested;
   options.tolerance = E / kNodeToleranceRatio;
   options.check_tolerance = E / kCheckToleranceRatio;
   options.random_checks = kSearchChecks;
@@ -249,18 +247,18 @@ Table bake_to_error(const Model& model, Law law, const BakeOptions& requested) {
   auto finish = [&](Table table) {
     table.target_error = E;
     table.target_bytes = cap;
-    table.target_fetches = requested.max_fetches;
+    table.target_fetches = target.max_fetches;
     return table;
   };
   const std::vector<InputError::Piece> within{
       " within " + std::to_string(cap) + " value bytes (",
-      requested.max_bytes ? InputError::Piece(Named{"max_bytes"}) : "the default cap", ")"};
+      target.max_bytes ? InputError::Piece(Named{"max_bytes"}) : "the default cap", ")"};
   auto refusal = [&](std::vector<InputError::Piece> pieces) {  // "cannot reach max_error=E ... within ..."
     pieces.insert(pieces.begin(), {std::string("cannot reach "), Named{"max_error", format_number(E)},
                                    " for law " + std::string(to_string(law)) + " of '" + model.spec() + "'"});
     return InputError(std::move(pieces));
   };
-  if (requested.max_fetches == 0) {  // no budget: the fewest bytes, read with texelFetch
+  if (target.max_fetches == 0) {  // no budget: the fewest bytes, read with texelFetch
     options.interpolation = Interpolation::catmull_rom;
     SearchResult found = search_counts(model, law, options, E, cap);
     if (found.table) return finish(std::move(*found.table));
@@ -277,7 +275,7 @@ Table bake_to_error(const Model& model, Law law, const BakeOptions& requested) {
                               {false, Interpolation::catmull_rom, Filter::texel_fetch}};
   SearchResult best;
   for (const Scheme& scheme : schemes) {
-    if (fetches(scheme.interpolation, scheme.filter, D) > requested.max_fetches) continue;
+    if (fetches(scheme.interpolation, scheme.filter, D) > target.max_fetches) continue;
     BakeOptions o = options;
     o.warped = scheme.warped;
     o.interpolation = scheme.interpolation;
@@ -287,8 +285,8 @@ Table bake_to_error(const Model& model, Law law, const BakeOptions& requested) {
     if (found.table) return finish(std::move(*found.table));
     if (found.best_error < best.best_error) best = std::move(found);
   }
-  std::vector<InputError::Piece> pieces{" within " + std::to_string(requested.max_fetches) + " texture fetch" +
-                                            (requested.max_fetches == 1 ? "" : "es") + " per lookup (",
+  std::vector<InputError::Piece> pieces{" within " + std::to_string(target.max_fetches) + " texture fetch" +
+                                            (target.max_fetches == 1 ? "" : "es") + " per lookup (",
                                         Named{"fetches"}, ") and"};
   pieces.insert(pieces.end(), within.begin(), within.end());
   pieces.push_back("; the best found is " + format_number(best.best_error) + " at " +

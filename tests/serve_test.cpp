@@ -94,8 +94,8 @@ TEST(ServeRequest, EvalRefusalsNameTheBadValue) {
 TEST(ServeRequest, TableUsesTheCacheKeysOfBake) {
   const TableQuery q = parse_table(parse_query("model=minnaert:xi=1&law=g&res=8x6x4&encoding=half&format=ktx2"), Limits{},
                                    TableEndpoint::table);
-  EXPECT_EQ(q.options.resolution, (std::vector<int>{8, 6, 4}));
-  EXPECT_EQ(q.options.encoding, tables::Encoding::half);
+  EXPECT_EQ(std::get<tables::BakeOptions>(q.options).resolution, (std::vector<int>{8, 6, 4}));
+  EXPECT_EQ(tables::common(q.options).encoding, tables::Encoding::half);
   EXPECT_EQ(q.format, TableFormat::ktx2);
   const tables::TableKey key = tables::table_key(*q.model, q.law, q.options);
   EXPECT_EQ(q.key, tables::key_text(key));
@@ -103,8 +103,24 @@ TEST(ServeRequest, TableUsesTheCacheKeysOfBake) {
   EXPECT_EQ(q.file_name.find('/'), std::string::npos);
   // unset parameters: the scene defaults, so the service and `bake --scene` share entries
   const TableQuery d = parse_table(parse_query("model=minnaert:xi=1&law=g"), Limits{}, TableEndpoint::table);
-  EXPECT_EQ(d.options.resolution, scene::TableOptions{}.resolution_g);
-  EXPECT_EQ(d.options.tolerance, scene::TableOptions{}.tolerance);
+  EXPECT_EQ(std::get<tables::BakeOptions>(d.options).resolution, scene::TableOptions{}.resolution_g);
+  EXPECT_EQ(std::get<tables::BakeOptions>(d.options).tolerance, scene::TableOptions{}.tolerance);
+}
+
+// max_error asks for an error target, nothing else: no grid field is carried along to be
+// silently replaced, and the target is capped at the service's own table size.
+TEST(ServeRequest, MaxErrorIsAnErrorTarget) {
+  Limits limits;
+  const TableQuery q = parse_table(parse_query("model=minnaert:xi=1&law=g&max_error=1e-3&fetches=1&encoding=half"),
+                                   limits, TableEndpoint::table);
+  const auto* bake = std::get_if<tables::TargetBake>(&q.options);
+  ASSERT_NE(bake, nullptr);
+  EXPECT_EQ(bake->target.lookup_error, 1e-3);
+  EXPECT_EQ(bake->target.max_bytes, limits.max_entries * sizeof(float));
+  EXPECT_EQ(bake->target.max_fetches, 1);
+  EXPECT_EQ(bake->encoding, tables::Encoding::half);
+  EXPECT_EQ(bake->max_evaluations, limits.max_evaluations);
+  EXPECT_NE(q.key.find("max_error=0.001"), std::string::npos) << q.key;
 }
 
 TEST(ServeRequest, TableRefusals) {
@@ -128,7 +144,9 @@ TEST(ServeRequest, TableRefusals) {
   // max_error: as bake --max-error, named as the query names it
   for (const auto& [query, fragment] :
        {std::pair{"model=lambert&law=h&max_error=-1", "max_error=-1 is not allowed; expected a positive number"},
-        std::pair{"model=lambert&law=h&max_error=1e-3&res=9", "give res or max_error, not both"}}) {
+        std::pair{"model=lambert&law=h&max_error=1e-3&res=9", "give res or max_error, not both"},
+        std::pair{"model=lambert&law=h&max_error=1e-3&tol=1e-6", "give tol or max_error, not both"},
+        std::pair{"model=lambert&law=h&res=9&fetches=1", "fetches needs max_error"}}) {
     const auto [got, message] = table_refusal(query);
     EXPECT_EQ(got, 400) << query;
     EXPECT_NE(message.find(fragment), std::string::npos) << query << " -> " << message;

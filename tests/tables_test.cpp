@@ -756,8 +756,8 @@ TEST(Table, MaxErrorBakeReportsAnHonestLookupError) {
                         Case{"specular:alpha=1000", Law::h, 1e-6},
                         Case{"specular:alpha=1000", Law::h, 5e-5, Encoding::unorm16}}) {
     const ModelPtr model = parse_model(c.spec);
-    BakeOptions options;
-    options.target_error = c.max_error;
+    TargetBake options;
+    options.target.lookup_error = c.max_error;
     options.encoding = c.encoding;
     const Table baked = bake(*model, c.law, options);
     const Table table = round_trip(baked, "to_error.exr");
@@ -901,9 +901,8 @@ TEST(Table, FetchBudgetBakeIsOneFilteredFetchWithAnHonestBound) {
   };
   for (const Case& c : {Case{"specular:alpha=100", Law::g}, Case{"specular:alpha=1000", Law::h}}) {
     const ModelPtr model = parse_model(c.spec);
-    BakeOptions options;
-    options.target_error = 1e-3;
-    options.max_fetches = 1;
+    TargetBake options;
+    options.target = {1e-3, 0, 1};
     const Table table = round_trip(bake(*model, c.law, options), "fetch.exr");
     EXPECT_LE(table.lookup_error, 1e-3) << c.spec;
     EXPECT_EQ(fetches(table), 1) << c.spec;
@@ -926,10 +925,8 @@ TEST(Table, FetchBudgetRefusals) {
   // Within one fetch and 4 kB, 1e-5 is out of reach: the refusal names the best error, its
   // fetches and its bytes.
   const ModelPtr model = parse_model("specular:alpha=8");
-  BakeOptions options;
-  options.target_error = 1e-5;
-  options.max_fetches = 1;
-  options.max_bytes = 4096;
+  TargetBake options;
+  options.target = {1e-5, 4096, 1};
   try {
     bake_to_error(*model, Law::g, options);
     ADD_FAILURE() << "accepted";
@@ -962,9 +959,8 @@ TEST(Table, MaxErrorRefusesWhatCannotBeMet) {
   ASSERT_NO_THROW(check_error_target(1.0 / 65534, 0, Law::g, Encoding::unorm16));
   const ModelPtr model = parse_model("specular:alpha=100");
   auto refused = [&](double e, std::uint64_t bytes, Encoding enc, const std::string& fragment) {
-    BakeOptions options;
-    options.target_error = e;
-    options.max_bytes = bytes;
+    TargetBake options;
+    options.target = {e, bytes, 0};
     options.encoding = enc;
     try {
       bake_to_error(*model, Law::g, options);
@@ -1018,10 +1014,11 @@ constexpr double kCappedBest = 1e-4;
 constexpr std::uint64_t kCap = 200000;
 /// The refusal of bake_to_error(options) for `spec`'s g: {best error, its value bytes}, parsed
 /// from "the best this search found is E in B value bytes"; fails the test when it is accepted.
-std::pair<double, double> refused_best(const std::string& spec, const BakeOptions& options) {
+std::pair<double, double> refused_best(const std::string& spec, const TargetBake& options) {
   try {
     bake_to_error(*parse_model(spec), Law::g, options);
-    ADD_FAILURE() << spec << ": " << options.target_error << " within " << options.max_bytes << " bytes accepted";
+    ADD_FAILURE() << spec << ": " << options.target.lookup_error << " within " << options.target.max_bytes
+                  << " bytes accepted";
   } catch (const InputError& error) {
     const std::string what = error.what();
     std::printf("refused: %s\n", what.c_str());
@@ -1039,12 +1036,11 @@ std::pair<double, double> refused_best(const std::string& spec, const BakeOption
 }
 
 TEST(Table, MaxErrorUnderATightCapBakesUpToTheCap) {
-  BakeOptions options;
-  options.target_error = 1e-5;
-  options.max_bytes = kCap;
+  TargetBake options;
+  options.target = {1e-5, kCap, 0};
   const auto [best, bytes] = refused_best("specular:alpha=8", options);
   EXPECT_LT(best, kCappedBest);
-  EXPECT_GT(best, options.target_error);
+  EXPECT_GT(best, options.target.lookup_error);
   EXPECT_LE(bytes, static_cast<double>(kCap));
 }
 
@@ -1055,10 +1051,10 @@ TEST(Table, MaxErrorUnderATightCapBakesUpToTheCap) {
 constexpr double kHopelessBakeBytes = 1e6;
 
 TEST(Table, MaxErrorFarOutOfReachRefusesWithoutACapSizedBake) {
-  BakeOptions options;
-  options.target_error = 1e-4;
+  TargetBake options;
+  options.target.lookup_error = 1e-4;
   const auto [best, bytes] = refused_best("hvd-empirical", options);
-  EXPECT_GT(best, options.target_error);
+  EXPECT_GT(best, options.target.lookup_error);
   EXPECT_GT(bytes, 0.0);
   EXPECT_LT(bytes, kHopelessBakeBytes);
 }
