@@ -1,6 +1,8 @@
 // Bake throughput, repeated (timings are medians of repeated
 // runs with their spread, and the machine is read from the machine).
+#include <ctime>
 #include <fstream>
+#include <sstream>
 #include <thread>
 
 #include <tbb/global_control.h>
@@ -43,6 +45,22 @@ std::string machine_description() {
       break;
     }
   return model + ", " + std::to_string(std::thread::hardware_concurrency()) + " hardware threads";
+}
+
+std::string significant(double x, int digits) {
+  std::ostringstream s;
+  s.precision(digits);
+  s << x;
+  return s.str();
+}
+
+std::string today_utc() {
+  const std::time_t now = std::time(nullptr);
+  std::tm utc{};
+  gmtime_r(&now, &utc);
+  char buffer[16];
+  std::strftime(buffer, sizeof buffer, "%Y-%m-%d", &utc);
+  return buffer;
 }
 
 }  // namespace ganzfeld::bench

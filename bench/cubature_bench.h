@@ -140,6 +140,10 @@ std::vector<BakeTiming> run_bake_benchmark(bool quick, int repeats);
 
 /// The machine, read from it: CPU model (/proc/cpuinfo) and hardware threads.
 std::string machine_description();
+/// Today's date in UTC, YYYY-MM-DD (the stamp of a generated section).
+std::string today_utc();
+/// x with `digits` significant digits (%g): the benchmarks' Markdown numbers.
+std::string significant(double x, int digits = 3);
 
 std::string performance_markdown(const std::vector<FamilyResult>& families, const CubatureBenchOptions& options,
                                  const std::vector<BakeTiming>& bakes, const std::string& command,

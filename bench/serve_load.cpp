@@ -11,7 +11,18 @@
 // "reused") and by the service's own counter (/healthz tables_baked, before and after).
 // Every uncached table must find a bake slot: run the service with --jobs + --queue above
 // kUncachedTables, or the refusals (503) are counted as errors.
+// --slow-connections N keeps N slowloris connections open for the whole run: each sends a request
+// head one byte every kSlowByteSeconds and never finishes it; one the service closes (its header
+// deadline) is opened again, so that N are open throughout.
+#include <arpa/inet.h>
+#include <fcntl.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
 #include <array>
+#include <atomic>
+#include <chrono>
 #include <cstdio>
 #include <map>
 #include <mutex>
@@ -70,6 +81,82 @@ struct Plan {
   Kind kind;
   int table;
   std::string target;
+};
+
+/// Seconds between two bytes of a slow connection's head.
+constexpr double kSlowByteSeconds = 2.5;
+
+/// N connections that send a request head one byte every kSlowByteSeconds, from one thread,
+/// until stop(); a connection the service closes (its header deadline) is replaced.
+class SlowConnections {
+ public:
+  SlowConnections(const std::string& host, int port, int count) : host_(host), port_(port) {
+    for (int k = 0; k < count; ++k) sockets_.push_back(open());
+    if (count > 0) thread_ = std::thread([this] { run(); });
+  }
+  ~SlowConnections() { stop(); }
+  SlowConnections(const SlowConnections&) = delete;
+  SlowConnections& operator=(const SlowConnections&) = delete;
+  void stop() {
+    stopping_ = true;
+    if (thread_.joinable()) thread_.join();
+    for (int fd : sockets_)
+      if (fd >= 0) ::close(fd);
+    sockets_.clear();
+  }
+  int opened() const { return opened_; }
+  int open_now() const {
+    int n = 0;
+    for (int fd : sockets_) n += fd >= 0;
+    return n;
+  }
+
+ private:
+  int open() {
+    const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
+    sockaddr_in address{};
+    address.sin_family = AF_INET;
+    address.sin_port = htons(static_cast<std::uint16_t>(port_));
+    inet_pton(AF_INET, host_ == "localhost" ? "127.0.0.1" : host_.c_str(), &address.sin_addr);
+    if (fd < 0 || ::connect(fd, reinterpret_cast<sockaddr*>(&address), sizeof address) != 0) {
+      if (fd >= 0) ::close(fd);
+      return -1;
+    }
+    static const std::string start = "GET /healthz HTTP/1.1\r\nHost: 127.0.0.1\r\nX-Slow: ";
+    if (::send(fd, start.data(), start.size(), MSG_NOSIGNAL) < 0) {
+      ::close(fd);
+      return -1;
+    }
+    fcntl(fd, F_SETFL, fcntl(fd, F_GETFL) | O_NONBLOCK);
+    ++opened_;
+    return fd;
+  }
+  void run() {
+    using Clock = std::chrono::steady_clock;
+    const auto step = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(kSlowByteSeconds));
+    auto next = Clock::now() + step;
+    while (!stopping_) {
+      if (Clock::now() >= next) {
+        next += step;
+        for (int& fd : sockets_) {
+          char answer[4096];
+          const bool closed =
+              fd < 0 || ::recv(fd, answer, sizeof answer, 0) >= 0 || ::send(fd, "a", 1, MSG_NOSIGNAL) < 0;
+          if (closed) {  // answered (408) or closed by the service, or never connected: a new one
+            if (fd >= 0) ::close(fd);
+            fd = open();
+          }
+        }
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+  }
+  const std::string host_;
+  const int port_;
+  std::vector<int> sockets_;
+  std::atomic<bool> stopping_{false};
+  std::atomic<int> opened_{0};
+  std::thread thread_;
 };
 
 std::vector<Plan> plan_of(int requests, std::uint64_t seed) {
@@ -163,13 +250,15 @@ Json report(const std::vector<Outcome>& all, double seconds, const Json& before,
 int main(int argc, char** argv) {
   CLI::App app{"ganzfeld-load: load test of a running `ganzfeld serve` (one JSON document on stdout)"};
   std::string host = "127.0.0.1";
-  int port = 0, clients = 16, requests = 2000;
+  int port = 0, clients = 16, requests = 2000, slow = 0;
   std::uint64_t seed = 1;
   app.add_option("--host", host, "the service's address (default 127.0.0.1; this machine only)");
   app.add_option("--port", port, "the service's port")->required()->check(CLI::Range(1, 65535));
   app.add_option("--clients", clients, "concurrent clients (default 16)")->check(CLI::Range(1, 256));
   app.add_option("--requests", requests, "requests per client (default 2000)")->check(CLI::Range(1, 1000000));
   app.add_option("--seed", seed, "seed of the request mix (default 1)");
+  app.add_option("--slow-connections", slow, "slowloris connections kept open during the run (default 0)")
+      ->check(CLI::Range(0, 1000));
   CLI11_PARSE(app, argc, argv);
   if (host != "127.0.0.1" && host != "localhost" && host != "::1") {
     std::fprintf(stderr, "ganzfeld-load: --host %s is not this machine; the load test targets loopback only\n", host.c_str());
@@ -182,6 +271,8 @@ int main(int argc, char** argv) {
       if (!res || res->status != 200) throw std::runtime_error("warm-up of " + cached_target(k) + " failed");
     }
     const Json before = health(control);
+    SlowConnections slowloris(host, port, slow);
+    if (slow > 0) std::this_thread::sleep_for(std::chrono::milliseconds(500));  // accepted before the clock starts
     std::vector<std::vector<Outcome>> outcomes(static_cast<std::size_t>(clients));
     std::vector<std::thread> threads;
     const ganzfeld::util::Stopwatch watch;
@@ -191,9 +282,16 @@ int main(int argc, char** argv) {
       });
     for (std::thread& t : threads) t.join();
     const double seconds = watch.seconds();
+    const int slow_open_at_end = slowloris.open_now(), slow_opened = slowloris.opened();
+    slowloris.stop();
     std::vector<Outcome> all;
     for (auto& o : outcomes) all.insert(all.end(), o.begin(), o.end());
-    Json doc{{"clients", clients}, {"requests_per_client", requests}, {"seed", seed}};
+    Json doc{{"clients", clients},
+             {"requests_per_client", requests},
+             {"seed", seed},
+             {"slow_connections", slow},
+             {"slow_connections_open_at_end", slow_open_at_end},
+             {"slow_connections_opened", slow_opened}};
     doc.update(report(all, seconds, before, health(control)));
     std::printf("%s\n", doc.dump(2).c_str());
     return doc["errors"].get<long long>() == 0 && doc["each_table_baked_once"].get<bool>() ? 0 : 1;

@@ -8,6 +8,7 @@
 #include "bench/cubature_bench.h"
 #include "bench/realtime_bench.h"
 #include "bench/render_bench.h"
+#include "bench/shaders_bench.h"
 #include "cli/args.h"
 #include "cli/commands.h"
 #include "util/error.h"
@@ -25,12 +26,30 @@ struct BenchArgs {
   bool json = false, quick = false;
   int cases = 0, repeats = 0;
   std::string markdown, plot;
+  CLI::Option* markdown_option = nullptr;  ///< given, with or without a FILE
+  int size = 0, frames = 0;                ///< shaders: 0 = the defaults
+  std::string platform = "auto", model, cache;
 };
+
+/// realtime, render and shaders print their section of docs/realtime.md with --markdown (no FILE):
+/// scripts/doc-section writes it into the document, and the section names that command.
+bool prints_section(const BenchArgs& args) { return args.markdown_option && args.markdown_option->count() > 0; }
+void refuse_markdown_file(const BenchArgs& args) {
+  if (prints_section(args) && !args.markdown.empty())
+    throw InputError("bench " + args.what + " --markdown takes no FILE ('" + args.markdown +
+                     "'): it prints its section of docs/realtime.md; pipe it into scripts/doc-section");
+}
+/// The stamped command of a section: the benchmark's words, piped into scripts/doc-section.
+std::string section_command(const std::vector<std::string>& words, const std::string& section) {
+  return shell_line(words) + " | scripts/doc-section docs/realtime.md " + section;
+}
 
 /// Bake timings are repeated (median and spread): 5 runs by default, 1 with --quick.
 int bake_repeats(const BenchArgs& args) { return args.repeats > 0 ? args.repeats : (args.quick ? 1 : 5); }
 
 nlohmann::ordered_json cubature_report(const BenchArgs& args) {
+  if (prints_section(args) && args.markdown.empty())
+    throw InputError("bench cubature --markdown needs the FILE to write (docs/performance.md)");
   bench::CubatureBenchOptions options = args.quick ? bench::quick_options() : bench::CubatureBenchOptions{};
   if (args.cases > 0) options.cases_per_family = args.cases;
   const auto families = bench::run_cubature_benchmark(options);
@@ -107,27 +126,119 @@ nlohmann::ordered_json bake_report(const BenchArgs& args) {
   return doc;
 }
 
-nlohmann::ordered_json render_report(const BenchArgs& args) {
-  const auto r = bench::run_render_benchmark(args.quick);
-  return {{"benchmark", "render"},
-          {"size", r.size},
-          {"direct_crop", r.crop},
-          {"seconds", {{"lambert_ambient", r.seconds_lambert}, {"tables", r.seconds_tables}, {"direct_crop", r.seconds_direct}}},
-          {"ratios", {{"tables_vs_lambert", r.tables_vs_lambert}, {"direct_vs_tables", r.direct_vs_tables}}}};
+/// The render benchmark (bench/render_bench.h): --repeats side-by-side runs (default 7, quick 1).
+int render_report(const BenchArgs& args) {
+  refuse_markdown_file(args);
+  const int repeats = args.repeats > 0 ? args.repeats : (args.quick ? 1 : 7);
+  const auto r = bench::run_render_benchmark(args.quick, repeats);
+  if (prints_section(args)) {
+    std::vector<std::string> words{"ganzfeld", "bench", "render"};
+    if (args.quick) words.push_back("--quick");
+    if (args.repeats > 0) words.insert(words.end(), {"--repeats", std::to_string(args.repeats)});
+    words.push_back("--markdown");
+    std::cout << bench::render_markdown(r, section_command(words, "render"));
+    return 0;
+  }
+  auto runs = [](const std::vector<double>& v) {
+    return nlohmann::ordered_json{{"median", util::median(v)}, {"min", *std::min_element(v.begin(), v.end())},
+                                  {"max", *std::max_element(v.begin(), v.end())}, {"runs", v}};
+  };
+  const nlohmann::ordered_json doc{
+      {"benchmark", "render"},
+      {"size", r.size},
+      {"direct_crop", r.crop},
+      {"repeats", r.repeats},
+      {"seconds", {{"lambert_ambient", runs(r.seconds_lambert)}, {"tables", runs(r.seconds_tables)},
+                   {"direct_crop", runs(r.seconds_direct)}}},
+      {"ratios", {{"tables_vs_lambert", runs(r.tables_vs_lambert)}, {"direct_vs_tables", runs(r.direct_vs_tables)}}}};
+  if (args.json) {
+    std::cout << doc.dump(2) << "\n";
+    return 0;
+  }
+  std::printf("%dx%d sphere, %d runs: Lambert + ambient %.3f s, tables (3 lights, 2 lobes) %.3f s, direct %dx%d crop %.3f s "
+              "(medians)\nper pixel: tables / Lambert = %.2f (%.2f … %.2f), direct / tables = %.3g\n",
+              r.size, r.size, r.repeats, util::median(r.seconds_lambert), util::median(r.seconds_tables), r.crop, r.crop,
+              util::median(r.seconds_direct), util::median(r.tables_vs_lambert),
+              *std::min_element(r.tables_vs_lambert.begin(), r.tables_vs_lambert.end()),
+              *std::max_element(r.tables_vs_lambert.begin(), r.tables_vs_lambert.end()), util::median(r.direct_vs_tables));
+  return 0;
 }
 
-/// The real-time tables' accuracy report: Markdown to --markdown, or to stdout.
+/// The shaders benchmark (bench/shaders_bench.h): its section of docs/realtime.md with --markdown,
+/// JSON with --json, else a table.
+int shaders_report(const BenchArgs& args) {
+  refuse_markdown_file(args);
+  bench::ShadersBenchOptions options = args.quick ? bench::quick_shaders_options() : bench::ShadersBenchOptions{};
+  if (args.size > 0) options.size = args.size;
+  if (args.frames > 0) options.frames = args.frames;
+  options.platform = gl::parse_platform(args.platform);
+  if (!args.model.empty()) options.model = args.model;
+  options.cache_dir = args.cache;
+  const bench::ShadersBenchResult r = bench::run_shaders_benchmark(options);
+  if (prints_section(args)) {
+    std::vector<std::string> words{"ganzfeld", "bench", "shaders"};
+    if (args.quick) words.push_back("--quick");
+    if (args.size > 0) words.insert(words.end(), {"--size", std::to_string(args.size)});
+    if (args.frames > 0) words.insert(words.end(), {"--frames", std::to_string(args.frames)});
+    if (args.platform != "auto") words.insert(words.end(), {"--platform", args.platform});
+    if (!args.model.empty()) words.insert(words.end(), {"--model", args.model});
+    if (!args.cache.empty()) words.insert(words.end(), {"--cache", args.cache});
+    words.push_back("--markdown");
+    std::cout << bench::shaders_markdown(r, section_command(words, bench::shaders_section(r)));
+    return 0;
+  }
+  const double a = util::median(r.passes.at(0).milliseconds), s = util::median(r.passes.at(1).milliseconds);
+  nlohmann::ordered_json passes = nlohmann::ordered_json::array();
+  for (const bench::ShaderPass& p : r.passes) {
+    nlohmann::ordered_json laws = nlohmann::ordered_json::array();
+    for (const bench::LawLookup& l : p.laws)
+      laws.push_back({{"law", to_string(l.law)}, {"scheme", l.scheme}, {"lookup_error", l.lookup_error},
+                      {"value_bytes", l.value_bytes}, {"fetches", l.fetches_max}, {"points", l.points},
+                      {"max_difference", l.max_difference}});
+    const double m = util::median(p.milliseconds);
+    passes.push_back({{"name", p.name}, {"what", p.what}, {"table_set", p.table_set}, {"define", p.define},
+                      {"milliseconds", {{"median", m}, {"min", *std::min_element(p.milliseconds.begin(), p.milliseconds.end())},
+                                        {"max", *std::max_element(p.milliseconds.begin(), p.milliseconds.end())}}},
+                      {"vs_a", m / a}, {"vs_s", m / s}, {"fetches_per_pixel", p.fetches_mean},
+                      {"fetches_per_pixel_max", p.fetches_max}, {"value_bytes", p.value_bytes}, {"laws", laws}});
+  }
+  const nlohmann::ordered_json doc{{"benchmark", "shaders"},
+                                   {"gl_renderer", r.context.gl_renderer},
+                                   {"gl_version", r.context.gl_version},
+                                   {"gl_vendor", r.context.gl_vendor},
+                                   {"platform", r.context.platform},
+                                   {"software", r.context.software},
+                                   {"timer", r.timer},
+                                   {"size", r.size},
+                                   {"frames", r.frames},
+                                   {"points", r.points},
+                                   {"passes", passes}};
+  if (args.json) {
+    std::cout << doc.dump(2) << "\n";
+    return 0;
+  }
+  std::printf("GL_RENDERER %s | GL_VERSION %s | %s (%s); %dx%d, %d frames, %s\n", r.context.gl_renderer.c_str(),
+              r.context.gl_version.c_str(), r.context.gl_vendor.c_str(), r.context.platform.c_str(), r.size, r.size,
+              r.frames, r.timer.c_str());
+  for (const auto& p : doc["passes"])
+    std::printf("%-32s %9.3f ms  %6.2f x A  %6.2f x S  %6.1f fetches  %9llu bytes\n",
+                (p["name"].get<std::string>()).c_str(), p["milliseconds"]["median"].get<double>(), p["vs_a"].get<double>(),
+                p["vs_s"].get<double>(), p["fetches_per_pixel"].get<double>(),
+                static_cast<unsigned long long>(p["value_bytes"].get<std::uint64_t>()));
+  return 0;
+}
+
+/// The real-time tables' accuracy report: its section of docs/realtime.md, printed.
 int realtime_report(const BenchArgs& args) {
+  refuse_markdown_file(args);
   std::vector<std::string> words{"ganzfeld", "bench", "realtime"};
   if (args.quick) words.push_back("--quick");
   if (args.repeats > 0) words.insert(words.end(), {"--repeats", std::to_string(args.repeats)});
-  if (!args.markdown.empty()) words.insert(words.end(), {"--markdown", args.markdown});
+  words.push_back("--markdown");
   bench::RealtimeOptions options;
   options.quick = args.quick;
   options.repeats = bake_repeats(args);
-  const std::string md = bench::realtime_markdown(options, shell_line(words));
-  if (args.markdown.empty()) std::cout << md;
-  else write_text_atomically(args.markdown, md);
+  std::cout << bench::realtime_markdown(options, section_command(words, "realtime"));
   return 0;
 }
 
@@ -136,22 +247,33 @@ int realtime_report(const BenchArgs& args) {
 void add_bench_command(CLI::App& app, Action& action) {
   auto* cmd = app.add_subcommand("bench", "benchmarks that print ratios measured in one run");
   auto args = std::make_shared<BenchArgs>();
-  cmd->add_option("what", args->what, "cubature | bake | render | realtime")->required();
+  cmd->add_option("what", args->what, "cubature | bake | render | realtime | shaders")->required();
   add_json_flag(*cmd, args->json);
   cmd->add_flag("--quick", args->quick, "a small sample (CI); the full run takes minutes");
   cmd->add_option("--cases", args->cases, "cases per integrand family (cubature; default 200, quick 4)");
-  cmd->add_option("--repeats", args->repeats, "runs of each bake timing (default 5, quick 1); medians and spread");
-  cmd->add_option("--markdown", args->markdown,
-                  "cubature: also write the report (docs/performance.md) to FILE; realtime: write docs/realtime.md");
+  cmd->add_option("--repeats", args->repeats,
+                  "runs of each bake timing (default 5, quick 1), or of the render benchmark (default 7, quick 1); "
+                  "medians and spread");
+  args->markdown_option = cmd->add_option("--markdown", args->markdown,
+                                          "cubature: also write the report (docs/performance.md) to FILE; realtime, "
+                                          "render, shaders: print the section of docs/realtime.md (no FILE)")
+                              ->expected(0, 1);
+  cmd->add_option("--size", args->size, "shaders: the pass's width and height in pixels (default 2048, quick 128)");
+  cmd->add_option("--frames", args->frames, "shaders: timed frames per pass (default 30)");
+  cmd->add_option("--platform", args->platform,
+                  "shaders: EGL platform: auto (a GPU's device, else Mesa surfaceless), device, surfaceless");
+  cmd->add_option("--model", args->model, "shaders: the glossy lobe shaded from tables (default specular:alpha=100)");
+  cmd->add_option("--cache", args->cache, "shaders: keep the tables in this cache directory between runs");
   cmd->add_option("--plot", args->plot, "cubature: also write the work-precision plot (PNG) to FILE");
   cmd->callback([&action, args] {
     action = [args] {
       if (args->what == "realtime") return realtime_report(*args);
+      if (args->what == "render") return render_report(*args);
+      if (args->what == "shaders") return shaders_report(*args);
       nlohmann::ordered_json doc;
       if (args->what == "cubature") doc = cubature_report(*args);
       else if (args->what == "bake") doc = bake_report(*args);
-      else if (args->what == "render") doc = render_report(*args);
-      else throw InputError("unknown benchmark '" + args->what + "'; allowed: cubature, bake, render, realtime");
+      else throw InputError("unknown benchmark '" + args->what + "'; allowed: cubature, bake, render, realtime, shaders");
       if (args->json) {
         std::cout << doc.dump(2) << "\n";
         return 0;
@@ -168,13 +290,6 @@ void add_bench_command(CLI::App& app, Action& action) {
                       ratio("hcubature_naive"), ratio("pcubature_lune"), ratio("boost_gauss_kronrod"), ratio("boost_tanh_sinh"),
                       f["mc_error_ratio_equal_time"].get<double>(), f["dishonest_rate"].get<double>());
         }
-      } else if (args->what == "render") {
-        std::printf("%dx%d sphere: Lambert + ambient %.3f s, tables (3 lights, 2 lobes) %.3f s, direct %dx%d crop %.3f s\n"
-                    "per pixel: tables / Lambert = %.2f, direct / tables = %.3g\n",
-                    doc["size"].get<int>(), doc["size"].get<int>(), doc["seconds"]["lambert_ambient"].get<double>(),
-                    doc["seconds"]["tables"].get<double>(), doc["direct_crop"].get<int>(), doc["direct_crop"].get<int>(),
-                    doc["seconds"]["direct_crop"].get<double>(), doc["ratios"]["tables_vs_lambert"].get<double>(),
-                    doc["ratios"]["direct_vs_tables"].get<double>());
       } else {
         for (const auto& t : doc["tables"])
           std::printf("%-22s g %s tol 1e-9: median %.2f s (1 thread), %.2f s (2 threads), speed-up %.2f, unconverged %lld\n",

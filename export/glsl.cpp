@@ -6,6 +6,7 @@
 #include <set>
 #include <sstream>
 
+#include "export/literal.h"
 #include "util/error.h"
 #include "models/kp_lobes.h"
 #include "models/mixture.h"
@@ -19,15 +20,8 @@ using namespace ganzfeld::tables;
 
 namespace {
 
-/// A GLSL float literal that reads back as the float nearest to x (9 significant digits).
-std::string literal(double x) {
-  if (!std::isfinite(x)) throw InputError("cannot write the non-finite number " + std::to_string(x) + " into GLSL");
-  char buffer[40];
-  std::snprintf(buffer, sizeof buffer, "%.9g", x);
-  std::string text = buffer;
-  if (text.find_first_of(".e") == std::string::npos) text += ".0";
-  return text;
-}
+/// A GLSL float literal that reads back as the float nearest to x.
+std::string literal(double x) { return decimal_literal(x); }
 
 /// A comment line-safe copy of text (no newlines; no "*/" since we use // comments anyway).
 std::string comment_text(const std::string& text) {
@@ -496,6 +490,17 @@ std::string glsl_table_function(const Table& table) {
       << ";\n}\n";
   }
   return s.str();
+}
+
+std::string lookup_scheme(const Table& table) {
+  std::ostringstream out;
+  out << to_string(table.frame) << " frame";
+  if (table.frame != Frame::cosines) out << " (" << to_string(table.peak) << " peak)";
+  out << ", " << to_string(table.interpolation) << ", ";
+  for (std::size_t d = 0; d < table.axes.size(); ++d) out << (d ? "x" : "") << table.axes[d].count;
+  out << " nodes, " << to_string(table.encoding) << ", " << to_string(table.filter) << " (" << tables::fetches(table)
+      << (tables::fetches(table) == 1 ? " fetch)" : " fetches)");
+  return out.str();
 }
 
 std::string glsl_table_snippet(const Table& table) {

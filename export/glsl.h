@@ -55,6 +55,12 @@ std::string glsl_common();
 /// (n unit; i and j need not be unit). Checks the table first (check_table).
 std::string glsl_table_function(const tables::Table& table);
 
+/// One line naming the lookup glsl_table_function(table) performs, from the table's metadata:
+/// frame (and peak), interpolation, nodes per axis, encoding and the filter its bound covers with
+/// its fetches, e.g. "warped frame (mirror peak), linear, 25x49x17 nodes, float, hardware (1 fetch)"
+/// (`ganzfeld bench shaders` and `bench render` label their tables with it).
+std::string lookup_scheme(const tables::Table& table);
+
 /// glsl_common() + glsl_table_function(table): one self-contained snippet per table file.
 std::string glsl_table_snippet(const tables::Table& table);
 

@@ -8,6 +8,7 @@
 #include <Imath/half.h>
 
 #include "export/glsl.h"
+#include "export/literal.h"
 #include "models/registry.h"
 
 namespace ganzfeld::exporting {
@@ -15,13 +16,7 @@ namespace ganzfeld::exporting {
 namespace {
 
 /// A float literal GLSL reads back to the same float.
-std::string glsl_float(double x) {
-  char buffer[40];
-  std::snprintf(buffer, sizeof buffer, "%.9g", static_cast<double>(static_cast<float>(x)));
-  std::string s = buffer;
-  if (s.find_first_of(".eE") == std::string::npos) s += ".0";
-  return s;
-}
+std::string glsl_float(double x) { return decimal_literal(static_cast<float>(x)); }
 
 /// GLSL for the sample position along one axis (tables::grid_position), `x` the coordinate.
 std::string position_glsl(const tables::Axis& axis, tables::Grid grid, const std::string& x, const std::string& n) {

@@ -10,6 +10,7 @@
 
 #include <Imath/half.h>
 
+#include "export/literal.h"
 #include "tables/exr_io.h"
 #include "util/error.h"
 #include "util/names.h"
@@ -53,6 +54,9 @@ std::string number_text(double x) {
   std::snprintf(buffer, sizeof buffer, "%.17g", x);
   return buffer;
 }
+
+/// A C and C++ float literal that reads back as x exactly ("0.0f": C has no "0f").
+std::string float_literal(float x) { return decimal_literal(x) + "f"; }
 
 std::string axes_text(const Table& table) {
   std::string text;
@@ -186,8 +190,12 @@ std::vector<std::uint8_t> ktx2_bytes(const Table& table) {
 TextureData read_ktx2(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError("cannot read texture '" + path + "'");
-  const std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  auto fail = [&](const std::string& why) { return InputError("not a ganzfeld KTX2 texture '" + path + "': " + why); };
+  return parse_ktx2(std::vector<std::uint8_t>((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>()),
+                    path);
+}
+
+TextureData parse_ktx2(const std::vector<std::uint8_t>& bytes, const std::string& name) {
+  auto fail = [&](const std::string& why) { return InputError("not a ganzfeld KTX2 texture '" + name + "': " + why); };
   if (bytes.size() < kHeaderBytes + kLevelIndexBytes || std::memcmp(bytes.data(), kKtx2Identifier, 12) != 0)
     throw fail("no KTX 2.0 identifier");
   TextureData data;
@@ -261,14 +269,17 @@ std::string c_header(const Table& table, const std::string& symbol) {
     << upload << "\n"
     << "#pragma once\n#include <stdint.h>\n\n"
     << "enum { " << symbol << "_width = " << size.width << ", " << symbol << "_height = " << size.height << ", "
-    << symbol << "_depth = " << size.depth << " };\n"
-    << "static const " << (half || unorm ? "uint16_t " : "float ") << symbol << "_texels[" << table.value.size() << "] = {";
+    << symbol << "_depth = " << size.depth << " };\n";
+  if (unorm)
+    s << "static const float " << symbol << "_unorm16_offset = " << float_literal(table.unorm.offset) << ", " << symbol
+      << "_unorm16_scale = " << float_literal(table.unorm.scale) << ";  // value = offset + scale x code / 65535\n";
+  s << "static const " << (half || unorm ? "uint16_t " : "float ") << symbol << "_texels[" << table.value.size() << "] = {";
   for (std::size_t k = 0; k < table.value.size(); ++k) {
     char buffer[40];
     if (unorm) std::snprintf(buffer, sizeof buffer, "%u", static_cast<unsigned>(table.unorm.code(table.value[k])));
     else if (half) std::snprintf(buffer, sizeof buffer, "0x%04x", Imath::half(table.value[k]).bits());
-    else std::snprintf(buffer, sizeof buffer, "%.9gf", static_cast<double>(table.value[k]));
-    s << (k % 8 == 0 ? "\n  " : " ") << buffer << (k + 1 < table.value.size() ? "," : "");
+    const std::string text = half || unorm ? std::string(buffer) : float_literal(table.value[k]);
+    s << (k % 8 == 0 ? "\n  " : " ") << text << (k + 1 < table.value.size() ? "," : "");
   }
   s << "\n};\n";
   return s.str();

@@ -53,6 +53,8 @@ struct TextureData {
 /// Reads the KTX2 files ktx2_bytes writes (one level, R16/R32 SFLOAT or R16 UNORM, no supercompression);
 /// throws InputError naming the file and the first problem for anything else.
 TextureData read_ktx2(const std::string& path);
+/// read_ktx2 of a file's bytes; `name` names it in the messages.
+TextureData parse_ktx2(const std::vector<std::uint8_t>& bytes, const std::string& name);
 
 /// The C header: metadata comment, dimensions and texels of `table` under the prefix `symbol`.
 std::string c_header(const tables::Table& table, const std::string& symbol);

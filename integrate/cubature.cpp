@@ -188,7 +188,7 @@ class Refinement {
   void seed(const std::array<std::vector<double>, D>& cuts) {
     std::size_t total = 1;
     for (int d = 0; d < D; ++d) total *= cuts[d].size() - 1;
-    for (std::size_t flat = 0; flat < total; ++flat) {
+    for (std::size_t flat = 0; flat < total && !cancelled(); ++flat) {
       Panel<D> p;
       if (!grid_cell(cuts, flat, p)) continue;
       p.id = next_id_++;
@@ -205,7 +205,7 @@ class Refinement {
   void refine() {
     const long long cost = 2LL * panel_nodes(D);
     while (!heap_.empty() && !gave_up_ && (unresolved_ > 0 || error_ + frozen_error_ > options_.abs_tol) &&
-           engine_.evaluations() + cost <= options_.max_evaluations) {
+           engine_.evaluations() + cost <= options_.max_evaluations && !cancelled()) {
       const Panel<D> worst = pop_worst();
       if (splittable(worst))
         bisect(worst);
@@ -232,7 +232,7 @@ class Refinement {
     out.value = value.value();
     out.error = any_unresolved ? std::numeric_limits<double>::infinity() : err.value();
     out.evaluations = engine_.evaluations();
-    out.converged = std::isfinite(out.error) && out.error <= options_.abs_tol;
+    out.converged = std::isfinite(out.error) && out.error <= options_.abs_tol && !cancelled();
     if (!std::isfinite(out.value)) {
       out.value = 0.0;
       out.converged = false;
@@ -255,6 +255,10 @@ class Refinement {
       if (!(p.hi[d] > p.lo[d])) return false;
     return true;
   }
+
+  /// The caller's flag (CubatureOptions::cancel): a seed cut short omits cells, so a cancelled
+  /// result is never converged.
+  bool cancelled() const { return options_.cancel && options_.cancel->load(std::memory_order_relaxed); }
 
   /// Below ~1e-15 of its position a bisection no longer shrinks the panel (resolution of doubles).
   static bool splittable(const Panel<D>& p) {

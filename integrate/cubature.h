@@ -22,6 +22,7 @@
 #pragma once
 
 #include <array>
+#include <atomic>
 #include <functional>
 #include <span>
 #include <string>
@@ -42,6 +43,10 @@ struct CubatureOptions {
   /// Budget per integral; beyond it: not converged. The initial grid is always evaluated (a
   /// result needs at least one rule per panel), so it may exceed a budget smaller than itself.
   long long max_evaluations = 50'000'000;
+  /// When set, read before every panel: once it holds true the integral stops where it is and
+  /// is returned not converged (a caller that no longer wants the answer: a deadline, a client
+  /// gone, a shutdown). The caller owns the flag and knows why it set it.
+  const std::atomic<bool>* cancel = nullptr;
 };
 
 /// Number of nodes per axis of the Kronrod rule.

@@ -141,6 +141,10 @@ Spec parse_spec(const std::string& text) {
     spec.terms.push_back({weight, parse_model_spec(body)});
     total += weight;
   }
+  if (!std::isfinite(total))  // each weight finite, their sum not: normalizing would make them NaN
+    throw InputError("mixture weights in '" + text +
+                     "' sum to more than the largest number (about 1.8e308); "
+                     "scale them down (only their ratios matter)");
   const double divisor = normalizing_divisor(total, spec.terms.size());
   for (SpecTerm& term : spec.terms) term.weight /= divisor;
   return spec;

@@ -1,6 +1,8 @@
 #include "rasterizer/shading.h"
 
+#include <algorithm>
 #include <cmath>
+#include <optional>
 #include <stdexcept>
 
 #include <tbb/blocked_range.h>
@@ -32,6 +34,7 @@ class TableLaws final : public LawSource {
     const double x[1] = {std::clamp(j.z, 0.0, 1.0)};
     return tables::sample(*h_, std::span<const double>(x)).value;
   }
+  const tables::Table* table(Law law) const override { return law == Law::g ? g_.get() : law == Law::h ? h_.get() : nullptr; }
 
  private:
   std::shared_ptr<const tables::Table> g_, h_;
@@ -76,14 +79,41 @@ TangentFrame::TangentFrame(const Vec3& normal) : n(normal) {
   b = {b_, sign + n.y * n.y * a, -n.y};
 }
 
-Rgb shade(const ShadingMaterial& material, const std::vector<Light>& lights, const Vec3& n, const Vec3& j_world) {
+MaterialShader::MaterialShader(const ShadingMaterial& material, const std::vector<Light>& lights) {
+  for (const Light& light : lights) {
+    PreparedLight prepared{light.type, glm::normalize(light.direction), {}, {}};
+    const Law law = light.type == Light::Type::hemispherical ? Law::g : Law::h;
+    for (const ShadingLobe& lobe : material) {
+      LobeTerm term{&lobe, {}};
+      for (int c = 0; c < 3; ++c) term.scale[c] = lobe.weight * lobe.color[c] * light.intensity[c];
+      const tables::Table* table =
+          light.type == Light::Type::collimated || !lobe.laws ? nullptr : lobe.laws->table(law);
+      if (table == nullptr) {
+        prepared.lobes.push_back(term);
+        continue;
+      }
+      auto shared = std::find_if(prepared.tables.begin(), prepared.tables.end(),
+                                 [&](const SummedTable& t) { return tables::same_lookup(*t.layout, *table); });
+      if (shared == prepared.tables.end()) {
+        prepared.tables.push_back({table, std::vector<std::array<double, 3>>(table->value.size(), {0.0, 0.0, 0.0})});
+        shared = prepared.tables.end() - 1;
+      }
+      for (std::size_t m = 0; m < table->value.size(); ++m)
+        for (int c = 0; c < 3; ++c) shared->entries[m][c] += term.scale[c] * table->value[m];
+    }
+    lights_.push_back(std::move(prepared));
+  }
+}
+
+Rgb MaterialShader::radiance(const Vec3& n, const Vec3& j_world) const {
   const TangentFrame frame(n);
   const Vec3 j = frame.local(j_world);
   const Vec3 j_clamped = clamp_to_horizon(j);
   Rgb out{0, 0, 0};
-  for (const Light& light : lights) {
-    const Vec3 i = frame.local(glm::normalize(light.direction));
-    for (const ShadingLobe& lobe : material) {
+  for (const PreparedLight& light : lights_) {
+    const Vec3 i = frame.local(light.direction);
+    for (const LobeTerm& term : light.lobes) {
+      const ShadingLobe& lobe = *term.lobe;
       double value = 0.0;
       switch (light.type) {
         case Light::Type::collimated:
@@ -92,10 +122,25 @@ Rgb shade(const ShadingMaterial& material, const std::vector<Light>& lights, con
         case Light::Type::hemispherical: value = lobe.laws->g(i, j_clamped); break;
         case Light::Type::ganzfeld: value = lobe.laws->h(j_clamped); break;
       }
-      for (int c = 0; c < 3; ++c) out[c] += lobe.weight * lobe.color[c] * light.intensity[c] * value;
+      for (int c = 0; c < 3; ++c) out[c] += term.scale[c] * value;
+    }
+    if (light.tables.empty()) continue;
+    // The law's coordinates once per light (TableLaws: g at (i, j clamped), h at clamped j·n).
+    tables::Point x;
+    if (light.type == Light::Type::hemispherical) x = tables::law_point(Law::g, i, j_clamped);
+    else x.x[0] = std::clamp(j_clamped.z, 0.0, 1.0), x.size = 1;
+    for (const SummedTable& table : light.tables) {
+      const tables::Point y = tables::axis_point(*table.layout, x.span());
+      tables::for_each_node(*table.layout, y.span(), [&](std::size_t m, double w) {
+        for (int c = 0; c < 3; ++c) out[c] += w * table.entries[m][c];
+      });
     }
   }
   return out;
+}
+
+Rgb shade(const ShadingMaterial& material, const std::vector<Light>& lights, const Vec3& n, const Vec3& j_world) {
+  return MaterialShader(material, lights).radiance(n, j_world);
 }
 
 void check_laws_available(const RenderScene& scene) {
@@ -114,13 +159,16 @@ void check_laws_available(const RenderScene& scene) {
 
 Image shade_image(const RenderScene& scene, const GBuffer& gb) {
   check_laws_available(scene);
+  std::vector<std::optional<MaterialShader>> shaders(scene.materials.size());
+  for (std::size_t m : scene.mesh_material)
+    if (!shaders[m]) shaders[m].emplace(scene.materials[m], scene.lights);
   Image image(gb.width, gb.height, scene.camera.background);
   tbb::parallel_for(tbb::blocked_range<int>(0, gb.height), [&](const tbb::blocked_range<int>& rows) {
     for (int y = rows.begin(); y != rows.end(); ++y)
       for (int x = 0; x < gb.width; ++x) {
         const Fragment& f = gb.at(x, y);
         if (f.mesh == Fragment::kNone) continue;
-        const Rgb c = shade(scene.materials[scene.mesh_material[f.mesh]], scene.lights, f.normal, f.view);
+        const Rgb c = shaders[scene.mesh_material[f.mesh]]->radiance(f.normal, f.view);
         float* p = image.at(x, y);
         for (int k = 0; k < 3; ++k) p[k] = static_cast<float>(c[k]);
       }

@@ -13,8 +13,11 @@
 //   tables  — tables::sample on baked tables (fast; error = table error + interpolation error)
 //   direct  — integrate/laws.h cubature per pixel (slow; the reference, to a tolerance)
 //   lambert — the closed forms g = (1 + i·n)/2, h = 1 (exact)
+// A picture prepares each material once (MaterialShader): the tables of lobes that share a lookup
+// are summed, so a pixel makes one lookup per light and law, as a shader would with one texture.
 #pragma once
 
+#include <array>
 #include <memory>
 #include <string>
 #include <vector>
@@ -37,6 +40,8 @@ class LawSource {
   virtual double g(const Vec3& i, const Vec3& j) const = 0;
   /// Law of darkening.
   virtual double h(const Vec3& j) const = 0;
+  /// The table law g or h is looked up in, if it is (table_laws); nullptr otherwise.
+  virtual const tables::Table* table(Law) const { return nullptr; }
 };
 using LawSourcePtr = std::shared_ptr<const LawSource>;
 
@@ -66,7 +71,41 @@ struct TangentFrame {
   Vec3 local(const Vec3& v) const { return {glm::dot(v, t), glm::dot(v, b), glm::dot(v, n)}; }
 };
 
-/// Radiance towards j (unit, world) of a surface with unit world normal n.
+/// A material prepared for shading under a set of lights, once per picture: the lights' unit
+/// directions, each lobe's weight x colour x light, and the tables of the lobes that share a
+/// lookup (tables::same_lookup) summed entry by entry into one colour table per light and law, so
+/// that a pixel looks each law up once per light however many lobes the material has (the laws are
+/// linear in f: a lookup's blend of the summed entries is the sum of the lobes' lookups, up to
+/// rounding). Lobes without tables (closed forms, cubature) are evaluated one by one.
+class MaterialShader {
+ public:
+  MaterialShader(const ShadingMaterial& material, const std::vector<Light>& lights);
+  /// Radiance towards j (unit, world) of a surface with unit world normal n.
+  Rgb radiance(const Vec3& n, const Vec3& j) const;
+
+  /// Lobes whose law (g or h) is looked up in a table, and the lookups a pixel makes per light.
+  struct SummedTable {
+    const tables::Table* layout = nullptr;  ///< the lookup's axes (one of the summed tables)
+    std::vector<std::array<double, 3>> entries;  ///< Σ weight x colour x light intensity x value
+  };
+  struct LobeTerm {
+    const ShadingLobe* lobe = nullptr;
+    Rgb scale{};  ///< weight x colour x light intensity
+  };
+  struct PreparedLight {
+    Light::Type type = Light::Type::collimated;
+    Vec3 direction{0, 0, 1};        ///< unit, world
+    std::vector<LobeTerm> lobes;    ///< collimated: every lobe; sky, Ganzfeld: lobes without a table
+    std::vector<SummedTable> tables;
+  };
+  const std::vector<PreparedLight>& lights() const { return lights_; }
+
+ private:
+  std::vector<PreparedLight> lights_;
+};
+
+/// Radiance towards j (unit, world) of a surface with unit world normal n
+/// (MaterialShader(material, lights).radiance(n, j); a picture prepares its materials once).
 Rgb shade(const ShadingMaterial& material, const std::vector<Light>& lights, const Vec3& n, const Vec3& j);
 
 /// Everything the rasterizer needs to make a picture.

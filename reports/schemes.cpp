@@ -40,6 +40,8 @@ struct SchemePlan {
   std::vector<double> unorm16_targets;  ///< bake --max-error E --encoding unorm16 (the 16-bit target)
   double stretch = 0.0;
   std::uint64_t stretch_bytes = 0;
+  /// With one_fetch: the --max-error E --fetches N picks (1e-3 in one fetch, 1e-4 within 8).
+  std::vector<std::pair<double, int>> fetch_targets;
 };
 
 SchemePlan scheme_plan(Law law, bool quick) {
@@ -54,6 +56,8 @@ SchemePlan scheme_plan(Law law, bool quick) {
     plan.targets = quick ? std::vector<double>{1e-2} : std::vector<double>{1e-3, 1e-4};
     plan.unorm16_targets = quick ? std::vector<double>{1e-2} : std::vector<double>{1e-4};  // <= 128 kB in 16 bits
     if (!quick) plan.stretch = 1e-5, plan.stretch_bytes = 2'000'000;  // the stretch target: 1e-5 in 2 MB
+    plan.fetch_targets = quick ? std::vector<std::pair<double, int>>{{kTrilinearTarget, 1}}
+                               : std::vector<std::pair<double, int>>{{kTrilinearTarget, 1}, {1e-4, 8}};
   } else {
     plan.today = quick ? std::vector<std::vector<int>>{{9}} : std::vector<std::vector<int>>{{33}, {129}};
     plan.targets = quick ? std::vector<double>{1e-3} : std::vector<double>{1e-4, 1e-6};
@@ -146,12 +150,15 @@ SchemeReport measure_schemes(const Model& model, Law law, const SchemeOptions& o
   SchemePlan plan = scheme_plan(law, options.quick);
   if (options.one_fetch_only) {
     if (law != Law::g) throw InputError("--one-fetch measures g tables only");
-    plan = SchemePlan{{}, {}, plan.one_fetch, {}, {}, 0.0, 0};
+    // The 1e-3 pick only: the 1e-4 search within 8 fetches bakes tables of ~1e5 nodes at 1e-5
+    // several times (many minutes per model on 2 cores); the texelFetch row stands for it.
+    plan = SchemePlan{{}, {}, plan.one_fetch, {}, {}, 0.0, 0, {{kTrilinearTarget, 1}}};
   }
   const std::optional<LobeFrame> lobe = law == Law::g ? lobe_frame_of(model) : std::nullopt;
   const std::size_t total = plan.today.size() + plan.targets.size() + plan.unorm16_targets.size() +
                             (plan.targets.empty() ? 0 : 2) + (plan.stretch > 0) + plan.trilinear.size() +
-                            !plan.trilinear.empty() + plan.one_fetch.size() + (plan.one_fetch.empty() ? 0 : 2);
+                            !plan.trilinear.empty() + plan.one_fetch.size() +
+                            (plan.one_fetch.empty() ? 0 : 2 + plan.fetch_targets.size());
   auto add = [&](const SchemeRow& row) {
     report.rows.push_back(row);
     if (options.progress) options.progress(report.rows.size(), total);
@@ -217,9 +224,9 @@ SchemeReport measure_schemes(const Model& model, Law law, const SchemeOptions& o
     add(row);
   }
   if (!plan.one_fetch.empty()) {  // one hardware-filtered fetch: fixed resolutions, unorm16, and the --fetches 1 pick
-    auto one_fetch_row = [&](const std::vector<int>& resolution, Encoding encoding) {
+    auto one_fetch_row = [&](const std::vector<int>& resolution, Encoding encoding, Filter filter) {
       SchemeRow row = row_of(SchemeKind::one_fetch, resolution, lobe ? Frame::warped : Frame::cosines);
-      row.filter = Filter::hardware;
+      row.filter = filter;
       row.encoding = encoding;
       BakeOptions bake_options = fixed_options(row, nullptr);
       bake_options.lobe = lobe;
@@ -227,20 +234,25 @@ SchemeReport measure_schemes(const Model& model, Law law, const SchemeOptions& o
       measure_row(model, law, bake_options, options.repeats, report.reference, row);
       add(row);
     };
-    for (const std::vector<int>& resolution : plan.one_fetch) one_fetch_row(resolution, Encoding::single);
+    for (const std::vector<int>& resolution : plan.one_fetch) one_fetch_row(resolution, Encoding::single, Filter::hardware);
+    // The finest again read with texelFetch (2^D fetches, weights in full precision): what the 8-bit weights cost.
+    one_fetch_row(std::vector<int>(report.rows.back().resolution), Encoding::single, Filter::texel_fetch);
     const SchemeRow* base = &report.rows.back();  // in unorm16: the smallest within kTrilinearTarget, else the finest
     for (const SchemeRow& r : report.rows)
-      if (r.kind == SchemeKind::one_fetch && r.refused.empty() && r.max_error <= kTrilinearTarget &&
+      if (r.kind == SchemeKind::one_fetch && r.filter == Filter::hardware && r.refused.empty() &&
+          r.max_error <= kTrilinearTarget &&
           r.value_bytes < base->value_bytes)
         base = &r;
-    one_fetch_row(std::vector<int>(base->resolution), Encoding::unorm16);
-    SchemeRow pick = row_of(SchemeKind::max_error, {});
-    pick.target = kTrilinearTarget;
-    pick.target_fetches = 1;
-    TargetBake pick_options;
-    pick_options.target = {kTrilinearTarget, 0, 1};
-    measure_row(model, law, pick_options, options.repeats, report.reference, pick);
-    add(pick);
+    one_fetch_row(std::vector<int>(base->resolution), Encoding::unorm16, Filter::hardware);
+    for (const auto& [target, budget] : plan.fetch_targets) {
+      SchemeRow pick = row_of(SchemeKind::max_error, {});
+      pick.target = target;
+      pick.target_fetches = budget;
+      TargetBake pick_options;
+      pick_options.target = {target, 0, budget};
+      measure_row(model, law, pick_options, options.repeats, report.reference, pick);
+      add(pick);
+    }
   }
   report.seconds = start.seconds();
   return report;
@@ -270,7 +282,8 @@ std::string scheme_label(const SchemeRow& row) {
            (row.encoding == Encoding::unorm16 ? " --encoding unorm16" : "");
   if (row.kind == SchemeKind::today || row.kind == SchemeKind::trilinear || row.kind == SchemeKind::one_fetch)
     return std::string(to_string(row.kind)) + " " + resolution_text(row.resolution) +
-           (row.encoding == Encoding::half ? " half" : row.encoding == Encoding::unorm16 ? " unorm16" : "");
+           (row.encoding == Encoding::half ? " half" : row.encoding == Encoding::unorm16 ? " unorm16" : "") +
+           (row.kind == SchemeKind::one_fetch && row.filter == Filter::texel_fetch ? " texelFetch" : "");
   return std::string(row.kind == SchemeKind::half ? "pick in half" : "pick, other lookup");
 }
 

@@ -42,9 +42,11 @@ enum class SchemeKind {
   trilinear,  ///< g: lobe frame (cosines when the model has none), linear, fixed resolutions; and
               ///< the smallest within kTrilinearTarget in half floats
   one_fetch,  ///< g: warped frame (cosines when the model has no lobe), linear, hardware filter, at
-              ///< fixed resolutions, the smallest within kTrilinearTarget again in unorm16; and
-              ///< bake --max-error 1e-3 --fetches 1. Errors are the worst of the full-precision and
-              ///< both 8-bit filter lookups.
+              ///< fixed resolutions, the finest again read with texelFetch (2^D fetches, full-precision
+              ///< weights), the smallest within kTrilinearTarget again in unorm16; and bake
+              ///< --max-error 1e-3 --fetches 1 and (not with one_fetch_only) --max-error 1e-4 --fetches 8.
+              ///< Hardware-filtered rows' errors are the worst of the full-precision and both 8-bit
+              ///< filter lookups.
 };
 const char* to_string(SchemeKind kind);
 

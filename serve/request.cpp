@@ -1,6 +1,7 @@
 #include "serve/request.h"
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <cstdlib>
 #include <numbers>
@@ -10,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "export/glsl.h"
+#include "models/mixture.h"
 #include "models/registry.h"
 #include "models/spec.h"
 #include "tables/cache.h"
@@ -44,14 +46,17 @@ std::string required(const Query& query, const std::string& name, const std::str
   return *text;
 }
 
-/// A finite number, all of the text.
+/// A finite decimal number, all of the text: an optional '-', digits with an optional point,
+/// an optional exponent (std::from_chars, general format: no hexadecimal, no leading space or
+/// '+', nothing beyond a double's range).
 std::optional<double> number(const Query& query, const std::string& name) {
   const std::optional<std::string> text = text_of(query, name);
   if (!text) return std::nullopt;
-  char* end = nullptr;
-  const double x = std::strtod(text->c_str(), &end);
-  if (text->empty() || *end != '\0' || !std::isfinite(x))
-    throw bad(name + "='" + *text + "' is not a number; expected a finite decimal number");
+  double x = 0.0;
+  const char* const last = text->data() + text->size();
+  const auto [end, status] = std::from_chars(text->data(), last, x, std::chars_format::general);
+  if (text->empty() || status != std::errc() || end != last || !std::isfinite(x))
+    throw bad(name + "='" + *text + "' is not a number; expected a finite decimal number such as 45, 0.5 or 1e-9");
   return x;
 }
 
@@ -148,29 +153,39 @@ void refuse_data_files(const nlohmann::json& value) {
 }
 }  // namespace
 
-SpecQuery parse_served_spec(const std::string& text) {
+SpecQuery parse_served_spec(const std::string& text, const Limits& limits) {
   const Spec spec = as_request([&] { return parse_spec(text); });
   refuse_data_file(spec, text);
+  if (spec.terms.size() > limits.max_lobes)
+    throw RequestError(413, "model '" + text.substr(0, 80) + (text.size() > 80 ? "...'" : "'") + " is a mixture of " +
+                                std::to_string(spec.terms.size()) + " lobes; this service computes at most " +
+                                std::to_string(limits.max_lobes) + " (use `ganzfeld eval` or `ganzfeld bake`)");
   return {spec, as_request([&] { return make_model(spec); })};
 }
 
-ModelPtr parse_served_model(const std::string& spec) { return parse_served_spec(spec).model; }
+ModelPtr parse_served_model(const std::string& spec, const Limits& limits) {
+  return parse_served_spec(spec, limits).model;
+}
 
-SpecQuery parse_spec_query(const Query& query) {
+SpecQuery parse_spec_query(const Query& query, const Limits& limits) {
   check_names(query, "/api/spec", {"model"});
-  return parse_served_spec(required(query, "model", "specular:alpha=8"));
+  return parse_served_spec(required(query, "model", "specular:alpha=8"), limits);
 }
 
 EvalQuery parse_eval(const Query& query, const Limits& limits) {
   check_names(query, "/api/eval", {"model", "law", "theta_i", "theta_j", "phi", "tol"});
   EvalQuery q;
   q.law = as_request([&] { return parse_law(required(query, "law", "g (one of f, g, h, a, r)")); });
-  q.model = parse_served_model(required(query, "model", "specular:alpha=8"));
+  q.model = parse_served_model(required(query, "model", "specular:alpha=8"), limits);
   const bool needs_i = q.law == Law::f || q.law == Law::g || q.law == Law::a;
   const bool needs_j = q.law == Law::f || q.law == Law::g || q.law == Law::h;
   const std::string law = std::string(" (law ") + to_string(q.law) + " needs it)";
   if (needs_i) q.i = direction(angle(query, "theta_i", q.law == Law::g ? 180.0 : 90.0, law), 0.0);
-  if (needs_j) q.j = direction(angle(query, "theta_j", 90.0, law), number(query, "phi").value_or(0.0) * std::numbers::pi / 180.0);
+  const double phi = number(query, "phi").value_or(0.0);
+  if (std::abs(phi) > kMaxPhi)
+    throw bad("phi=" + format_number(phi) + " is out of range; allowed: [-" + format_number(kMaxPhi) + ", " +
+              format_number(kMaxPhi) + "] degrees");
+  if (needs_j) q.j = direction(angle(query, "theta_j", 90.0, law), phi * std::numbers::pi / 180.0);
   q.tolerance = tolerance(query, 1e-9);
   q.options.abs_tol = q.tolerance;
   q.options.max_evaluations = limits.max_evaluations;
@@ -182,9 +197,9 @@ bool is_f_glsl(const Query& query) {
   return law != query.end() && law->second == "f";
 }
 
-ModelPtr parse_f_glsl(const Query& query) {
+ModelPtr parse_f_glsl(const Query& query, const Limits& limits) {
   check_names(query, "/api/glsl with law=f", {"model", "law"});
-  return parse_served_model(required(query, "model", "specular:alpha=8"));
+  return parse_served_model(required(query, "model", "specular:alpha=8"), limits);
 }
 
 namespace {
@@ -216,7 +231,7 @@ TableQuery parse_table(const Query& query, const Limits& limits, TableEndpoint e
     throw bad("give res or max_error, not both: with max_error the baker chooses the resolution");
   TableQuery q;
   q.law = as_request([&] { return tables::parse_tabulated_law("law", required(query, "law", "g (one of g, h, a)")); });
-  q.model = parse_served_model(required(query, "model", "specular:alpha=8"));
+  q.model = parse_served_model(required(query, "model", "specular:alpha=8"), limits);
   if (!q.model->traits().isotropic)
     throw bad("model '" + q.model->spec() + "' is anisotropic; tables hold isotropic models only");
   const tables::Encoding encoding = text_of(query, "encoding")

@@ -47,7 +47,12 @@ struct Limits {
   long long max_evaluations = CubatureOptions{}.max_evaluations;
   /// Most tables one scene request (GET /api/glsl?scene=...) may need; more: 413.
   std::size_t max_scene_tables = 16;
+  /// Most lobes of a mixture in one request; more: 413.
+  std::size_t max_lobes = 16;
 };
+
+/// The largest |phi| of /api/eval, in degrees (a whole turn either way).
+inline constexpr double kMaxPhi = 360.0;
 
 /// GET /api/eval?model=SPEC&law=f|g|h|a|r&theta_i=DEG&theta_j=DEG&phi=DEG&tol=T
 struct EvalQuery {
@@ -96,19 +101,20 @@ SceneQuery parse_scene_glsl(const Query& query);
 /// GET /api/glsl?model=SPEC&law=f: f in closed form as GLSL (exporting::glsl_model_f), no table;
 /// the viewer's collimated beam. is_f_glsl: the /api/glsl query asks for law f.
 bool is_f_glsl(const Query& query);
-ModelPtr parse_f_glsl(const Query& query);
+ModelPtr parse_f_glsl(const Query& query, const Limits& limits = {});
 
 /// A spec given in a request, parsed (unknown model or parameter: 400 with the parser's
-/// message), refused (400) when it names a data file (file=...), and its model built.
+/// message), refused (400) when it names a data file (file=...), refused (413) when it is a
+/// mixture of more than limits.max_lobes lobes, and its model built.
 struct SpecQuery {
   Spec spec;
   ModelPtr model;
 };
-SpecQuery parse_served_spec(const std::string& text);
-/// parse_served_spec(spec).model.
-ModelPtr parse_served_model(const std::string& spec);
+SpecQuery parse_served_spec(const std::string& text, const Limits& limits = {});
+/// parse_served_spec(spec, limits).model.
+ModelPtr parse_served_model(const std::string& spec, const Limits& limits = {});
 
 /// GET /api/spec?model=SPEC: the spec as the service parses it.
-SpecQuery parse_spec_query(const Query& query);
+SpecQuery parse_spec_query(const Query& query, const Limits& limits = {});
 
 }  // namespace ganzfeld::serve

@@ -3,9 +3,11 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <regex>
 
 #include "export/glsl.h"
 #include "export/texture_file.h"
+#include "models/registry.h"
 #include "scene/plan.h"
 #include "serve/assets.h"
 #include "serve/etag.h"
@@ -47,11 +49,13 @@ std::string table_body(const tables::CacheResult& r, TableFormat format, const s
   return {};
 }
 
+constexpr const char* kImmutable = "public, max-age=31536000, immutable";
+
 /// `reply` with its strong ETag and Cache-Control: immutable (its request names one body
 /// forever); 304 without a body when `if_none_match_header` matches.
 Reply cacheable(Reply reply, const std::string& if_none_match_header) {
   const std::string etag = strong_etag(reply.body);
-  reply.headers.insert(reply.headers.begin(), {{"ETag", etag}, {"Cache-Control", "public, max-age=31536000, immutable"}});
+  reply.headers.insert(reply.headers.begin(), {{"ETag", etag}, {"Cache-Control", kImmutable}});
   if (!if_none_match_header.empty() && if_none_match(if_none_match_header, etag)) {
     reply.status = 304;  // RFC 9110, 15.4.5: no body, the same validators
     reply.body.clear();
@@ -59,34 +63,129 @@ Reply cacheable(Reply reply, const std::string& if_none_match_header) {
   return reply;
 }
 
+/// If-None-Match: * (RFC 9110, 13.1.2) asks for a body only when there is no representation at
+/// all. A table's key names one body forever, so whatever the client holds is it: 304 without
+/// reading or baking anything (and so without an ETag, which would need the body).
+bool any_representation(const std::string& if_none_match_header) {
+  const std::size_t first = if_none_match_header.find_first_not_of(" \t");
+  const std::size_t last = if_none_match_header.find_last_not_of(" \t");
+  return first != std::string::npos && if_none_match_header.substr(first, last - first + 1) == "*";
+}
+
+Reply unavailable(const std::string& message, bool retry) {
+  Reply reply = error_reply(503, message);
+  if (retry) reply.headers.emplace_back("Retry-After", std::to_string(kRetryAfterSeconds));
+  return reply;
+}
+
+/// The answer to a request whose work stopped: 503, with Retry-After when retrying can help.
+Reply stopped(const Cancellation* cancel, const std::string& message) {
+  return unavailable(message, cancel && cancel->reason() == StopReason::shutdown);
+}
+
+/// Temporary files of util/atomic_file.h (".NAME.tmp-PID-N") in `dir` older than `seconds`:
+/// left by a writer that was killed (kill -9) before its rename. Younger ones may belong to a
+/// `bake` writing into the same cache now. Returns how many were removed.
+int remove_stale_temporaries(const std::string& dir, double seconds) {
+  namespace fs = std::filesystem;
+  static const std::regex temporary(R"(\..+\.tmp-[0-9]+-[0-9]+)");
+  int removed = 0;
+  std::error_code ec;
+  const auto now = fs::file_time_type::clock::now();
+  for (const fs::directory_entry& entry : fs::directory_iterator(dir, ec)) {
+    if (!entry.is_regular_file(ec) || !std::regex_match(entry.path().filename().string(), temporary)) continue;
+    const auto written = entry.last_write_time(ec);
+    if (ec || std::chrono::duration<double>(now - written).count() <= seconds) continue;
+    removed += fs::remove(entry.path(), ec) ? 1 : 0;
+  }
+  return removed;
+}
+
 }  // namespace
+
+/// Held while a request computes or waits for a bake: at most max_computing at once.
+class Service::ComputingSlot {
+ public:
+  explicit ComputingSlot(Service& service) : service_(service) {
+    if (++service_.computing_ > service_.options_.max_computing) {
+      --service_.computing_;
+      ++service_.refused_computing_;
+      throw Busy("all " + std::to_string(service_.options_.max_computing) +
+                 " computing slots are taken (evaluations and bakes in progress); retry later");
+    }
+  }
+  ~ComputingSlot() { --service_.computing_; }
+  ComputingSlot(const ComputingSlot&) = delete;
+  ComputingSlot& operator=(const ComputingSlot&) = delete;
+
+ private:
+  Service& service_;
+};
 
 std::string error_body(const std::string& message) { return nlohmann::json{{"error", message}}.dump() + "\n"; }
 
 Service::Service(ServiceOptions options)
-    : options_(std::move(options)), bakery_(options_.jobs, options_.queue), models_(shapes::models_json().dump() + "\n") {}
+    : options_(std::move(options)),
+      bakery_(options_.jobs, options_.queue, options_.max_request_seconds),
+      models_(shapes::models_json().dump() + "\n") {
+  if (const int removed = remove_stale_temporaries(options_.cache_dir, options_.max_request_seconds);
+      removed && options_.log)
+    options_.log("removed " + std::to_string(removed) + " temporary file(s) older than " +
+                 format_number(options_.max_request_seconds) + " s from the cache (left by killed writers)");
+}
 
-void Service::stop() { bakery_.stop(); }
+void Service::drain() {
+  draining_ = true;
+  bakery_.drain();
+}
+
+void Service::cancel_running() { bakery_.cancel_running(); }
+
+void Service::stop() {
+  drain();
+  bakery_.stop();
+}
 
 nlohmann::ordered_json Service::health() const {
   const Bakery::Stats s = bakery_.stats();
-  return {{"status", "ok"},
-          {"tables_baked", baked_.load()},
-          {"tables_reused", reused_.load()},
-          {"bakes_joined", s.joined},
-          {"bakes_refused", s.refused},
-          {"bakes_running", s.running},
-          {"bakes_queued", s.queued},
-          {"jobs", options_.jobs},
-          {"queue", options_.queue}};
+  nlohmann::ordered_json doc{{"status", draining_ ? "draining" : "ok"},
+                             {"tables_baked", baked_.load()},
+                             {"tables_reused", reused_.load()},
+                             {"bakes_joined", s.joined},
+                             {"bakes_refused", s.refused},
+                             {"bakes_cancelled", s.cancelled},
+                             {"bakes_running", s.running},
+                             {"bakes_queued", s.queued},
+                             {"jobs", options_.jobs},
+                             {"queue", options_.queue},
+                             {"requests_computing", computing_.load()},
+                             {"computing_refused", refused_computing_.load()},
+                             {"max_computing", options_.max_computing}};
+  if (options_.connection_stats) doc.update(options_.connection_stats());
+  return doc;
 }
 
-Reply Service::handle(const std::string& path, std::string_view query, const std::string& if_none_match) {
+Reply Service::handle(const std::string& path, std::string_view query, const std::string& if_none_match,
+                      const Cancellation* cancel) {
   try {
-    return handle(Request{path, parse_query(query), if_none_match});
+    return handle(Request{path, parse_query(query), if_none_match, cancel});
   } catch (const RequestError& e) {
     return error_reply(e.status(), e.what());
   }
+}
+
+std::string Service::without_paths(std::string message) const {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  std::vector<std::string> prefixes{options_.cache_dir, fs::absolute(options_.cache_dir, ec).string(),
+                                    fs::weakly_canonical(options_.cache_dir, ec).string()};
+  std::sort(prefixes.begin(), prefixes.end(), [](const auto& a, const auto& b) { return a.size() > b.size(); });
+  for (const std::string& prefix : prefixes) {
+    if (prefix.empty()) continue;
+    for (const std::string& form : {prefix + "/", prefix})
+      for (std::size_t at; (at = message.find(form)) != std::string::npos;) message.replace(at, form.size(), "");
+  }
+  return message;
 }
 
 Reply Service::handle(const Request& request) {
@@ -97,16 +196,11 @@ Reply Service::handle(const Request& request) {
     if (const Asset* asset = find_asset(path)) return {200, std::string(asset->media_type), std::string(asset->body), {}};
     const bool fixed = path == "/healthz" || path == "/api/models";
     if (fixed && !query.empty()) return error_reply(400, path + " takes no parameters");
-    if (path == "/healthz") return json_reply(200, health());
+    if (path == "/healthz") return json_reply(draining_ ? 503 : 200, health());
     if (path == "/api/models") return {200, "application/json", models_, {}};
-    if (path == "/api/eval") {
-      const EvalQuery q = parse_eval(query, options_.limits);
-      const util::Stopwatch watch;
-      const Estimate e = evaluate_law(*q.model, q.law, q.i.value_or(Vec3{0, 0, 1}), q.j.value_or(Vec3{0, 0, 1}), q.options);
-      return json_reply(200, shapes::eval_json(q.model->spec(), q.law, e, q.tolerance, q.i, q.j, watch.seconds()));
-    }
+    if (path == "/api/eval") return eval(request);
     if (path == "/api/spec") {
-      const SpecQuery q = parse_spec_query(query);
+      const SpecQuery q = parse_spec_query(query, options_.limits);
       return json_reply(200, shapes::spec_json(q.spec, q.model->spec()));
     }
     if (path == "/api/table") return table(request, TableEndpoint::table);
@@ -119,44 +213,77 @@ Reply Service::handle(const Request& request) {
   } catch (const RequestError& e) {
     return error_reply(e.status(), e.what());
   } catch (const Busy& e) {
-    Reply reply = error_reply(503, e.what());
-    reply.headers.emplace_back("Retry-After", std::to_string(kRetryAfterSeconds));
-    return reply;
+    return unavailable(e.what(), true);
+  } catch (const Cancelled& e) {
+    return stopped(request.cancel, e.what());
   } catch (const InputError& e) {
-    return error_reply(400, e.worded(InputError::query_spelling));
+    return error_reply(400, without_paths(e.worded(InputError::query_spelling)));
   } catch (const std::exception& e) {
-    return error_reply(500, std::string("internal error: ") + e.what());
+    if (options_.log) options_.log("internal error on " + request.path + ": " + e.what());
+    return error_reply(500, "internal error: " + without_paths(e.what()));
   }
 }
 
-Bakery::Result Service::obtain(const TableQuery& q, std::string& status) {
+Reply Service::eval(const Request& request) {
+  const EvalQuery q = parse_eval(request.query, options_.limits);
+  const ComputingSlot slot(*this);
+  CubatureOptions options = q.options;
+  if (request.cancel) options.cancel = request.cancel->flag();
+  const util::Stopwatch watch;
+  const Estimate e = evaluate_law(*q.model, q.law, q.i.value_or(Vec3{0, 0, 1}), q.j.value_or(Vec3{0, 0, 1}), options);
+  if (request.cancel && request.cancel->cancelled())
+    return stopped(request.cancel, stop_message(request.cancel->reason(), options_.max_request_seconds));
+  return json_reply(200, shapes::eval_json(q.model->spec(), q.law, e, q.tolerance, q.i, q.j, watch.seconds()));
+}
+
+std::optional<tables::Table> Service::cached(const TableQuery& q, const std::string& path) {
+  std::string why;
+  std::optional<tables::Table> table =
+      tables::read_if_matching(path, tables::table_key(*q.model, q.law, q.options), &why);
+  if (!why.empty() && options_.log)
+    options_.log("cache entry " + q.file_name + " refused (" + why + "); baking it again");
+  return table;
+}
+
+Bakery::Result Service::obtain(const TableQuery& q, std::string& status, const Cancellation* cancel) {
   const std::string path = (std::filesystem::path(options_.cache_dir) / q.file_name).string();
-  if (std::optional<tables::Table> table = tables::read_if_matching(path, tables::table_key(*q.model, q.law, q.options))) {
+  if (std::optional<tables::Table> table = cached(q, path)) {
     ++reused_;
     status = "reused";
     return std::make_shared<const tables::CacheResult>(tables::CacheResult{path, tables::CacheStatus::reused, std::move(*table), 0.0});
   }
-  const Bakery::Ticket ticket = bakery_.submit(q.key, [this, q, path] {
+  const ComputingSlot slot(*this);
+  const Bakery::Ticket ticket = bakery_.submit(q.key, [this, q, path](const std::atomic<bool>& stop) {
     scene::TableRequest request{q.model->spec(), q.law, q.model, q.options};
     const std::string command = options_.command_line ? options_.command_line(scene::bake_command(request, path)) : "";
-    auto r = std::make_shared<const tables::CacheResult>(tables::bake_or_reuse(path, *q.model, q.law, q.options, command));
+    tables::BakeRequest options = q.options;
+    tables::common(options).cancel = &stop;
+    tables::CacheResult baked;
+    try {
+      baked = tables::bake_or_reuse(path, *q.model, q.law, options, command);
+    } catch (const InputError&
+                 e) {  // the cache cannot take the file (a directory at its name, a full disk): ours, not the client's
+      throw std::runtime_error("the cache cannot hold " + q.file_name + ": " + e.what());
+    }
+    auto r = std::make_shared<const tables::CacheResult>(std::move(baked));
     ++(r->status == tables::CacheStatus::baked ? baked_ : reused_);
     return r;
   });
-  Bakery::Result result = ticket.result.get();
+  Bakery::Result result = bakery_.wait(ticket, cancel);
   status = ticket.joined ? "joined" : tables::to_string(result->status);
   return result;
 }
 
 Reply Service::f_shader(const Request& request) {
-  const ModelPtr model = parse_f_glsl(request.query);
+  const ModelPtr model = parse_f_glsl(request.query, options_.limits);
   return cacheable({200, "text/plain; charset=utf-8", exporting::glsl_model_f(*model), {}}, request.if_none_match);
 }
 
 Reply Service::table(const Request& request, TableEndpoint endpoint) {
   const TableQuery q = parse_table(request.query, options_.limits, endpoint, options_.defaults);
+  if (any_representation(request.if_none_match)) return {304, "application/json", "", {{"Cache-Control", kImmutable}}};
   std::string status;
-  const Bakery::Result r = obtain(q, status);
+  const Bakery::Result r = obtain(q, status, request.cancel);
   Reply reply;
   if (endpoint == TableEndpoint::glsl) {
     reply.content_type = "text/plain; charset=utf-8";
@@ -171,6 +298,7 @@ Reply Service::table(const Request& request, TableEndpoint endpoint) {
 
 Reply Service::scene_glsl(const Request& request) {
   const SceneQuery q = parse_scene_glsl(request.query);
+  if (any_representation(request.if_none_match)) return {304, "application/json", "", {{"Cache-Control", kImmutable}}};
   const std::size_t needed = scene::tables_needed(q.scene, options_.defaults).size();
   if (needed > options_.limits.max_scene_tables)
     throw RequestError(413, "the scene needs " + std::to_string(needed) + " tables; this service bakes at most " +
@@ -181,7 +309,7 @@ Reply Service::scene_glsl(const Request& request) {
   store.obtain = [&](scene::TableRequest r) {
     std::string status;
     tables::common(r.options).max_evaluations = options_.limits.max_evaluations;
-    const Bakery::Result result = obtain(table_query(r.model, r.law, r.options), status);
+    const Bakery::Result result = obtain(table_query(r.model, r.law, r.options), status, request.cancel);
     statuses += (statuses.empty() ? "" : ",") + status;
     scene::PlannedTable planned{std::move(r), std::shared_ptr<const tables::Table>(result, &result->table), result->path,
                                 result->status, result->seconds};

@@ -214,6 +214,13 @@ void quantize_unorm16(Table& table) {
   }
 }
 
+bool cancelled(const BakeOptions& options) { return options.cancel && options.cancel->load(std::memory_order_relaxed); }
+
+/// A bake whose flag was set while it ran is thrown away: some entries were skipped or cut short.
+void throw_if_cancelled(const BakeOptions& options) {
+  if (cancelled(options)) throw Cancelled("the bake was cancelled");
+}
+
 /// Bakes every node (in parallel, deterministic): value rounded to the encoding, error = the
 /// cubature estimate + that rounding, rounded up. Reports progress; refuses values the encoding
 /// cannot hold.
@@ -247,6 +254,7 @@ void bake_nodes(Table& table, const LawAt& law_at, const BakeOptions& options, c
   const std::uint64_t step = std::max<std::uint64_t>(1, n / kProgressSteps);
   tbb::parallel_for(tbb::blocked_range<std::uint64_t>(0, n, 1), [&](const tbb::blocked_range<std::uint64_t>& r) {
     for (std::uint64_t m = r.begin(); m != r.end(); ++m) {
+      if (cancelled(options)) return;
       const Estimate e = entry(m);
       const float v = round_to_encoding(e.value, options.encoding);
       if (!std::isfinite(e.value) || !std::isfinite(v)) out_of_range = true;
@@ -265,6 +273,7 @@ void bake_nodes(Table& table, const LawAt& law_at, const BakeOptions& options, c
       }
     }
   });
+  throw_if_cancelled(options);
   if (out_of_range)
     throw options.encoding == Encoding::half
         ? InputError({"law " + std::string(to_string(table.law)) + " of '" + table.model +
@@ -317,6 +326,7 @@ void validate(Table& table, const LawAt& law_at, const BakeOptions& options, con
           ? std::vector<WeightRounding>{WeightRounding::exact, WeightRounding::nearest, WeightRounding::truncate}
           : std::vector<WeightRounding>{WeightRounding::exact};
   tbb::parallel_for(std::uint64_t{0}, checks, [&](std::uint64_t c) {
+    if (cancelled(options)) return;
     std::vector<double> y(dims);
     if (c < centres) {
       std::uint64_t rest = chosen[c];
@@ -336,6 +346,7 @@ void validate(Table& table, const LawAt& law_at, const BakeOptions& options, con
         check_error[c] = std::max(check_error[c], std::abs(sample(table, x, r).value - exact.value) + exact.error);
     }
   });
+  throw_if_cancelled(options);
   table.interpolation_checks = static_cast<long long>(checks);
   table.interpolation_error = 0.0;
   for (double e : check_error) table.interpolation_error = std::max(table.interpolation_error, e);
@@ -350,6 +361,7 @@ Table bake_resolution(const Model& model, Law law, const BakeOptions& options) {
   CubatureOptions cubature;
   cubature.abs_tol = options.tolerance;
   cubature.max_evaluations = options.max_evaluations;
+  cubature.cancel = options.cancel;
   bake_nodes(table, law_at, options, cubature);
   CubatureOptions check = cubature;
   if (options.check_tolerance > 0.0) check.abs_tol = options.check_tolerance;

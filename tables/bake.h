@@ -3,6 +3,7 @@
 // thread count or the order of work).
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <functional>
 #include <optional>
@@ -30,6 +31,9 @@ struct BakeCommon {
   /// Called with (entries done, total) at most ~kProgressSteps times, serialized (never two at
   /// once) and with increasing `done`, from whichever worker thread finished the entry.
   std::function<void(std::uint64_t done, std::uint64_t total)> progress;
+  /// When set, read before every entry and by every entry's cubature (CubatureOptions::cancel):
+  /// once it holds true the bake stops and throws Cancelled (no table, nothing written).
+  const std::atomic<bool>* cancel = nullptr;
 };
 
 /// A bake on a fixed grid: the caller chooses every node count, axis, lookup and tolerance.
@@ -117,7 +121,7 @@ std::vector<Axis> bake_axes(Law law, const BakeOptions& options);
 Table bake_resolution(const Model& model, Law law, const BakeOptions& options);
 
 /// The table `request` asks for: bake_resolution of a fixed grid, bake_to_error
-/// (tables/to_error.h) of an error target.
+/// (tables/to_error.h) of an error target. Throws Cancelled once BakeCommon::cancel holds true.
 Table bake(const Model& model, Law law, const BakeRequest& request);
 
 /// `count` seeded random points uniform in the law's coordinates, flattened (g: (i·n in

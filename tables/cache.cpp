@@ -125,15 +125,23 @@ bool same_model(const Table& table, const Model& model) {
 
 const char* to_string(CacheStatus status) { return status == CacheStatus::reused ? "reused" : "baked"; }
 
-std::optional<Table> read_if_matching(const std::string& path, const TableKey& key) {
+std::optional<Table> read_if_matching(const std::string& path, const TableKey& key, std::string* why) {
+  if (why) why->clear();
   std::error_code ec;
   if (!std::filesystem::exists(path, ec)) return std::nullopt;
+  std::string reason;
   try {
     Table table = read_table(path);
-    if (same_key(table_key(table), key)) return table;
-  } catch (const InputError&) {
-    // corrupt, truncated or not a table: re-baked by the caller
+    if (!same_key(table_key(table), key))
+      reason = "it holds another table (its metadata is not the key)";
+    else if (table.values_digest.empty())
+      reason = "it has no ganzfeld.values_digest to verify its numbers by";
+    else
+      return table;
+  } catch (const InputError& e) {  // corrupt, truncated or not a table: re-baked by the caller
+    reason = e.what();
   }
+  if (why) *why = reason;
   return std::nullopt;
 }
 

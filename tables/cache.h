@@ -7,7 +7,9 @@
 // (which keeps naming the path it was baked from). The key is hashed (64-bit FNV-1a) into a
 // readable file name; a file is reused only when it reads cleanly (read_table) and its own
 // metadata equals the key exactly, so a corrupt, truncated, stale or colliding file is re-baked
-// and atomically replaced (write_table renames a complete temporary file over it).
+// and atomically replaced (write_table renames a complete temporary file over it). Its numbers
+// must match the digest in its header (ganzfeld.values_digest, checked by read_table); a file
+// written before the digest existed is re-baked once, so every reused table has been verified.
 //
 // Not in the key: data file paths, the evaluation budget per entry
 // (BakeCommon::max_evaluations, not stored in the file), the command line and the ganzfeld
@@ -73,9 +75,10 @@ struct CacheResult {
   double seconds = 0.0;  ///< baking time (0 when reused)
 };
 
-/// The table at `path` when it exists, reads cleanly and carries exactly `key`; otherwise
-/// nothing (no exception for a corrupt or mismatching file).
-std::optional<Table> read_if_matching(const std::string& path, const TableKey& key);
+/// The table at `path` when it exists, reads cleanly (its numbers verified against its digest)
+/// and carries exactly `key`; otherwise nothing (no exception for a corrupt or mismatching
+/// file). When a file is there but refused, `why` (if given) says why in one line; else "".
+std::optional<Table> read_if_matching(const std::string& path, const TableKey& key, std::string* why = nullptr);
 
 /// Reuses the table at `path` if read_if_matching accepts it (and not `force`); otherwise bakes
 /// it, stamps `command` into it and writes it atomically over `path`.

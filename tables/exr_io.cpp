@@ -61,6 +61,8 @@ constexpr const char* kAttrWarp = "ganzfeld.warp";  // warped frame only
 // unorm16 encoding only: value = offset + scale u / 65535 for the UINT code u of the value channel.
 constexpr const char* kAttrUnormOffset = "ganzfeld.unorm16_offset";
 constexpr const char* kAttrUnormScale = "ganzfeld.unorm16_scale";
+// Optional on read (files written before it existed): the digest of the numbers (values_digest).
+constexpr const char* kAttrValuesDigest = "ganzfeld.values_digest";
 
 /// The pixel type of the value channel (unorm16: UINT codes) and of the error channel.
 Imf::PixelType value_type(Encoding encoding) {
@@ -141,6 +143,7 @@ void write_table(const Table& table, const std::string& path) {
     attr(kAttrTargetBytes, std::to_string(table.target_bytes));
     if (table.target_fetches > 0) attr(kAttrTargetFetches, std::to_string(table.target_fetches));
   }
+  attr(kAttrValuesDigest, values_digest(table));  // the numbers as read back (check_table: exact in the encoding)
 
   // Half data are exact in float, so the conversion below loses nothing.
   std::vector<Imath::half> value_half, error_half;
@@ -431,6 +434,12 @@ struct Reader : ExrAttributes {
         check_table(table);
       } catch (const InputError& e) {
         refuse(e.what());
+      }
+      if (header.findTypedAttribute<Imf::StringAttribute>(kAttrValuesDigest)) {
+        table.values_digest = attribute(header, kAttrValuesDigest);
+        if (table.values_digest != values_digest(table))
+          refuse(std::string("the numbers do not match ") + kAttrValuesDigest + " " + table.values_digest +
+                 " (they hash to " + values_digest(table) + "): the file was changed or damaged after it was written");
       }
       return table;
     } catch (const InputError&) {

@@ -10,29 +10,9 @@ namespace ganzfeld::tables {
 
 bool is_even_axis(const Axis& axis) noexcept { return axis.name == kAxisPhi || axis.name == kAxisBeta; }
 
-double filter_weight(double t, WeightRounding rounding) noexcept {
-  switch (rounding) {
-    case WeightRounding::nearest: return std::round(t * kFilterWeightSteps) / kFilterWeightSteps;
-    case WeightRounding::truncate: return std::floor(t * kFilterWeightSteps) / kFilterWeightSteps;
-    case WeightRounding::exact: break;
-  }
-  return t;
-}
-
-AxisTaps axis_taps(const Axis& axis, double u, Interpolation interpolation, WeightRounding rounding) noexcept {
-  AxisTaps out;
-  const int n = axis.count;
-  const double s = std::clamp(u, 0.0, 1.0) * (n - 1);  // in [0, count - 1]
-  const int k = static_cast<int>(std::min(std::floor(s), static_cast<double>(n - 2)));
-  const double t = s - k;
-  if (interpolation == Interpolation::linear || n < 4) {
-    const double tq = filter_weight(t, rounding);
-    out.taps = 2;
-    out.node = {k, k + 1, k + 1, k + 1};
-    out.weight = {1.0 - tq, tq, 0.0, 0.0};
-    return out;
-  }
+AxisTaps catmull_rom_taps(const Axis& axis, int k, double t, WeightRounding rounding) noexcept {
   // Catmull–Rom on nodes k-1, k, k+1, k+2 (tangents (p[k+1] - p[k-1])/2).
+  const int n = axis.count;
   const double t2 = t * t, t3 = t2 * t;
   double w[4] = {0.5 * (-t3 + 2.0 * t2 - t), 0.5 * (3.0 * t3 - 5.0 * t2 + 2.0), 0.5 * (-3.0 * t3 + 4.0 * t2 + t),
                  0.5 * (t3 - t2)};
@@ -63,6 +43,7 @@ AxisTaps axis_taps(const Axis& axis, double u, Interpolation interpolation, Weig
     w[1] = middle * (1.0 - f);
     w[2] = middle * f;
   }
+  AxisTaps out;
   out.taps = 4;
   for (int d = 0; d < 4; ++d) {
     out.node[d] = std::clamp(k - 1 + d, 0, n - 1);
@@ -71,79 +52,102 @@ AxisTaps axis_taps(const Axis& axis, double u, Interpolation interpolation, Weig
   return out;
 }
 
-Sample sample_axes(const Table& table, std::span<const double> y, WeightRounding rounding) noexcept {
-  const std::size_t dims = table.axes.size();
-  if (dims == 0 || dims > 3 || y.size() != dims || table.value.size() != table.entries()) return {};
-  AxisTaps taps[3];
-  for (std::size_t d = 0; d < dims; ++d)
-    taps[d] = axis_taps(table.axes[d], table.axes[d].index_coordinate(y[d]), table.interpolation, rounding);
-  Sample out;
-  const int c0 = taps[0].taps, c1 = dims > 1 ? taps[1].taps : 1, c2 = dims > 2 ? taps[2].taps : 1;
-  const std::size_t n1 = dims > 1 ? table.axes[1].count : 1, n2 = dims > 2 ? table.axes[2].count : 1;
-  for (int a = 0; a < c0; ++a)
-    for (int b = 0; b < c1; ++b)
-      for (int c = 0; c < c2; ++c) {
-        const double w = taps[0].weight[a] * (dims > 1 ? taps[1].weight[b] : 1.0) * (dims > 2 ? taps[2].weight[c] : 1.0);
-        if (w == 0.0) continue;
-        const std::size_t m = (static_cast<std::size_t>(taps[0].node[a]) * n1 + (dims > 1 ? taps[1].node[b] : 0)) * n2 +
-                              (dims > 2 ? taps[2].node[c] : 0);
-        out.value += w * table.value[m];
-        out.error += std::abs(w) * table.error[m];
-      }
-  if (table.frame == Frame::warped) {
-    const double envelope = warp_envelope(table.warp, y[0]);
-    out.value *= envelope;
-    out.error *= envelope;
+bool same_lookup(const Table& a, const Table& b) noexcept {
+  if (a.law != b.law || a.frame != b.frame || a.interpolation != b.interpolation || a.axes.size() != b.axes.size())
+    return false;
+  if (a.frame != Frame::cosines && a.peak != b.peak) return false;
+  if (a.frame == Frame::warped) {  // the offset axis and the envelope follow each table's own warp
+    const Warp &p = a.warp, &q = b.warp;
+    if (p.mix != q.mix || p.envelope != q.envelope || p.samples.size() != q.samples.size()) return false;
+    for (std::size_t k = 0; k < p.samples.size(); ++k)
+      if (p.samples[k].shift != q.samples[k].shift || p.samples[k].along != q.samples[k].along ||
+          p.samples[k].across != q.samples[k].across)
+        return false;
   }
+  for (std::size_t d = 0; d < a.axes.size(); ++d) {
+    const Axis &p = a.axes[d], &q = b.axes[d];
+    if (p.name != q.name || p.min != q.min || p.max != q.max || p.count != q.count || p.mapping != q.mapping ||
+        p.width != q.width)
+      return false;
+  }
+  return true;
+}
+
+double lookup_scale(const Table& table, std::span<const double> y) noexcept {
+  return table.frame == Frame::warped && !y.empty() ? warp_envelope(table.warp, y[0]) : 1.0;
+}
+
+Sample sample_axes(const Table& table, std::span<const double> y, WeightRounding rounding) noexcept {
+  Sample out;
+  for_each_node(
+      table, y,
+      [&](std::size_t entry, double w) {
+        out.value += w * table.value[entry];
+        out.error += std::abs(w) * table.error[entry];
+      },
+      rounding);
+  return out;
+}
+
+Point axis_point(const Table& table, std::span<const double> x) noexcept {
+  Point out;
+  if (table.frame == Frame::lobe && table.law == Law::g && x.size() == 3) {
+    out.x = lobe_coordinates(table.peak, x[0], x[1], x[2]);
+    out.size = 3;
+    return out;
+  }
+  if (table.frame == Frame::warped && table.law == Law::g && x.size() == 3) {
+    out.x = warped_coordinates(table.peak, table.warp, table.axes[0], x[0], x[1], x[2]);
+    out.size = 3;
+    return out;
+  }
+  out.size = std::min(x.size(), out.x.size());
+  std::copy_n(x.begin(), out.size, out.x.begin());
   return out;
 }
 
 std::vector<double> axis_coordinates(const Table& table, std::span<const double> x) noexcept {
-  if (table.frame == Frame::lobe && table.law == Law::g && x.size() == 3) {
-    const std::array<double, 3> y = lobe_coordinates(table.peak, x[0], x[1], x[2]);
-    return {y.begin(), y.end()};
-  }
-  if (table.frame == Frame::warped && table.law == Law::g && x.size() == 3) {
-    const std::array<double, 3> y = warped_coordinates(table.peak, table.warp, table.axes[0], x[0], x[1], x[2]);
-    return {y.begin(), y.end()};
-  }
-  return {x.begin(), x.end()};
+  const Point y = axis_point(table, x);
+  return {y.x.begin(), y.x.begin() + static_cast<std::ptrdiff_t>(y.size)};
 }
 
 Sample sample(const Table& table, std::span<const double> x, WeightRounding rounding) noexcept {
-  const std::vector<double> y = axis_coordinates(table, x);
-  return sample_axes(table, y, rounding);
+  const Point y = axis_point(table, x);
+  return sample_axes(table, y.span(), rounding);
 }
 
 WeightRounding own_rounding(const Table& table) noexcept {
   return table.filter == Filter::hardware ? WeightRounding::nearest : WeightRounding::exact;
 }
 
-std::vector<double> coordinates(Law law, const Vec3& i, const Vec3& j) noexcept {
+Point law_point(Law law, const Vec3& i, const Vec3& j) noexcept {
   auto cos_theta = [](const Vec3& v) {
     const double len = glm::length(v);
     return len > 0.0 ? std::clamp(v.z / len, -1.0, 1.0) : 1.0;
   };
+  Point out;
   switch (law) {
-    case Law::h: return {cos_theta(j)};
-    case Law::a: return {cos_theta(i)};
+    case Law::h: out.x[0] = cos_theta(j), out.size = 1; return out;
+    case Law::a: out.x[0] = cos_theta(i), out.size = 1; return out;
     default: break;
   }
-  double phi = 0.0;
-  const double ri = std::hypot(i.x, i.y), rj = std::hypot(j.x, j.y);
-  if (ri > 0.0 && rj > 0.0) {
-    // Angle between the horizontal projections, in [0, pi]: the laws of isotropic models are
-    // even in the relative azimuth.
-    const double c = (i.x * j.x + i.y * j.y) / (ri * rj);
-    const double s = (i.x * j.y - i.y * j.x) / (ri * rj);
-    phi = std::abs(std::atan2(s, c));
-  }
-  return {cos_theta(i), cos_theta(j), phi};
+  // Angle between the horizontal projections, in [0, pi]: the laws of isotropic models are even
+  // in the relative azimuth.
+  const bool along_n = (i.x == 0.0 && i.y == 0.0) || (j.x == 0.0 && j.y == 0.0);
+  const double phi = along_n ? 0.0 : std::abs(std::atan2(i.x * j.y - i.y * j.x, i.x * j.x + i.y * j.y));
+  out.x = {cos_theta(i), cos_theta(j), phi};
+  out.size = 3;
+  return out;
+}
+
+std::vector<double> coordinates(Law law, const Vec3& i, const Vec3& j) noexcept {
+  const Point x = law_point(law, i, j);
+  return {x.x.begin(), x.x.begin() + static_cast<std::ptrdiff_t>(x.size)};
 }
 
 Sample sample(const Table& table, const Vec3& i, const Vec3& j, WeightRounding rounding) noexcept {
-  const std::vector<double> x = coordinates(table.law, i, j);
-  return sample(table, x, rounding);
+  const Point x = law_point(table.law, i, j);
+  return sample(table, x.span(), rounding);
 }
 
 }  // namespace ganzfeld::tables

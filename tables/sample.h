@@ -8,6 +8,7 @@
 // Table::lookup_error (validated at bake time) does.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <span>
 #include <vector>
@@ -33,6 +34,23 @@ Sample sample(const Table& table, std::span<const double> x, WeightRounding roun
 Sample sample_axes(const Table& table, std::span<const double> y,
                    WeightRounding rounding = WeightRounding::exact) noexcept;
 
+/// Whether lookups in a and b blend the same entries with the same weights at every point: the
+/// same law, frame, peak, interpolation and axes. Tables of several lobes that share a lookup can
+/// be summed entry by entry and looked up once (the laws are linear in f: rasterizer/shading.cpp).
+bool same_lookup(const Table& a, const Table& b) noexcept;
+
+/// Up to three coordinates without allocating (the per-pixel form of coordinates and
+/// axis_coordinates).
+struct Point {
+  std::array<double, 3> x{};
+  std::size_t size = 0;
+  std::span<const double> span() const noexcept { return {x.data(), size}; }
+};
+/// coordinates(law, i, j) as a Point.
+Point law_point(Law law, const Vec3& i, const Vec3& j) noexcept;
+/// axis_coordinates(table, x) as a Point.
+Point axis_point(const Table& table, std::span<const double> x) noexcept;
+
 /// The table's axis coordinates of the law's coordinates x (identity for the cosines frame;
 /// (theta_j, psi, beta) or (theta_j, offset, beta) of tables/frame.h for the lobe and warped frames).
 std::vector<double> axis_coordinates(const Table& table, std::span<const double> x) noexcept;
@@ -46,19 +64,107 @@ struct AxisTaps {
   std::array<int, 4> node{};
   std::array<double, 4> weight{};
 };
+/// t rounded to a multiple of 1/kFilterWeightSteps as `rounding` says (exact: t itself).
+inline double filter_weight(double t, WeightRounding rounding) noexcept {
+  switch (rounding) {
+    case WeightRounding::nearest: return std::round(t * kFilterWeightSteps) / kFilterWeightSteps;
+    case WeightRounding::truncate: return std::floor(t * kFilterWeightSteps) / kFilterWeightSteps;
+    case WeightRounding::exact: break;
+  }
+  return t;
+}
+/// The Catmull–Rom taps of cell k (nodes k-1 .. k+2) at fraction t of an axis of >= 4 nodes; with
+/// `rounding`, the fraction w2 / (w1 + w2) of its middle linear fetch is rounded as a hardware
+/// filter's 8-bit weights are.
+AxisTaps catmull_rom_taps(const Axis& axis, int k, double t, WeightRounding rounding = WeightRounding::exact) noexcept;
+/// The cell of index coordinate u on an axis: s = u (count - 1), node k = min(floor s, count - 2),
+/// fraction t = s - k.
+struct Cell {
+  int k = 0;
+  double t = 0.0;
+};
+inline Cell cell(const Axis& axis, double u) noexcept {
+  const double s = std::clamp(u, 0.0, 1.0) * (axis.count - 1);  // in [0, count - 1]
+  const int k = std::min(static_cast<int>(s), axis.count - 2);  // s >= 0: truncation is the floor
+  return {k, s - k};
+}
 /// With `rounding`, the weights are those of a hardware filter with 8-bit sub-texel precision:
 /// linear's t, and Catmull–Rom's fraction w2 / (w1 + w2) of its middle linear fetch, rounded to
-/// a multiple of 1/256 (to nearest or down).
-AxisTaps axis_taps(const Axis& axis, double u, Interpolation interpolation,
-                   WeightRounding rounding = WeightRounding::exact) noexcept;
-/// t rounded to a multiple of 1/kFilterWeightSteps as `rounding` says (exact: t itself).
-double filter_weight(double t, WeightRounding rounding) noexcept;
+/// a multiple of 1/256 (to nearest or down). Inline: a lookup makes one per axis.
+inline AxisTaps axis_taps(const Axis& axis, double u, Interpolation interpolation,
+                          WeightRounding rounding = WeightRounding::exact) noexcept {
+  const Cell c = cell(axis, u);
+  if (interpolation == Interpolation::catmull_rom && axis.count >= 4) return catmull_rom_taps(axis, c.k, c.t, rounding);
+  const double t = filter_weight(c.t, rounding);
+  return {2, {c.k, c.k + 1, c.k + 1, c.k + 1}, {1.0 - t, t, 0.0, 0.0}};
+}
 /// Whether an axis is an azimuth about which the law is even (Catmull–Rom reflects there).
 bool is_even_axis(const Axis& axis) noexcept;
 
+/// What a lookup's blend is multiplied by: a warped table's envelope A(theta_j) at y[0] (it stores
+/// g / A, tables/frame.h); 1 for other tables.
+double lookup_scale(const Table& table, std::span<const double> y) noexcept;
+
+/// The one definition of what a lookup blends: calls visit(entry, weight) for every entry of
+/// the table a lookup at axis coordinates y blends (entry index = ((k0 n1) + k1) n2 + k2), in
+/// the order sample_axes sums them, each node's weight lookup_scale(table, y) times the product
+/// w0 w1 w2 of its axes' tap weights in that order (Catmull–Rom leaves entries of zero weight out;
+/// a linear blend may visit them); `rounding` as for axis_taps. Visits nothing and returns false
+/// when y or the table's data do not fit its axes. Inline, so that a caller summing several
+/// channels per entry (rasterizer/shading.cpp) pays no more than sample_axes.
+template <class Visit>
+bool for_each_node(const Table& table, std::span<const double> y, Visit&& visit,
+                   WeightRounding rounding = WeightRounding::exact) noexcept {
+  const std::size_t dims = table.axes.size();
+  if (dims == 0 || dims > 3 || y.size() != dims) return false;
+  const double scale = lookup_scale(table, y);
+  std::size_t stride[3] = {0, 0, 0}, entries = 1;
+  for (std::size_t d = dims; d-- > 0;) {
+    stride[d] = entries;
+    entries *= static_cast<std::size_t>(table.axes[d].count);
+  }
+  if (table.value.size() != entries) return false;
+  if (table.interpolation == Interpolation::linear) {  // 2 taps per axis: (1 - t, t) at nodes k, k + 1
+    Cell c[3] = {{0, 0.0}, {0, 0.0}, {0, 0.0}};
+    for (std::size_t d = 0; d < dims; ++d) {
+      c[d] = cell(table.axes[d], table.axes[d].index_coordinate(y[d]));
+      c[d].t = filter_weight(c[d].t, rounding);
+    }
+    const std::size_t base = c[0].k * stride[0] + c[1].k * stride[1] + c[2].k * stride[2];
+    const double w0[2] = {scale * (1.0 - c[0].t), scale * c[0].t}, w1[2] = {1.0 - c[1].t, c[1].t}, w2[2] = {1.0 - c[2].t, c[2].t};
+    const int n1 = dims > 1 ? 2 : 1, n2 = dims > 2 ? 2 : 1;
+    for (int a = 0; a < 2; ++a)
+      for (int b = 0; b < n1; ++b) {
+        const double wab = dims > 1 ? w0[a] * w1[b] : w0[a];
+        for (int e = 0; e < n2; ++e)
+          visit(base + a * stride[0] + b * stride[1] + e * stride[2], dims > 2 ? wab * w2[e] : wab);
+      }
+    return true;
+  }
+  AxisTaps taps[3];
+  for (std::size_t d = 0; d < 3; ++d)
+    taps[d] = d < dims ? axis_taps(table.axes[d], table.axes[d].index_coordinate(y[d]), table.interpolation, rounding)
+                       : AxisTaps{1, {0, 0, 0, 0}, {1.0, 0.0, 0.0, 0.0}};  // a missing axis: one tap of weight 1
+  for (int a = 0; a < taps[0].taps; ++a) {
+    const double wa = scale * taps[0].weight[a];
+    const std::size_t ea = static_cast<std::size_t>(taps[0].node[a]) * stride[0];
+    for (int b = 0; b < taps[1].taps; ++b) {
+      const double wab = wa * taps[1].weight[b];
+      const std::size_t eab = ea + static_cast<std::size_t>(taps[1].node[b]) * stride[1];
+      for (int c = 0; c < taps[2].taps; ++c) {
+        const double w = wab * taps[2].weight[c];
+        if (w != 0.0) visit(eab + static_cast<std::size_t>(taps[2].node[c]) * stride[2], w);
+      }
+    }
+  }
+  return true;
+}
+
 /// The axis coordinates of directions i, j (local frame, n = +z; need not be unit) for the
 /// table's law: g -> (i·n, j·n, relative azimuth in [0, pi]); h -> (j·n); a -> (i·n).
-/// The relative azimuth of a direction along ±n is taken as 0 (the laws do not depend on it).
+/// The relative azimuth of a direction along ±n is taken as 0 (the laws do not depend on it); it
+/// is atan2 of the tangential parts' cross and dot products, unnormalized (atan2 needs no scale),
+/// as the exported GLSL computes it (export/glsl.cpp, gz_relative_azimuth).
 std::vector<double> coordinates(Law law, const Vec3& i, const Vec3& j) noexcept;
 
 /// sample(table, coordinates(table.law, i, j)).

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -131,14 +132,8 @@ double Axis::coordinate(double u) const noexcept {
   return min + (max - min) * t;
 }
 
-double Axis::index_coordinate(double x) const noexcept {
-  if (!(max > min)) return 0.0;
-  const double t = std::clamp((x - min) / (max - min), 0.0, 1.0);  // NaN -> clamp keeps NaN; caught below
-  if (!(t >= 0.0)) return 0.0;
+double Axis::sinh_index_coordinate(double t) const noexcept {
   switch (mapping) {
-    case Mapping::linear: return t;
-    case Mapping::sqrt: return std::sqrt(t);
-    case Mapping::cos: return std::acos(1.0 - 2.0 * t) / pi;
     case Mapping::sinh: {
       if (!(width > 0.0)) return t;
       const SinhAxis s(*this);
@@ -150,8 +145,8 @@ double Axis::index_coordinate(double x) const noexcept {
       const double V = std::asinh((max - min) / width);
       return std::clamp(1.0 - std::asinh((max - min) * (1.0 - t) / width) / V, 0.0, 1.0);
     }
+    default: return t;
   }
-  return t;
 }
 
 double Axis::node(int k) const noexcept {
@@ -241,6 +236,14 @@ std::vector<Mapping> parse_mappings(const std::string& text, Law law) {
 }
 
 std::size_t Table::entries() const noexcept { return static_cast<std::size_t>(entry_count(axes)); }
+
+std::string values_digest(const Table& table) {
+  static_assert(std::endian::native == std::endian::little, "the digest hashes the floats' bytes as stored in memory");
+  std::uint64_t hash = util::kFnv1aOffsetBasis;
+  for (const std::vector<float>* numbers : {&table.value, &table.error})
+    hash = util::fnv1a_64({reinterpret_cast<const char*>(numbers->data()), numbers->size() * sizeof(float)}, hash);
+  return util::content_digest(hash);
+}
 
 std::uint64_t entry_count(std::span<const Axis> axes) noexcept {
   if (axes.empty()) return 0;

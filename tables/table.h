@@ -3,7 +3,10 @@
 // the formulas below are the normative ones and the document quotes them.
 #pragma once
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
+#include <numbers>
 #include <span>
 #include <string>
 #include <vector>
@@ -121,8 +124,22 @@ struct Axis {
 
   /// x for the index coordinate u in [0, 1] (clamped).
   double coordinate(double u) const noexcept;
-  /// u in [0, 1] for x (x is clamped to [min, max] first).
-  double index_coordinate(double x) const noexcept;
+  /// u in [0, 1] for x (x is clamped to [min, max] first). Inline: a lookup makes one per axis.
+  double index_coordinate(double x) const noexcept {
+    if (!(max > min)) return 0.0;
+    const double t = std::clamp((x - min) / (max - min), 0.0, 1.0);  // NaN -> clamp keeps NaN; caught below
+    if (!(t >= 0.0)) return 0.0;
+    switch (mapping) {
+      case Mapping::linear: return t;
+      case Mapping::sqrt: return std::sqrt(t);
+      case Mapping::cos: return std::acos(1.0 - 2.0 * t) / std::numbers::pi;
+      case Mapping::sinh:
+      case Mapping::sinh_max: break;
+    }
+    return sinh_index_coordinate(t);
+  }
+  /// index_coordinate of the sinh mappings at the normalized coordinate t in [0, 1].
+  double sinh_index_coordinate(double t) const noexcept;
   /// x of node k, exact at both ends.
   double node(int k) const noexcept;
 };
@@ -237,6 +254,10 @@ struct Table {
   /// The smallest j·n (g) the bound was validated at (kWarpedMinCosJ for warped tables, else 0).
   double min_cos_j = 0.0;
   int format_version = kFormatVersion;  ///< as read (versions 1, 2) or written
+  /// As read: the file's ganzfeld.values_digest, which the reader has checked against `value`
+  /// and `error` (values_digest()); "" for files written before it existed. write_table writes
+  /// the digest of the numbers it writes, whatever this holds.
+  std::string values_digest;
 
   std::size_t entries() const noexcept;
 };
@@ -246,6 +267,11 @@ struct Table {
 /// filtering does a linear blend in one fetch, and Catmull–Rom in 3 per axis (3^D).
 int fetches(const Table& table) noexcept;
 int fetches(Interpolation interpolation, Filter filter, std::size_t dims) noexcept;
+
+/// The digest of the stored numbers (docs/lut-format.md, ganzfeld.values_digest): 64-bit FNV-1a
+/// (util/hash.h) of the value then the error entries as little-endian IEEE binary32, e.g.
+/// "fnv1a64:0123456789abcdef". Guards against a file's numbers changing under its metadata.
+std::string values_digest(const Table& table);
 
 /// Product of the counts; 0 for no axes.
 std::uint64_t entry_count(std::span<const Axis> axes) noexcept;

@@ -63,6 +63,25 @@ std::vector<double> axis_error_estimates(const Table& table, Interpolation inter
   return out;
 }
 
+/// How far a hardware filter's 8-bit weights may move a lookup of `table`: per axis the largest
+/// step between neighbouring nodes over kFilterWeightSteps (a weight truncated to a multiple of
+/// 1/256 moves a linear blend by at most its step / 256: tables/sample.h, filter_weight), summed
+/// over the axes. Unlike interpolation's h^2, it falls only as h.
+double weight_rounding_reach(const Table& table) {
+  const std::size_t dims = table.axes.size();
+  std::vector<std::size_t> stride(dims, 1);
+  for (std::size_t d = dims - 1; d-- > 0;) stride[d] = stride[d + 1] * table.axes[d + 1].count;
+  double reach = 0.0;
+  for (std::size_t d = 0; d < dims; ++d) {
+    double step = 0.0;
+    for (std::size_t m = 0; m < table.entries(); ++m)
+      if ((m / stride[d]) % table.axes[d].count != 0)
+        step = std::max(step, std::abs(static_cast<double>(table.value[m]) - table.value[m - stride[d]]));
+    reach += step / kFilterWeightSteps;
+  }
+  return reach;
+}
+
 std::uint64_t bytes_of(const std::vector<int>& counts, Encoding encoding) {
   double n = 1.0;
   for (int c : counts) n *= c;
@@ -193,7 +212,15 @@ SearchResult search_counts(const Model& model, Law law, BakeOptions options, dou
       // When the last growth by r cut the error by less than r (slower than first order: a feature
       // no node count resolves, such as ggx's grazing band), a larger table is not worth its bake.
       if (previous_growth > 0.0 && previous_error / table.lookup_error < previous_growth) break;
-      const double ratio = std::clamp(std::sqrt(table.lookup_error / (kLinearAim * E)), 1.1, kLinearMaxGrowth);
+      double ratio = std::clamp(std::sqrt(table.lookup_error / (kLinearAim * E)), 1.1, kLinearMaxGrowth);
+      if (options.filter == Filter::hardware) {
+        // The 8-bit weights alone must fit under E / kLookupMargin: every axis grows by at least
+        // `needed`; a table that would pass the cap for that alone is out of reach of this scheme.
+        const double needed = weight_rounding_reach(table) * kLookupMargin / (kLinearAim * E);
+        if (needed > 1.0 && static_cast<double>(value_bytes(table)) * std::pow(needed, dims) > static_cast<double>(cap))
+          break;
+        ratio = std::max(ratio, std::min(needed, kLinearMaxGrowth));
+      }
       previous_error = table.lookup_error;
       previous_growth = ratio;
       for (std::size_t d = 0; d < next.size(); ++d)
@@ -250,28 +277,26 @@ Table bake_to_error(const Model& model, Law law, const TargetBake& requested) {
     table.target_fetches = target.max_fetches;
     return table;
   };
-  const std::vector<InputError::Piece> within{
-      " within " + std::to_string(cap) + " value bytes (",
-      target.max_bytes ? InputError::Piece(Named{"max_bytes"}) : "the default cap", ")"};
-  auto refusal = [&](std::vector<InputError::Piece> pieces) {  // "cannot reach max_error=E ... within ..."
-    pieces.insert(pieces.begin(), {std::string("cannot reach "), Named{"max_error", format_number(E)},
-                                   " for law " + std::string(to_string(law)) + " of '" + model.spec() + "'"});
-    return InputError(std::move(pieces));
-  };
   if (target.max_fetches == 0) {  // no budget: the fewest bytes, read with texelFetch
     options.interpolation = Interpolation::catmull_rom;
     SearchResult found = search_counts(model, law, options, E, cap);
     if (found.table) return finish(std::move(*found.table));
     // Only what was measured: the refusal names the best table a bake made, never an extrapolation
     // to the cap (a number no bake has checked).
-    std::vector<InputError::Piece> pieces = within;
-    pieces.push_back("; the best this search found is " + format_number(found.best_error) + " in " +
-                     format_number(found.best_bytes) + " value bytes (the search bakes at most " +
-                     std::to_string(kMaxSearchBakes) + " tables)");
-    throw refusal(std::move(pieces));
+    throw InputError({std::string("cannot reach "), Named{"max_error", format_number(E)},
+                      " for law " + std::string(to_string(law)) + " of '" + model.spec() + "' within " +
+                          std::to_string(cap) + " value bytes (",
+                      target.max_bytes ? InputError::Piece(Named{"max_bytes"}) : "the default cap",
+                      "); the best this search found is " + format_number(found.best_error) + " in " +
+                          format_number(found.best_bytes) + " value bytes (the search bakes at most " +
+                          std::to_string(kMaxSearchBakes) + " tables)"});
   }
   const std::size_t D = law == Law::g ? 3 : 1;
+  // In the order of their fetches (g): 1 hardware-filtered, 8 texel fetches of the same linear blend in
+  // full precision (no 8-bit weights to absorb: the warped frame reaches 1e-4 in fewer bytes than
+  // Catmull–Rom's lobe frame), 64 of Catmull–Rom.
   std::vector<Scheme> schemes{{options.lobe.has_value(), Interpolation::linear, Filter::hardware},
+                              {options.lobe.has_value(), Interpolation::linear, Filter::texel_fetch},
                               {false, Interpolation::catmull_rom, Filter::texel_fetch}};
   SearchResult best;
   for (const Scheme& scheme : schemes) {
@@ -285,14 +310,15 @@ Table bake_to_error(const Model& model, Law law, const TargetBake& requested) {
     if (found.table) return finish(std::move(*found.table));
     if (found.best_error < best.best_error) best = std::move(found);
   }
-  std::vector<InputError::Piece> pieces{" within " + std::to_string(target.max_fetches) + " texture fetch" +
-                                            (target.max_fetches == 1 ? "" : "es") + " per lookup (",
-                                        Named{"fetches"}, ") and"};
-  pieces.insert(pieces.end(), within.begin(), within.end());
-  pieces.push_back("; the best found is " + format_number(best.best_error) + " at " +
-                   std::to_string(best.best_fetches) + " fetch" + (best.best_fetches == 1 ? "" : "es") + " in " +
-                   format_number(best.best_bytes) + " value bytes");
-  throw refusal(std::move(pieces));
+  throw InputError({std::string("cannot reach "), Named{"max_error", format_number(E)},
+                    " for law " + std::string(to_string(law)) + " of '" + model.spec() + "' within " +
+                        std::to_string(target.max_fetches) + " texture fetch" +
+                        (target.max_fetches == 1 ? "" : "es") + " per lookup (",
+                    Named{"fetches"}, ") and within " + std::to_string(cap) + " value bytes (",
+                    target.max_bytes ? InputError::Piece(Named{"max_bytes"}) : "the default cap",
+                    "); the best found is " + format_number(best.best_error) + " at " +
+                        std::to_string(best.best_fetches) + " fetch" + (best.best_fetches == 1 ? "" : "es") + " in " +
+                        format_number(best.best_bytes) + " value bytes"});
 }
 
 }  // namespace ganzfeld::tables

@@ -22,8 +22,9 @@
 // With a fetch budget N (`--fetches N`), the schemes a shader can read within N texture fetches
 // per lookup are searched in the order of their fetches, and the first that meets E is kept:
 // one hardware-filtered linear fetch (the warped frame for g of a model with a lobe frame, else
-// the cosines frame; the bound covers 8-bit filter weights, tables::Filter), then Catmull–Rom
-// read with texelFetch (4^D fetches; its search may settle on linear texel-fetch, 2^D).
+// the cosines frame; the bound covers 8-bit filter weights, tables::Filter), then the same frame
+// read with texelFetch and blended in full precision (2^D fetches), then Catmull–Rom read with
+// texelFetch (4^D fetches; its search may settle on linear texel-fetch, 2^D).
 #pragma once
 
 #include <cstdint>

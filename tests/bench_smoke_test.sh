@@ -18,11 +18,39 @@ PY
 "$G" bench bake --quick --json >"$tmp/b.json"
 python3 -c "import json,sys; d=json.load(open('$tmp/b.json')); assert len(d['tables'])==2 and all(t['speedup_2_threads']>0 for t in d['tables'])"
 "$G" bench render --quick --json >"$tmp/r.json"
-python3 -c "import json; d=json.load(open('$tmp/r.json')); r=d['ratios']; assert r['tables_vs_lambert']>0 and r['direct_vs_tables']>0"
+python3 -c "import json; d=json.load(open('$tmp/r.json')); r=d['ratios']; assert r['tables_vs_lambert']['median']>0 and r['direct_vs_tables']['median']>0 and len(r['tables_vs_lambert']['runs'])==d['repeats']"
+"$G" bench render --quick --markdown >"$tmp/render.md"
+grep -q "scripts/doc-section docs/realtime.md render" "$tmp/render.md"
+[ "$(grep -cE '\*\*(met|missed)\*\*' "$tmp/render.md")" -eq 1 ]
 # The real-time tables' report: every section and a verdict on each target.
-"$G" bench realtime --quick --markdown "$tmp/realtime.md"
+"$G" bench realtime --quick --markdown >"$tmp/realtime.md"
 for section in "Per-texel error bound" "Bake time" "White furnace" "independent estimator"; do grep -q "$section" "$tmp/realtime.md"; done
 [ "$(grep -cE '\*\*(met|missed)\*\*' "$tmp/realtime.md")" -ge 14 ]
+# The shaders benchmark on Mesa llvmpipe (small tables, a 128² pass): every pass timed and counted,
+# every table's exported lookup against tables::sample, a verdict on each GPU-cost target.
+"$G" bench shaders --quick --platform surfaceless --json >"$tmp/s.json"
+python3 - "$tmp/s.json" <<'PY'
+import json, sys
+d = json.load(open(sys.argv[1]))
+assert d["gl_renderer"] and d["software"] and d["timer"].startswith("wall")
+names = [p["name"] for p in d["passes"]]
+assert names[:2] == ["A", "S"] and len(names) >= 4, names
+assert any(p["define"] == "GANZFELD_HARDWARE_FILTER" for p in d["passes"])
+for p in d["passes"]:
+    assert p["milliseconds"]["median"] > 0 and p["fetches_per_pixel"] >= 0, p["name"]
+    for law in p["laws"]:
+        assert law["points"] >= 1000 and law["fetches"] >= 1, (p["name"], law)
+        # llvmpipe: the same numbers in float (texelFetch, and its full-precision linear filter)
+        assert law["max_difference"] <= 1e-4 * max(1.0, law["lookup_error"]), (p["name"], law)
+assert d["passes"][0]["fetches_per_pixel"] == 0 and d["passes"][1]["fetches_per_pixel"] == 2
+PY
+"$G" bench shaders --quick --platform surfaceless --frames 3 --markdown >"$tmp/shaders.md"
+grep -q "scripts/doc-section docs/realtime.md shaders-software" "$tmp/shaders.md"
+[ "$(grep -cE '\*\*(met|missed)\*\*' "$tmp/shaders.md")" -ge 3 ]
+set +e; "$G" bench shaders --quick --platform moon 2>"$tmp/err"; code=$?; set -e
+[ "$code" -eq 2 ] && [ "$(wc -l <"$tmp/err")" -eq 1 ]
+set +e; "$G" bench render --markdown docs/x.md 2>"$tmp/err"; code=$?; set -e
+[ "$code" -eq 2 ] && [ "$(wc -l <"$tmp/err")" -eq 1 ]
 set +e; "$G" bench nonsense 2>"$tmp/err"; code=$?; set -e
 [ "$code" -eq 2 ] && [ "$(wc -l <"$tmp/err")" -eq 1 ]
 echo "bench smoke: 1 passed, 0 failed"

@@ -13,7 +13,7 @@ python3 - "$G" <<'EOF'
 import os, re, subprocess, sys
 
 ganzfeld = sys.argv[1]
-DOCS = ["errata.md", "model-parameters.md", "performance.md", "plausibility.md", "realtime.md", "reliability.md",
+DOCS = ["errata.md", "fetch-budget.md", "model-parameters.md", "performance.md", "plausibility.md", "realtime.md", "reliability.md",
         "serve-load.md", "three.md", "tradeoff.md"]
 STAMP = re.compile(r"[Gg]enerated (?:from [^`]*? )?by `?((?:ganzfeld|scripts/|tests/)[^`;(]*?)`?\s*(?:[;(]|on |$)",
                    re.MULTILINE)

@@ -15,11 +15,6 @@
 // alone as well: the GPU samples the tables the way tables/ does, not merely within their error.
 // Measured on llvmpipe (Mesa 22.3): max |GPU - CPU| 4.9e-6, 3.5e-5 relative; 0.2% of the
 // stated table error.
-#include <EGL/egl.h>
-#include <EGL/eglext.h>
-#define GL_GLEXT_PROTOTYPES
-#include <GL/glcorearb.h>
-
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -46,6 +41,7 @@
 #include "scene/plan.h"
 #include "scene/scene.h"
 #include "export/texture_file.h"
+#include "gl/draw.h"
 #include "rasterizer/raster.h"
 #include "rasterizer/shading.h"
 #include "tests/temp_dir.h"
@@ -91,98 +87,17 @@ std::string lobe_scene_json() {
 constexpr double kLobeSceneMaxError = 1e-2;
 
 // ---------------------------------------------------------------------------------------------
-// EGL + GL plumbing
+// GL plumbing (gl/: the context, programs, textures and framebuffers)
 
-#if defined(__SANITIZE_ADDRESS__)
-#define GANZFELD_LEAK_CHECKED 1
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-#define GANZFELD_LEAK_CHECKED 1
-#endif
-#endif
-#ifdef GANZFELD_LEAK_CHECKED
-#include <sanitizer/lsan_interface.h>
-#endif
-
-/// Under scripts/test --sanitize, llvmpipe's JIT-compiled shader code allocates blocks that Mesa
-/// keeps past eglTerminate. Their stacks end in the JIT code, outside any module, so no
-/// suppression can name them: leak checking is paused (for this thread; llvmpipe rasterizes on
-/// it too, LP_NUM_THREADS=0) while a context lives, and stays on for everything else.
-struct LeakCheckPause {
-#ifdef GANZFELD_LEAK_CHECKED
-  LeakCheckPause() { __lsan_disable(); }
-  ~LeakCheckPause() { __lsan_enable(); }
-#endif
-};
-
-struct GlContext {
-  LeakCheckPause leak_check_pause;  // destroyed last, after eglTerminate
-  EGLDisplay display = EGL_NO_DISPLAY;
-  EGLContext context = EGL_NO_CONTEXT;
-  ~GlContext() {
-    if (display != EGL_NO_DISPLAY) {
-      eglMakeCurrent(display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
-      if (context != EGL_NO_CONTEXT) eglDestroyContext(display, context);
-      eglTerminate(display);
-    }
-  }
-};
-
-/// A current GL 4.3 core (es = false) or GLSL ES 3.0 (es = true) context without any surface;
-/// `error` says why not.
-std::unique_ptr<GlContext> make_context(bool es, std::string& error) {
-  auto get_platform_display =
-      reinterpret_cast<PFNEGLGETPLATFORMDISPLAYEXTPROC>(eglGetProcAddress("eglGetPlatformDisplayEXT"));
-  if (!get_platform_display) {
-    error = "no eglGetPlatformDisplayEXT";
-    return nullptr;
-  }
-#ifdef GANZFELD_LEAK_CHECKED
-  setenv("LP_NUM_THREADS", "0", 1);  // see LeakCheckPause
-#endif
-  auto gl = std::make_unique<GlContext>();
-  gl->display = get_platform_display(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
-  EGLint major = 0, minor = 0;
-  if (gl->display == EGL_NO_DISPLAY || !eglInitialize(gl->display, &major, &minor)) {
-    error = "eglInitialize failed on the surfaceless platform (is Mesa's libegl-mesa0 installed?)";
-    gl->display = EGL_NO_DISPLAY;
-    return nullptr;
-  }
-  if (!eglBindAPI(es ? EGL_OPENGL_ES_API : EGL_OPENGL_API)) {
-    error = "eglBindAPI failed";
-    return nullptr;
-  }
-  const EGLint core[] = {EGL_CONTEXT_MAJOR_VERSION, 4, EGL_CONTEXT_MINOR_VERSION, 3, EGL_CONTEXT_OPENGL_PROFILE_MASK,
-                         EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT, EGL_NONE};
-  const EGLint gles[] = {EGL_CONTEXT_MAJOR_VERSION, 3, EGL_CONTEXT_MINOR_VERSION, 0, EGL_NONE};
-  gl->context = eglCreateContext(gl->display, EGL_NO_CONFIG_KHR, EGL_NO_CONTEXT, es ? gles : core);
-  if (gl->context == EGL_NO_CONTEXT) {
-    error = "eglCreateContext failed: EGL error " + std::to_string(eglGetError());
-    return nullptr;
-  }
-  if (!eglMakeCurrent(gl->display, EGL_NO_SURFACE, EGL_NO_SURFACE, gl->context)) {
-    error = "eglMakeCurrent (surfaceless) failed";
-    return nullptr;
-  }
-  return gl;
+/// A current context on Mesa's surfaceless platform (llvmpipe: the renderer the bounds below were
+/// measured on), GLSL 4.30 core or ES 3.00.
+std::unique_ptr<gl::Context> make_context(bool es, std::string& error) {
+  auto context = gl::make_context(es ? gl::Api::es30 : gl::Api::core43, gl::Platform::surfaceless, error);
+  if (context) std::printf("GL renderer: %s | %s\n", context->info().gl_renderer.c_str(), context->info().gl_version.c_str());
+  return context;
 }
 
-GLuint compile(GLenum stage, const std::string& source, std::string& log) {
-  const GLuint shader = glCreateShader(stage);
-  const char* text = source.c_str();
-  glShaderSource(shader, 1, &text, nullptr);
-  glCompileShader(shader);
-  GLint ok = 0;
-  glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
-  if (!ok) {
-    char buffer[8192] = {};
-    glGetShaderInfoLog(shader, sizeof buffer, nullptr, buffer);
-    log = buffer;
-    glDeleteShader(shader);
-    return 0;
-  }
-  return shader;
-}
+std::string vertex_source(bool es) { return gl::fullscreen_vertex_shader(es ? gl::Api::es30 : gl::Api::core43); }
 
 /// Full-screen triangle; the fragment shader ray-casts spheres with the camera of
 /// raster::pixel_ray and shades them with gz_scene_radiance. The ray-sphere intersection is the
@@ -227,85 +142,19 @@ void main() {
 )";
 }
 
-const char* kVertexCore = R"(#version 430 core
-void main() {
-  vec2 p = vec2(gl_VertexID == 1 ? 3.0 : -1.0, gl_VertexID == 2 ? 3.0 : -1.0);
-  gl_Position = vec4(p, 0.0, 1.0);
-}
-)";
-const char* kVertexEs = R"(#version 300 es
-void main() {
-  vec2 p = vec2(gl_VertexID == 1 ? 3.0 : -1.0, gl_VertexID == 2 ? 3.0 : -1.0);
-  gl_Position = vec4(p, 0.0, 1.0);
-}
-)";
-
-/// A linked program of a vertex and a fragment shader (0 and `log` on failure).
-GLuint link_program(const std::string& vertex, const std::string& fragment, std::string& log) {
-  const GLuint vs = compile(GL_VERTEX_SHADER, vertex, log);
-  if (vs == 0) return 0;
-  const GLuint fs = compile(GL_FRAGMENT_SHADER, fragment, log);
-  if (fs == 0) return 0;
-  const GLuint program = glCreateProgram();
-  glAttachShader(program, vs);
-  glAttachShader(program, fs);
-  glLinkProgram(program);
-  glDeleteShader(vs);  // flagged; freed with the program
-  glDeleteShader(fs);
-  GLint linked = 0;
-  glGetProgramiv(program, GL_LINK_STATUS, &linked);
-  if (linked) return program;
-  log = "the program does not link";
-  glDeleteProgram(program);
-  return 0;
-}
-
 /// Exports `table` as KTX2 (what a user gets), reads the file back and uploads it to texture
-/// unit `unit`, bound to the program's sampler uniform `sampler`; the texture's name.
-GLuint upload_table(const tables::Table& table, const std::filesystem::path& dir, const std::string& sampler,
-                    GLuint program, int unit, bool hardware_filter) {
+/// unit `unit`, bound to the program's sampler uniform `sampler`.
+gl::Texture upload_table(const tables::Table& table, const std::filesystem::path& dir, const std::string& sampler,
+                         const gl::Program& program, int unit, bool hardware_filter) {
   const auto file = dir / (sampler + ".ktx2");
   exporting::write_texture(table, exporting::TextureFormat::ktx2, file.string(), sampler);
   const exporting::TextureData data = exporting::read_ktx2(file.string());
   EXPECT_EQ(data.key_values.at("ganzfeld.model"), table.model);
-  const bool unorm = data.vk_format == exporting::kVkFormatR16Unorm;
-  // unorm16: the codes as GL_R16 (normalized: the shader reads code / 65535), as docs/shaders.md says.
-  const GLenum internal = unorm ? GL_R16 : data.vk_format == exporting::kVkFormatR16Sfloat ? GL_R16F : GL_R32F;
-  const GLenum type = unorm ? GL_UNSIGNED_SHORT : GL_FLOAT;
-  const void* texels = unorm ? static_cast<const void*>(data.codes.data()) : static_cast<const void*>(data.texels.data());
-  GLuint texture = 0;
-  glGenTextures(1, &texture);
-  glActiveTexture(GL_TEXTURE0 + unit);
-  const GLenum target = table.law == Law::g ? GL_TEXTURE_3D : GL_TEXTURE_2D;
-  glBindTexture(target, texture);
-  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-  if (target == GL_TEXTURE_3D)
-    glTexImage3D(target, 0, internal, data.size.width, data.size.height, data.size.depth, 0, GL_RED, type, texels);
-  else
-    glTexImage2D(target, 0, internal, data.size.width, data.size.height, 0, GL_RED, type, texels);
-  // Complete without mipmaps, so texelFetch reads level 0 (export/glsl.h).
-  const GLint filter = hardware_filter ? GL_LINEAR : GL_NEAREST;
-  glTexParameteri(target, GL_TEXTURE_MIN_FILTER, filter);
-  glTexParameteri(target, GL_TEXTURE_MAG_FILTER, filter);
-  for (GLenum wrap : {GL_TEXTURE_WRAP_S, GL_TEXTURE_WRAP_T, GL_TEXTURE_WRAP_R}) glTexParameteri(target, wrap, GL_CLAMP_TO_EDGE);
-  const GLint location = glGetUniformLocation(program, sampler.c_str());
+  gl::Texture texture = gl::upload_texture(data, table.law == Law::g, unit, hardware_filter);
+  const GLint location = program.uniform(sampler.c_str());
   EXPECT_GE(location, 0) << sampler << " is not a uniform of the exported shader";
   glUniform1i(location, unit);
   return texture;
-}
-
-/// An RGBA32F framebuffer of width x height, bound; its names (framebuffer, renderbuffer).
-std::array<GLuint, 2> float_framebuffer(int width, int height) {
-  GLuint fbo = 0, color = 0;
-  glGenFramebuffers(1, &fbo);
-  glBindFramebuffer(GL_FRAMEBUFFER, fbo);
-  glGenRenderbuffers(1, &color);
-  glBindRenderbuffer(GL_RENDERBUFFER, color);
-  glRenderbufferStorage(GL_RENDERBUFFER, GL_RGBA32F, width, height);
-  glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, color);
-  EXPECT_EQ(glCheckFramebufferStatus(GL_FRAMEBUFFER), static_cast<GLenum>(GL_FRAMEBUFFER_COMPLETE));
-  glViewport(0, 0, width, height);
-  return {fbo, color};
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -383,8 +232,6 @@ void run_gl_comparison(bool es, tables::Encoding encoding, bool hardware_filter 
   std::string error;
   auto gl = make_context(es, error);
   ASSERT_TRUE(gl) << error;
-  std::printf("GL renderer: %s | %s\n", reinterpret_cast<const char*>(glGetString(GL_RENDERER)),
-              reinterpret_cast<const char*>(glGetString(GL_VERSION)));
 
   const auto dir = std::filesystem::path(testing_support::temp_dir()) /
                    (std::string(es ? "es" : "core") + "_" + to_string(encoding) + (max_error > 0.0 ? "_v2" : ""));
@@ -396,13 +243,13 @@ void run_gl_comparison(bool es, tables::Encoding encoding, bool hardware_filter 
   const std::string scene_glsl = exporting::glsl_scene_shader(baked.scene, baked.plan, "gl_shader_test scene");
 
   std::string log;
-  const GLuint program = link_program(es ? kVertexEs : kVertexCore,
-                                      fragment_source(es ? "300 es" : "430 core", hardware_filter, scene_glsl), log);
-  ASSERT_NE(program, 0u) << log;
-  glUseProgram(program);
+  const gl::Program program =
+      gl::link_program(vertex_source(es), fragment_source(es ? "300 es" : "430 core", hardware_filter, scene_glsl), log);
+  ASSERT_TRUE(program) << log;
+  glUseProgram(program.id());
 
   int unit = 0;
-  std::vector<GLuint> textures;
+  std::vector<gl::Texture> textures;
   for (const auto& [key, table] : baked.tables)
     textures.push_back(upload_table(*table, dir, exporting::glsl_sampler_name(key.first, key.second), program, unit++,
                                     hardware_filter));
@@ -413,15 +260,15 @@ void run_gl_comparison(bool es, tables::Encoding encoding, bool hardware_filter 
   const Vec3 up = glm::cross(right, forward);
   const double tan_half = std::tan(camera.fov_deg * std::numbers::pi / 360.0);
   auto set3 = [&](const char* name, const Vec3& v) {
-    glUniform3f(glGetUniformLocation(program, name), static_cast<float>(v.x), static_cast<float>(v.y), static_cast<float>(v.z));
+    glUniform3f(program.uniform(name), static_cast<float>(v.x), static_cast<float>(v.y), static_cast<float>(v.z));
   };
   set3("u_eye", camera.eye);
   set3("u_forward", forward);
   set3("u_right", right);
   set3("u_up", up);
-  glUniform2f(glGetUniformLocation(program, "u_scale"), static_cast<float>(tan_half * camera.width / camera.height),
+  glUniform2f(program.uniform("u_scale"), static_cast<float>(tan_half * camera.width / camera.height),
               static_cast<float>(tan_half));
-  glUniform2f(glGetUniformLocation(program, "u_size"), static_cast<float>(camera.width), static_cast<float>(camera.height));
+  glUniform2f(program.uniform("u_size"), static_cast<float>(camera.width), static_cast<float>(camera.height));
   std::vector<float> spheres;
   std::vector<int> materials;
   for (const SceneObject& object : baked.scene.objects) {
@@ -429,19 +276,17 @@ void run_gl_comparison(bool es, tables::Encoding encoding, bool hardware_filter 
                                    static_cast<float>(object.center.z), static_cast<float>(object.radius)});
     materials.push_back(static_cast<int>(object.material));
   }
-  glUniform1i(glGetUniformLocation(program, "u_sphere_count"), static_cast<int>(materials.size()));
-  glUniform4fv(glGetUniformLocation(program, "u_spheres"), static_cast<GLsizei>(materials.size()), spheres.data());
-  glUniform1iv(glGetUniformLocation(program, "u_materials"), static_cast<GLsizei>(materials.size()), materials.data());
+  glUniform1i(program.uniform("u_sphere_count"), static_cast<int>(materials.size()));
+  glUniform4fv(program.uniform("u_spheres"), static_cast<GLsizei>(materials.size()), spheres.data());
+  glUniform1iv(program.uniform("u_materials"), static_cast<GLsizei>(materials.size()), materials.data());
 
-  const auto [fbo, color] = float_framebuffer(camera.width, camera.height);
-  GLuint vao = 0;
-  glGenVertexArrays(1, &vao);
-  glBindVertexArray(vao);
+  const gl::Framebuffer target(camera.width, camera.height, GL_RGBA32F);
+  ASSERT_TRUE(target.complete());
+  const gl::VertexArray vertices;
   glClearColor(0, 0, 0, 0);
   glClear(GL_COLOR_BUFFER_BIT);
   glDrawArrays(GL_TRIANGLES, 0, 3);
-  std::vector<float> pixels(static_cast<std::size_t>(camera.width) * camera.height * 4);
-  glReadPixels(0, 0, camera.width, camera.height, GL_RGBA, GL_FLOAT, pixels.data());
+  const std::vector<float> pixels = target.read_rgba();
   ASSERT_EQ(glGetError(), static_cast<GLenum>(GL_NO_ERROR));
 
   Comparison c;
@@ -489,12 +334,6 @@ void run_gl_comparison(bool es, tables::Encoding encoding, bool hardware_filter 
   // The two pictures cover the same spheres: they may differ only on the silhouette (the CPU's
   // coverage is the inscribed 128-gon mesh, the GPU's the exact sphere).
   EXPECT_LT(c.coverage_mismatch, c.covered_cpu / 50);
-
-  glDeleteVertexArrays(1, &vao);
-  glDeleteRenderbuffers(1, &color);
-  glDeleteFramebuffers(1, &fbo);
-  glDeleteTextures(static_cast<GLsizei>(textures.size()), textures.data());
-  glDeleteProgram(program);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -558,100 +397,6 @@ double float_bound(const tables::Table& table, std::span<const double> x) {
   return bound + (kSumError + dequantize) * largest;
 }
 
-/// The lookup points: seeded (i·n, j·n, phi) (tables::validation_points of law g), as vectors in
-/// a seeded random frame (n any unit vector, i and j of random lengths: the functions take any
-/// frame and need not-unit i and j), and the law's coordinates the CPU samples at.
-struct LookupPoints {
-  std::vector<float> i, j, n;      // RGBA per point, for the input textures
-  std::vector<std::vector<double>> x;  // tables::coordinates in the local frame
-};
-
-LookupPoints lookup_points(Law law) {
-  const int count = kPointsSide * kPointsSide;
-  const std::vector<double> g = tables::validation_points(Law::g, count, kPointSeed);
-  std::mt19937_64 random(kPointSeed);
-  std::uniform_real_distribution<double> unit(-1.0, 1.0), length(0.5, 2.0);
-  LookupPoints out;
-  for (int p = 0; p < count; ++p) {
-    const double ci = g[3 * p], cj = g[3 * p + 1], phi = g[3 * p + 2];
-    const double si = std::sqrt(1.0 - ci * ci), sj = std::sqrt(1.0 - cj * cj);
-    const Vec3 i{si, 0.0, ci}, j{sj * std::cos(phi), sj * std::sin(phi), cj};
-    out.x.push_back(tables::coordinates(law, i, j));
-    Vec3 n{unit(random), unit(random), unit(random)};
-    n = glm::length(n) > 0.1 ? glm::normalize(n) : Vec3{0.0, 0.0, 1.0};
-    const Vec3 a = std::abs(n.x) < 0.9 ? Vec3{1.0, 0.0, 0.0} : Vec3{0.0, 1.0, 0.0};
-    const Vec3 t = glm::normalize(a - glm::dot(a, n) * n), b = glm::cross(n, t);
-    auto world = [&](const Vec3& v, double scale) {
-      const Vec3 w = scale * (v.x * t + v.y * b + v.z * n);
-      return std::array<float, 4>{static_cast<float>(w.x), static_cast<float>(w.y), static_cast<float>(w.z), 0.0f};
-    };
-    for (auto [to, v] : {std::pair{&out.i, world(i, length(random))}, std::pair{&out.j, world(j, length(random))},
-                         std::pair{&out.n, world(Vec3{0.0, 0.0, 1.0}, 1.0)}})
-      to->insert(to->end(), v.begin(), v.end());
-  }
-  return out;
-}
-
-/// A kPointsSide^2 RGBA32F texture of `texels` on texture unit `unit`, bound to sampler `name`.
-GLuint point_texture(const std::vector<float>& texels, GLuint program, int unit, const char* name) {
-  GLuint texture = 0;
-  glGenTextures(1, &texture);
-  glActiveTexture(GL_TEXTURE0 + unit);
-  glBindTexture(GL_TEXTURE_2D, texture);
-  glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA32F, kPointsSide, kPointsSide, 0, GL_RGBA, GL_FLOAT, texels.data());
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-  glUniform1i(glGetUniformLocation(program, name), unit);
-  return texture;
-}
-
-/// The exported function of `table` evaluated on the GL implementation at `points`, one pixel each.
-std::vector<float> gpu_lookups(const tables::Table& table, const LookupPoints& points, bool es, bool hardware_filter) {
-  const std::string function = exporting::glsl_function_name(table.model, table.law);
-  const std::string args = table.law == Law::g ? "(gz_table, i, j, n)" : table.law == Law::h ? "(gz_table, j, n)" : "(gz_table, i, n)";
-  const std::string fragment = std::string("#version ") + (es ? "300 es" : "430 core") + "\n" +
-                               (hardware_filter ? "#define GANZFELD_HARDWARE_FILTER\n" : "") +
-                               exporting::glsl_table_snippet(table) + "uniform highp " +
-                               exporting::glsl_sampler_type(table.law) + " gz_table;\n" + R"(
-uniform highp sampler2D u_i;
-uniform highp sampler2D u_j;
-uniform highp sampler2D u_n;
-out vec4 out_value;
-void main() {
-  ivec2 p = ivec2(gl_FragCoord.xy);
-  vec3 i = texelFetch(u_i, p, 0).xyz, j = texelFetch(u_j, p, 0).xyz, n = texelFetch(u_n, p, 0).xyz;
-  out_value = vec4()" + function + args + R"(, 0.0, 0.0, 1.0);
-}
-)";
-  std::string log;
-  const GLuint program = link_program(es ? kVertexEs : kVertexCore, fragment, log);
-  EXPECT_NE(program, 0u) << log;
-  if (program == 0) return {};
-  glUseProgram(program);
-  const auto dir = std::filesystem::path(testing_support::temp_dir()) / "lookups";
-  std::filesystem::create_directories(dir);
-  std::vector<GLuint> textures{upload_table(table, dir, "gz_table", program, 0,
-                                            hardware_filter || table.filter == tables::Filter::hardware),
-                               point_texture(points.i, program, 1, "u_i"), point_texture(points.j, program, 2, "u_j"),
-                               point_texture(points.n, program, 3, "u_n")};
-  const auto [fbo, color] = float_framebuffer(kPointsSide, kPointsSide);
-  GLuint vao = 0;
-  glGenVertexArrays(1, &vao);
-  glBindVertexArray(vao);
-  glDrawArrays(GL_TRIANGLES, 0, 3);
-  std::vector<float> pixels(4 * kPointsSide * kPointsSide);
-  glReadPixels(0, 0, kPointsSide, kPointsSide, GL_RGBA, GL_FLOAT, pixels.data());
-  EXPECT_EQ(glGetError(), static_cast<GLenum>(GL_NO_ERROR));
-  std::vector<float> values(kPointsSide * kPointsSide);
-  for (std::size_t p = 0; p < values.size(); ++p) values[p] = pixels[4 * p];  // row p / side is y: as the inputs
-  glDeleteVertexArrays(1, &vao);
-  glDeleteRenderbuffers(1, &color);
-  glDeleteFramebuffers(1, &fbo);
-  glDeleteTextures(static_cast<GLsizei>(textures.size()), textures.data());
-  glDeleteProgram(program);
-  return values;
-}
-
 /// A table of `spec` baked at a small resolution with the given frame and lookup (its numbers do
 /// not matter here beyond being a real law's: both sides read the same stored values).
 tables::Table small_table(const std::string& spec, Law law, std::vector<int> resolution,
@@ -681,10 +426,14 @@ void compare_lookups(const tables::Table& table, bool es, bool hardware_filter =
   std::string error;
   auto gl = make_context(es, error);
   ASSERT_TRUE(gl) << error;
-  const bool exact_filter = std::string(reinterpret_cast<const char*>(glGetString(GL_RENDERER))).find("llvmpipe") != std::string::npos;
-  const LookupPoints points = lookup_points(table.law);
-  const std::vector<float> gpu = gpu_lookups(table, points, es, hardware_filter);
-  ASSERT_EQ(gpu.size(), points.x.size());
+  const bool exact_filter = gl->info().gl_renderer.find("llvmpipe") != std::string::npos;
+  const gl::LookupPoints points = gl::lookup_points(table.law, kPointsSide, kPointSeed);
+  const std::vector<float> gpu =
+      gl::table_function_at_points(table, points, es ? gl::Api::es30 : gl::Api::core43,
+                                   hardware_filter ? "GANZFELD_HARDWARE_FILTER" : "",
+                                   hardware_filter || table.filter == tables::Filter::hardware, error)
+          .values;
+  ASSERT_EQ(gpu.size(), points.x.size()) << error;
   int over = 0;
   double largest = 0.0, largest_bound = 0.0;
   // A table whose bound covers the hardware filter is read with texture() whatever the define:
@@ -778,6 +527,58 @@ TEST(GlShaderLookup, CatmullRomH) {
   compare_lookups(table, false, true);
 }
 
+// The texture fetches a lookup executes, counted by the shader itself (`bench shaders` reports
+// them): per lookup 2^d texels blended linearly, 4^d by Catmull–Rom with texelFetch; with the
+// hardware filter one linear fetch, or 3 per Catmull–Rom axis (export/glsl.h).
+TEST(GlShaderLookup, FetchesPerLookupAreCounted) {
+  std::string error;
+  auto gl = make_context(false, error);
+  ASSERT_TRUE(gl) << error;
+  struct Case {
+    tables::Table table;
+    int texel_fetches, filtered_fetches;
+  };
+  const Case cases[] = {
+      {small_table("specular:alpha=8", Law::g, {5, 6, 4}, tables::Interpolation::linear, false), 8, 1},
+      {small_table("specular:alpha=100", Law::g, {10, 24, 8}, tables::Interpolation::catmull_rom, true), 64, 27},
+      {small_table("minnaert:xi=1", Law::h, {9}, tables::Interpolation::linear, false), 2, 1},
+      {small_table("minnaert:xi=1", Law::h, {9}, tables::Interpolation::catmull_rom, false), 4, 3},
+      // the warped frame: 8 texel fetches read with texelFetch; a table whose bound covers the filter
+      // is one texture() whatever the define (tables::fetches says the same)
+      {small_table("specular:alpha=100", Law::g, {6, 9, 5}, tables::Interpolation::linear, true,
+                   tables::Encoding::single, true),
+       8, 1},
+      {small_table("specular:alpha=100", Law::g, {6, 9, 5}, tables::Interpolation::linear, true,
+                   tables::Encoding::single, true, tables::Filter::hardware),
+       1, 1}};
+  for (const Case& c : cases) {
+    EXPECT_EQ(tables::fetches(c.table), c.table.filter == tables::Filter::hardware ? c.filtered_fetches : c.texel_fetches)
+        << c.table.model;
+    const gl::LookupPoints points = gl::lookup_points(c.table.law, 16, kPointSeed);
+    for (bool filtered : {false, true}) {
+      const gl::Lookups lookups = gl::table_function_at_points(
+          c.table, points, gl::Api::core43, filtered ? "GANZFELD_HARDWARE_FILTER" : "",
+          filtered || c.table.filter == tables::Filter::hardware, error);
+      ASSERT_EQ(lookups.fetches.size(), points.x.size()) << error;
+      for (int fetches : lookups.fetches)
+        ASSERT_EQ(fetches, filtered ? c.filtered_fetches : c.texel_fetches)
+            << c.table.model << " law " << to_string(c.table.law) << (filtered ? ", hardware filter" : ", texelFetch");
+    }
+  }
+}
+
+TEST(GlShader, CountTextureFetchesWrapsEveryCallOutsideComments) {
+  const std::string source =
+      "// texture(a, b) in a comment\n"
+      "vec4 x = texture(s, vec2(texelFetch(t, ivec2(0), 0).r, 0.5));\n"
+      "/* textureLod(c, d, 0.0) */ float textured = 1.0; float y = mytexture(s) + textureLod (c, r, 2.0).g;\n";
+  EXPECT_EQ(gl::count_texture_fetches(source),
+            "// texture(a, b) in a comment\n"
+            "vec4 x = (gz_fetches += 1, texture(s, vec2((gz_fetches += 1, texelFetch(t, ivec2(0), 0)).r, 0.5)));\n"
+            "/* textureLod(c, d, 0.0) */ float textured = 1.0; float y = mytexture(s) + "
+            "(gz_fetches += 1, textureLod(c, r, 2.0)).g;\n");
+}
+
 TEST(GlShader, Glsl430CoreFloatTablesMatchTheSoftwareRasterizer) { run_gl_comparison(false, tables::Encoding::single); }
 TEST(GlShader, Glsl430CoreHalfTablesMatchTheSoftwareRasterizer) { run_gl_comparison(false, tables::Encoding::half); }
 TEST(GlShader, GlslEs300FloatTablesMatchTheSoftwareRasterizer) { run_gl_comparison(true, tables::Encoding::single); }
@@ -837,32 +638,25 @@ void main() {
 }
 )";
   std::string log;
-  const GLuint vs = compile(GL_VERTEX_SHADER, es ? kVertexEs : kVertexCore, log);
-  ASSERT_NE(vs, 0u) << log;
-  const GLuint fs = compile(GL_FRAGMENT_SHADER, fragment, log);
-  ASSERT_NE(fs, 0u) << log;
-  const GLuint program = glCreateProgram();
-  glAttachShader(program, vs);
-  glAttachShader(program, fs);
-  glLinkProgram(program);
-  glUseProgram(program);
-  GLuint texture = 0, vao = 0;
-  glGenTextures(1, &texture);
+  const gl::Program program = gl::link_program(vertex_source(es), fragment, log);
+  ASSERT_TRUE(program) << log;
+  glUseProgram(program.id());
+  GLuint id = 0;
+  glGenTextures(1, &id);
+  const gl::Texture texture(id);
   glActiveTexture(GL_TEXTURE0);
-  glBindTexture(GL_TEXTURE_2D, texture);
+  glBindTexture(GL_TEXTURE_2D, id);
   glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
   const GLenum internal = channels == 3 ? GL_RGB16F : GL_RG16F, format = channels == 3 ? GL_RGB : GL_RG;
   glTexImage2D(GL_TEXTURE_2D, 0, internal, width, height, 0, format, GL_HALF_FLOAT, bits.data());
   glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
   glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-  glUniform1i(glGetUniformLocation(program, "u_table"), 0);
-  const auto [fbo, color] = float_framebuffer(kSize, kSize);
-  ASSERT_FALSE(::testing::Test::HasFailure()) << "the framebuffer is not complete";  // float_framebuffer EXPECTs it
-  glGenVertexArrays(1, &vao);
-  glBindVertexArray(vao);
+  glUniform1i(program.uniform("u_table"), 0);
+  const gl::Framebuffer target(kSize, kSize, GL_RGBA32F);
+  ASSERT_TRUE(target.complete());
+  const gl::VertexArray vertices;
   glDrawArrays(GL_TRIANGLES, 0, 3);
-  std::vector<float> pixels(kSize * kSize * 4);
-  glReadPixels(0, 0, kSize, kSize, GL_RGBA, GL_FLOAT, pixels.data());
+  const std::vector<float> pixels = target.read_rgba();
   ASSERT_EQ(glGetError(), static_cast<GLenum>(GL_NO_ERROR));
   double max_difference = 0.0;
   for (int y = 0; y < kSize; ++y)
@@ -878,13 +672,6 @@ void main() {
       }
   std::printf("%s, %s (%s grid): max |GPU - CPU| = %.3g over %d points x %d channels\n", es ? "GLSL ES 3.00" : "GLSL 4.30 core",
               name.c_str(), to_string(table.grid), max_difference, kSize * kSize, channels);
-  glDeleteVertexArrays(1, &vao);
-  glDeleteRenderbuffers(1, &color);
-  glDeleteFramebuffers(1, &fbo);
-  glDeleteTextures(1, &texture);
-  glDeleteProgram(program);
-  glDeleteShader(vs);
-  glDeleteShader(fs);
 }
 
 tables::ParamTable small_preset(tables::Preset preset, tables::Grid grid, const char* axis) {

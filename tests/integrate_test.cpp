@@ -1,6 +1,7 @@
 // integrate/: laws against closed forms and against an independent high-order reference, honesty
 // of the error estimate, extreme geometries, determinism, reported non-convergence.
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -234,6 +235,43 @@ TEST(LawIntegrals, NonConvergenceIsReportedNotHidden) {
   EXPECT_TRUE(std::isfinite(e.value));
   EXPECT_GT(e.error, tight.abs_tol);
   EXPECT_LE(e.evaluations, tight.max_evaluations);
+}
+
+TEST(LawIntegrals, ACancelledIntegralStopsBetweenPanelsNotConverged) {
+  // A sharp lobe at a tolerance it cannot meet: without the flag it runs to its whole budget.
+  const Specular m(1000);
+  CubatureOptions o = options(1e-15);
+  o.max_evaluations = 2'000'000;
+  std::atomic<bool> cancel{true};
+  o.cancel = &cancel;
+  const Estimate before = vignetting(m, direction_from_cos(0.5), direction_from_cos(0.8, pi), o);
+  EXPECT_FALSE(before.converged);
+  EXPECT_EQ(before.evaluations, 0) << "a flag set before the first panel: no panel is evaluated";
+
+  // Set by the integrand itself after 40 panels: the engine stops before the next bisection (a
+  // bisection evaluates its two halves, so at most one panel more).
+  constexpr long long kPanelsBeforeCancel = 40;
+  cancel = false;
+  long long panels = 0;
+  const Estimate during = adaptive_cubature<1>(
+      [&](const std::array<std::span<const double>, 1>& nodes, std::span<double> values) {
+        for (int a = 0; a < kRuleNodes; ++a) values[a] = std::sqrt(std::abs(nodes[0][a] - 0.3));  // kink: slow
+        if (++panels == kPanelsBeforeCancel) cancel = true;
+      },
+      {std::vector<double>{0.0, 1.0}}, o);
+  EXPECT_FALSE(during.converged);
+  EXPECT_GE(during.evaluations, kPanelsBeforeCancel * kRuleNodes);
+  EXPECT_LE(during.evaluations, (kPanelsBeforeCancel + 1) * kRuleNodes);
+  EXPECT_TRUE(std::isfinite(during.value));
+
+  cancel = false;  // an unset flag changes nothing
+  const Estimate free = vignetting(m, direction_from_cos(0.5), direction_from_cos(0.8, pi), options(1e-6));
+  CubatureOptions with_flag = options(1e-6);
+  with_flag.cancel = &cancel;
+  const Estimate flagged = vignetting(m, direction_from_cos(0.5), direction_from_cos(0.8, pi), with_flag);
+  EXPECT_EQ(free.value, flagged.value);
+  EXPECT_EQ(free.evaluations, flagged.evaluations);
+  EXPECT_TRUE(flagged.converged);
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -201,6 +201,14 @@ TEST(Spec, BadValuesAreRefusedWithTheValueAndTheRange) {
   expect_refused("specular:alpha=eight", {"'eight'", "not a number"});
 }
 
+// Each weight finite, their sum not: normalized, the weights were NaN and the spec read
+// "-nan*lambert + -nan*lambert".
+TEST(Spec, MixtureWeightsWhoseSumOverflowsAreRefused) {
+  expect_refused("1.7e308*lambert + 1.7e308*lambert", {"1.7e308*lambert", "sum to more than the largest number"});
+  expect_refused("1e308*lambert + 1e308*minnaert:xi=1 + 1e308*phong", {"sum to more than"});
+  EXPECT_EQ(parse_model("1e307*lambert + 1e307*minnaert:xi=1")->spec(), "0.5*lambert + 0.5*minnaert:xi=1");
+}
+
 TEST(Spec, IntegerParametersAreRefusedOutsideTheirSet) {
   expect_refused("perfect-backscatter:alpha=2.5", {"alpha=2.5", "integer"});
   expect_refused("perfect-backscatter:alpha=1", {"alpha=1", "[2, 10000]"});

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 #include <optional>
+#include <random>
 #include <unistd.h>
 
 #include <gtest/gtest.h>
@@ -14,6 +15,7 @@
 #include "util/error.h"
 #include "models/spec.h"
 #include "tables/bake.h"
+#include "tables/sample.h"
 #include "rasterizer/figure.h"
 #include "rasterizer/image.h"
 #include "rasterizer/mesh.h"
@@ -505,6 +507,78 @@ TEST(Rasterizer, RefusesBadOutputAndLeavesNoFile) {
   write_text(dir.path / "taken.png" / "keep", "x");
   EXPECT_THROW(write_image(image, (dir.path / "taken.png").string()), InputError);
   EXPECT_EQ(leftovers(), 2);  // "file" and "taken.png", no temporary
+}
+
+// --- a prepared material: lobes' tables summed -------------------------------------------------
+
+/// A material's radiance summed lobe by lobe, light by light, from tables::sample (what shade()
+/// computed before materials were prepared: rasterizer/shading.h).
+Rgb lobe_by_lobe(const ShadingMaterial& material, const std::vector<Light>& lights, const Vec3& n, const Vec3& j_world) {
+  const TangentFrame frame(n);
+  const Vec3 j = frame.local(j_world);
+  Vec3 jc = j;
+  if (jc.z < 0.0) jc = glm::normalize(Vec3{j.x, j.y, 0.0});
+  Rgb out{0, 0, 0};
+  for (const Light& light : lights) {
+    const Vec3 i = frame.local(glm::normalize(light.direction));
+    for (const ShadingLobe& lobe : material) {
+      double value = 0.0;
+      if (light.type == Light::Type::collimated) value = i.z > 0.0 && j.z > 0.0 ? i.z * lobe.model->f(i, j) : 0.0;
+      else if (light.type == Light::Type::hemispherical) value = lobe.laws->g(i, jc);
+      else value = lobe.laws->h(jc);
+      for (int c = 0; c < 3; ++c) out[c] += lobe.weight * lobe.color[c] * light.intensity[c] * value;
+    }
+  }
+  return out;
+}
+
+// Two lobes whose tables share a lookup are looked up once from their summed entries; a third
+// with other axes, a Lambert lobe and a direct lobe are added apart. The laws are linear, so the
+// sum equals the lobes' own lookups summed, up to double rounding of the sums (kSumRounding).
+TEST(Rasterizer, PreparedMaterialSumsTheTablesOfLobesThatShareALookup) {
+  constexpr double kSumRounding = 1e-13;  // ~10 roundings of 2^-53 on radiances of order 1
+  auto table = [](const char* spec, Law law, std::vector<int> resolution) {
+    tables::BakeOptions options;
+    options.resolution = std::move(resolution);
+    options.tolerance = 1e-5;
+    return std::make_shared<const tables::Table>(tables::bake(*parse_model(spec), law, options));
+  };
+  ShadingMaterial material;
+  auto add = [&](const char* spec, double weight, const Rgb& color, LawSourcePtr laws) {
+    material.push_back({weight, color, parse_model(spec), std::move(laws)});
+  };
+  add("minnaert:xi=1", 0.4, {0.2, 0.4, 0.8},
+      table_laws(table("minnaert:xi=1", Law::g, {9, 9, 5}), table("minnaert:xi=1", Law::h, {17})));
+  add("specular:alpha=8", 0.3, {1, 0.9, 0.8},
+      table_laws(table("specular:alpha=8", Law::g, {9, 9, 5}), table("specular:alpha=8", Law::h, {17})));
+  add("asperity:alpha=4", 0.1, {0.5, 0.1, 0.1},
+      table_laws(table("asperity:alpha=4", Law::g, {7, 9, 5}), table("asperity:alpha=4", Law::h, {13})));
+  add("lambert", 0.1, {0.3, 0.3, 0.3}, lambert_laws());
+  add("backscatter:alpha=2", 0.1, {0.9, 0.9, 0.7}, direct_laws(parse_model("backscatter:alpha=2"), 1e-6));
+  const std::vector<Light> lights{grey_light(Light::Type::collimated, {1, 1, 1}, 1.0),
+                                  {Light::Type::hemispherical, {0.2, 0.9, 0.4}, {0.3, 0.5, 0.7}},
+                                  {Light::Type::hemispherical, {-0.5, 0.1, -0.3}, {0.2, 0.2, 0.1}},
+                                  {Light::Type::ganzfeld, {0, 0, 1}, {0.1, 0.2, 0.3}}};
+  const MaterialShader shader(material, lights);
+  for (const auto& light : shader.lights())
+    if (light.type != Light::Type::collimated) {
+      EXPECT_EQ(light.tables.size(), 2u) << "minnaert and specular share one lookup, asperity has its own";
+      EXPECT_EQ(light.lobes.size(), 2u) << "lambert and the direct lobe are evaluated apart";
+    }
+  std::mt19937_64 random(7);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  double largest = 0.0;
+  for (int k = 0; k < 200; ++k) {
+    const Vec3 n = glm::normalize(Vec3{unit(random), unit(random), unit(random)});
+    Vec3 j = glm::normalize(Vec3{unit(random), unit(random), unit(random)});
+    if (k % 10 == 0) j = glm::normalize(j - (glm::dot(j, n) + 0.01) * n);  // just below the horizon
+    const Rgb expected = lobe_by_lobe(material, lights, n, j), got = shader.radiance(n, j);
+    for (int c = 0; c < 3; ++c) {
+      largest = std::max(largest, std::abs(got[c] - expected[c]));
+      EXPECT_NEAR(got[c], expected[c], kSumRounding * (1.0 + std::abs(expected[c]))) << "point " << k << " channel " << c;
+    }
+  }
+  std::printf("prepared material against lobe by lobe: max difference %.3g\n", largest);
 }
 
 // --- the figure ------------------------------------------------------------------------------

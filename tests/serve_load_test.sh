@@ -2,8 +2,8 @@
 # The load test of `ganzfeld serve` (bench/serve_load.cpp) in a short mode, for correctness only
 # (timings are never asserted): 8 clients x 60 requests mixing /api/eval, cached and uncached
 # /api/table get no error, and each uncached table is baked exactly once, by the answers, by the
-# service's counter and by its access log. Then the bounded connection queue: with every
-# connection thread held and the queue full, one more connection gets 503 at once.
+# service's counter and by its access log. Then the bounded connections: with --max-connections
+# open, one more gets 503 at once (the worker queue's bound: tests/worker_pool_test.cpp).
 # Usage: serve_load_test.sh PATH/TO/ganzfeld PATH/TO/ganzfeld-load
 set -u
 G="$1"
@@ -34,18 +34,16 @@ if grep -q "listening on" "$tmp/second.err"; then kill -TERM $second; wait $seco
 else wait $second; rc=$?; [ $rc -eq 2 ] && grep -q "cannot listen on 127.0.0.1:$port" "$tmp/second.err" && ok || fail "second serve: exit $rc $(cat "$tmp/second.err")"; fi
 kill -TERM $pid; wait $pid; pid=""
 
-# --- the bounded connection queue: --connection-queue 2 and every connection thread held by an
-# idle connection (it sends nothing, so a thread waits on it for the read timeout); the
-# connections beyond threads + queue get 503 at once, not a place in an unbounded backlog.
-start_serve "$tmp/log2" --cache "$tmp/cache" --connection-queue 2 && ok || { fail "serve did not restart: $(cat "$tmp/log2")"; exit 1; }
-threads=$(sed -nE 's/.*; ([0-9]+) connection threads, 2 connections waiting at most.*/\1/p' "$tmp/log2")
-[ -n "$threads" ] && ok || { fail "no thread count in: $(cat "$tmp/log2")"; exit 1; }
+# --- bounded connections: --max-connections 4, held by idle connections (they send nothing; the
+# connection loop holds them without a thread); the fifth gets 503 at once, not a place in an
+# unbounded backlog, and once they close the service answers again.
+start_serve "$tmp/log2" --cache "$tmp/cache" --max-connections 4 && ok || { fail "serve did not restart: $(cat "$tmp/log2")"; exit 1; }
 held=()
-for ((k = 0; k < threads + 2; k++)); do exec {fd}<>"/dev/tcp/127.0.0.1/$port" && held+=("$fd"); done
-sleep 0.3  # the server accepts them: every thread busy, the queue full
+for ((k = 0; k < 4; k++)); do exec {fd}<>"/dev/tcp/127.0.0.1/$port" && held+=("$fd"); done
+sleep 0.3  # the loop accepts them
 status=$(curl -s -m 3 -o "$tmp/body" -D "$tmp/headers" -w '%{http_code}' "http://127.0.0.1:$port/healthz")
-[ "$status" = 503 ] && ok || fail "connection beyond the queue: status $status (want 503)"
-json_field "$tmp/body" "d['error']" | grep -q "connection threads are busy" && ok || fail "503 body: $(cat "$tmp/body")"
+[ "$status" = 503 ] && ok || fail "connection beyond --max-connections: status $status (want 503)"
+json_field "$tmp/body" "d['error']" | grep -q "all 4 connections are open" && ok || fail "503 body: $(cat "$tmp/body")"
 grep -qi '^Retry-After: [0-9]' "$tmp/headers" && grep -qi '^Connection: close' "$tmp/headers" && ok || fail "503 headers: $(cat "$tmp/headers")"
 for fd in "${held[@]}"; do exec {fd}>&-; done
 sleep 0.3

@@ -4,6 +4,7 @@
 #include <atomic>
 #include <chrono>
 #include <filesystem>
+#include <fstream>
 #include <latch>
 #include <thread>
 #include <vector>
@@ -13,9 +14,12 @@
 
 #include "serve/bakery.h"
 #include "serve/etag.h"
+#include "serve/http.h"
+#include "serve/request_head.h"
 #include "serve/request.h"
 #include "serve/service.h"
 #include "tests/temp_dir.h"
+#include "util/error.h"
 
 namespace ganzfeld::serve {
 namespace {
@@ -91,6 +95,45 @@ TEST(ServeRequest, EvalRefusalsNameTheBadValue) {
   }
 }
 
+// Numbers as documented (docs/serve.md): finite decimal numbers only; phi within a turn; the
+// mixture weights' sum finite (it was NaN: "-nan*lambert + -nan*lambert"); lobes capped.
+TEST(ServeRequest, NumbersAreFiniteDecimalsAndMixturesAreBounded) {
+  for (const std::string text : {"0x1p3", "0x10", "inf", "-infinity", "1e999", " 5", "+5", "5 ", "1,5", "4e", ""}) {
+    const auto [status, message] = eval_refusal("model=lambert&law=h&theta_j=" + text);
+    EXPECT_EQ(status, 400) << "theta_j='" << text << "'";
+    if (!text.empty()) {
+      EXPECT_NE(message.find("is not a number; expected a finite decimal number"), std::string::npos) << message;
+    }
+  }
+  for (const std::string text : {"45", "45.", ".5", "4.5e1", "-0", "1E1"})
+    EXPECT_EQ(eval_refusal("model=lambert&law=h&theta_j=" + text).first, 0) << text;
+  EXPECT_EQ(eval_refusal("model=lambert&law=h&theta_j=1&tol=0x1p-20").first, 400);
+  const std::vector<std::pair<std::string, std::string>> cases{
+      {"model=lambert&law=g&theta_i=10&theta_j=10&phi=1e308",
+       "phi=1e+308 is out of range; allowed: [-360, 360] degrees"},
+      {"model=lambert&law=g&theta_i=10&theta_j=10&phi=-361", "phi=-361 is out of range"},
+      {"model=1.7e308*lambert %2B 1.7e308*lambert&law=h&theta_j=1", "sum to more than the largest number"},
+  };
+  for (const auto& [query, fragment] : cases) {
+    const auto [status, message] = eval_refusal(query);
+    EXPECT_EQ(status, 400) << query;
+    EXPECT_NE(message.find(fragment), std::string::npos) << query << " -> " << message;
+    EXPECT_EQ(message.find('\n'), std::string::npos) << "one line: " << message;
+  }
+}
+
+TEST(ServeRequest, MixturesOfMoreLobesThanTheLimitAre413) {
+  std::string spec = "lambert";
+  for (int k = 1; k < 17; ++k) spec += "%2Bhvd-fit:r1=1e-6,n1=1e6";
+  const auto [status, message] = eval_refusal("model=" + spec + "&law=h&theta_j=1");
+  EXPECT_EQ(status, 413);
+  EXPECT_NE(message.find("is a mixture of 17 lobes; this service computes at most 16"), std::string::npos) << message;
+  EXPECT_EQ(table_refusal("model=" + spec + "&law=h").first, 413);
+  Limits wider;
+  wider.max_lobes = 17;
+  EXPECT_NO_THROW(parse_eval(parse_query("model=" + spec + "&law=h&theta_j=1"), wider));
+}
+
 TEST(ServeRequest, TableUsesTheCacheKeysOfBake) {
   const TableQuery q = parse_table(parse_query("model=minnaert:xi=1&law=g&res=8x6x4&encoding=half&format=ktx2"), Limits{},
                                    TableEndpoint::table);
@@ -156,6 +199,56 @@ TEST(ServeRequest, TableRefusals) {
   EXPECT_NE(message.find("unknown parameter 'format' for /api/glsl"), std::string::npos) << message;
 }
 
+// serve/request_head.h: what the connection loop decides before httplib sees a head.
+TEST(ServeHead, CompleteHeadsLoseRangeAndKeepTheRest) {
+  const std::string head =
+      "GET /api/table?x=1 HTTP/1.1\r\nHost: 127.0.0.1\r\nRange: bytes=0-9\r\n"
+      "If-Range: \"e\"\r\nContent-Length: 0\r\nIf-None-Match: *\r\n\r\n";
+  const HeadScan scan = scan_head("\r\n" + head + "GET /next", 32768);
+  ASSERT_EQ(scan.verdict, HeadScan::Verdict::complete) << scan.message;
+  EXPECT_EQ(scan.consumed, 2 + head.size()) << "a leading empty line is skipped; the next request stays";
+  EXPECT_EQ(scan.head,
+            "GET /api/table?x=1 HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Length: 0\r\nIf-None-Match: *\r\n\r\n");
+  EXPECT_EQ(scan.request_line, "GET /api/table?x=1 HTTP/1.1");
+  EXPECT_EQ(scan_head("GET / HTTP/1.1\r\nrange:  bytes=1-\r\n\r\n", 32768).head, "GET / HTTP/1.1\r\n\r\n");
+}
+
+TEST(ServeHead, IncompleteRefusedAndBodies) {
+  EXPECT_EQ(scan_head("GET / HTTP/1.1\r\nHost: a\r\n", 32768).verdict, HeadScan::Verdict::incomplete);
+  EXPECT_EQ(scan_head("GET / HTTP/1.1\r\nHost: a\r", 32768).verdict, HeadScan::Verdict::incomplete);
+  EXPECT_EQ(scan_head("", 32768).verdict, HeadScan::Verdict::incomplete);
+  const std::vector<std::pair<std::string, int>> refused{
+      {"GET / HTTP/1.1\r\nContent-Length: 5\r\n\r\nhello", 413},
+      {"GET / HTTP/1.1\r\ncontent-length:7\r\n\r\n", 413},
+      {"GET / HTTP/1.1\r\nTransfer-Encoding: chunked\r\n\r\n", 413},
+      {"GET / HTTP/1.1\nHost: a\n\n", 400},
+      {"GET / HTTP/1.1\r\nHost: a\nX: b\r\n\r\n", 400},
+      {"GET / HTTP/1.1\r\nHost: a\rX: b\r\n\r\n", 400},
+      {"GET / HTTP/1.1\r\nX: a\r\n b\r\n\r\n", 400},
+      {"GET / HTTP/1.1\r\nContent-Length : 5\r\n\r\n", 400},
+      {"GET / HTTP/1.1\r\nno colon\r\n\r\n", 400},
+      {std::string("GET / HTTP/1.1\r\nX: a\0b\r\n\r\n", 26), 400},
+      {"GET / HTTP/1.1\r\nX: " + std::string(100, 'a'), 431},
+  };
+  for (const auto& [text, status] : refused) {
+    const HeadScan scan = scan_head(text, 64);
+    EXPECT_EQ(scan.verdict, HeadScan::Verdict::refused) << text;
+    EXPECT_EQ(scan.status, status) << text << " -> " << scan.message;
+    EXPECT_EQ(scan.message.find('\n'), std::string::npos);
+  }
+  EXPECT_EQ(scan_head("GET / HTTP/1.1\r\nContent-Length: 00\r\n\r\n", 64).verdict, HeadScan::Verdict::complete);
+}
+
+TEST(ServeHost, LocalNamesAndTheAllowedOnes) {
+  const std::vector<std::string> allowed{"localhost", "127.0.0.1", "::1", "viewer.test"};
+  for (const char* host : {"localhost", "LOCALHOST:8080", "127.0.0.1:1", "[::1]:8080", "[::1]", "viewer.test:80"})
+    EXPECT_TRUE(host_allowed(host, allowed)) << host;
+  for (const char* host : {"", "evil.example", "evil.example:8080", "localhost.evil.example", "127.0.0.1.nip.io", "::1",
+                           "[::1", "localhost:80:80"})
+    EXPECT_FALSE(host_allowed(host, allowed)) << host;
+  EXPECT_TRUE(host_allowed("anything:1", {"*"}));
+}
+
 TEST(ServeEtag, StrongContentTagsAndIfNoneMatch) {
   const std::string tag = strong_etag("bytes");
   EXPECT_EQ(tag, strong_etag("bytes"));
@@ -182,13 +275,13 @@ Burst burst(Bakery& bakery, int threads, bool same_key) {
     pool.emplace_back([&, t] {
       start.arrive_and_wait();
       try {
-        const Bakery::Ticket ticket = bakery.submit(same_key ? "key" : "key" + std::to_string(t), [&] {
+        const Bakery::Ticket ticket = bakery.submit(same_key ? "key" : "key" + std::to_string(t), [&](const auto&) {
           ++bakes;
           std::this_thread::sleep_for(kFakeBake);
           return std::make_shared<const tables::CacheResult>();
         });
         joined += ticket.joined;
-        ticket.result.get();
+        bakery.wait(ticket, nullptr);
       } catch (const Busy&) {
         ++refused;
       }
@@ -217,7 +310,7 @@ TEST(ServeBakery, ExcessWorkIsRefusedNotQueued) {
 TEST(ServeBakery, StopDiscardsQueuedBakesAndFinishesRunningOnes) {
   Bakery bakery(1, 2);
   std::atomic<int> finished{0};
-  auto job = [&] {
+  auto job = [&](const std::atomic<bool>&) {
     std::this_thread::sleep_for(kFakeBake);
     ++finished;
     return std::make_shared<const tables::CacheResult>();
@@ -226,10 +319,78 @@ TEST(ServeBakery, StopDiscardsQueuedBakesAndFinishesRunningOnes) {
   while (bakery.stats().running == 0) std::this_thread::yield();
   const Bakery::Ticket queued = bakery.submit("b", job);
   bakery.stop();
-  EXPECT_NO_THROW(running.result.get());
-  EXPECT_THROW(queued.result.get(), Busy);
+  EXPECT_NO_THROW(bakery.wait(running, nullptr));
+  EXPECT_THROW(bakery.wait(queued, nullptr), Busy);
   EXPECT_EQ(finished.load(), 1);
   EXPECT_THROW(bakery.submit("c", job), Busy);
+}
+
+/// A fake bake that runs until its flag is set (or `limit` passes), as tables::bake does.
+Bakery::Job until_cancelled(std::atomic<int>& cancelled, std::chrono::milliseconds limit = std::chrono::seconds(20)) {
+  return [&cancelled, limit](const std::atomic<bool>& stop) -> Bakery::Result {
+    const auto end = std::chrono::steady_clock::now() + limit;
+    while (!stop && std::chrono::steady_clock::now() < end) std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    if (!stop) return std::make_shared<const tables::CacheResult>();
+    ++cancelled;
+    throw Cancelled("cancelled");
+  };
+}
+
+TEST(ServeBakery, ABakeNobodyWaitsForIsCancelled) {
+  Bakery bakery(1, 1);
+  std::atomic<int> cancelled{0};
+  Cancellation first, second;
+  const Bakery::Ticket a = bakery.submit("slow", until_cancelled(cancelled));
+  const Bakery::Ticket b = bakery.submit("slow", until_cancelled(cancelled));  // joins
+  EXPECT_TRUE(b.joined);
+  std::thread waiter_b([&] { EXPECT_THROW(bakery.wait(b, &second), Cancelled); });
+  first.cancel(StopReason::client_gone);
+  try {
+    bakery.wait(a, &first);
+    ADD_FAILURE() << "a cancelled request waited on";
+  } catch (const Cancelled& e) {
+    EXPECT_NE(std::string(e.what()).find("client closed the connection"), std::string::npos) << e.what();
+  }
+  std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  EXPECT_EQ(cancelled.load(), 0) << "cancelled while a waiter remained";
+  second.cancel(StopReason::deadline);  // the last waiter leaves: the bake stops
+  waiter_b.join();
+  for (int k = 0; k < 500 && bakery.stats().running > 0; ++k)
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  EXPECT_EQ(cancelled.load(), 1);
+  EXPECT_EQ(bakery.stats().cancelled, 1);
+  EXPECT_EQ(bakery.stats().running, 0);
+
+  // Queued, then left by its only waiter: dropped before it starts.
+  const Bakery::Ticket running = bakery.submit("running", until_cancelled(cancelled));
+  while (bakery.stats().running == 0) std::this_thread::yield();
+  const Bakery::Ticket queued = bakery.submit("queued", until_cancelled(cancelled));
+  Cancellation gone;
+  gone.cancel(StopReason::client_gone);
+  EXPECT_THROW(bakery.wait(queued, &gone), Cancelled);
+  EXPECT_EQ(bakery.stats().queued, 0);
+  EXPECT_EQ(bakery.stats().discarded, 1);
+  bakery.cancel_running();  // shutdown: the running one stops
+  try {
+    bakery.wait(running, nullptr);
+    ADD_FAILURE() << "cancel_running did not stop the bake";
+  } catch (const Cancelled& e) {
+    EXPECT_NE(std::string(e.what()).find("shutting down"), std::string::npos) << e.what();
+  }
+}
+
+TEST(ServeBakery, ABakeOverItsBudgetIsCancelled) {
+  constexpr double kBudget = 0.2;  // seconds
+  Bakery bakery(1, 0, kBudget);
+  std::atomic<int> cancelled{0};
+  const Bakery::Ticket t = bakery.submit("slow", until_cancelled(cancelled));
+  try {
+    bakery.wait(t, nullptr);
+    ADD_FAILURE() << "a bake over its budget ran on";
+  } catch (const Cancelled& e) {
+    EXPECT_NE(std::string(e.what()).find("--max-request-seconds"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(cancelled.load(), 1);
 }
 
 class ServeService : public ::testing::Test {
@@ -325,6 +486,119 @@ TEST_F(ServeService, EvalAnswersAsTheCommandLine) {
   EXPECT_NEAR(doc["value"].get<double>(), 1.0, 1e-9);  // K&P: h = 1 for a white Lambert surface
   EXPECT_EQ(doc["law"], "h");
   EXPECT_TRUE(doc["converged"].get<bool>());
+}
+
+// 16 hvd-fit lobes at a tolerance no budget meets: minutes of work unless stopped.
+const std::string kExpensiveEval = [] {
+  std::string spec = "hvd-fit:r1=1e-6,n1=1e6";
+  for (int k = 1; k < 16; ++k) spec += "%2Bhvd-fit:r1=1e-6,n1=1e6";
+  return "model=" + spec + "&law=g&theta_i=30&theta_j=40&tol=1e-15";
+}();
+
+TEST_F(ServeService, AnEvalStopsWhenItsRequestIsCancelled) {
+  Cancellation cancel;
+  std::thread later([&] {
+    std::this_thread::sleep_for(std::chrono::milliseconds(200));
+    cancel.cancel(StopReason::deadline);
+  });
+  const Reply r = service.handle("/api/eval", kExpensiveEval, "", &cancel);
+  later.join();
+  EXPECT_EQ(r.status, 503) << r.body;
+  EXPECT_NE(nlohmann::json::parse(r.body)["error"].get<std::string>().find("--max-request-seconds"), std::string::npos)
+      << r.body;
+  EXPECT_EQ(header(r, "Retry-After"), "") << "retrying the same request cannot help";
+  Cancellation shutdown;
+  shutdown.cancel(StopReason::shutdown);
+  const Reply s = service.handle("/api/eval", kExpensiveEval, "", &shutdown);
+  EXPECT_EQ(s.status, 503);
+  EXPECT_NE(header(s, "Retry-After"), "");
+  EXPECT_EQ(nlohmann::json::parse(get("/healthz", "").body)["requests_computing"], 0);
+}
+
+TEST(ServeServiceLimits, ComputingSlotsAreBounded) {
+  ServiceOptions o;
+  o.cache_dir = testing_support::temp_dir();
+  o.max_computing = 1;
+  Service service(o);
+  Cancellation cancel;
+  std::thread busy([&] { EXPECT_EQ(service.handle("/api/eval", kExpensiveEval, "", &cancel).status, 503); });
+  while (nlohmann::json::parse(service.handle("/healthz", "", "").body)["requests_computing"] == 0)
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  const Reply refused = service.handle("/api/eval", "model=lambert&law=h&theta_j=10", "");
+  EXPECT_EQ(refused.status, 503);
+  EXPECT_NE(refused.body.find("computing slots are taken"), std::string::npos) << refused.body;
+  EXPECT_EQ(service.handle("/api/models", "", "").status, 200) << "a cheap request needs no slot";
+  cancel.cancel(StopReason::client_gone);
+  busy.join();
+  EXPECT_EQ(service.handle("/api/eval", "model=lambert&law=h&theta_j=10", "").status, 200);
+}
+
+TEST_F(ServeService, IfNoneMatchStarAnswers304WithoutBaking) {
+  const std::string query = "model=minnaert:xi=2&law=h&res=9&tol=1e-6";
+  const Reply r = get("/api/table", query, "*");
+  EXPECT_EQ(r.status, 304);
+  EXPECT_TRUE(r.body.empty());
+  EXPECT_EQ(header(r, "ETag"), "");
+  EXPECT_EQ(nlohmann::json::parse(get("/healthz", "").body)["tables_baked"], 0);
+  EXPECT_EQ(get("/api/table", query, " * ").status, 304);
+  EXPECT_EQ(get("/api/table", query, "\"fnv1a64:0000000000000000\"").status, 200);  // a tag needs the body
+}
+
+TEST(ServeServiceLimits, CacheFailuresAre500WithoutTheCachePath) {
+  const std::string dir = testing_support::temp_dir() + "/cache-with-a-directory";
+  std::filesystem::create_directories(dir);
+  ServiceOptions o;
+  o.cache_dir = dir;
+  std::vector<std::string> logged;
+  o.log = [&](const std::string& line) { logged.push_back(line); };
+  Service service(o);
+  const std::string query = "model=minnaert:xi=3&law=h&res=9&tol=1e-6";
+  const TableQuery q = parse_table(parse_query(query), Limits{}, TableEndpoint::table);
+  std::filesystem::create_directories(dir + "/" + q.file_name + "/inside");
+  const Reply r = service.handle("/api/table", query, "");
+  EXPECT_EQ(r.status, 500) << r.body;
+  EXPECT_NE(r.body.find(q.file_name), std::string::npos) << r.body;
+  EXPECT_EQ(r.body.find(dir), std::string::npos) << r.body;
+  EXPECT_EQ(r.body.find(std::filesystem::absolute(dir).string()), std::string::npos) << r.body;
+  EXPECT_EQ(r.body.find("/tmp"), std::string::npos) << r.body;
+  ASSERT_FALSE(logged.empty());
+  EXPECT_NE(logged.back().find(dir), std::string::npos) << "the operator's log names the path: " << logged.back();
+}
+
+TEST(ServeServiceLimits, DrainingRefusesBakesAndSaysSo) {
+  ServiceOptions o;
+  o.cache_dir = testing_support::temp_dir();
+  Service service(o);
+  service.drain();
+  const Reply health = service.handle("/healthz", "", "");
+  EXPECT_EQ(health.status, 503);
+  EXPECT_EQ(nlohmann::json::parse(health.body)["status"], "draining");
+  const Reply bake = service.handle("/api/table", "model=minnaert:xi=4&law=h&res=9", "");
+  EXPECT_EQ(bake.status, 503);
+  EXPECT_NE(bake.body.find("shutting down"), std::string::npos) << bake.body;
+  EXPECT_EQ(service.handle("/api/models", "", "").status, 200);
+}
+
+TEST(ServeServiceLimits, StaleTemporaryFilesAreRemovedAtStart) {
+  namespace fs = std::filesystem;
+  const std::string dir = testing_support::temp_dir() + "/stale";
+  fs::create_directories(dir);
+  const fs::path stale = fs::path(dir) / ".specular_alpha=8.g.0123456789abcdef.exr.tmp-999999-0";
+  const fs::path fresh = fs::path(dir) / ".specular_alpha=8.g.0123456789abcdef.exr.tmp-999999-1";
+  const fs::path table = fs::path(dir) / "specular_alpha=8.g.0123456789abcdef.exr";
+  for (const fs::path& p : {stale, fresh, table}) std::ofstream(p) << "x";
+  fs::last_write_time(stale, fs::file_time_type::clock::now() - std::chrono::hours(2));
+  fs::last_write_time(table, fs::file_time_type::clock::now() - std::chrono::hours(2));
+  ServiceOptions o;
+  o.cache_dir = dir;
+  o.max_request_seconds = 60.0;
+  std::string logged;
+  o.log = [&](const std::string& line) { logged += line; };
+  const Service service(o);
+  EXPECT_FALSE(fs::exists(stale));
+  EXPECT_TRUE(fs::exists(fresh)) << "younger than a bake's budget: maybe a writer at work";
+  EXPECT_TRUE(fs::exists(table));
+  EXPECT_NE(logged.find("removed 1 temporary file"), std::string::npos) << logged;
 }
 
 }  // namespace

@@ -1,6 +1,7 @@
 // Tables (tables/): bake -> write -> read -> sample against closed forms and the integrator, the
 // storage encodings, and every refusal of the reader and the baker.
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -32,8 +33,10 @@
 
 #include "integrate/laws.h"
 #include "util/error.h"
+#include "util/hash.h"
 #include "models/spec.h"
 #include "tables/bake.h"
+#include "tables/cache.h"
 #include "tables/exr_io.h"
 #include "tables/sample.h"
 #include "tables/frame.h"
@@ -296,6 +299,33 @@ TEST(Table, UnconvergedEntriesAreCounted) {
   EXPECT_GT(t.node_error, options.tolerance);
 }
 
+TEST(Table, ACancelledBakeThrowsAndWritesNothing) {
+  std::atomic<bool> cancel{true};
+  BakeOptions options;
+  options.resolution = {9, 9, 5};
+  options.cancel = &cancel;
+  const ModelPtr m = parse_model("specular:alpha=8");
+  EXPECT_THROW(bake(*m, Law::g, options), Cancelled);
+  options.target_error = 1e-3;  // the --max-error search stops at its first bake
+  EXPECT_THROW(bake(*m, Law::g, options), Cancelled);
+
+  // Set while the nodes are baked (the progress callback runs on the bake's workers).
+  options.target_error = 0.0;
+  options.resolution = {33, 33, 17};
+  cancel = false;
+  std::atomic<std::uint64_t> seen{0};
+  options.progress = [&](std::uint64_t done, std::uint64_t) {
+    seen = done;
+    cancel = true;
+  };
+  const std::string path = temp_file("cancelled.exr");
+  EXPECT_THROW(bake_or_reuse(path, *m, Law::g, options, "lut_test"), Cancelled);
+  EXPECT_LT(seen.load(), 33u * 33u * 17u) << "the bake ran to its end";
+  EXPECT_FALSE(fs::exists(path));
+  for (const auto& entry : fs::directory_iterator(temp_dir()))
+    EXPECT_EQ(entry.path().filename().string().find("cancelled.exr"), std::string::npos) << entry.path();
+}
+
 // --- Refusals --------------------------------------------------------------------------------
 
 TEST(Table, BakeRefusesBadSizesBeforeAllocating) {
@@ -470,6 +500,67 @@ TEST_F(TableRefusal, ModelContentMissingReadsAsNone) {
   EXPECT_EQ(read_table(path).model_content, "");
   const std::string digest = "fnv1a64:0123456789abcdef";
   EXPECT_EQ(read_table(valid_with("ganzfeld.model_content", digest, "content.exr")).model_content, digest);
+}
+
+// ganzfeld.values_digest: one number changed under the metadata (here by the least step a
+// float takes, which no other check sees: the error channel and its maximum are untouched).
+TEST_F(TableRefusal, ANumberChangedUnderItsDigest) {
+  RawExr raw = valid();
+  float& v = raw.channels["value"][3];
+  v = std::nextafter(v, 2.0f * v + 1.0f);
+  const std::string path = temp_file("one_float.exr");
+  raw.save(path);
+  expect_refused(path, "the numbers do not match ganzfeld.values_digest");
+  RawExr error_changed = valid();
+  std::vector<float>& error = error_changed.channels["error"];
+  const auto [smallest, largest] = std::minmax_element(error.begin(), error.end());
+  ASSERT_LT(*smallest, *largest);
+  *smallest = 0.5f * (*smallest + *largest);  // below the maximum: ganzfeld.max_error still holds
+  error_changed.save(path);
+  expect_refused(path, "the numbers do not match ganzfeld.values_digest");
+}
+
+TEST_F(TableRefusal, ValuesDigestMissingReadsAsNone) {
+  const Table written = read_table(*valid_);
+  EXPECT_EQ(written.values_digest, values_digest(written));
+  EXPECT_TRUE(util::is_content_digest(written.values_digest)) << written.values_digest;
+  RawExr raw = valid();
+  raw.dropped.insert("ganzfeld.values_digest");
+  const std::string path = temp_file("no_values_digest.exr");
+  raw.save(path);
+  const Table old = read_table(path);
+  EXPECT_EQ(old.values_digest, "");
+  EXPECT_EQ(old.value, written.value);
+}
+
+// The cache reuses only verified numbers: a changed number, or no digest to check them by (a
+// file written before it existed), is re-baked, and read_if_matching says why.
+TEST(Table, CacheRebakesNumbersItCannotVerify) {
+  const ModelPtr m = parse_model("minnaert:xi=1");
+  BakeOptions options;
+  options.resolution = {9};
+  const TableKey key = table_key(*m, Law::h, options);
+  const std::string path = (fs::path(temp_dir()) / cache_file_name(key)).string();
+  const CacheResult first = bake_or_reuse(path, *m, Law::h, options, "lut_test");
+  std::string why = "unset";
+  EXPECT_TRUE(read_if_matching(path, key, &why));
+  EXPECT_EQ(why, "");
+  for (const bool drop_digest : {false, true}) {
+    RawExr raw = RawExr::load(path);
+    if (drop_digest)
+      raw.dropped.insert("ganzfeld.values_digest");
+    else
+      raw.channels["value"][4] *= 1.0f + 1e-6f;
+    raw.save(path);
+    EXPECT_FALSE(read_if_matching(path, key, &why));
+    EXPECT_NE(why.find(drop_digest ? "no ganzfeld.values_digest" : "do not match ganzfeld.values_digest"),
+              std::string::npos)
+        << why;
+    const CacheResult again = bake_or_reuse(path, *m, Law::h, options, "lut_test");
+    EXPECT_EQ(again.status, CacheStatus::baked);
+    EXPECT_EQ(read_table(path).value, first.table.value);
+    EXPECT_EQ(bake_or_reuse(path, *m, Law::h, options, "lut_test").status, CacheStatus::reused);
+  }
 }
 
 TEST_F(TableRefusal, ModelContentMalformed) {
@@ -694,6 +785,50 @@ TEST(Table, CatmullRomReproducesPolynomials) {
   }
 }
 
+// Two tables share a lookup (the rasterizer sums their entries and looks them up once) exactly
+// when every lookup blends the same entries with the same weights: the same law, frame, peak,
+// interpolation and axes; the values, the model and the encoding do not matter.
+TEST(Table, SameLookupComparesEverythingTheBlendDependsOn) {
+  BakeOptions lobe;
+  lobe.resolution = {6, 9, 5};
+  lobe.tolerance = 1e-4;
+  lobe.interpolation = Interpolation::catmull_rom;
+  lobe.lobe = tables::LobeFrame{PeakKind::mirror, 0.2};
+  const Table a = bake(*parse_model("specular:alpha=100"), Law::g, lobe);
+  Table b = bake(*parse_model("backscatter:alpha=8"), Law::g, lobe);
+  b.encoding = Encoding::half;
+  EXPECT_TRUE(same_lookup(a, b));
+  const double y[3] = {0.7, 1.5, 0.4};
+  auto nodes = [&](const Table& t) {
+    std::vector<std::pair<std::size_t, double>> out;
+    EXPECT_TRUE(for_each_node(t, y, [&](std::size_t entry, double w) { out.push_back({entry, w}); }));
+    return out;
+  };
+  const auto na = nodes(a);
+  EXPECT_EQ(na, nodes(b));
+  EXPECT_GT(na.size(), 27u);  // Catmull–Rom: 4 taps per axis, 3 where an end's missing node folds in
+  double blended = 0.0;
+  for (const auto& [entry, w] : na) blended += w * a.value[entry];
+  EXPECT_EQ(blended, sample_axes(a, y).value);
+  auto differs = [&](auto change) {
+    Table c = a;
+    change(c);
+    return !same_lookup(a, c) && !same_lookup(c, a);
+  };
+  EXPECT_TRUE(differs([](Table& t) { t.peak = PeakKind::retro; }));
+  EXPECT_TRUE(differs([](Table& t) { t.frame = Frame::cosines; }));
+  EXPECT_TRUE(differs([](Table& t) { t.interpolation = Interpolation::linear; }));
+  EXPECT_TRUE(differs([](Table& t) { t.law = Law::a; }));
+  EXPECT_TRUE(differs([](Table& t) { t.axes[1].count += 1; }));
+  EXPECT_TRUE(differs([](Table& t) { t.axes[1].width *= 2.0; }));
+  EXPECT_TRUE(differs([](Table& t) { t.axes[2].max = 3.0; }));
+  EXPECT_TRUE(differs([](Table& t) { t.axes[0].min = 0.1; }));
+  EXPECT_TRUE(differs([](Table& t) { t.axes[2].mapping = Mapping::cos; }));
+  EXPECT_TRUE(differs([](Table& t) { t.axes.pop_back(); }));
+  const Table h = bake_table("minnaert:xi=1", Law::h, {9});
+  EXPECT_TRUE(differs([&](Table& t) { t = h; }));
+}
+
 // A version-1 file (no frame, interpolation or lookup_error attributes) still reads, as the
 // cosines frame with linear lookup and its measured interpolation error as its lookup error.
 TEST(Table, Version1FilesStillRead) {
@@ -916,6 +1051,32 @@ TEST(Table, FetchBudgetBakeIsOneFilteredFetchWithAnHonestBound) {
                 misses, kFreshPoints);
     EXPECT_LE(misses, kAllowedFreshMisses * kFreshPoints) << c.spec;
   }
+}
+
+// A budget of two fetches for h (one axis): where 8-bit filter weights cannot reach E within the
+// bytes (a weight truncated to 1/256 moves a blend by a node step / 256), the same linear blend
+// read with texelFetch (2 fetches, full precision) is the pick, with an honest bound.
+TEST(Table, FetchBudgetFallsBackToTexelFetchWhereFilterWeightsCannotReach) {
+  const ModelPtr model = parse_model("specular:alpha=1000");
+  BakeOptions options;
+  options.target_error = 1e-5;
+  options.max_fetches = 2;
+  options.max_bytes = 1024;
+  const Table table = round_trip(bake(*model, Law::h, options), "fetch2.exr");
+  EXPECT_LE(table.lookup_error, 1e-5);
+  EXPECT_LE(value_bytes(table), 1024u);
+  EXPECT_EQ(table.filter, Filter::texel_fetch);
+  EXPECT_EQ(table.interpolation, Interpolation::linear);
+  EXPECT_EQ(fetches(table), 2);
+  EXPECT_EQ(table.target_fetches, 2);
+  const auto [misses, worst] = fresh_misses(*model, Law::h, table, /*seed=*/4244, {WeightRounding::exact});
+  std::printf("h --max-error 1e-5 --fetches 2 --max-bytes 1024: lookup error %.3g, largest fresh error %.3g, %zu "
+              "value bytes, %g misses of %d\n", table.lookup_error, worst, static_cast<std::size_t>(value_bytes(table)),
+              misses, kFreshPoints);
+  EXPECT_LE(misses, kAllowedFreshMisses * kFreshPoints);
+  // One fetch cannot: the refusal names the best it found at one fetch.
+  options.max_fetches = 1;
+  EXPECT_THROW(bake_to_error(*model, Law::h, options), InputError);
 }
 
 TEST(Table, FetchBudgetRefusals) {

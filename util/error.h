@@ -83,4 +83,12 @@ class InputError : public std::runtime_error {
   std::vector<Piece> pieces_;
 };
 
+/// Work stopped because its caller's cancellation flag was set (CubatureOptions::cancel,
+/// tables::BakeOptions::cancel): not a bad input, and nothing was written. The caller set the
+/// flag and knows why.
+class Cancelled : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
 }  // namespace ganzfeld

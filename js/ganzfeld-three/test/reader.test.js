@@ -12,7 +12,7 @@ import os from 'node:os';
 import path from 'node:path';
 import {fileURLToPath} from 'node:url';
 import * as THREE from 'three';
-import {GanzfeldTables, glslIdentifier, makeTable, readKtx2, toGanzfeldScene} from '../src/index.js';
+import {GanzfeldTables, glslIdentifier, makeTable, readKtx2, tableTexture, toGanzfeldScene} from '../src/index.js';
 
 const here = path.dirname(fileURLToPath(import.meta.url));
 const repository = path.resolve(here, '../../..');
@@ -21,9 +21,10 @@ const dir = fs.mkdtempSync(path.join(os.tmpdir(), 'ganzfeld-three-'));
 let server, base, serve, serviceBase;
 
 /// bake + export-glsl: dir/NAME.glsl and dir/NAME.ktx2.
-function table(name, model, law, res) {
+function table(name, model, law, res, extra = []) {
   const exr = path.join(dir, `${name}.exr`);
-  execFileSync(ganzfeld, ['bake', '--model', model, '--law', law, '--res', res, '--tol', '1e-4', '-o', exr, '--quiet']);
+  execFileSync(ganzfeld, ['bake', '--model', model, '--law', law, '--res', res, '--tol', '1e-4', ...extra, '-o', exr,
+                          '--quiet']);
   execFileSync(ganzfeld, ['export-glsl', exr, '-o', path.join(dir, `${name}.glsl`), '--quiet']);
 }
 
@@ -62,6 +63,8 @@ before(async () => {
     table(`h${f0}`, `ggx:roughness=0.5,f0=${f0}`, 'h', '9');
   }
   table('specular', 'specular:alpha=8', 'g', '5x5x5');
+  // format version 4's one-fetch table: warped frame, its bound for the GPU's filter (docs/lut-format.md)
+  table('warped', 'ggx:roughness=0.5,f0=1', 'g', '5x9x5', ['--frame', 'warped', '--filter', 'hardware']);
   table('separable', 'ggx:roughness=0.5,g2=separable', 'g', '5x5x5');
   table('albedo', 'ggx:roughness=0.5', 'a', '9');
   const g1 = fs.readFileSync(path.join(dir, 'g1.ktx2'));
@@ -106,6 +109,18 @@ describe('the reader', () => {
                                                        '--json']).toString()).value;
     assert.equal(g1.texels[(4 * 5 + 4) * 5 + 0], Math.fround(sampled));
     assert.deepEqual(tables.roughnessValues, [0.5]);
+  });
+
+  test('a one-fetch table is read with the GPU\'s linear filter, a texelFetch table with nearest', async () => {
+    const [warped, g1] = await Promise.all([load('warped'), load('g1')]);
+    const w = warped.find(0.5, 'g', 1), t = g1.find(0.5, 'g', 1);
+    assert.equal(w.formatVersion, '4');
+    assert.equal(w.filter, 'hardware');
+    assert.equal(t.filter, 'texel-fetch');
+    const wt = tableTexture(w), tt = tableTexture(t);
+    assert.deepEqual([wt.minFilter, wt.magFilter], [THREE.LinearFilter, THREE.LinearFilter]);
+    assert.deepEqual([tt.minFilter, tt.magFilter], [THREE.NearestFilter, THREE.NearestFilter]);
+    assert.match(w.glsl, /gz_lookup3_filtered\(/);
   });
 
   test('glslIdentifier is export/glsl.h\'s', () => {
