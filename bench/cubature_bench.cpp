@@ -589,7 +589,7 @@ std::string spread(const std::vector<double>& seconds) {
 }
 
 void method_section(std::ostringstream& md, const CubatureBenchOptions& options, const std::string& command) {
-  md << "One run of `" << command << "` on " << machine_description() << " (read from the machine). "
+  md << "One run of `" << command << "` on " << util::machine_description() << " (read from the machine). "
      << "Every competitor integrates the same integrand (the law of vignetting, (k·n) f(k, j) over the lune of "
         "sky pole i) with the same absolute tolerances (";
   for (double t : options.tolerances) md << number(t) << " ";

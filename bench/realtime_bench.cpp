@@ -92,7 +92,7 @@ void timing_section(std::ostringstream& md, const std::vector<const Timed*>& bak
        << b->seconds.size() << " | " << num(median) << " | " << num(*lo) << " … " << num(*hi) << " | "
        << verdict(median <= kBakeSecondsTarget) << " |\n";
   }
-  md << "\nMachine: " << machine_description() << ". The timings share it with whatever else runs there.\n";
+  md << "\nMachine: " << util::machine_description() << ". The timings share it with whatever else runs there.\n";
 }
 
 void furnace_section(std::ostringstream& md, const RealtimeOptions& options) {

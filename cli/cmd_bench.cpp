@@ -114,7 +114,7 @@ nlohmann::ordered_json cubature_report(const BenchArgs& args) {
 /// Bake throughput: a 64x64x32 g table at 1e-9 for specular alpha = 8 and 1000, with
 /// 1 and 2 threads, repeated (bench/bake_bench.cpp).
 nlohmann::ordered_json bake_report(const BenchArgs& args) {
-  nlohmann::ordered_json doc{{"benchmark", "bake"}, {"machine", bench::machine_description()}};
+  nlohmann::ordered_json doc{{"benchmark", "bake"}, {"machine", util::machine_description()}};
   doc["tables"] = nlohmann::ordered_json::array();
   for (const bench::BakeTiming& b : bench::run_bake_benchmark(args.quick, bake_repeats(args))) {
     const double one = util::median(b.seconds_1), two = util::median(b.seconds_2);

@@ -1,5 +1,6 @@
 // ganzfeld figure: the Koenderink–Pont 2×2 panel of a model (rasterizer/figure.h), optionally next
-// to a second model's.
+// to a second model's; with --disk, the halfway-vector disk view of a model (data) and a second one
+// (its fit) for several outgoing directions (reports/disk.h: Edwards et al.'s Fig. 13).
 #include <cstdio>
 #include <iostream>
 
@@ -12,6 +13,7 @@
 #include "models/spec.h"
 #include "tables/exr_io.h"
 #include "rasterizer/figure.h"
+#include "reports/disk.h"
 #include "util/timing.h"
 
 namespace ganzfeld::cli {
@@ -21,8 +23,28 @@ struct FigureArgs {
   std::string model, compare, output, cache;
   int size = raster::FigureOptions{}.size;
   TableOptionArgs tables;
-  bool json = false, quiet = false;
+  bool json = false, quiet = false, disk = false;
+  std::vector<double> theta_o = DiskOptions{}.theta_o_deg;
 };
+int draw_disk(const FigureArgs& args, const Model& data, const Model* fit, const util::Stopwatch& watch) {
+  if (args.output.size() < 4 || args.output.substr(args.output.size() - 4) != ".png")
+    throw InputError("--disk writes a PNG; -o '" + args.output + "' must end in .png");
+  check_writable(args.output);
+  DiskOptions options;
+  options.theta_o_deg = args.theta_o;
+  write_disk_figure(data, fit, options, args.output);
+  if (args.json) {
+    nlohmann::ordered_json doc{{"output", args.output}, {"model", args.model}, {"disk", true}, {"theta_o", args.theta_o}};
+    if (fit) doc["compare"] = args.compare;
+    doc["seconds"] = watch.seconds();
+    std::cout << doc.dump(2) << "\n";
+  } else if (!args.quiet) {
+    std::printf("disk view %s%s%s in %.2f s -> %s\n", args.model.c_str(), fit ? " vs " : "", args.compare.c_str(),
+                watch.seconds(), args.output.c_str());
+  }
+  return 0;
+}
+
 }  // namespace
 
 void add_figure_command(CLI::App& app, Action& action) {
@@ -36,14 +58,19 @@ void add_figure_command(CLI::App& app, Action& action) {
   cmd->add_option("--size", args->size, "pixels per quadrant side, 16..4096 (default 256)");
   args->tables.add_to(*cmd, raster::FigureOptions{}.tables);  // the small tables of g and h
   cmd->add_option("--cache", args->cache, "reuse the tables from DIR and store new ones there (as `render --cache`)");
+  cmd->add_flag("--disk", args->disk,
+                "the halfway-vector disk view instead: --model as the data (red), --compare as its fit (blue)");
+  cmd->add_option("--theta-o", args->theta_o, "--disk: outgoing angles in degrees (default 0,15,30,45,60,75)")
+      ->delimiter(',');
   cmd->add_flag("--quiet", args->quiet, "no summary line");
   add_json_flag(*cmd, args->json);
   cmd->callback([&action, args] {
     action = [args] {
       const util::Stopwatch watch;
       // Refuse bad input before any work.
-      parse_model(args->model);
-      if (!args->compare.empty()) parse_model(args->compare);
+      const ModelPtr model = parse_model(args->model);
+      const ModelPtr compare = args->compare.empty() ? nullptr : parse_model(args->compare);
+      if (args->disk) return draw_disk(*args, *model, compare.get(), watch);
       raster::FigureOptions options;
       options.tables = args->tables.options(options.tables);
       raster::image_format(args->output);

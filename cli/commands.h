@@ -32,5 +32,6 @@ void add_export_brdf_command(CLI::App& app, Action& action);
 void add_plausibility_command(CLI::App& app, Action& action);
 void add_serve_command(CLI::App& app, Action& action);
 void add_extremes_command(CLI::App& app, Action& action);
+void add_fit_command(CLI::App& app, Action& action);
 
 }  // namespace ganzfeld::cli

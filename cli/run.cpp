@@ -39,6 +39,16 @@ int run_cli(int argc, const char* const* argv, bool parse_only) {
   add_plausibility_command(app, action);
   add_serve_command(app, action);
   add_extremes_command(app, action);
+#ifdef GANZFELD_HAS_FIT  // built only where NLopt was found (libnlopt-cxx-dev)
+  add_fit_command(app, action);
+#else
+  app.add_subcommand("fit", "not built (needs NLopt: libnlopt-cxx-dev)")->allow_extras()->callback([&action] {
+    action = []() -> int {
+      throw ganzfeld::InputError("this ganzfeld was built without NLopt, so it cannot fit; install libnlopt-cxx-dev "
+                                 "(scripts/install-deps) and configure again");
+    };
+  });
+#endif
   // The alias spellings of bake become its subcommands; the tables still stamp argv as typed.
   const std::vector<std::string> words = bake_alias(std::vector<std::string>(argv, argv + argc));
   std::vector<const char*> parsed;

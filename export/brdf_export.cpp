@@ -1,18 +1,41 @@
 #include "export/brdf_export.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <fstream>
 #include <numbers>
+#include <random>
 
 #include "util/error.h"
 #include "util/atomic_file.h"
+#include "models/registry.h"
 
 namespace ganzfeld::exporting {
 
+namespace {
+/// The noise factor of each node in writing order: 1 without noise.
+class NoiseFactors {
+ public:
+  explicit NoiseFactors(const Noise& noise) : sigma_(noise.sigma), engine_(noise.seed) {}
+  double next() { return sigma_ > 0.0 ? 1.0 + sigma_ * normal_(engine_) : 1.0; }
 
-std::vector<char> merl_bytes(const Model& model) {
+ private:
+  double sigma_;
+  std::mt19937_64 engine_;
+  std::normal_distribution<double> normal_;
+};
+}  // namespace
+
+void validate_noise(const Noise& noise) {
+  if (!std::isfinite(noise.sigma) || noise.sigma < 0.0 || noise.sigma > 1.0)
+    throw InputError({Named{"noise", format_number(noise.sigma)}, " is not allowed; allowed: a relative sigma in [0, 1]"});
+}
+
+std::vector<char> merl_bytes(const Model& model, const Noise& noise) {
+  validate_noise(noise);
+  NoiseFactors factors(noise);
   std::vector<char> bytes(merl::kFileBytes);
   const std::int32_t dims[3] = {merl::kThetaHalf, merl::kThetaDiff, merl::kPhiDiff};
   std::memcpy(bytes.data(), dims, sizeof dims);
@@ -23,7 +46,7 @@ std::vector<char> merl_bytes(const Model& model) {
       for (int kp = 0; kp < merl::kPhiDiff; ++kp, ++index) {
         const auto [i, j] = merl::directions(merl::node_angles(kh, kd, kp));
         const bool valid = i.z >= 0.0 && j.z >= 0.0;
-        const double f = valid ? model.f(i, j) : 0.0;
+        const double f = valid ? std::max(0.0, model.f(i, j) * factors.next()) : 0.0;
         for (int c = 0; c < 3; ++c) {
           const double stored = valid ? f / merl::kScale[c] : -1.0;
           std::memcpy(bytes.data() + sizeof dims + (c * merl::kSamples + index) * 8, &stored, 8);
@@ -32,8 +55,8 @@ std::vector<char> merl_bytes(const Model& model) {
   return bytes;
 }
 
-void write_merl(const Model& model, const std::string& path) {
-  const std::vector<char> bytes = merl_bytes(model);
+void write_merl(const Model& model, const std::string& path, const Noise& noise) {
+  const std::vector<char> bytes = merl_bytes(model, noise);
   write_atomically(
       path,
       [&](const std::string& temp) {
@@ -44,7 +67,9 @@ void write_merl(const Model& model, const std::string& path) {
       "MERL file");
 }
 
-TabulatedBrdf tabulate(const Model& model, const std::vector<int>& counts) {
+TabulatedBrdf tabulate(const Model& model, const std::vector<int>& counts, const Noise& noise) {
+  validate_noise(noise);
+  NoiseFactors factors(noise);
   if (counts.size() != 3 || counts[0] < 2 || counts[1] < 2 || counts[2] < 2 || counts[0] > 1000 || counts[1] > 1000 ||
       counts[2] > 1000)
     throw InputError("a tabulated BRDF needs 3 node counts (theta_i x theta_r x phi), each in 2..1000");
@@ -63,13 +88,17 @@ TabulatedBrdf tabulate(const Model& model, const std::vector<int>& counts) {
       for (double p : t.phi) {
         const Vec3 i{std::sin(ti * rad), 0.0, std::cos(ti * rad)};
         const Vec3 j{std::sin(tr * rad) * std::cos(p * rad), std::sin(tr * rad) * std::sin(p * rad), std::cos(tr * rad)};
-        t.values.push_back(model.f(i, j));
+        t.values.push_back(std::max(0.0, model.f(i, j) * factors.next()));
       }
   return t;
 }
 
-void write_tabulated(const Model& model, const std::vector<int>& counts, const std::string& path) {
-  write_text_atomically(path, format_tabulated(tabulate(model, counts), "tabulated from " + model.spec()), "table");
+void write_tabulated(const Model& model, const std::vector<int>& counts, const std::string& path, const Noise& noise) {
+  const std::string comment = "tabulated from " + model.spec() +
+                              (noise.sigma > 0.0 ? " with noise sigma " + format_number(noise.sigma) + ", seed " +
+                                                       std::to_string(noise.seed)
+                                                 : "");
+  write_text_atomically(path, format_tabulated(tabulate(model, counts, noise), comment), "table");
 }
 
 }  // namespace ganzfeld::exporting

@@ -94,6 +94,8 @@ class TabulatedModel final : public Model {
   std::string content_digest() const override { return digest_; }
   Traits traits() const override;
   double f(const Vec3& i, const Vec3& j) const noexcept override;
+  /// The grid and values as read (f at the nodes, exactly).
+  const TabulatedBrdf& table() const { return table_; }
 
  private:
   std::string path_;

@@ -8,7 +8,7 @@ cd "$1"
 declare -A arrows=(
   [util]="" [models]="util" [reference]="models" [integrate]="models" [tables]="integrate" [scene]="tables" [export]="scene"
   [shapes]="tables" [serve]="export shapes" [reports]="tables reference" [rasterizer]="scene" [gl]="export" [bench]="rasterizer reports gl"
-  [cli]="serve reports bench" [fuzz]="cli" [python]="shapes reports"
+  [fit]="export reports" [cli]="serve reports bench fit" [fuzz]="cli" [python]="shapes reports"
 )
 # What a module may use: itself and everything its arrows reach.
 declare -A allowed

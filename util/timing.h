@@ -1,11 +1,14 @@
-// The one way ganzfeld measures time: a steady-clock stopwatch, and the median of repeated runs
-// (published timings are medians with their spread; docs/performance.md).
+// The one way ganzfeld measures time: a steady-clock stopwatch, the process's CPU time, the median
+// of repeated runs (published timings are medians with their spread; docs/performance.md), and
+// the machine they ran on.
 #pragma once
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <ctime>
 #include <functional>
+#include <string>
 #include <vector>
 
 namespace ganzfeld::util {
@@ -20,6 +23,13 @@ class Stopwatch {
  private:
   std::chrono::steady_clock::time_point start_;
 };
+
+/// CPU seconds the process has used so far, all threads together (std::clock): beside wall time on
+/// a machine shared with other work, it says what the work itself cost.
+inline double process_cpu_seconds() { return static_cast<double>(std::clock()) / CLOCKS_PER_SEC; }
+
+/// The machine, read from it: CPU model (/proc/cpuinfo) and hardware threads.
+std::string machine_description();
 
 /// Wall seconds of each of `repeats` (>= 1) runs of `run`, in run order.
 inline std::vector<double> time_runs(int repeats, const std::function<void()>& run) {
