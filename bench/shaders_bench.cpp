@@ -150,14 +150,14 @@ std::vector<TableSet> table_sets(bool quick) {
   if (quick) {
     scene::TableOptions small{{9, 9, 5}, {17}, 1e-6};
     scene::TableOptions to_error;
-    to_error.target_error = 1e-2;
+    to_error.target = tables::ErrorTarget{1e-2, 0, 0};
     return {{"`--res 9x9x5` (g), `--res 17` (h)", small}, {"`--max-error 1e-2`", to_error}};
   }
   std::vector<TableSet> out{{"scene defaults (`bake --scene`: `--max-error 1e-3 --fetches 1`)",
                              scene::TableOptions::scene_defaults()}};
   for (const auto& [e, text] : {std::pair{1e-3, "1e-3"}, std::pair{1e-4, "1e-4"}}) {
     scene::TableOptions options;
-    options.target_error = e;
+    options.target = tables::ErrorTarget{e, 0, 0};
     out.push_back({std::string("`--max-error ") + text + "`", options});
   }
   return out;

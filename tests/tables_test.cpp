@@ -306,11 +306,12 @@ TEST(Table, ACancelledBakeThrowsAndWritesNothing) {
   options.cancel = &cancel;
   const ModelPtr m = parse_model("specular:alpha=8");
   EXPECT_THROW(bake(*m, Law::g, options), Cancelled);
-  options.target_error = 1e-3;  // the --max-error search stops at its first bake
-  EXPECT_THROW(bake(*m, Law::g, options), Cancelled);
+  TargetBake target;  // the --max-error search stops at its first bake
+  target.target.lookup_error = 1e-3;
+  target.cancel = &cancel;
+  EXPECT_THROW(bake(*m, Law::g, target), Cancelled);
 
   // Set while the nodes are baked (the progress callback runs on the bake's workers).
-  options.target_error = 0.0;
   options.resolution = {33, 33, 17};
   cancel = false;
   std::atomic<std::uint64_t> seen{0};
@@ -1058,10 +1059,8 @@ TEST(Table, FetchBudgetBakeIsOneFilteredFetchWithAnHonestBound) {
 // read with texelFetch (2 fetches, full precision) is the pick, with an honest bound.
 TEST(Table, FetchBudgetFallsBackToTexelFetchWhereFilterWeightsCannotReach) {
   const ModelPtr model = parse_model("specular:alpha=1000");
-  BakeOptions options;
-  options.target_error = 1e-5;
-  options.max_fetches = 2;
-  options.max_bytes = 1024;
+  TargetBake options;
+  options.target = {1e-5, 1024, 2};
   const Table table = round_trip(bake(*model, Law::h, options), "fetch2.exr");
   EXPECT_LE(table.lookup_error, 1e-5);
   EXPECT_LE(value_bytes(table), 1024u);
@@ -1075,7 +1074,7 @@ TEST(Table, FetchBudgetFallsBackToTexelFetchWhereFilterWeightsCannotReach) {
               misses, kFreshPoints);
   EXPECT_LE(misses, kAllowedFreshMisses * kFreshPoints);
   // One fetch cannot: the refusal names the best it found at one fetch.
-  options.max_fetches = 1;
+  options.target.max_fetches = 1;
   EXPECT_THROW(bake_to_error(*model, Law::h, options), InputError);
 }
 
