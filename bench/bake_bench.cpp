@@ -1,9 +1,7 @@
 // Bake throughput, repeated (timings are medians of repeated
 // runs with their spread, and the machine is read from the machine).
 #include <ctime>
-#include <fstream>
 #include <sstream>
-#include <thread>
 
 #include <tbb/global_control.h>
 
@@ -34,17 +32,6 @@ std::vector<BakeTiming> run_bake_benchmark(bool quick, int repeats) {
     out.push_back(std::move(timing));
   }
   return out;
-}
-
-std::string machine_description() {
-  std::ifstream cpuinfo("/proc/cpuinfo");
-  std::string line, model = "unknown CPU";
-  while (std::getline(cpuinfo, line))
-    if (line.rfind("model name", 0) == 0) {
-      model = line.substr(line.find(':') + 2);
-      break;
-    }
-  return model + ", " + std::to_string(std::thread::hardware_concurrency()) + " hardware threads";
 }
 
 std::string significant(double x, int digits) {

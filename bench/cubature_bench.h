@@ -138,8 +138,6 @@ struct BakeTiming {
 };
 std::vector<BakeTiming> run_bake_benchmark(bool quick, int repeats);
 
-/// The machine, read from it: CPU model (/proc/cpuinfo) and hardware threads.
-std::string machine_description();
 /// Today's date in UTC, YYYY-MM-DD (the stamp of a generated section).
 std::string today_utc();
 /// x with `digits` significant digits (%g): the benchmarks' Markdown numbers.

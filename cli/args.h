@@ -65,7 +65,7 @@ std::string prepare_directory(const std::string& flag, const std::string& text);
 /// Refuses an evaluation budget below 1000 per entry.
 void check_max_evaluations(long long n);
 
-/// The table options of every command that takes a scene (bake --scene, render, export-glsl
+/// The table options of every command that takes a scene (bake scene, render, export-glsl
 /// --scene) and of figure: --res-g, --res-h, --tol, --encoding, --max-evals. One parser and one
 /// set of defaults (scene::TableOptions), so that the commands reach the same cache entries.
 struct TableOptionArgs {
@@ -75,6 +75,7 @@ struct TableOptionArgs {
   std::optional<double> max_error;
   std::optional<unsigned long long> max_bytes;
   std::optional<long long> fetches;
+  bool best_effort = false;
   /// The options add_to registered (the accuracy flags that exclude or need one another).
   struct Added {
     CLI::Option *tol, *max_error, *max_bytes, *fetches;

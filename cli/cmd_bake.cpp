@@ -188,9 +188,10 @@ int bake_one(const BakeArgs& args) {
     std::string nodes;
     for (const tables::Axis& a : table.axes) nodes += (nodes.empty() ? "" : "x") + std::to_string(a.count);
     if (table.target_error > 0.0)
-      std::printf("target lookup error %s within %llu value bytes%s: met\n", format_number(table.target_error).c_str(),
+      std::printf("target lookup error %s within %llu value bytes%s: %s\n", format_number(table.target_error).c_str(),
                   static_cast<unsigned long long>(table.target_bytes),
-                  table.target_fetches ? (" and " + std::to_string(table.target_fetches) + " fetches").c_str() : "");
+                  table.target_fetches ? (" and " + std::to_string(table.target_fetches) + " fetches").c_str() : "",
+                  tables::misses_target(table) ? "missed (best effort: the most accurate table found)" : "met");
     std::printf("baked %s of %s, %s nodes (%s frame, %s, %s filter: %d fetches per lookup, %zu entries, %s, %llu value "
                 "bytes) in %.2f s: lookup error %.3g (validated at %lld points%s; node error %.3g), %lld unconverged -> %s\n",
                 to_string(law), table.model.c_str(), nodes.c_str(), to_string(table.frame),
@@ -318,7 +319,7 @@ void add_model_job(CLI::App& bake, Action& action, const std::shared_ptr<BakeArg
       "model",
       "one law (g, h, a) of one model into an OpenEXR table with per-entry error: on a fixed grid (--res, with "
       "--mapping, --frame, --interpolation, --filter, --checks, --tol) or to an error target (--max-error, with "
-      "--max-bytes, --fetches)");
+      "--max-bytes, --fetches, --best-effort)");
   cmd->add_option("spec,--model", args->model, "the model spec, e.g. specular:alpha=8 (see `ganzfeld models`)");
   cmd->add_option("--law", args->law, "g (vignetting, 3-D), h (darkening, 1-D) or a (albedo, 1-D)");
   add_output_flags(*cmd, *args);

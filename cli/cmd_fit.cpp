@@ -76,9 +76,10 @@ int run_fit(const FitArgs& args) {
   sampling.max_theta_deg = args.max_theta;
   std::string model_spec = args.model;
   if (!args.start.empty()) {  // the start must be the same model, with other values
-    const auto model_terms = fit::spec_terms(args.model), start_terms = fit::spec_terms(args.start);
-    bool same = model_terms.size() == start_terms.size();
-    for (std::size_t k = 0; same && k < model_terms.size(); ++k) same = model_terms[k].name == start_terms[k].name;
+    const Spec model = fit::canonical_spec(args.model), start = fit::canonical_spec(args.start);
+    bool same = model.terms.size() == start.terms.size();
+    for (std::size_t k = 0; same && k < model.terms.size(); ++k)
+      same = model.terms[k].model.name == start.terms[k].model.name;
     if (!same) throw InputError("--start '" + args.start + "' is not the model of --model '" + args.model + "'");
     model_spec = args.start;
   }
@@ -94,7 +95,8 @@ int run_fit(const FitArgs& args) {
   const fit::FitData samples = fit::sample_data(*data, sampling);
 
   // The bar runs over the evaluation budget and is completed when the search ends (most end early).
-  auto bar = util::progress_bar("fit " + fit::spec_terms(model_spec).front().name, args.quiet || args.json);
+  const std::string model_name = fit::canonical_spec(model_spec).terms.front().model.name;
+  auto bar = util::progress_bar("fit " + model_name, args.quiet || args.json);
   const auto budget = static_cast<std::uint64_t>(options.starts) * static_cast<std::uint64_t>(options.max_evaluations);
   if (bar)
     options.progress = [bar, budget](const fit::FitProgress& p) {

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdlib>
 #include <map>
 
 #include "models/registry.h"
@@ -16,24 +15,16 @@ namespace {
 /// Relative mixture weights (lobe l over lobe 1) are searched in [1/kWeightSpan, kWeightSpan].
 constexpr double kWeightSpan = 1e3;
 
-/// The registry's entry for `key` of model `info`, or nothing (file=, or not a parameter).
-const ParamInfo* param_info(const ModelInfo& info, const std::string& key) {
-  for (const ParamInfo& p : info.parameters)
-    if (p.name == key) return &p;
-  return nullptr;
+/// The registry's entry for `key`, a parameter of model `info`.
+const ParamInfo& param_info(const ModelInfo& info, const std::string& key) {
+  const auto named = [&](const ParamInfo& p) { return p.name == key; };
+  return *std::find_if(info.parameters.begin(), info.parameters.end(), named);
 }
 
 Mapping mapping_for(double lo, double hi) {
   if (lo > 0.0 && hi / lo >= 20.0) return Mapping::log;
   if (lo == 0.0 && hi >= 100.0) return Mapping::log1p;
   return Mapping::linear;
-}
-
-bool parse_number(const std::string& text, double& value) {
-  if (text.empty()) return false;
-  char* end = nullptr;
-  value = std::strtod(text.c_str(), &end);
-  return end == text.c_str() + text.size();
 }
 
 }  // namespace
@@ -59,42 +50,22 @@ double FreeParameter::from_unit(double u) const {
   return std::clamp(x, lo, hi);  // exp/log round trips may overshoot an end by an ulp
 }
 
-std::vector<SpecTerm> spec_terms(const std::string& spec) {
-  std::vector<SpecTerm> terms;
-  for (const Lobe& lobe : parse_lobes(spec)) {
-    const std::string canonical = lobe.model->spec();
-    SpecTerm term;
-    term.weight = lobe.weight;
-    const auto colon = canonical.find(':');
-    term.name = canonical.substr(0, colon);
-    // Canonical items are KEY=VALUE separated by ','; a file path holds no ',' (models/measured.h).
-    std::size_t start = colon == std::string::npos ? canonical.size() : colon + 1;
-    while (start < canonical.size()) {
-      const auto comma = std::min(canonical.find(',', start), canonical.size());
-      const std::string item = canonical.substr(start, comma - start);
-      const auto eq = item.find('=');
-      term.items.emplace_back(item.substr(0, eq), eq == std::string::npos ? "" : item.substr(eq + 1));
-      start = comma + 1;
-    }
-    terms.push_back(std::move(term));
-  }
-  return terms;
-}
+Spec canonical_spec(const std::string& spec) { return parse_spec(parse_model(spec)->spec()); }
 
 ParameterSpace::ParameterSpace(const std::string& spec, const std::vector<std::string>& fixed) {
-  const std::vector<SpecTerm> terms = spec_terms(spec);
+  const Spec canonical = canonical_spec(spec);
   std::map<std::string, int> count;
-  for (const SpecTerm& t : terms) ++count[t.name];
-  const bool mixture = terms.size() > 1;
-  for (std::size_t l = 0; l < terms.size(); ++l) {
-    LobeItems lobe;
-    lobe.name = terms[l].name;
-    lobe.label = count[lobe.name] > 1 ? lobe.name + std::to_string(l + 1) : lobe.name;
-    lobe.weight = terms[l].weight / terms.front().weight;
-    for (const auto& [key, text] : terms[l].items) lobe.items.push_back({key, text, -1});
+  for (const SpecTerm& t : canonical.terms) ++count[t.model.name];
+  const bool mixture = canonical.is_mixture();
+  for (std::size_t l = 0; l < canonical.terms.size(); ++l) {
+    LobeSpace lobe;
+    lobe.term = canonical.terms[l];
+    const std::string& name = lobe.term.model.name;
+    lobe.label = count[name] > 1 ? name + std::to_string(l + 1) : name;
+    lobe.term.weight /= canonical.terms.front().weight;
     lobes_.push_back(std::move(lobe));
   }
-  auto qualified = [&](const LobeItems& lobe, const std::string& key) {
+  auto qualified = [&](const LobeSpace& lobe, const std::string& key) {
     return mixture ? lobe.label + "." + key : key;
   };
 
@@ -108,15 +79,15 @@ ParameterSpace::ParameterSpace(const std::string& spec, const std::vector<std::s
     bool found = false;
     std::string known;
     for (std::size_t l = 0; l < lobes_.size() && !found; ++l) {
-      LobeItems& lobe = lobes_[l];
-      const ModelInfo& info = find_model(lobe.name);
+      LobeSpace& lobe = lobes_[l];
+      const ModelInfo& info = find_model(lobe.term.model.name);
       if (mixture && l > 0) {
         known += (known.empty() ? "" : ", ") + lobe.label + ".weight";
         if (name == lobe.label + ".weight") {
           double w;
           if (!parse_number(text, w) || !std::isfinite(w) || w <= 0.0)
             throw InputError({Named{"fixed", item}, ": a weight must be a finite number > 0 (relative to the first lobe's)"});
-          lobe.weight = w;
+          lobe.term.weight = w;
           is_fixed[name] = found = true;
           break;
         }
@@ -124,20 +95,14 @@ ParameterSpace::ParameterSpace(const std::string& spec, const std::vector<std::s
       for (const ParamInfo& p : info.parameters) {
         known += (known.empty() ? "" : ", ") + qualified(lobe, p.name);
         if (qualified(lobe, p.name) != name) continue;
-        std::string value_text = text;
+        double v;
         if (p.type == ParamType::choice) {
-          parse_choice(info, p, text);
+          v = parse_choice(info, p, text);
         } else {
-          double v;
           if (!parse_number(text, v)) throw InputError({Named{"fixed", item}, ": '" + text + "' is not a number"});
           validate_param(info, p, v);
-          value_text = format_number(v);
         }
-        auto it = std::find_if(lobe.items.begin(), lobe.items.end(), [&](const Item& x) { return x.key == p.name; });
-        if (it == lobe.items.end())
-          lobe.items.push_back({p.name, value_text, -1});
-        else
-          it->text = value_text;
+        lobe.term.model.values[p.name] = v;
         is_fixed[name] = found = true;
         break;
       }
@@ -147,36 +112,33 @@ ParameterSpace::ParameterSpace(const std::string& spec, const std::vector<std::s
                                                 (known.empty() ? "none" : known)});
   }
 
-  // Free: the real-valued items not fixed, then the weights of lobes 2.. not fixed.
+  // Free: the real-valued parameters not fixed, then the weights of lobes 2.. not fixed.
   std::string integral;
-  for (LobeItems& lobe : lobes_) {
-    const ModelInfo& info = find_model(lobe.name);
-    for (Item& item : lobe.items) {
-      const ParamInfo* p = param_info(info, item.key);
-      const std::string name = qualified(lobe, item.key);
-      if (!p) continue;
-      if (p->type != ParamType::real) {
+  for (LobeSpace& lobe : lobes_) {
+    const ModelInfo& info = find_model(lobe.term.model.name);
+    for (const std::string& key : given_parameters(lobe.term.model)) {
+      const ParamInfo& p = param_info(info, key);
+      const std::string name = qualified(lobe, key);
+      if (p.type != ParamType::real) {
         integral += (integral.empty() ? "" : ", ") + name;
         continue;
       }
       if (is_fixed.count(name)) continue;
-      double value = 0.0;
-      parse_number(item.text, value);
       FreeParameter f;
       f.name = name;
-      f.lo = p->min_exclusive ? p->min + kOpenFloor * (p->max - p->min) : p->min;
-      f.hi = p->max;
-      f.start = std::clamp(value, f.lo, f.hi);
+      f.lo = p.min_exclusive ? p.min + kOpenFloor * (p.max - p.min) : p.min;
+      f.hi = p.max;
+      f.start = std::clamp(lobe.term.model.values.at(key), f.lo, f.hi);
       f.mapping = mapping_for(f.lo, f.hi);
-      item.free_index = static_cast<int>(free_.size());
+      lobe.free_values.emplace_back(key, static_cast<int>(free_.size()));
       free_.push_back(f);
     }
   }
   for (std::size_t l = 1; l < lobes_.size(); ++l) {
-    LobeItems& lobe = lobes_[l];
+    LobeSpace& lobe = lobes_[l];
     const std::string name = lobe.label + ".weight";
     if (is_fixed.count(name)) continue;
-    FreeParameter f{name, 1.0 / kWeightSpan, kWeightSpan, std::clamp(lobe.weight, 1.0 / kWeightSpan, kWeightSpan),
+    FreeParameter f{name, 1.0 / kWeightSpan, kWeightSpan, std::clamp(lobe.term.weight, 1.0 / kWeightSpan, kWeightSpan),
                     Mapping::log};
     lobe.weight_index = static_cast<int>(free_.size());
     free_.push_back(f);
@@ -203,36 +165,32 @@ std::vector<double> ParameterSpace::start() const {
 }
 
 std::string ParameterSpace::spec_at(const std::vector<double>& x) const {
-  std::string s;
-  for (std::size_t l = 0; l < lobes_.size(); ++l) {
-    const LobeItems& lobe = lobes_[l];
-    if (lobes_.size() > 1) {
-      const double w = lobe.weight_index >= 0 ? x[lobe.weight_index] : lobe.weight;
-      s += (l ? " + " : "") + format_number(w) + "*";
-    }
-    s += lobe.name;
-    for (std::size_t k = 0; k < lobe.items.size(); ++k) {
-      const Item& item = lobe.items[k];
-      s += (k ? "," : ":") + item.key + "=" + (item.free_index >= 0 ? format_number(x[item.free_index]) : item.text);
-    }
+  Spec spec;
+  for (const LobeSpace& lobe : lobes_) {
+    SpecTerm term = lobe.term;
+    for (const auto& [key, index] : lobe.free_values) term.model.values[key] = x[index];
+    if (lobe.weight_index >= 0) term.weight = x[lobe.weight_index];
+    spec.terms.push_back(std::move(term));
   }
-  return s;
+  return spec_text(spec);
 }
 
 std::vector<std::pair<std::string, double>> ParameterSpace::values_of(const std::string& spec) const {
-  const std::vector<SpecTerm> terms = spec_terms(spec);
-  if (terms.size() != lobes_.size())
-    throw InputError("'" + spec + "' has " + std::to_string(terms.size()) + " lobes; the fitted model has " +
+  const Spec canonical = canonical_spec(spec);
+  if (canonical.terms.size() != lobes_.size())
+    throw InputError("'" + spec + "' has " + std::to_string(canonical.terms.size()) + " lobes; the fitted model has " +
                      std::to_string(lobes_.size()));
   std::vector<std::pair<std::string, double>> out;
-  for (std::size_t l = 0; l < terms.size(); ++l) {
-    if (terms[l].name != lobes_[l].name)
-      throw InputError("'" + spec + "' is not a " + lobes_[l].name + " where the fitted model is");
-    for (const auto& [key, text] : terms[l].items) {
-      double v;
-      if (parse_number(text, v)) out.emplace_back(lobes_.size() > 1 ? lobes_[l].label + "." + key : key, v);
-    }
-    if (l > 0) out.emplace_back(lobes_[l].label + ".weight", terms[l].weight / terms.front().weight);
+  for (std::size_t l = 0; l < canonical.terms.size(); ++l) {
+    const ModelSpec& model = canonical.terms[l].model;
+    if (model.name != lobes_[l].term.model.name)
+      throw InputError("'" + spec + "' is not a " + lobes_[l].term.model.name + " where the fitted model is");
+    const ModelInfo& info = find_model(model.name);
+    for (const std::string& key : given_parameters(model))
+      if (param_info(info, key).type != ParamType::choice)
+        out.emplace_back(lobes_.size() > 1 ? lobes_[l].label + "." + key : key, model.values.at(key));
+    const double relative_weight = canonical.terms[l].weight / canonical.terms.front().weight;
+    if (l > 0) out.emplace_back(lobes_[l].label + ".weight", relative_weight);
   }
   return out;
 }

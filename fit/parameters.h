@@ -21,7 +21,7 @@
 #include <string>
 #include <vector>
 
-#include "models/model.h"
+#include "models/spec.h"
 
 namespace ganzfeld::fit {
 
@@ -55,28 +55,21 @@ class ParameterSpace {
   std::vector<std::pair<std::string, double>> values_of(const std::string& spec) const;
 
  private:
-  struct Item {
-    std::string key, text;  ///< the spec's text of a fixed item; free items are formatted from x
-    int free_index = -1;
-  };
-  struct LobeItems {
-    std::string name, label;
-    double weight = 1.0;
+  /// One lobe: its canonical spec with the --fixed values (weight relative to the first lobe's);
+  /// spec_at puts x into the free ones.
+  struct LobeSpace {
+    std::string label;  ///< the model's name, with the lobe's position when the name occurs twice
+    SpecTerm term;
+    std::vector<std::pair<std::string, int>> free_values;  ///< parameter name, index into x
     int weight_index = -1;  ///< free relative weight, lobes 2..
-    std::vector<Item> items;
   };
-  std::vector<LobeItems> lobes_;
+  std::vector<LobeSpace> lobes_;
   std::vector<FreeParameter> free_;
 };
 
-/// A spec's lobes as their canonical specs read back: weight (normalized), model name, items
-/// "key" = "value text" in the canonical order.
-struct SpecTerm {
-  double weight = 1.0;
-  std::string name;
-  std::vector<std::pair<std::string, std::string>> items;
-};
-/// Throws InputError for a spec parse_model refuses.
-std::vector<SpecTerm> spec_terms(const std::string& spec);
+/// The spec as the model it makes writes it (Model::spec() read back by parse_spec): each lobe in
+/// the parametrization its model is in, weights normalized. Throws InputError for a spec
+/// parse_model refuses.
+Spec canonical_spec(const std::string& spec);
 
 }  // namespace ganzfeld::fit

@@ -6,8 +6,8 @@
 #include <cstdlib>
 #include <ctime>
 #include <filesystem>
-#include <map>
 #include <sstream>
+#include <utility>
 
 #include "export/brdf_export.h"
 #include "fit/parameters.h"
@@ -57,7 +57,7 @@ constexpr double kLawTolerance = 1e-5;
 /// disk falls by at least this fraction (and by more than from 0° to 45°).
 constexpr double kTightening = 0.25;
 
-std::string model_name(const std::string& spec) { return spec_terms(spec).front().name; }
+std::string model_name(const std::string& spec) { return canonical_spec(spec).terms.front().model.name; }
 
 std::string g3(double x) {
   char buf[32];
@@ -124,12 +124,12 @@ struct Setup {
 std::vector<std::string> equivalent_truths(const std::string& truth) {
   std::vector<std::string> out{truth};
   if (model_name(truth) != "hvd-fit") return out;
-  const std::vector<SpecTerm> terms = spec_terms(truth);  // a range-for would not keep the temporary alive
-  std::map<std::string, std::string> v;
-  for (const auto& [key, text] : terms.front().items) v[key] = text;
-  out.push_back("hvd-fit:cd=" + v["cd"] + ",f0=" + v["f0"] + ",f90=" + v["f90"] + ",k=" +
-                format_number(1.0 - std::stod(v["k"])) + ",n1=" + v["n2"] + ",r1=" + v["r2"] + ",n2=" + v["n1"] +
-                ",r2=" + v["r1"]);
+  ModelSpec swapped = canonical_spec(truth).terms.front().model;
+  ParamValues& v = swapped.values;
+  v.at("k") = 1.0 - v.at("k");
+  std::swap(v.at("n1"), v.at("n2"));
+  std::swap(v.at("r1"), v.at("r2"));
+  out.push_back(spec_text(swapped));
   return out;
 }
 
@@ -155,7 +155,8 @@ RecoveryRow recover(Setup& setup, const std::string& truth, double noise, int re
     std::vector<ParameterError> errors;
     double worst = 0.0;
     for (const auto& [pname, fitted] : row.result.parameters) {
-      const auto it = std::find_if(truth_values.begin(), truth_values.end(), [&](const auto& t) { return t.first == pname; });
+      const std::string& wanted = pname;  // clang 14 cannot capture a structured binding
+      const auto it = std::find_if(truth_values.begin(), truth_values.end(), [&](const auto& t) { return t.first == wanted; });
       if (it == truth_values.end()) continue;
       errors.push_back({pname, it->second, fitted, std::abs(fitted - it->second) / std::abs(it->second)});
       worst = std::max(worst, errors.back().relative);

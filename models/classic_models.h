@@ -40,20 +40,32 @@ ParamInfo n_param(double def, const char* meaning);
 double fresnel_complex(double cos_theta, double eta, double k) noexcept;
 
 // ---------------------------------------------------------------------------------------------
+/// The shape of Phong's lobe as a function of cos psi: the cosine power, or Schlick's rational
+/// approximation of it (models/schlick.h), t/(n - n t + t).
+enum class PhongLobe { cosine_power, schlick_rational };
+
 /// Phong 1975, as a BRDF: the specular term is added to the *reflected intensity* without the
 /// cos(theta_i) factor that multiplies the diffuse term, so as a BRDF
 ///   f = kd/pi + ks max(0, cos psi)^n / mu_i,   cos psi = mirror(i)·j.
-/// Not reciprocal (the 1/mu_i), albedo unbounded at grazing incidence.
+/// Not reciprocal (the 1/mu_i), albedo unbounded at grazing incidence. With
+/// PhongLobe::schlick_rational (`schlick-phong`, Walker's Figs. 17 and 19) cos^n psi is replaced by
+/// Schlick's rational t/(n - n t + t), t = max(0, cos psi): equal at t = 0 and 1 with the same
+/// slope n at t = 1, a lobe of about the same width (half maximum at t = n/(n + 1) against
+/// 2^(-1/n)) and far heavier tails (t/n as t -> 0, against t^n).
 class Phong final : public Model {
  public:
-  Phong(double kd, double ks, double n);
+  Phong(double kd, double ks, double n, PhongLobe lobe = PhongLobe::cosine_power);
   std::string spec() const override;
   Traits traits() const override { return {true, false, EnergyClass::not_plausible}; }
   double f(const Vec3& i, const Vec3& j) const noexcept override;
+  std::optional<GlslF> glsl_f() const override;
   MassHints mass_hints(const Vec3& fixed, Varying varying) const override;
 
  private:
+  double lobe(double cos_psi) const noexcept;
+
   double kd_, ks_, n_;
+  PhongLobe lobe_;
 };
 
 /// Lewis 1994 ("Making shaders more physically plausible"), the normalized Phong BRDF
@@ -65,6 +77,7 @@ class PhongLewis final : public Model {
   std::string spec() const override;
   Traits traits() const override { return {true, true, EnergyClass::plausible}; }
   double f(const Vec3& i, const Vec3& j) const noexcept override;
+  std::optional<GlslF> glsl_f() const override;
   MassHints mass_hints(const Vec3& fixed, Varying varying) const override;
 
  private:
@@ -79,6 +92,7 @@ class BlinnPhong final : public Model {
   std::string spec() const override;
   Traits traits() const override { return {true, true, EnergyClass::plausible}; }
   double f(const Vec3& i, const Vec3& j) const noexcept override;
+  std::optional<GlslF> glsl_f() const override;
   MassHints mass_hints(const Vec3& fixed, Varying varying) const override;
 
  private:
@@ -105,6 +119,7 @@ class CookTorrance final : public Model {
   std::string spec() const override;
   Traits traits() const override { return {true, true, EnergyClass::plausible}; }
   double f(const Vec3& i, const Vec3& j) const noexcept override;
+  std::optional<GlslF> glsl_f() const override;
   MassHints mass_hints(const Vec3& fixed, Varying varying) const override;
   /// The normalized facet distribution D_n(cos delta), ∫ D_n (h·n) dh = 1.
   double D(double cos_delta) const noexcept;
@@ -126,6 +141,7 @@ class Ward final : public Model {
   std::string spec() const override;
   Traits traits() const override { return {!anisotropic_, true, EnergyClass::not_plausible}; }
   double f(const Vec3& i, const Vec3& j) const noexcept override;
+  std::optional<GlslF> glsl_f() const override;
   MassHints mass_hints(const Vec3& fixed, Varying varying) const override;
   /// Ward's sampling (1992, section 5.3, eq. 6–7 and 9–10), with the density B. Walter derived
   /// for it ("Notes on the Ward BRDF", 2005): the halfway vector from
@@ -150,6 +166,7 @@ class OrenNayar final : public Model {
   std::string spec() const override;
   Traits traits() const override { return {true, true, EnergyClass::not_plausible}; }
   double f(const Vec3& i, const Vec3& j) const noexcept override;
+  std::optional<GlslF> glsl_f() const override;
 
  private:
   double sigma_, rho_;
@@ -171,6 +188,7 @@ class Lafortune final : public Model {
   std::string spec() const override;
   Traits traits() const override;
   double f(const Vec3& i, const Vec3& j) const noexcept override;
+  std::optional<GlslF> glsl_f() const override;
   MassHints mass_hints(const Vec3& fixed, Varying varying) const override;
 
  private:
@@ -200,6 +218,7 @@ class Hapke final : public Model {
   std::string spec() const override;
   Traits traits() const override { return {true, true, EnergyClass::not_plausible}; }
   double f(const Vec3& i, const Vec3& j) const noexcept override;
+  std::optional<GlslF> glsl_f() const override;
   MassHints mass_hints(const Vec3& fixed, Varying varying) const override;
   /// The retroreflection function B(alpha, g) for the phase angle's cosine and tangent.
   static double B(double tan_alpha, double cos_alpha, double g) noexcept;

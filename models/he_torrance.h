@@ -86,6 +86,8 @@ class HeTorrance final : public Model {
   Traits traits() const override { return {true, true, EnergyClass::not_plausible}; }
   /// rho_dd + a/pi (eqs. 71, 72); the specular delta is excluded (specular_reflectance).
   double f(const Vec3& i, const Vec3& j) const noexcept override;
+  std::optional<GlslF> glsl_f() const override;
+  std::optional<GlslF> glsl_mirror_reflectance() const override;
   /// Two peaks at mirror(fixed): the m = 1 term of eq. 78 (exp(-c): width lambda/(sqrt 2 pi tau)
   /// across, that over cos theta along) and, when g > 4, the m ~ g terms (sqrt(g) times wider).
   MassHints mass_hints(const Vec3& fixed, Varying varying) const override;
@@ -95,6 +97,9 @@ class HeTorrance final : public Model {
   /// rho_s = |F(theta_i)|^2 exp(-g(theta_i, theta_i)) S(theta_i)^2 (eqs. 73-74): the weight of
   /// the specular delta, i.e. the fraction of the flux from i reflected into mirror(i).
   double specular_reflectance(double cos_theta_i) const noexcept;
+  /// The specular delta's weight, specular_reflectance: renders add it under skies and the
+  /// Ganzfeld (Model::mirror_reflectance); f and the laws of f exclude it.
+  double mirror_reflectance(double cos_theta) const noexcept override { return specular_reflectance(cos_theta); }
   /// Effective roughness sigma (micrometres) for the two cosines (eqs. 80-83).
   double effective_roughness(double cos_theta_i, double cos_theta_r) const noexcept;
   /// Shadowing S(theta) of one direction (eqs. 24-25 with Smith's exp(-a^2)).

@@ -22,6 +22,8 @@ class Mixture final : public Model {
   /// the density is the weighted sum of the lobes' densities.
   std::optional<IncidentSample> sample_incident(const Vec3& j, const std::array<double, 3>& u) const override;
   double pdf_incident(const Vec3& j, const Vec3& i) const override;
+  /// The weighted sum of the lobes' mirror reflectances.
+  double mirror_reflectance(double cos_theta) const noexcept override;
   const std::vector<Lobe>& lobes() const { return lobes_; }
 
  private:

@@ -1,6 +1,7 @@
 #include "models/registry.h"
 
 #include <charconv>
+#include <cstdlib>
 #include <cmath>
 
 #include "util/error.h"
@@ -54,11 +55,14 @@ std::vector<ModelInfo> build_catalogue() {
   register_hvd_models(c);
   register_classic_models(c);
   register_he_torrance_models(c);
+  register_kajiya_models(c);
   register_blinn_dusty_models(c);
   register_beard_maxwell_models(c);
   register_poulin_fournier_models(c);
   register_ggx_models(c);
   register_charlie_models(c);
+  register_ashikhmin_shirley_models(c);
+  register_schlick_models(c);
   register_measured_models(c);
   return c;
 }
@@ -82,6 +86,13 @@ std::string format_number(double value) {
   char buf[64];
   const auto result = std::to_chars(buf, buf + sizeof buf, value);
   return std::string(buf, result.ptr);
+}
+
+bool parse_number(const std::string& text, double& value) {
+  if (text.empty()) return false;
+  char* end = nullptr;
+  value = std::strtod(text.c_str(), &end);
+  return end == text.c_str() + text.size();
 }
 
 std::string value_text(const ParamInfo& param, double value) {

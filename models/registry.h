@@ -61,6 +61,9 @@ void register_beard_maxwell_models(std::vector<ModelInfo>& catalogue);  // model
 void register_poulin_fournier_models(std::vector<ModelInfo>& catalogue);  // models/poulin_fournier.cpp
 void register_ggx_models(std::vector<ModelInfo>& catalogue);      // models/ggx.cpp (microfacets, Smith G2)
 void register_charlie_models(std::vector<ModelInfo>& catalogue);  // models/charlie.cpp (sheen)
+void register_ashikhmin_shirley_models(std::vector<ModelInfo>& catalogue);  // models/ashikhmin_shirley.cpp
+void register_schlick_models(std::vector<ModelInfo>& catalogue);  // models/schlick.cpp (Schlick 1994)
+void register_kajiya_models(std::vector<ModelInfo>& catalogue);   // models/kajiya.cpp (fibres)
 
 /// Every registered model, in presentation order.
 const std::vector<ModelInfo>& model_catalogue();
@@ -78,6 +81,9 @@ double parse_choice(const ModelInfo& model, const ParamInfo& param, const std::s
 
 /// Shortest text that round-trips the double (used in canonical spec strings).
 std::string format_number(double value);
+/// Reads a whole text as a number, as a spec's values and weights are read (format_number's texts
+/// among them); accepts "nan" and "inf" so that a range can refuse them. False when the text is not one.
+bool parse_number(const std::string& text, double& value);
 /// A parameter's value as a spec writes it: a choice by name, else format_number.
 std::string value_text(const ParamInfo& param, double value);
 

@@ -2,7 +2,6 @@
 
 #include <cctype>
 #include <cmath>
-#include <cstdlib>
 #include <limits>
 #include <stdexcept>
 
@@ -30,14 +29,6 @@ std::vector<std::string> split(const std::string& s, char sep) {
     }
   }
   return parts;
-}
-
-/// Parses a whole string as a double (accepts "nan"/"inf" so they can be refused by range).
-bool parse_double(const std::string& text, double& value) {
-  if (text.empty()) return false;
-  char* end = nullptr;
-  value = std::strtod(text.c_str(), &end);
-  return end == text.c_str() + text.size();
 }
 
 /// The parameter `key` of the model; throws InputError naming the model and its parameters.
@@ -81,7 +72,7 @@ ModelSpec parse_model_spec(const std::string& term) {
       double value;
       if (param->type == ParamType::choice)
         value = parse_choice(info, *param, text);
-      else if (!parse_double(text, value))
+      else if (!parse_number(text, value))
         throw InputError(name + ": " + key + "='" + text + "' is not a number");
       validate_param(info, *param, value);
       parsed.values[key] = value;
@@ -132,7 +123,7 @@ Spec parse_spec(const std::string& text) {
     const auto star = term.find('*');
     if (star != std::string::npos) {
       const std::string w = trim(term.substr(0, star));
-      if (!parse_double(w, weight))
+      if (!parse_number(w, weight))
         throw InputError("malformed mixture weight '" + w + "' in '" + text + "'; expected a number");
       if (!std::isfinite(weight) || weight <= 0.0)
         throw InputError("mixture weight " + w + " in '" + text + "' is not allowed; weights must be finite and > 0");
@@ -150,28 +141,30 @@ Spec parse_spec(const std::string& text) {
   return spec;
 }
 
+std::vector<std::string> given_parameters(const ModelSpec& spec) {
+  const ModelInfo& info = find_model(spec.name);
+  const auto given = [&](const std::string& name) { return spec.values.count(name) > 0; };
+  std::vector<std::string> names;
+  for (const ParamInfo& p : info.parameters) {
+    if (!p.alternative_of.empty() && !given(p.alternative_of)) continue;  // in that parameter's place
+    if (given(p.name)) {
+      names.push_back(p.name);
+    } else {
+      for (const ParamInfo& alternative : info.parameters)
+        if (alternative.alternative_of == p.name && given(alternative.name)) names.push_back(alternative.name);
+    }
+  }
+  if (names.size() != spec.values.size())
+    throw std::logic_error("given_parameters: a value of '" + spec.name + "' is no registered parameter");
+  return names;
+}
+
 std::string spec_text(const ModelSpec& spec) {
   const ModelInfo& info = find_model(spec.name);
   std::vector<std::string> items;
-  const auto given = [&](const std::string& name) { return spec.values.count(name) > 0; };
-  const auto write = [&](const ParamInfo& p) { items.push_back(p.name + "=" + value_text(p, spec.values.at(p.name))); };
-  std::size_t written = 0;
   if (!spec.file.empty()) items.push_back("file=" + spec.file);
-  for (const ParamInfo& p : info.parameters) {
-    if (!p.alternative_of.empty() && !given(p.alternative_of)) continue;  // written in that parameter's place
-    if (given(p.name)) {
-      write(p);
-      ++written;
-    } else {
-      for (const ParamInfo& alternative : info.parameters)
-        if (alternative.alternative_of == p.name && given(alternative.name)) {
-          write(alternative);
-          ++written;
-        }
-    }
-  }
-  if (written != spec.values.size())
-    throw std::logic_error("spec_text: a value of '" + spec.name + "' is no registered parameter");
+  for (const std::string& name : given_parameters(spec))
+    items.push_back(name + "=" + value_text(find_param(info, name), spec.values.at(name)));
   std::string text = spec.name;
   for (std::size_t k = 0; k < items.size(); ++k) text += (k ? "," : ":") + items[k];
   return text;

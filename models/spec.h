@@ -49,6 +49,8 @@ Spec parse_spec(const std::string& text);
 /// alternative that stands in for an absent parameter, ParamInfo::alternative_of, in that
 /// parameter's place), numbers as format_number, choices by name.
 std::string spec_text(const ModelSpec& spec);
+/// The names of the parameters the spec gives, in spec_text's order.
+std::vector<std::string> given_parameters(const ModelSpec& spec);
 /// A plain model's spec_text, or "W1*TERM1 + W2*TERM2 + ..." for a mixture.
 std::string spec_text(const Spec& spec);
 

@@ -59,6 +59,15 @@ Vec3 clamp_to_horizon(Vec3 j) {
   return r > 0.0 ? Vec3{j.x / r, j.y / r, 0.0} : Vec3{1.0, 0.0, 0.0};
 }
 
+/// The radiance a model's mirror delta (Model::mirror_reflectance) adds towards j under a unit
+/// extended source: rho(j·n) when the mirror direction of j sees the source (always in a
+/// Ganzfeld; in a sky with pole i when mirror(j)·i > 0), else 0. Under a collimated beam the
+/// delta lights a single direction, a point of no area on a sphere: nothing to add.
+double mirror_term(const Model& model, const Vec3& j, const Vec3* sky_pole) {
+  if (sky_pole && !(glm::dot(mirror(j), *sky_pole) > 0.0)) return 0.0;
+  return model.mirror_reflectance(j.z);
+}
+
 }  // namespace
 
 LawSourcePtr lambert_laws() { return std::make_shared<LambertLaws>(); }
@@ -79,6 +88,9 @@ TangentFrame::TangentFrame(const Vec3& normal) : n(normal) {
   b = {b_, sign + n.y * n.y * a, -n.y};
 }
 
+TangentFrame::TangentFrame(const Vec3& normal, const Vec3& tangent)
+    : t(glm::normalize(tangent - glm::dot(tangent, normal) * normal)), b(glm::cross(normal, t)), n(normal) {}
+
 MaterialShader::MaterialShader(const ShadingMaterial& material, const std::vector<Light>& lights) {
   for (const Light& light : lights) {
     PreparedLight prepared{light.type, glm::normalize(light.direction), {}, {}};
@@ -92,6 +104,7 @@ MaterialShader::MaterialShader(const ShadingMaterial& material, const std::vecto
         prepared.lobes.push_back(term);
         continue;
       }
+      if (has_mirror_delta(*lobe.model)) prepared.mirrors.push_back(term);  // no table holds the delta
       auto shared = std::find_if(prepared.tables.begin(), prepared.tables.end(),
                                  [&](const SummedTable& t) { return tables::same_lookup(*t.layout, *table); });
       if (shared == prepared.tables.end()) {
@@ -105,8 +118,8 @@ MaterialShader::MaterialShader(const ShadingMaterial& material, const std::vecto
   }
 }
 
-Rgb MaterialShader::radiance(const Vec3& n, const Vec3& j_world) const {
-  const TangentFrame frame(n);
+Rgb MaterialShader::radiance(const Vec3& n, const Vec3& j_world, const Vec3& tangent) const {
+  const TangentFrame frame(n, tangent);
   const Vec3 j = frame.local(j_world);
   const Vec3 j_clamped = clamp_to_horizon(j);
   Rgb out{0, 0, 0};
@@ -119,10 +132,17 @@ Rgb MaterialShader::radiance(const Vec3& n, const Vec3& j_world) const {
         case Light::Type::collimated:
           if (i.z > 0.0 && j.z > 0.0) value = i.z * lobe.model->f(i, j);
           break;
-        case Light::Type::hemispherical: value = lobe.laws->g(i, j_clamped); break;
-        case Light::Type::ganzfeld: value = lobe.laws->h(j_clamped); break;
+        case Light::Type::hemispherical:
+          value = lobe.laws->g(i, j_clamped) + mirror_term(*lobe.model, j_clamped, &i);
+          break;
+        case Light::Type::ganzfeld: value = lobe.laws->h(j_clamped) + mirror_term(*lobe.model, j_clamped, nullptr); break;
       }
       for (int c = 0; c < 3; ++c) out[c] += term.scale[c] * value;
+    }
+    for (const LobeTerm& term : light.mirrors) {
+      const Vec3* sky_pole = light.type == Light::Type::hemispherical ? &i : nullptr;
+      const double rho = mirror_term(*term.lobe->model, j_clamped, sky_pole);
+      for (int c = 0; c < 3; ++c) out[c] += term.scale[c] * rho;
     }
     if (light.tables.empty()) continue;
     // The law's coordinates once per light (TableLaws: g at (i, j clamped), h at clamped j·n).
@@ -139,8 +159,9 @@ Rgb MaterialShader::radiance(const Vec3& n, const Vec3& j_world) const {
   return out;
 }
 
-Rgb shade(const ShadingMaterial& material, const std::vector<Light>& lights, const Vec3& n, const Vec3& j_world) {
-  return MaterialShader(material, lights).radiance(n, j_world);
+Rgb shade(const ShadingMaterial& material, const std::vector<Light>& lights, const Vec3& n, const Vec3& j_world,
+          const Vec3& tangent) {
+  return MaterialShader(material, lights).radiance(n, j_world, tangent);
 }
 
 void check_laws_available(const RenderScene& scene) {
@@ -168,7 +189,8 @@ Image shade_image(const RenderScene& scene, const GBuffer& gb) {
       for (int x = 0; x < gb.width; ++x) {
         const Fragment& f = gb.at(x, y);
         if (f.mesh == Fragment::kNone) continue;
-        const Rgb c = shaders[scene.mesh_material[f.mesh]]->radiance(f.normal, f.view);
+        const TangentRule rule = f.mesh < scene.mesh_tangent.size() ? scene.mesh_tangent[f.mesh] : TangentRule{};
+        const Rgb c = shaders[scene.mesh_material[f.mesh]]->radiance(f.normal, f.view, brush_tangent(f.normal, rule));
         float* p = image.at(x, y);
         for (int k = 0; k < 3; ++k) p[k] = static_cast<float>(c[k]);
       }
@@ -183,6 +205,7 @@ void add_scene_geometry(const Scene& scene, RenderScene& out) {
     if (object.shape == SceneObject::Shape::sphere) out.meshes.push_back(uv_sphere(object.center, object.radius, kSphereSegments));
     else out.meshes.push_back(load_obj(object.mesh_path));
     out.mesh_material.push_back(object.material);
+    out.mesh_tangent.push_back(object.tangent);
   }
 }
 

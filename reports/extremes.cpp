@@ -53,6 +53,8 @@ constexpr Extra kExtras[] = {
     {"hvd-empirical", "hvd-empirical:rsu=0.001,rsv=1,k=1,nr=1000", "anisotropic radii, retro only"},
     {"ggx", "ggx:alpha_x=0.001,alpha_y=1", "anisotropic, alpha ends"},
     {"ward-aniso", "ward-aniso:alpha_x=0.01,alpha_y=1", "anisotropic, alpha ends"},
+    {"ashikhmin-shirley", "ashikhmin-shirley:nu=0,nv=1000", "anisotropic, exponent ends"},
+    {"schlick", "schlick:r=0.001,p=0.001", "sharp and anisotropic ends"},
     {"mixture", "0.5*lambert+0.5*specular:alpha=1000", "diffuse + sharp specular"},
     {"mixture", "0.3*hvd-empirical:k=0.5+0.4*ggx:alpha=0.01+0.3*asperity:alpha=1000", "three families"},
 };
@@ -107,7 +109,8 @@ reference::Value reference_law(const Model& model, Law law, const Vec3& i, const
 
 }  // namespace
 
-ExtremesCase judge_case(const Model& model, Law law, const Vec3& i, const Vec3& j, double engine_tolerance) {
+ExtremesCase judge_case(const Model& model, Law law, const Vec3& i, const Vec3& j, double engine_tolerance,
+                        long long engine_budget) {
   ExtremesCase c;
   c.spec = model.spec();
   c.law = law;
@@ -115,6 +118,7 @@ ExtremesCase judge_case(const Model& model, Law law, const Vec3& i, const Vec3& 
   c.j = j;
   CubatureOptions options;
   options.abs_tol = engine_tolerance;
+  options.max_evaluations = engine_budget;
   c.engine = evaluate_law(model, law, i, j, options);
   c.finite = std::isfinite(c.engine.value);
   c.converged = c.engine.converged;

@@ -42,7 +42,7 @@ class BlinnPhongIntensityForm final : public Model {
     return kd_ / pi + ks_ * C_ * std::pow(hn, n_) / std::max(i.z, kGrazingCosFloor);
   }
   MassHints mass_hints(const Vec3& fixed, Varying) const override {
-    return {{{mirror(fixed), std::min(1.0, 2.0 / std::sqrt(n_ + 1.0))}}, 0.0};
+    return HintBuilder().lobe(mirror(fixed), std::min(1.0, 2.0 / std::sqrt(n_ + 1.0))).build();
   }
 
  private:
@@ -111,6 +111,14 @@ std::vector<PlausibilityCase> plausibility_cases() {
       {"ggx:alpha=0.01", "sharp GGX, F = 1: single scattering loses energy only at grazing"},
       {"ggx:alpha_x=0.05,alpha_y=0.5,g2=separable", "anisotropic GGX, separable G2"},
       {"charlie:alpha=0.05", "sharp sheen: the visibility term lets the albedo exceed 1 at grazing"},
+      {"ashikhmin-shirley:rd=1,rs=0,nu=10000,nv=10000", "white substrate under a sharp clear coat"},
+      {"ashikhmin-shirley:rd=1,rs=1,nu=10000,nv=10000", "all specular (F = 1), sharp"},
+      {"ashikhmin-shirley:rd=0.5,rs=0.5,nu=1,nv=1000", "anisotropic, half diffuse"},
+      {"schlick:c=1,r=0.1", "white: the interreflection term's albedo grows at grazing"},
+      {"schlick:c=1,r=0.5,p=0.1", "white, anisotropic"},
+      {"schlick-phong:kd=0,ks=1,n=1", "rational Phong lobe, broad, all specular"},
+      {"kajiya:kd=1,ks=0", "white fibres: Lambert across them, 1/(i.n) along"},
+      {"kajiya:kd=0,ks=1,n=100", "fibre highlight cone alone"},
   };
   // Every analytic model at its defaults (measured models need a file: not here).
   std::vector<PlausibilityCase> out;

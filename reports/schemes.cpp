@@ -149,7 +149,7 @@ SchemeReport measure_schemes(const Model& model, Law law, const SchemeOptions& o
                                        /*extremes=*/false, kSchemeMinCos);
   SchemePlan plan = scheme_plan(law, options.quick);
   if (options.one_fetch_only) {
-    if (law != Law::g) throw InputError("--one-fetch measures g tables only");
+    if (law != Law::g) throw InputError({Named{"one_fetch"}, " measures g tables only"});
     // The 1e-3 pick only: the 1e-4 search within 8 fetches bakes tables of ~1e5 nodes at 1e-5
     // several times (many minutes per model on 2 cores); the texelFetch row stands for it.
     plan = SchemePlan{{}, {}, plan.one_fetch, {}, {}, 0.0, 0, {{kTrilinearTarget, 1}}};

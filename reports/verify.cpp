@@ -409,6 +409,35 @@ CubatureOptions reference_options() {
   return o;
 }
 
+CheckResult check_meta(std::string id, std::string source, std::string models, std::string printed) {
+  CheckResult c;
+  c.id = std::move(id);
+  c.source = std::move(source);
+  c.models = std::move(models);
+  c.printed = std::move(printed);
+  return c;
+}
+
+Estimate integrate_over_lune(const Vec3& pole, const std::function<double(const Vec3&)>& F,
+                             const std::vector<double>& scales, bool at_horizon, CubatureOptions options) {
+  const Lune fr = lune(pole, Vec3{1.0, 0.0, 0.0});
+  std::vector<double> t_lines, phi_lines;
+  for (double s : scales)
+    for (double d = s; d < 1.5; d *= 4.0)
+      for (double line : {std::atan(d), -std::atan(d)}) {
+        const double x = at_horizon ? (line > 0 ? pi / 2 - d : -pi / 2 + d) : line;
+        t_lines.push_back(x);
+        phi_lines.push_back(x);
+      }
+  PanelIntegrand<2> integrand = [&](const std::array<std::span<const double>, 2>& x, std::span<double> out) {
+    for (int a = 0; a < kRuleNodes; ++a)
+      for (int b = 0; b < kRuleNodes; ++b) out[a * kRuleNodes + b] = F(fr.direction(x[0][a], x[1][b])) * std::cos(x[0][a]);
+  };
+  const double gap = 1e-3 * scales.front();
+  return adaptive_cubature<2>(integrand, {tidy_cuts(t_lines, -pi / 2, pi / 2, gap), tidy_cuts(phi_lines, fr.phi_lo, pi / 2, gap)},
+                              options);
+}
+
 CheckResult run_check(CheckResult check, const std::vector<Job>& jobs) {
   std::vector<Sample> samples(jobs.size());
   tbb::parallel_for(std::size_t{0}, jobs.size(), [&](std::size_t k) { samples[k] = jobs[k](); });
@@ -446,6 +475,7 @@ std::vector<CheckResult> run_verification() {
   all.push_back(mixture_check());
   for (auto&& check : hvd_checks()) all.push_back(std::move(check));
   for (auto&& check : ggx_checks()) all.push_back(std::move(check));
+  for (auto&& check : catalogue_checks()) all.push_back(std::move(check));
   return all;
 }
 

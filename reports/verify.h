@@ -41,6 +41,9 @@ std::vector<CheckResult> hvd_checks();
 /// Checks of the microfacet models (GGX, Charlie sheen; reports/verify_ggx.cpp), appended after
 /// the halfway-vector-disk checks.
 std::vector<CheckResult> ggx_checks();
+/// Checks of the other catalogue models' printed forms (Ashikhmin–Shirley, Schlick, Kajiya & Kay;
+/// reports/verify_catalogue.cpp), appended after the microfacet checks.
+std::vector<CheckResult> catalogue_checks();
 
 /// True when every matching or corrected form agrees to kAgreement and all references converged.
 bool verification_passed(const std::vector<CheckResult>& checks);

@@ -25,37 +25,6 @@ namespace {
 using std::numbers::pi;
 using namespace verify_support;
 
-CheckResult meta(std::string id, std::string source, std::string models, std::string printed) {
-  CheckResult c;
-  c.id = std::move(id);
-  c.source = std::move(source);
-  c.models = std::move(models);
-  c.printed = std::move(printed);
-  return c;
-}
-
-/// ∫ F(m) dm over the lune {m·n > 0, m·pole > 0}, with cut lines at angular distances `scales`
-/// (and their multiples 4^k up to 1) from the normal n, and from the horizon when `at_horizon`.
-Estimate integrate_over_lune(const Vec3& pole, const std::function<double(const Vec3&)>& F, const std::vector<double>& scales,
-                             bool at_horizon = false, CubatureOptions options = reference_options()) {
-  const Lune fr = lune(pole, Vec3{1.0, 0.0, 0.0});
-  std::vector<double> t_lines, phi_lines;
-  for (double s : scales)
-    for (double d = s; d < 1.5; d *= 4.0)
-      for (double line : {std::atan(d), -std::atan(d)}) {
-        const double x = at_horizon ? (line > 0 ? pi / 2 - d : -pi / 2 + d) : line;
-        t_lines.push_back(x);
-        phi_lines.push_back(x);
-      }
-  PanelIntegrand<2> integrand = [&](const std::array<std::span<const double>, 2>& x, std::span<double> out) {
-    for (int a = 0; a < kRuleNodes; ++a)
-      for (int b = 0; b < kRuleNodes; ++b) out[a * kRuleNodes + b] = F(fr.direction(x[0][a], x[1][b])) * std::cos(x[0][a]);
-  };
-  const double gap = 1e-3 * scales.front();
-  return adaptive_cubature<2>(integrand, {tidy_cuts(t_lines, -pi / 2, pi / 2, gap), tidy_cuts(phi_lines, fr.phi_lo, pi / 2, gap)},
-                              options);
-}
-
 struct AlphaCase {
   ggx::Alpha alpha;
   std::string text() const {
@@ -81,7 +50,7 @@ CheckResult norm_check() {
                                         {std::min(c.alpha.x, c.alpha.y) / 4, std::max(c.alpha.x, c.alpha.y) / 4});
       return Sample{1.0, kNaN, e.value, e.error, e.converged, 1};
     });
-  return run_check(meta("ggx.norm", "Walter et al. 2007, eq. 33; Heitz 2014, anisotropic GGX", alpha_list(kAlphas),
+  return run_check(check_meta("ggx.norm", "Walter et al. 2007, eq. 33; Heitz 2014, anisotropic GGX", alpha_list(kAlphas),
                         "the GGX distribution D = 1/(pi alpha_x alpha_y (m_x^2/alpha_x^2 + m_y^2/alpha_y^2 + m_z^2)^2) "
                         "is normalized, integral of D(m)(m.n) dm = 1"),
                    jobs);
@@ -117,7 +86,7 @@ CheckResult g1_check() {
           return Sample{g1_printed(w, c.alpha), kNaN, 1.0 / (1.0 + ggx::Lambda(w, c.alpha)), 0.0, true, 1};
         });
       }
-  return run_check(meta("ggx.g1", "Walter et al. 2007, eq. 34; Heitz 2014, eq. 80 and 86", alpha_list(alphas),
+  return run_check(check_meta("ggx.g1", "Walter et al. 2007, eq. 34; Heitz 2014, eq. 80 and 86", alpha_list(alphas),
                         "Smith's G1(w) = (w.n) / integral of max(0, w.m) D(m) dm equals 2/(1 + sqrt(1 + alpha_w^2 "
                         "tan^2 theta_w)), alpha_w^2 = cos^2 phi_w alpha_x^2 + sin^2 phi_w alpha_y^2, and 1/(1 + Lambda(w)) "
                         "(theta_w = 0 ... 89.9 deg, phi_w = 0, 40 deg)"),
@@ -132,7 +101,7 @@ CheckResult furnace_check() {
       const Estimate e = albedo(*parse_model(spec), Vec3{0.0, 0.0, 1.0}, reference_options());
       return Sample{1.0 - std::log(2.0), kNaN, e.value, e.error, e.converged, 1};
     });
-  return run_check(meta("ggx.furnace.e11", "white furnace", specs[0] + "; " + specs[1],
+  return run_check(check_meta("ggx.furnace.e11", "white furnace", specs[0] + "; " + specs[1],
                         "E(mu = 1, alpha = 1) = integral of f(n, o)(o.n) do = 1 - ln 2 with F = 1: at i = n, Lambda(i) = 0, "
                         "so both G2 forms are G1(o) = 2 mu/(1 + mu); alpha = 1 makes D = 1/pi, and E = (1/(4 pi)) 2 pi "
                         "integral_0^1 2 mu/(1 + mu) d mu = 1 - ln 2"),
@@ -153,7 +122,7 @@ CheckResult charlie_norm_check() {
       return Sample{1.0, kNaN, e.value, e.error, e.converged, 1};
     });
   }
-  return run_check(meta("charlie.norm", "Estevez & Kulla 2017, Production Friendly Microfacet Sheen BRDF", models,
+  return run_check(check_meta("charlie.norm", "Estevez & Kulla 2017, Production Friendly Microfacet Sheen BRDF", models,
                         "the sheen distribution D = (2 + 1/alpha) sin^(1/alpha)(theta)/(2 pi) is normalized, "
                         "integral of D(m)(m.n) dm = 1"),
                    jobs);

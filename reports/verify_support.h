@@ -1,5 +1,6 @@
-// The machinery shared by the checks of `ganzfeld verify` (reports/verify.cpp for
-// Koenderink & Pont, reports/verify_hvd.cpp for Edwards et al., reports/verify_ggx.cpp for GGX).
+// The machinery shared by the checks of `ganzfeld verify` (reports/verify.cpp for Koenderink &
+// Pont, reports/verify_hvd.cpp for Edwards et al., reports/verify_ggx.cpp for the microfacet
+// models, reports/verify_catalogue.cpp for the catalogue's other printed forms).
 #pragma once
 
 #include <functional>
@@ -7,6 +8,7 @@
 #include <vector>
 
 #include "integrate/cubature.h"
+#include "integrate/laws.h"
 #include "reports/verify.h"
 
 namespace ganzfeld::verify_support {
@@ -23,6 +25,15 @@ using Job = std::function<Sample()>;
 
 /// Cubature options of every reference (kReferenceTolerance).
 CubatureOptions reference_options();
+
+/// A check's identity: id, source (paper and equation), the models it ran on, the claim as printed.
+CheckResult check_meta(std::string id, std::string source, std::string models, std::string printed);
+
+/// ∫ F(m) dm over the lune {m·n > 0, m·pole > 0}, with cut lines at angular distances `scales`
+/// (and their multiples 4^k up to 1) from the normal n, and from the horizon when `at_horizon`.
+Estimate integrate_over_lune(const Vec3& pole, const std::function<double(const Vec3&)>& F,
+                             const std::vector<double>& scales, bool at_horizon = false,
+                             CubatureOptions options = reference_options());
 
 /// Runs the jobs in parallel (results are reduced in order: deterministic) and fills the
 /// check's errors, status and reference statistics.

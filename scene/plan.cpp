@@ -25,7 +25,7 @@ tables::BakeRequest TableOptions::request(Law law) const {
 
 TableOptions TableOptions::scene_defaults() {
   TableOptions options;
-  options.target = tables::ErrorTarget{kSceneTargetError, 0, kSceneFetches};
+  options.target = tables::ErrorTarget{kSceneTargetError, kSceneMaxBytes, kSceneFetches, true};
   return options;
 }
 
@@ -150,6 +150,7 @@ std::vector<std::string> bake_command(const TableRequest& request, const std::st
     words.insert(words.end(), {"--max-error", format_number(target.lookup_error)});
     if (target.max_bytes) words.insert(words.end(), {"--max-bytes", std::to_string(target.max_bytes)});
     if (target.max_fetches) words.insert(words.end(), {"--fetches", std::to_string(target.max_fetches)});
+    if (target.best_effort) words.push_back("--best-effort");
   } else {
     const tables::BakeOptions& grid = std::get<tables::BakeOptions>(request.options);
     words.insert(words.end(),

@@ -42,12 +42,22 @@ struct TableOptions {
   tables::BakeRequest request(Law law) const;
   /// What the scene commands (bake scene, render, export-glsl --scene) bake when no accuracy
   /// option is given: every table to lookup error kSceneTargetError at one hardware-filtered fetch
-  /// per law (docs/lut-format.md, "Baking to an error"). The resolutions above remain what --res-g
-  /// and --res-h replace.
+  /// per law in at most kSceneMaxBytes (docs/lut-format.md, "Baking to an error"), best effort:
+  /// where one fetch does not reach it, the most accurate one-fetch table found, its stated error
+  /// the miss. The resolutions above remain what --res-g and --res-h replace.
   static TableOptions scene_defaults();
 };
 inline constexpr double kSceneTargetError = 1e-3;
+/// The fetch budget of the scene defaults: one fetch per law, the cost Koenderink & Pont promise
+/// (that of Lambert's surface under a point source with an ambient term).
 inline constexpr int kSceneFetches = 1;
+/// The value-byte cap of each table of the scene defaults: where one fetch misses the target
+/// (GGX), the best-effort search ends at a table this size instead of growing to megabytes.
+inline constexpr std::uint64_t kSceneMaxBytes = std::uint64_t{512} << 10;
+/// The fetch budget of a scene's explicit --max-error without --fetches: every scheme's fetches
+/// (Catmull–Rom's 64 for g), searched fewest first, so a target one fetch cannot reach is met by
+/// the next scheme.
+inline constexpr int kSceneSearchFetches = 64;
 
 /// Which light fields a set of lights contains.
 struct LightFields {

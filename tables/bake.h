@@ -67,6 +67,10 @@ struct ErrorTarget {
   /// The most texture fetches one lookup may cost a shader (tables::fetches; 0: no budget, the
   /// fewest value bytes the search finds among texel-fetch lookups).
   int max_fetches = 0;
+  /// When no scheme within the budget reaches lookup_error, keep the most accurate table the
+  /// search baked (its stated lookup error says by how much it misses) instead of refusing.
+  /// What the scene defaults ask for; an explicit --max-error is strict.
+  bool best_effort = false;
 };
 
 /// A bake to an error target: the baker chooses resolution, mappings, frame, interpolation,

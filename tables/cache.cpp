@@ -34,6 +34,7 @@ TableKey table_key(const Model& model, Law law, const BakeRequest& request) {
     key.target_bytes = target.max_bytes ? target.max_bytes : kDefaultMaxValueBytes;
     if (target.max_fetches != 0) check_fetch_budget(target.max_fetches);
     key.target_fetches = target.max_fetches;
+    key.best_effort = target.best_effort;
     return key;
   }
   const BakeOptions& options = std::get<BakeOptions>(request);
@@ -134,6 +135,8 @@ std::optional<Table> read_if_matching(const std::string& path, const TableKey& k
     Table table = read_table(path);
     if (!same_key(table_key(table), key))
       reason = "it holds another table (its metadata is not the key)";
+    else if (!key.best_effort && misses_target(table))
+      reason = "it misses its target error (a best-effort bake's table)";
     else if (table.values_digest.empty())
       reason = "it has no ganzfeld.values_digest to verify its numbers by";
     else

@@ -70,6 +70,10 @@ int fetches(Interpolation interpolation, Filter filter, std::size_t dims) noexce
 
 int fetches(const Table& table) noexcept { return fetches(table.interpolation, table.filter, table.axes.size()); }
 
+bool misses_target(const Table& table) noexcept {
+  return table.target_error > 0.0 && table.lookup_error > table.target_error;
+}
+
 const char* to_string(PeakKind peak) { return util::name_of(kPeaks, peak); }
 PeakKind parse_peak(const std::string& text) { return util::parse_name(kPeaks, "lobe peak", text); }
 

@@ -266,6 +266,9 @@ struct Table {
 /// it: texel_fetch reads 2 (linear) or 4 (Catmull–Rom) nodes per axis, i.e. 2^D or 4^D; hardware
 /// filtering does a linear blend in one fetch, and Catmull–Rom in 3 per axis (3^D).
 int fetches(const Table& table) noexcept;
+/// A --max-error table whose stated lookup error is above its target: only a best-effort bake
+/// (BakeOptions::best_effort) keeps one.
+bool misses_target(const Table& table) noexcept;
 int fetches(Interpolation interpolation, Filter filter, std::size_t dims) noexcept;
 
 /// The digest of the stored numbers (docs/lut-format.md, ganzfeld.values_digest): 64-bit FNV-1a

@@ -157,17 +157,21 @@ void check_fetch_budget(long long fetches) {
 
 namespace {
 
-/// What one search found: the table that met E, or the best error it measured and that table's size.
+/// What one search found: the table that met E, or the best error it measured, that table's size
+/// and, for a best-effort bake, the table.
 struct SearchResult {
   std::optional<Table> table;
+  std::optional<Table> best_table;
   double best_error = std::numeric_limits<double>::infinity();
   double best_bytes = 0.0;
   int best_fetches = 0;
 };
 
 /// The count search of the file comment for one scheme (frame, filter, starting interpolation set
-/// in `options`); Catmull–Rom searches may switch to linear when it predicts fewer bytes.
-SearchResult search_counts(const Model& model, Law law, BakeOptions options, double E, std::uint64_t cap) {
+/// in `options`); Catmull–Rom searches may switch to linear when it predicts fewer bytes. With
+/// `best_effort`, the most accurate table baked is kept for when none meets E.
+SearchResult search_counts(const Model& model, Law law, BakeOptions options, double E, std::uint64_t cap,
+                           bool best_effort) {
   const double dims = static_cast<double>(options.resolution.size());
   // Each axis' share of E: the validated error is kLookupMargin x the measured one, and the
   // axes' errors may add at one point.
@@ -187,14 +191,15 @@ SearchResult search_counts(const Model& model, Law law, BakeOptions options, dou
     baked.push_back(key);
     Table table = bake_resolution(model, law, options);
     if (table.frame == Frame::warped) options.warp = table.warp;  // fitted once: it does not depend on the counts
+    if (table.lookup_error <= E) {
+      result.table = std::move(table);
+      return result;
+    }
     if (table.lookup_error < result.best_error) {
       result.best_error = table.lookup_error;
       result.best_bytes = static_cast<double>(value_bytes(table));
       result.best_fetches = fetches(table);
-    }
-    if (table.lookup_error <= E) {
-      result.table = std::move(table);
-      return result;
+      if (best_effort) result.best_table = table;
     }
     // Calibrate the per-axis estimates of each interpolation with the validated error (the
     // estimates see node differences only; the validation sees the whole domain).
@@ -279,8 +284,9 @@ Table bake_to_error(const Model& model, Law law, const TargetBake& requested) {
   };
   if (target.max_fetches == 0) {  // no budget: the fewest bytes, read with texelFetch
     options.interpolation = Interpolation::catmull_rom;
-    SearchResult found = search_counts(model, law, options, E, cap);
+    SearchResult found = search_counts(model, law, options, E, cap, target.best_effort);
     if (found.table) return finish(std::move(*found.table));
+    if (found.best_table) return finish(std::move(*found.best_table));
     // Only what was measured: the refusal names the best table a bake made, never an extrapolation
     // to the cap (a number no bake has checked).
     throw InputError({std::string("cannot reach "), Named{"max_error", format_number(E)},
@@ -306,10 +312,11 @@ Table bake_to_error(const Model& model, Law law, const TargetBake& requested) {
     o.interpolation = scheme.interpolation;
     o.filter = scheme.filter;
     if (scheme.warped) o.resolution = {13, 25, 9};  // the offset axis needs the most nodes (docs/tradeoff.md)
-    SearchResult found = search_counts(model, law, o, E, cap);
+    SearchResult found = search_counts(model, law, o, E, cap, target.best_effort);
     if (found.table) return finish(std::move(*found.table));
     if (found.best_error < best.best_error) best = std::move(found);
   }
+  if (best.best_table) return finish(std::move(*best.best_table));
   throw InputError({std::string("cannot reach "), Named{"max_error", format_number(E)},
                     " for law " + std::string(to_string(law)) + " of '" + model.spec() + "' within " +
                         std::to_string(target.max_fetches) + " texture fetch" +

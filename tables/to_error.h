@@ -64,7 +64,8 @@ void check_fetch_budget(long long fetches);
 /// value_bytes <= request.target.max_bytes (0: kDefaultMaxValueBytes), within its fetch budget,
 /// baked as described above: resolution, mappings, frame, interpolation, filter, tolerance,
 /// random_checks and check_tolerance are chosen here. Throws InputError "cannot reach ... within
-/// ... bytes; the best ... is ..." when it cannot.
+/// ... bytes; the best ... is ..." when it cannot, unless request.target.best_effort: then the
+/// most accurate table the search baked, target unmet.
 Table bake_to_error(const Model& model, Law law, const TargetBake& request);
 
 }  // namespace ganzfeld::tables

@@ -167,7 +167,7 @@ TEST(FitParameters, RefusesBadInput) {
 /// Fits `truth`'s model from its registry defaults to `data` and returns the largest relative
 /// parameter error.
 double recovery_error(const std::string& truth, const FitData& data, FitResult* out = nullptr) {
-  const std::string name = spec_terms(truth).front().name;
+  const std::string name = canonical_spec(truth).terms.front().model.name;
   const FitResult r = fit_model(data, name, {});
   EXPECT_TRUE(r.converged) << truth << ": " << r.stop_reason;
   const auto truth_values = ParameterSpace(name, {}).values_of(truth);

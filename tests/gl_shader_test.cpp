@@ -75,7 +75,7 @@ constexpr const char* kSceneJson = R"({
 
 /// The same scene with lobes whose tables `--max-error` bakes in format version 2: the lobe frame
 /// (specular alpha = 100: mirror peak, backscatter alpha = 8: retro) and the cosines frame
-/// (Minnaert, asperity), all Catmull–Rom (bake --scene ... --max-error 1e-2). Minnaert xi = 0.3's
+/// (Minnaert, asperity), all Catmull–Rom (bake scene ... --max-error 1e-2). Minnaert xi = 0.3's
 /// g cannot reach 1e-2 in the default byte cap, so the chalk becomes xi = 1.
 std::string lobe_scene_json() {
   std::string json = kSceneJson;

@@ -1,4 +1,5 @@
-// g and h of every Koenderink–Pont lobe, both halfway-vector-disk models and five classic models
+// g and h of every Koenderink–Pont lobe, both halfway-vector-disk models, five classic models and
+// the catalogue's later ones (Ashikhmin–Shirley, Schlick 1994, Schlick's rational Phong, Kajiya)
 // against a reference that is not ganzfeld's engine: reference/ (Boost.Math's adaptive
 // gauss_kronrod<61>, nested, on the lune written out from its definition apart from integrate/,
 // with break points at the directions where each lobe peaks). The engine's answer must agree
@@ -27,7 +28,7 @@ constexpr double kEngineTol = 1e-8, kReferenceTol = 1e-10;
 /// The reference as this test first pinned it: break points at the mirror and view directions
 /// only (not the model's mass hints), each panel to its own relative tolerance, so its figures
 /// are those this test has always pinned.
-reference::Options reference_options() {
+reference::Options pinned_reference_options() {
   reference::Options options;
   options.tolerance = kReferenceTol;
   options.use_mass_hints = false;
@@ -67,13 +68,33 @@ std::string degrees(double x) {
   return text;
 }
 
-/// The engine's g or h of every model at the given geometries (theta_i, theta_j, phi in degrees;
+/// The catalogue's later models: Ashikhmin–Shirley and Schlick 1994 anisotropic, Schlick's
+/// rational Phong and Kajiya's fibres not reciprocal (g integrates f over its first argument).
+/// Their reference cuts at the models' mass hints as well: the last two fall to 0 across the
+/// kGrazingCosFloor layer at the horizon (1/max(k·n, 1e-6)), which a reference without that cut
+/// integrates as if f went on to the horizon (kajiya h at theta_j 80: 5.7e-7 too high).
+reference::Options later_reference_options() {
+  reference::Options options;
+  options.tolerance = kReferenceTol;
+  return options;
+}
+
+const std::vector<std::string>& catalogue_models() {
+  static const std::vector<std::string> specs{"ashikhmin-shirley:rd=0.5,rs=0.05,nu=20,nv=200",
+                                              "schlick:c=0.5,r=0.1,p=0.3", "schlick-phong:kd=0.5,ks=0.5,n=20",
+                                              "kajiya:kd=0.3,ks=0.7,n=20"};
+  return specs;
+}
+
+/// The engine's g or h of each model at the given geometries (theta_i, theta_j, phi in degrees;
 /// for h theta_i is unused) against the reference; returns the dishonest cases.
-std::set<std::string> dishonest_cases(Law law, const std::vector<std::array<double, 3>>& geometries) {
+std::set<std::string> dishonest_cases(Law law, const std::vector<std::array<double, 3>>& geometries,
+                                      const std::vector<std::string>& specs = models(),
+                                      const reference::Options& reference_options = pinned_reference_options()) {
   CubatureOptions options;
   options.abs_tol = kEngineTol;
   std::set<std::string> dishonest;
-  for (const std::string& spec : models()) {
+  for (const std::string& spec : specs) {
     const ModelPtr model = parse_model(spec);
     for (const auto& [theta_i, theta_j, phi] : geometries) {
       const Vec3 j = direction(theta_j * pi / 180, phi * pi / 180);
@@ -81,11 +102,11 @@ std::set<std::string> dishonest_cases(Law law, const std::vector<std::array<doub
         const Vec3 i = direction(theta_i * pi / 180, 0.0);
         check_agreement(spec + " g at theta_i " + degrees(theta_i) + ", theta_j " + degrees(theta_j) + ", phi " +
                             degrees(phi),
-                        vignetting(*model, i, j, options), reference::vignetting(*model, i, j, reference_options()),
+                        vignetting(*model, i, j, options), reference::vignetting(*model, i, j, reference_options),
                         dishonest);
       } else {
         check_agreement(spec + " h at theta_j " + degrees(theta_j), darkening(*model, j, options),
-                        reference::darkening(*model, j, reference_options()), dishonest);
+                        reference::darkening(*model, j, reference_options), dishonest);
       }
     }
   }
@@ -103,6 +124,44 @@ TEST(IndependentReference, VignettingOfEveryLobeFamily) {
 TEST(IndependentReference, DarkeningOfEveryLobeFamily) {
   const double azimuth = 0.5 * 180 / pi;  // radians 0.5: off every plane of symmetry
   EXPECT_TRUE(dishonest_cases(Law::h, {{0, 0, azimuth}, {0, 45, azimuth}, {0, 80, azimuth}}).empty());
+}
+
+/// The later models' cases where the engine (tolerance 1e-8) and this reference disagree by more
+/// than both estimates: 2e-8 to 9e-8, listed, not hidden; the test fails if the list changes either
+/// way. Unresolved: for kajiya the engine undershoots its own estimate (h at j = n: 1.65990478149
+/// ± 9.8e-9 at 1e-8, 1.65990475227 ± 1e-12 at 1e-12), and the reference differs from both (6e-8
+/// below); for ashikhmin-shirley g the engine agrees with itself at 1e-11 and the reference is 5e-8
+/// below (f has a kink where i·n = j·n, max(i·n, j·n), that neither cuts at).
+const std::set<std::string> kLaterDisagreeG{
+    "ashikhmin-shirley:rd=0.5,rs=0.05,nu=20,nv=200 g at theta_i 35, theta_j 70, phi 180",
+    "schlick-phong:kd=0.5,ks=0.5,n=20 g at theta_i 35, theta_j 20, phi 0",
+    "kajiya:kd=0.3,ks=0.7,n=20 g at theta_i 35, theta_j 20, phi 180",
+    "kajiya:kd=0.3,ks=0.7,n=20 g at theta_i 35, theta_j 20, phi 250",
+    "kajiya:kd=0.3,ks=0.7,n=20 g at theta_i 35, theta_j 70, phi 250",
+    "kajiya:kd=0.3,ks=0.7,n=20 g at theta_i 120, theta_j 20, phi 0",
+    "kajiya:kd=0.3,ks=0.7,n=20 g at theta_i 120, theta_j 20, phi 180",
+    "kajiya:kd=0.3,ks=0.7,n=20 g at theta_i 120, theta_j 20, phi 250",
+    "kajiya:kd=0.3,ks=0.7,n=20 g at theta_i 120, theta_j 70, phi 250",
+};
+const std::set<std::string> kLaterDisagreeH{
+    "ashikhmin-shirley:rd=0.5,rs=0.05,nu=20,nv=200 h at theta_j 80",
+    "schlick:c=0.5,r=0.1,p=0.3 h at theta_j 80",
+    "kajiya:kd=0.3,ks=0.7,n=20 h at theta_j 0",
+    "kajiya:kd=0.3,ks=0.7,n=20 h at theta_j 45",
+};
+
+/// The later models at the same geometries and at an azimuth off every plane of symmetry, where
+/// the anisotropic lobes (exponents or facets along x) differ from their mirror images.
+TEST(IndependentReference, VignettingAndDarkeningOfTheLaterModels) {
+  std::vector<std::array<double, 3>> geometries;
+  for (double theta_i : {35.0, 120.0})
+    for (double theta_j : {20.0, 70.0})
+      for (double phi : {0.0, 180.0, 250.0}) geometries.push_back({theta_i, theta_j, phi});
+  EXPECT_EQ(dishonest_cases(Law::g, geometries, catalogue_models(), later_reference_options()), kLaterDisagreeG);
+  const double azimuth = 0.5 * 180 / pi;
+  EXPECT_EQ(dishonest_cases(Law::h, {{0, 0, azimuth}, {0, 45, azimuth}, {0, 80, azimuth}}, catalogue_models(),
+                            later_reference_options()),
+            kLaterDisagreeH);
 }
 
 /// The extremes grid's budget per case (kExtremesReferenceBudget, reports/extremes.h).

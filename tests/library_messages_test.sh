@@ -17,7 +17,7 @@ MODULES = ["util", "models", "reference", "integrate", "tables", "scene", "expor
            "rasterizer", "serve", "fit"]
 # Literals that label rows or a plot with the `bake` flags they stand for (not messages).
 LABELS = {("reports/schemes.cpp", '"--max-error "'), ("reports/schemes.cpp", '" --max-bytes "'),
-          ("reports/schemes.cpp", '" --encoding unorm16"'),
+          ("reports/schemes.cpp", '" --encoding unorm16"'), ("reports/schemes.cpp", '" --fetches "'),
           ("reports/schemes.cpp", '"today: cosines frame, linear.  max-error: what bake --max-error picks.  other lookup, half: the"'),
           ("serve/service.cpp", '"export-glsl --scene`)"')}
 # Files that write a generated document whose text shows the commands that regenerate its figures.

@@ -1,6 +1,6 @@
 // Importance sampling (Model::sample_incident / pdf_incident; Edwards et al. eq. 12-13, 21, 25,
-// 28-29 for the halfway-vector-disk models, Heitz 2018's visible normals for ggx, cosine
-// sampling by default).
+// 28-29 for the halfway-vector-disk models, Heitz 2018's visible normals for ggx, the papers'
+// halfway-vector draws for ashikhmin-shirley and schlick, cosine sampling by default).
 //
 // 1. Chi-square goodness of fit, in the style of pbrt-v4's bsdfs_test.cpp: draw N directions,
 //    histogram them on a (theta, phi) grid of the hemisphere, and compare with the expected
@@ -218,6 +218,20 @@ TEST(SamplingChiSquare, GgxVisibleNormals) {
   expect_fits({"ggx-ms:alpha=0.5", -1.0}, {0.0, 60.0, 85.0});
 }
 
+TEST(SamplingChiSquare, AshikhminShirleyHalfwayDraws) {
+  // The paper's halfway-vector draw (models/ashikhmin_shirley.h) mixed with cosine draws; draws
+  // reflected below the horizon fail (-1: their share comes from the pdf's integral).
+  expect_fits({"ashikhmin-shirley:rd=0.5,rs=0.05,nu=100,nv=100", -1.0}, {0.0, 45.0, 80.0});
+  expect_fits({"ashikhmin-shirley:rd=0.2,rs=0.3,nu=10,nv=1000", -1.0}, {20.0, 70.0});
+  expect_fits({"ashikhmin-shirley:rd=0,rs=1,nu=0,nv=0", -1.0}, {60.0});
+}
+
+TEST(SamplingChiSquare, SchlickHalfwayDraws) {
+  // Schlick's zenith draw (exact for Z) and his azimuth map with its own exact density.
+  expect_fits({"schlick:c=0.5,r=0.1,p=1", -1.0}, {0.0, 50.0, 80.0});
+  expect_fits({"schlick:c=0.2,r=0.3,p=0.1", -1.0}, {30.0, 70.0});
+}
+
 TEST(SamplingChiSquare, DefaultCosineSamplingAndMixtures) {
   expect_fits({"charlie:alpha=0.3", 1.0}, {30.0, 80.0});
   expect_fits({"specular:alpha=8", 1.0}, {0.0, 60.0});
@@ -279,6 +293,7 @@ TEST(SamplingWeights, MeanWeightEstimatesTheLawOfDarkening) {
   std::uniform_real_distribution<double> uniform(0.0, 1.0);
   for (const std::string spec : {"specular:alpha=8", "minnaert:xi=0.5", "asperity:alpha=2", "ward:rho_d=0.3,rho_s=0.5,alpha=0.15",
                                  "ggx:alpha=0.3,f0=0.04", "ggx:alpha_x=0.1,alpha_y=0.5,g2=separable", "charlie:alpha=0.3", "ggx-ms:alpha=0.5",
+                                 "ashikhmin-shirley:rd=0.3,rs=0.2,nu=10,nv=300", "schlick:c=0.3,r=0.2,p=0.3",
                                  "0.6*minnaert:xi=1 + 0.4*hvd-empirical:cd=0.5,f0=0.2,k=0.5,ns=20,nr=10"}) {
     const ModelPtr model = parse_model(spec);
     const Vec3 j = outgoing(50.0, 10.0);

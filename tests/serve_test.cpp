@@ -140,14 +140,31 @@ TEST(ServeRequest, TableUsesTheCacheKeysOfBake) {
   EXPECT_EQ(std::get<tables::BakeOptions>(q.options).resolution, (std::vector<int>{8, 6, 4}));
   EXPECT_EQ(tables::common(q.options).encoding, tables::Encoding::half);
   EXPECT_EQ(q.format, TableFormat::ktx2);
+  // res or tol asks for that table, as bake model --res/--tol does: no search to an error target,
+  // even where the defaults are one
+  const TableQuery tol_only = parse_table(parse_query("model=minnaert:xi=1&law=h&tol=1e-6"), Limits{},
+                                          TableEndpoint::table, scene::TableOptions::scene_defaults());
+  ASSERT_TRUE(std::holds_alternative<tables::BakeOptions>(tol_only.options));
+  EXPECT_EQ(std::get<tables::BakeOptions>(tol_only.options).resolution, scene::TableOptions{}.resolution_h);
   const tables::TableKey key = tables::table_key(*q.model, q.law, q.options);
   EXPECT_EQ(q.key, tables::key_text(key));
   EXPECT_EQ(q.file_name, tables::cache_file_name(key));
   EXPECT_EQ(q.file_name.find('/'), std::string::npos);
-  // unset parameters: the scene defaults, so the service and `bake --scene` share entries
+  // unset parameters: the scene defaults, so the service and `bake scene` share entries
   const TableQuery d = parse_table(parse_query("model=minnaert:xi=1&law=g"), Limits{}, TableEndpoint::table);
   EXPECT_EQ(std::get<tables::BakeOptions>(d.options).resolution, scene::TableOptions{}.resolution_g);
   EXPECT_EQ(std::get<tables::BakeOptions>(d.options).tolerance, scene::TableOptions{}.tolerance);
+  // the service's defaults (serve/service.h): a query without res or tol is baked to the scene's target
+  const TableQuery s = parse_table(parse_query("model=minnaert:xi=1&law=g"), Limits{}, TableEndpoint::table,
+                                   scene::TableOptions::scene_defaults());
+  const auto* scene_target = std::get_if<tables::TargetBake>(&s.options);
+  ASSERT_NE(scene_target, nullptr);
+  EXPECT_EQ(scene_target->target.lookup_error, scene::kSceneTargetError);
+  EXPECT_EQ(scene_target->target.max_fetches, scene::kSceneFetches);
+  EXPECT_TRUE(scene_target->target.best_effort);
+  const TableQuery fixed = parse_table(parse_query("model=minnaert:xi=1&law=g&res=8x6x4"), Limits{},
+                                       TableEndpoint::table, scene::TableOptions::scene_defaults());
+  EXPECT_TRUE(std::holds_alternative<tables::BakeOptions>(fixed.options));
 }
 
 // max_error asks for an error target, nothing else: no grid field is carried along to be
@@ -161,9 +178,18 @@ TEST(ServeRequest, MaxErrorIsAnErrorTarget) {
   EXPECT_EQ(bake->target.lookup_error, 1e-3);
   EXPECT_EQ(bake->target.max_bytes, limits.max_entries * sizeof(float));
   EXPECT_EQ(bake->target.max_fetches, 1);
+  EXPECT_FALSE(bake->target.best_effort);
   EXPECT_EQ(bake->encoding, tables::Encoding::half);
   EXPECT_EQ(bake->max_evaluations, limits.max_evaluations);
   EXPECT_NE(q.key.find("max_error=0.001"), std::string::npos) << q.key;
+  // max_error alone: strict, and searching every scheme as a scene's --max-error does, even where
+  // the defaults are the scene's best-effort one-fetch target
+  const TableQuery strict = parse_table(parse_query("model=minnaert:xi=1&law=g&max_error=1e-3"), limits,
+                                        TableEndpoint::table, scene::TableOptions::scene_defaults());
+  const auto* strict_bake = std::get_if<tables::TargetBake>(&strict.options);
+  ASSERT_NE(strict_bake, nullptr);
+  EXPECT_EQ(strict_bake->target.max_fetches, scene::kSceneSearchFetches);
+  EXPECT_FALSE(strict_bake->target.best_effort);
 }
 
 TEST(ServeRequest, TableRefusals) {
@@ -388,7 +414,7 @@ TEST(ServeBakery, ABakeOverItsBudgetIsCancelled) {
     bakery.wait(t, nullptr);
     ADD_FAILURE() << "a bake over its budget ran on";
   } catch (const Cancelled& e) {
-    EXPECT_NE(std::string(e.what()).find("--max-request-seconds"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("s per request"), std::string::npos) << e.what();
   }
   EXPECT_EQ(cancelled.load(), 1);
 }
@@ -504,7 +530,7 @@ TEST_F(ServeService, AnEvalStopsWhenItsRequestIsCancelled) {
   const Reply r = service.handle("/api/eval", kExpensiveEval, "", &cancel);
   later.join();
   EXPECT_EQ(r.status, 503) << r.body;
-  EXPECT_NE(nlohmann::json::parse(r.body)["error"].get<std::string>().find("--max-request-seconds"), std::string::npos)
+  EXPECT_NE(nlohmann::json::parse(r.body)["error"].get<std::string>().find("s per request"), std::string::npos)
       << r.body;
   EXPECT_EQ(header(r, "Retry-After"), "") << "retrying the same request cannot help";
   Cancellation shutdown;

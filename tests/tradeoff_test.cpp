@@ -290,10 +290,11 @@ const SchemeReport& quick_schemes() {
   return report;
 }
 
+/// The row of `kind` in `encoding` without a fetch budget (the --fetches picks are rows of their own).
 const SchemeRow& only_row(SchemeKind kind, Encoding encoding = Encoding::single) {
   const SchemeRow* found = nullptr;
   for (const SchemeRow& r : quick_schemes().rows)
-    if (r.kind == kind && r.encoding == encoding) found = &r;
+    if (r.kind == kind && r.encoding == encoding && r.target_fetches == 0) found = &r;
   static const SchemeRow missing;
   if (found == nullptr) ADD_FAILURE() << "no " << to_string(kind) << " row in " << to_string(encoding);
   return found ? *found : missing;
