@@ -1219,5 +1219,39 @@ TEST(Table, MaxErrorFarOutOfReachRefusesWithoutACapSizedBake) {
   EXPECT_LT(bytes, kHopelessBakeBytes);
 }
 
+// A lookup from directions (law_point's cos and sin phi, the envelope from j's cosine and sine, the
+// warp and the theta_j axis sharing one index) lands where the lookup at the table's own axis
+// coordinates does, in every frame: the renderer's lookup is the one `sample` and the bound describe.
+TEST(Table, LookupFromDirectionsAgreesWithTheAxisCoordinates) {
+  const ModelPtr model = parse_model("specular:alpha=100");
+  std::vector<Table> tables;
+  for (const Frame frame : {Frame::cosines, Frame::lobe, Frame::warped}) {
+    BakeOptions options;
+    options.resolution = {9, 13, 7};
+    options.tolerance = 1e-6;
+    if (frame != Frame::cosines) options.lobe = lobe_frame_of(*model);
+    options.warped = frame == Frame::warped;
+    tables.push_back(bake(*model, Law::g, options));
+    ASSERT_EQ(tables.back().frame, frame);
+  }
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+  for (const Table& t : tables) {
+    const Lookup lookup(t);
+    for (int p = 0; p < 2000; ++p) {
+      const Vec3 i = glm::normalize(Vec3{uniform(rng), uniform(rng), uniform(rng)});
+      const Vec3 j = glm::normalize(Vec3{uniform(rng), uniform(rng), 0.02 + std::abs(uniform(rng))});
+      const Point x = law_point(Law::g, i, j);
+      ASSERT_TRUE(x.has_azimuth_trig);
+      const Lookup::Site from_directions = lookup.at_law(x);
+      const Lookup::Site from_axes = lookup.at_axes(axis_coordinates(t, coordinates(Law::g, i, j)));
+      ASSERT_TRUE(from_directions.valid && from_axes.valid);
+      for (int d = 0; d < 3; ++d) EXPECT_NEAR(from_directions.u[d], from_axes.u[d], 1e-12) << to_string(t.frame) << d;
+      EXPECT_NEAR(from_directions.scale, from_axes.scale, 1e-12) << to_string(t.frame);
+      EXPECT_NEAR(sample(t, i, j).value, sample_axes(t, axis_coordinates(t, coordinates(Law::g, i, j))).value, 1e-12);
+    }
+  }
+}
+
 }  // namespace
 }  // namespace ganzfeld
