@@ -93,7 +93,7 @@ TangentFrame::TangentFrame(const Vec3& normal, const Vec3& tangent)
 
 MaterialShader::MaterialShader(const ShadingMaterial& material, const std::vector<Light>& lights) {
   for (const Light& light : lights) {
-    PreparedLight prepared{light.type, glm::normalize(light.direction), {}, {}};
+    PreparedLight prepared{light.type, glm::normalize(light.direction), {}, {}, {}};
     const Law law = light.type == Light::Type::hemispherical ? Law::g : Law::h;
     for (const ShadingLobe& lobe : material) {
       LobeTerm term{&lobe, {}};
