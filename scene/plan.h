@@ -37,7 +37,7 @@ struct TableOptions {
   long long max_evaluations = CubatureOptions{}.max_evaluations;
   tables::Encoding encoding = tables::Encoding::single;
   /// Every table baked to this lookup error (tables/to_error.h), value-byte cap and fetch budget.
-  std::optional<tables::ErrorTarget> target;
+  std::optional<tables::ErrorTarget> target = std::nullopt;
   /// The bake request of law g or h (no progress callback).
   tables::BakeRequest request(Law law) const;
   /// What the scene commands (bake scene, render, export-glsl --scene) bake when no accuracy
