@@ -52,7 +52,7 @@ void add_serve_command(CLI::App& app, Action& action) {
                                           "over HTTP until SIGINT/SIGTERM (docs/serve.md)");
   auto args = std::make_shared<ServeArgs>();
   const serve::LoopOptions loop;
-  cmd->add_option("--cache", args->cache, "the table cache directory, shared with `bake --scene --out` (default ganzfeld-cache)");
+  cmd->add_option("--cache", args->cache, "the table cache directory, shared with `bake scene --out` (default ganzfeld-cache)");
   cmd->add_option("--data", args->data,
                   "a directory of measured data files (MERL, tabulated, Beard-Maxwell first-surface tables) served "
                   "by name: merl:file=NAME (default none: requests naming a file are refused)");

@@ -93,7 +93,7 @@ TangentFrame::TangentFrame(const Vec3& normal, const Vec3& tangent)
 
 MaterialShader::MaterialShader(const ShadingMaterial& material, const std::vector<Light>& lights) {
   for (const Light& light : lights) {
-    PreparedLight prepared{light.type, glm::normalize(light.direction), {}, {}};
+    PreparedLight prepared{light.type, glm::normalize(light.direction), {}, {}, {}};
     const Law law = light.type == Light::Type::hemispherical ? Law::g : Law::h;
     for (const ShadingLobe& lobe : material) {
       LobeTerm term{&lobe, {}};
@@ -106,9 +106,10 @@ MaterialShader::MaterialShader(const ShadingMaterial& material, const std::vecto
       }
       if (has_mirror_delta(*lobe.model)) prepared.mirrors.push_back(term);  // no table holds the delta
       auto shared = std::find_if(prepared.tables.begin(), prepared.tables.end(),
-                                 [&](const SummedTable& t) { return tables::same_lookup(*t.layout, *table); });
+                                 [&](const SummedTable& t) { return tables::same_lookup(t.lookup.table(), *table); });
       if (shared == prepared.tables.end()) {
-        prepared.tables.push_back({table, std::vector<std::array<double, 3>>(table->value.size(), {0.0, 0.0, 0.0})});
+        prepared.tables.push_back(
+            {tables::Lookup(*table), std::vector<std::array<double, 3>>(table->value.size(), {0.0, 0.0, 0.0})});
         shared = prepared.tables.end() - 1;
       }
       for (std::size_t m = 0; m < table->value.size(); ++m)
@@ -150,8 +151,7 @@ Rgb MaterialShader::radiance(const Vec3& n, const Vec3& j_world, const Vec3& tan
     if (light.type == Light::Type::hemispherical) x = tables::law_point(Law::g, i, j_clamped);
     else x.x[0] = std::clamp(j_clamped.z, 0.0, 1.0), x.size = 1;
     for (const SummedTable& table : light.tables) {
-      const tables::Point y = tables::axis_point(*table.layout, x.span());
-      tables::for_each_node(*table.layout, y.span(), [&](std::size_t m, double w) {
+      table.lookup.visit(table.lookup.at_law(x), [&](std::size_t m, double w) {
         for (int c = 0; c < 3; ++c) out[c] += w * table.entries[m][c];
       });
     }

@@ -29,6 +29,7 @@
 #include "integrate/laws.h"
 #include "scene/plan.h"
 #include "scene/scene.h"
+#include "tables/sample.h"
 #include "tables/table.h"
 #include "rasterizer/image.h"
 #include "rasterizer/raster.h"
@@ -93,7 +94,7 @@ class MaterialShader {
 
   /// Lobes whose law (g or h) is looked up in a table, and the lookups a pixel makes per light.
   struct SummedTable {
-    const tables::Table* layout = nullptr;  ///< the lookup's axes (one of the summed tables)
+    tables::Lookup lookup;  ///< the lookup's axes (one of the summed tables), prepared once
     std::vector<std::array<double, 3>> entries;  ///< Σ weight x colour x light intensity x value
   };
   struct LobeTerm {

@@ -15,6 +15,7 @@
 
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -26,25 +27,20 @@
 
 namespace ganzfeld::scene {
 
-/// The options of a scene's tables, with the defaults every command shares.
+/// The options of a scene's tables, with the defaults every command shares: a fixed grid per law
+/// (resolution_g, resolution_h, tolerance) or, when `target` is set, an error target for every
+/// table instead (the grid fields are then not read: request() makes a tables::TargetBake).
 struct TableOptions {
   std::vector<int> resolution_g{32, 32, 16};
   std::vector<int> resolution_h{128};
   double tolerance = 1e-8;  ///< absolute tolerance of every entry's cubature
   long long max_evaluations = CubatureOptions{}.max_evaluations;
   tables::Encoding encoding = tables::Encoding::single;
-  /// > 0: every table is baked to this lookup error (tables/to_error.h) instead of the
-  /// resolutions and tolerance above; max_bytes caps each table's value bytes (0: the default);
-  /// max_fetches the texture fetches per lookup (0: no budget).
-  double target_error = 0.0;
-  std::uint64_t max_bytes = 0;
-  int max_fetches = 0;
-  /// With target_error: keep the most accurate table found when the target is out of reach
-  /// (tables::BakeOptions::best_effort) instead of refusing.
-  bool best_effort = false;
-  /// The bake options of law g or h (no progress callback).
-  tables::BakeOptions bake_options(Law law) const;
-  /// What the scene commands (bake --scene, render, export-glsl --scene) bake when no accuracy
+  /// Every table baked to this lookup error (tables/to_error.h), value-byte cap and fetch budget.
+  std::optional<tables::ErrorTarget> target = std::nullopt;
+  /// The bake request of law g or h (no progress callback).
+  tables::BakeRequest request(Law law) const;
+  /// What the scene commands (bake scene, render, export-glsl --scene) bake when no accuracy
   /// option is given: every table to lookup error kSceneTargetError at one hardware-filtered fetch
   /// per law in at most kSceneMaxBytes (docs/lut-format.md, "Baking to an error"), best effort:
   /// where one fetch does not reach it, the most accurate one-fetch table found, its stated error
@@ -85,7 +81,7 @@ struct TableRequest {
   std::string spec;  ///< canonical spec of a single (non-mixture) model, Model::spec()
   Law law = Law::h;  ///< g or h
   ModelPtr model;
-  tables::BakeOptions options;
+  tables::BakeRequest options;
   friend bool operator==(const TableRequest& a, const TableRequest& b) { return a.spec == b.spec && a.law == b.law; }
 };
 

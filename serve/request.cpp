@@ -232,38 +232,44 @@ TableQuery parse_table(const Query& query, const Limits& limits, TableEndpoint e
   q.model = parse_served_model(required(query, "model", "specular:alpha=8"), limits, data);
   if (!q.model->traits().isotropic)
     throw bad("model '" + q.model->spec() + "' is anisotropic; tables hold isotropic models only");
-  q.options = defaults.bake_options(q.law == Law::g ? Law::g : Law::h);
-  q.options.max_evaluations = limits.max_evaluations;
-  if (const auto res = text_of(query, "res")) {
-    q.options.resolution = as_request([&] { return tables::parse_resolution(*res, q.law); });
-  }
-  const std::uint64_t entries = tables::table_bytes(q.options.resolution) / tables::kBytesPerEntry;
-  if (entries > limits.max_entries)
-    throw RequestError(413, "res=" + tables::resolution_text(q.options.resolution) + " is " + std::to_string(entries) +
-                                " entries; this service bakes at most " + std::to_string(limits.max_entries) +
-                                " on demand (bake larger tables with `ganzfeld bake`)");
-  q.options.tolerance = tolerance(query, defaults.tolerance);
-  if (query.count("res") || query.count("tol")) {  // as the command line's --res/--tol: a fixed bake, no search
-    q.options.target_error = 0.0;
-    q.options.max_bytes = 0;
-    q.options.max_fetches = 0;
-  }
+  const tables::Encoding encoding = text_of(query, "encoding")
+                                        ? as_request([&] { return tables::parse_encoding(*text_of(query, "encoding")); })
+                                        : defaults.encoding;
+  const Law grid_law = q.law == Law::g ? Law::g : Law::h;  // a: h's grid
   if (const auto max_error = number(query, "max_error")) {
-    // As `bake --max-error`: the smallest table whose validated lookup error is <= max_error,
+    // As `bake model --max-error`: the smallest table whose validated lookup error is <= max_error,
     // within this service's own size cap (max_entries floats of values).
-    q.options.target_error = *max_error;
-    q.options.max_bytes = limits.max_entries * sizeof(float);
-    q.options.best_effort = false;  // a target asked for is met or refused
-    q.options.max_fetches = scene::kSceneSearchFetches;  // as a scene's --max-error without --fetches
+    tables::TargetBake bake;
+    bake.target.lookup_error = *max_error;
+    bake.target.max_bytes = limits.max_entries * sizeof(float);
+    bake.target.max_fetches = scene::kSceneSearchFetches;  // as a scene's --max-error without --fetches
+    bake.target.best_effort = false;                       // a target asked for is met or refused
+    q.options = bake;
+  } else if (defaults.target && !query.count("res") && !query.count("tol")) {
+    q.options = defaults.request(grid_law);  // the defaults' target (the scene defaults: best effort)
+  } else {  // res or tol, as the command line's --res/--tol: a fixed grid, no search
+    tables::BakeOptions grid;
+    grid.resolution = grid_law == Law::g ? defaults.resolution_g : defaults.resolution_h;
+    if (const auto res = text_of(query, "res"))
+      grid.resolution = as_request([&] { return tables::parse_resolution(*res, q.law); });
+    const std::uint64_t entries = tables::table_bytes(grid.resolution) / tables::kBytesPerEntry;
+    if (entries > limits.max_entries)
+      throw RequestError(413, "res=" + tables::resolution_text(grid.resolution) + " is " + std::to_string(entries) +
+                                  " entries; this service bakes at most " + std::to_string(limits.max_entries) +
+                                  " on demand (bake larger tables with `ganzfeld bake model`)");
+    grid.tolerance = tolerance(query, defaults.tolerance);
+    q.options = grid;
   }
-  if (const auto fetches = number(query, "fetches")) {  // as `bake --fetches N`: the lookup's fetch budget
-    if (!q.options.target_error) throw bad("fetches needs max_error (it is the fetch budget of that search)");
+  if (const auto fetches = number(query, "fetches")) {  // as `bake model --fetches N`: the lookup's fetch budget
+    tables::TargetBake* bake = std::get_if<tables::TargetBake>(&q.options);
+    if (!bake) throw bad("fetches needs max_error (it is the fetch budget of that search)");
     if (*fetches != std::floor(*fetches) || *fetches < 1 || *fetches > 1e6)
       throw bad("fetches=" + format_number(*fetches) + " is not allowed; expected an integer >= 1");
-    q.options.max_fetches = static_cast<int>(*fetches);
+    bake->target.max_fetches = static_cast<int>(*fetches);
   }
-  if (const auto encoding = text_of(query, "encoding"))
-    q.options.encoding = as_request([&] { return tables::parse_encoding(*encoding); });
+  tables::BakeCommon& common = tables::common(q.options);
+  common.max_evaluations = limits.max_evaluations;
+  common.encoding = encoding;
   if (const auto format = text_of(query, "format")) {
     const auto known = std::find_if(std::begin(kFormats), std::end(kFormats),
                                     [&](const FormatInfo& f) { return *format == f.name; });
@@ -273,7 +279,7 @@ TableQuery parse_table(const Query& query, const Limits& limits, TableEndpoint e
   return table_query(q.model, q.law, q.options, q.format);
 }
 
-TableQuery table_query(ModelPtr model, Law law, tables::BakeOptions options, TableFormat format) {
+TableQuery table_query(ModelPtr model, Law law, tables::BakeRequest options, TableFormat format) {
   TableQuery q{std::move(model), law, std::move(options), format, "", ""};
   const tables::TableKey key = as_request([&] { return tables::table_key(*q.model, q.law, q.options); });
   q.key = tables::key_text(key);

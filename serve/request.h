@@ -80,13 +80,16 @@ const char* to_string(TableFormat format);         ///< "exr", "ktx2", "json"
 const char* content_type(TableFormat format);      ///< the media type of the body
 
 /// GET /api/table?model=SPEC&law=g|h|a[&res=N[xNxN]][&tol=T][&encoding=float|half][&format=exr|ktx2|json]
-/// and GET /api/glsl with the same parameters but format. Unset parameters take the scene
-/// defaults (scene::TableOptions), so a service answers from the cache entries `bake --scene`,
-/// `render` and `export-glsl --scene` fill, and fills entries they reuse.
+/// and GET /api/glsl with the same parameters but format: with res or tol, a fixed grid
+/// (tables::BakeOptions); with max_error=E[&fetches=N] instead, a strict error target
+/// (tables::TargetBake); with neither, what `defaults` asks for (scene::TableOptions: the scene
+/// defaults' best-effort target), so a service answers from the cache entries `bake scene`,
+/// `render` and `export-glsl --scene` fill, and fills entries they reuse. Unset grid parameters
+/// take the grid of `defaults`.
 struct TableQuery {
   ModelPtr model;
   Law law = Law::g;
-  tables::BakeOptions options;
+  tables::BakeRequest options;
   TableFormat format = TableFormat::exr;
   std::string key;        ///< tables::key_text of the table: one bake per key (serve/bakery.h)
   std::string file_name;  ///< tables::cache_file_name: the only file the request can reach
@@ -97,7 +100,7 @@ TableQuery parse_table(const Query& query, const Limits& limits, TableEndpoint e
 
 /// The TableQuery of law `law` of `model` baked with `options` (key and cache file name set);
 /// throws RequestError 400 for axes a bake would refuse.
-TableQuery table_query(ModelPtr model, Law law, tables::BakeOptions options, TableFormat format = TableFormat::exr);
+TableQuery table_query(ModelPtr model, Law law, tables::BakeRequest options, TableFormat format = TableFormat::exr);
 
 /// GET /api/glsl?scene=SCENE[&format=glsl|json]: SCENE is the text of a scene file
 /// (examples/default.json; its meshes are never read: the shader does not need them). Refused (400):

@@ -266,8 +266,8 @@ Bakery::Result Service::obtain(const TableQuery& q, std::string& status, const C
   const Bakery::Ticket ticket = bakery_.submit(q.key, [this, q, path](const std::atomic<bool>& stop) {
     scene::TableRequest request{q.model->spec(), q.law, q.model, q.options};
     const std::string command = options_.command_line ? options_.command_line(scene::bake_command(request, path)) : "";
-    tables::BakeOptions options = q.options;
-    options.cancel = &stop;
+    tables::BakeRequest options = q.options;
+    tables::common(options).cancel = &stop;
     tables::CacheResult baked;
     try {
       baked = tables::bake_or_reuse(path, *q.model, q.law, options, command);
@@ -327,7 +327,7 @@ Reply Service::scene_glsl(const Request& request) {
   std::string statuses;  // "baked", "reused", "joined" of each table, comma-separated
   store.obtain = [&](scene::TableRequest r) {
     std::string status;
-    r.options.max_evaluations = options_.limits.max_evaluations;
+    tables::common(r.options).max_evaluations = options_.limits.max_evaluations;
     const Bakery::Result result = obtain(table_query(r.model, r.law, r.options), status, request.cancel);
     statuses += (statuses.empty() ? "" : ",") + status;
     scene::PlannedTable planned{std::move(r), std::shared_ptr<const tables::Table>(result, &result->table), result->path,

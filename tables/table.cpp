@@ -136,20 +136,14 @@ double Axis::coordinate(double u) const noexcept {
   return min + (max - min) * t;
 }
 
-double Axis::sinh_index_coordinate(double t) const noexcept {
-  switch (mapping) {
-    case Mapping::sinh: {
-      if (!(width > 0.0)) return t;
-      const SinhAxis s(*this);
-      const double x_clamped = min + (max - min) * t;
-      return std::clamp(0.5 * (std::asinh((x_clamped - s.c) / s.w) / s.V + 1.0), 0.0, 1.0);
-    }
-    case Mapping::sinh_max: {
-      if (!(width > 0.0)) return t;
-      const double V = std::asinh((max - min) / width);
-      return std::clamp(1.0 - std::asinh((max - min) * (1.0 - t) / width) / V, 0.0, 1.0);
-    }
-    default: return t;
+AxisIndex::AxisIndex(const Axis& axis) noexcept
+    : min(axis.min), range(axis.max - axis.min), mapping(axis.mapping), width(axis.width) {
+  if (mapping == Mapping::sinh && width > 0.0) {
+    const SinhAxis s(axis);
+    centre = s.c;
+    v = s.V;
+  } else if (mapping == Mapping::sinh_max && width > 0.0) {
+    v = std::asinh(range / width);
   }
 }
 
