@@ -138,6 +138,8 @@ double Axis::coordinate(double u) const noexcept {
 
 AxisIndex::AxisIndex(const Axis& axis) noexcept
     : min(axis.min), range(axis.max - axis.min), mapping(axis.mapping), width(axis.width) {
+  int exponent = 0;  // range = 2^k exactly when its mantissa is 1/2; then 1/range = 2^-k, exact unless subnormal
+  if (range > 0.0 && std::frexp(range, &exponent) == 0.5 && std::isnormal(1.0 / range)) exact_reciprocal = 1.0 / range;
   if (mapping == Mapping::sinh && width > 0.0) {
     const SinhAxis s(axis);
     centre = s.c;

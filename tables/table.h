@@ -135,12 +135,16 @@ struct Axis {
 /// (tables/sample.h, Lookup). With t = (x - min) / (max - min) clamped to [0, 1]:
 ///   linear: u = t;  sqrt: u = sqrt t;  cos: u = acos(1 - 2t) / pi;  sinh and sinh_max: table.h's
 ///   inverses above (t itself without a width).
+/// Where max - min is a power of two (the cosine axes [-1, 1] and [0, 1], the offset [0, 1]), t is
+/// taken as (x - min) times the reciprocal, which is exact there: the same double as the quotient,
+/// without a division.
 struct AxisIndex {
   AxisIndex() = default;
   explicit AxisIndex(const Axis& axis) noexcept;
   double operator()(double x) const noexcept {
     if (!(range > 0.0)) return 0.0;
-    const double t = std::clamp((x - min) / range, 0.0, 1.0);  // NaN -> clamp keeps NaN; caught below
+    const double offset = x - min;  // NaN -> clamp keeps NaN; caught below
+    const double t = std::clamp(exact_reciprocal > 0.0 ? offset * exact_reciprocal : offset / range, 0.0, 1.0);
     if (!(t >= 0.0)) return 0.0;
     switch (mapping) {
       case Mapping::linear: return t;
@@ -158,6 +162,7 @@ struct AxisIndex {
 
  private:
   double min = 0.0, range = 0.0;  ///< range = max - min; 0 (or NaN): u = 0
+  double exact_reciprocal = 0.0;  ///< 1 / range where range is a power of two (the reciprocal exact), else 0
   Mapping mapping = Mapping::linear;
   double width = 0.0, centre = 0.0, v = 1.0;  ///< the sinh mappings' w, c and V
 };

@@ -122,6 +122,30 @@ TEST(Table, MappingsRoundTripAndEndsAreExact) {
   EXPECT_DOUBLE_EQ(cs.node(1), -std::cos(pi / 4));  // on [-1, 1]: x = -cos(pi u), uniform in angle
 }
 
+// AxisIndex multiplies by 1 / (max - min) where that range is a power of two, instead of dividing:
+// the identity x / 2^k = x 2^-k holds to the last bit, so a lookup (and with it a bake's validation
+// and its warped nodes, tables/frame.h) is the same double as the quotient's. Elsewhere it divides.
+TEST(Table, IndexCoordinateIsTheQuotientToTheLastBit) {
+  std::mt19937_64 random(11);
+  const Axis axes[] = {{"x", -1.0, 1.0, 9, Mapping::cos},  {"x", 0.0, 1.0, 9, Mapping::cos},
+                       {"x", 0.0, 1.0, 9, Mapping::sqrt},  {"x", 0.0, 1.0, 9, Mapping::linear},
+                       {"x", -3.0, 5.0, 9, Mapping::linear}, {"x", 0.0, pi, 9, Mapping::linear},
+                       {"x", 0.0, pi / 2, 9, Mapping::cos}, {"x", 0.1, 0.85, 9, Mapping::sqrt},
+                       {"x", -1.0, 2.0, 9, Mapping::linear}};
+  for (const Axis& axis : axes) {
+    std::uniform_real_distribution<double> inside(axis.min, axis.max);
+    for (int k = 0; k < 20000; ++k) {
+      const double x = inside(random);
+      const double t = std::clamp((x - axis.min) / (axis.max - axis.min), 0.0, 1.0);  // the quotient itself
+      const double u = axis.mapping == Mapping::linear ? t
+                       : axis.mapping == Mapping::sqrt ? std::sqrt(t)
+                                                       : std::acos(1.0 - 2.0 * t) / pi;
+      ASSERT_EQ(axis.index_coordinate(x), u) << to_string(axis.mapping) << " on [" << axis.min << ", " << axis.max
+                                             << "] at x = " << x;
+    }
+  }
+}
+
 TEST(Table, ResolutionParsing) {
   EXPECT_EQ(parse_resolution("8", Law::g), (std::vector<int>{8, 8, 8}));
   EXPECT_EQ(parse_resolution("64x32x16", Law::g), (std::vector<int>{64, 32, 16}));
