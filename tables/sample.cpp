@@ -58,7 +58,7 @@ bool same_lookup(const Table& a, const Table& b) noexcept {
   if (a.frame != Frame::cosines && a.peak != b.peak) return false;
   if (a.frame == Frame::warped) {  // the offset axis and the envelope follow each table's own warp
     const Warp &p = a.warp, &q = b.warp;
-    if (p.mix != q.mix || p.envelope != q.envelope || p.samples.size() != q.samples.size()) return false;
+    if (p.mix != q.mix || p.envelope != q.envelope || p.beta_whitening != q.beta_whitening || p.samples.size() != q.samples.size()) return false;
     for (std::size_t k = 0; k < p.samples.size(); ++k)
       if (p.samples[k].shift != q.samples[k].shift || p.samples[k].along != q.samples[k].along ||
           p.samples[k].across != q.samples[k].across)

@@ -299,7 +299,7 @@ void check_unorm16(const Table& table) {
 
 namespace {
 /// A warped table's warp: >= 2 samples of finite shifts and positive finite widths, mix in (0, 1],
-/// a finite envelope width >= 0; other tables have none. The validated domain: j·n >= 0, < 1.
+/// a finite envelope width >= 0, beta_whitening in [0, 1); other tables have none. The validated domain: j·n >= 0, < 1.
 void check_warp(const Table& table) {
   if (!std::isfinite(table.min_cos_j) || table.min_cos_j < 0.0 || table.min_cos_j >= 1.0)
     throw InputError("validated j·n minimum " + format_number(table.min_cos_j) + " is not allowed; expected [0, 1)");
@@ -318,6 +318,8 @@ void check_warp(const Table& table) {
   if (!(w.mix > 0.0 && w.mix <= 1.0)) throw InputError("warp mix " + format_number(w.mix) + " is not in (0, 1]");
   if (!std::isfinite(w.envelope) || w.envelope < 0.0)
     throw InputError("warp envelope width " + format_number(w.envelope) + " is not a finite number >= 0");
+  if (!(w.beta_whitening >= 0.0 && w.beta_whitening < 1.0))
+    throw InputError("warp beta_whitening " + format_number(w.beta_whitening) + " is not in [0, 1)");
 }
 }  // namespace
 

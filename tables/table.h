@@ -201,6 +201,9 @@ inline constexpr double kLookupMargin = 1.5;
 /// widths along e1 and e2 (gnomonic units), blended linearly in between; the share `mix` of the
 /// offset axis that follows the lobe (the rest is uniform in psi); and the envelope's width
 /// (0: none): the stored numbers are g / A(theta_j), A = (cos + sqrt(cos^2 + width^2 sin^2))/2.
+/// `beta_whitening` mu: the third axis is (1 - mu) beta + mu beta_w, beta_w the edge's direction
+/// in the plane where the lobe is round (tables/frame.h, warped_beta); 0: beta itself (files that
+/// do not name it).
 struct WarpSample {
   double shift = 0.0, along = 1.0, across = 1.0;
 };
@@ -208,6 +211,7 @@ struct Warp {
   std::vector<WarpSample> samples;  ///< >= 2
   double mix = 0.0;                 ///< in (0, 1]
   double envelope = 0.0;            ///< >= 0
+  double beta_whitening = 0.0;      ///< in [0, 1)
 };
 
 /// The smallest j·n at which a warped table's bound was validated: below it (the last degree
