@@ -128,14 +128,11 @@ Warp fit_warp(const Model& model, const LobeFrame& frame, const Axis& theta_axis
   CubatureOptions options;
   options.abs_tol = tolerance;
   const double w = frame.width;
-  struct Fit {
-    WarpSample sample;
-    double top = 0.0;  // g at psi = 0: the whole lobe under the sky
-  };
+
   // One sample per theta_j node: the warp, linear between samples, then bends only where the
   // table's own linear interpolation does (samples between nodes put kinks inside cells).
   const int samples = std::max(theta_axis.count, 2);
-  std::vector<Fit> fits(samples);
+  std::vector<WarpSample> fits(samples);
   tbb::parallel_for(0, samples, [&](int k) {
     const double theta_j = theta_axis.coordinate(static_cast<double>(k) / (samples - 1));
     auto g = [&](double x, double beta) {  // x = cot psi
@@ -162,20 +159,28 @@ Warp fit_warp(const Model& model, const LobeFrame& frame, const Axis& theta_axis
       s.along = bounded(kWarpWidthFactor * 0.5 * ((a75 - a25) + (b75 - b25)) / kQuartileSpread);
       s.across = bounded(kWarpWidthFactor * (c75 - c25) / kQuartileSpread);
     }
-    fits[k] = {s, top};
+    fits[k] = s;
+  });
+  // g(psi = 0) at kEnvelopeSamples theta_j uniform in the index coordinate, whatever the node count
+  // (a choice made on the nodes flipped with it: specular alpha = 100 lost its envelope at 29 nodes).
+  std::vector<double> tops(kEnvelopeSamples);
+  tbb::parallel_for(0, kEnvelopeSamples, [&](int k) {
+    const double theta_j = theta_axis.coordinate(static_cast<double>(k) / (kEnvelopeSamples - 1));
+    const auto [i, j] = lobe_directions(frame.peak, theta_j, std::atan2(1.0, HUGE_VAL), 0.0);
+    tops[k] = vignetting(model, i, j, options).value;
   });
   Warp warp;
   warp.mix = kWarpMix;
   warp.beta_whitening = kWarpBetaWhitening;
-  for (const Fit& f : fits) warp.samples.push_back(f.sample);
-  // The envelope: the one under which g(psi = 0) / A bends least over the samples.
+  warp.samples = fits;
+  // The envelope: the one under which g(psi = 0) / A bends least over those theta_j.
   auto roughness = [&](double envelope) {
     Warp trial;
     trial.envelope = envelope;
     double worst = 0.0;
-    for (int k = 1; k + 1 < samples; ++k) {
+    for (int k = 1; k + 1 < kEnvelopeSamples; ++k) {
       auto at = [&](int m) {
-        return fits[m].top / warp_envelope(trial, theta_axis.coordinate(static_cast<double>(m) / (samples - 1)));
+        return tops[m] / warp_envelope(trial, theta_axis.coordinate(static_cast<double>(m) / (kEnvelopeSamples - 1)));
       };
       worst = std::max(worst, std::abs(at(k - 1) - 2.0 * at(k) + at(k + 1)));
     }

@@ -78,6 +78,8 @@ struct LobeFrame {
 inline constexpr double kWarpMix = 0.85;
 inline constexpr double kWarpWidthFactor = 1.5;
 inline constexpr double kWarpedThetaWidths = 3.0;
+/// The theta_j at which fit_warp compares g(psi = 0) / A with and without the envelope.
+inline constexpr int kEnvelopeSamples = 17;
 /// beta_whitening of fitted warps: measured on ggx roughness 0.3 at 25x49x17 (the worst lookup error
 /// at 3000 points, half uniform in the law's coordinates, half in the axes: 0.029 with 0, 0.007 with
 /// beta_w alone, 0.005 with 0.8; specular alpha = 100 unchanged).
@@ -103,7 +105,7 @@ std::pair<Vec3, Vec3> warped_directions(PeakKind peak, const Warp& warp, const A
 /// psi = pi and 0: shift = half the distance of the medians at beta = pi and 0, along and across
 /// from the quartile spreads (S(z) = 3/4 at z = 1/sqrt(3)) times kWarpWidthFactor, kept within
 /// [width/8, 8 width + 1] of the hinted width; the envelope (the lobe's width or none) that makes
-/// g(psi = 0) / A smoother over theta_j.
+/// g(psi = 0) / A smoother over kEnvelopeSamples theta_j.
 Warp fit_warp(const Model& model, const LobeFrame& frame, const Axis& theta_axis, double tolerance);
 
 /// The lobe frame of a model's g from its mass hints for the law of vignetting (varying the
