@@ -177,10 +177,17 @@ void TableOptionArgs::add_to(CLI::App& app, const scene::TableOptions& defaults)
                  "with --max-error: texture fetches one lookup of a table may cost a shader, N >= 1 (1: one "
                  "hardware-filtered fetch, its bound covering 8-bit filter weights); the cheapest scheme within N is "
                  "baked (default: " +
-                     (defaults.target_error > 0.0 ? "scenes bake to --max-error " + format_number(defaults.target_error) +
-                                                        " --fetches " + std::to_string(defaults.max_fetches) + "; "
-                                                  : std::string()) +
+                     (defaults.target_error > 0.0
+                          ? "with no accuracy option scenes bake to --max-error " + format_number(defaults.target_error) +
+                                " --fetches " + std::to_string(defaults.max_fetches) +
+                                " --best-effort; a scene's --max-error alone searches within " +
+                                std::to_string(scene::kSceneSearchFetches) + "; "
+                          : std::string()) +
                      "one table: no budget, the fewest value bytes)");
+  app.add_flag("--best-effort", best_effort,
+               "with --max-error: where no scheme within the budget reaches it, keep the most accurate table the "
+               "search baked (its stated lookup error is the miss) instead of refusing" +
+                   std::string(defaults.best_effort ? " (the scene defaults are best effort)" : ""));
 }
 
 namespace {
@@ -209,15 +216,21 @@ scene::TableOptions TableOptionArgs::options(const scene::TableOptions& defaults
   if (fetches) tables::check_fetch_budget(*fetches);
   if (fetches && !max_error)
     throw InputError({Named{"fetches"}, " needs ", target, " (it is the fetch budget of that search)"});
+  if (best_effort && !max_error)
+    throw InputError({Named{"best_effort"}, " needs ", target, " (it is what that search keeps when it misses)"});
   const bool fixed = !res_g.empty() || !res_h.empty() || tol;
   if (max_error) {
     if (fixed)
       throw InputError({target, " chooses the resolution and the tolerance itself; drop ",
                         Named{!res_g.empty() ? "res_g" : !res_h.empty() ? "res_h" : "tol"}, " or ", target});
-    tables::check_error_target(*max_error, max_bytes.value_or(0), Law::g, out.encoding);
+    // E here; B against the smallest table of each table's own law when it is keyed (bake, table_key).
+    tables::check_error_target(*max_error, 0, Law::g, out.encoding);
     out.target_error = *max_error;
     out.max_bytes = max_bytes.value_or(0);
-    out.max_fetches = fetches ? static_cast<int>(std::min<long long>(*fetches, 1 << 20)) : defaults.max_fetches;
+    out.max_fetches = fetches                ? static_cast<int>(std::min<long long>(*fetches, 1 << 20))
+                      : defaults.max_fetches ? scene::kSceneSearchFetches
+                                             : 0;
+    out.best_effort = best_effort;  // a target asked for is met or refused, unless --best-effort
   } else if (fixed) {  // a resolution or tolerance asked for: no search
     out.target_error = 0.0;
     out.max_bytes = 0;

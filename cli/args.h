@@ -75,6 +75,7 @@ struct TableOptionArgs {
   std::optional<double> max_error;
   std::optional<unsigned long long> max_bytes;
   std::optional<long long> fetches;
+  bool best_effort = false;
   /// Registers the flags; `defaults` is what --help shows and what unset flags mean.
   void add_to(CLI::App& app, const scene::TableOptions& defaults);
   /// The options, validated (InputError naming the parameter: res_g, max_error, ...; the command line

@@ -16,6 +16,7 @@ tables::BakeOptions TableOptions::bake_options(Law law) const {
   options.target_error = target_error;
   options.max_bytes = max_bytes;
   options.max_fetches = max_fetches;
+  options.best_effort = best_effort;
   return options;
 }
 
@@ -23,6 +24,7 @@ TableOptions TableOptions::scene_defaults() {
   TableOptions options;
   options.target_error = kSceneTargetError;
   options.max_fetches = kSceneFetches;
+  options.best_effort = true;
   return options;
 }
 
@@ -146,6 +148,7 @@ std::vector<std::string> bake_command(const TableRequest& request, const std::st
                                    "--max-error", format_number(o.target_error)};
     if (o.max_bytes) words.insert(words.end(), {"--max-bytes", std::to_string(o.max_bytes)});
     if (o.max_fetches) words.insert(words.end(), {"--fetches", std::to_string(o.max_fetches)});
+    if (o.best_effort) words.push_back("--best-effort");
     words.insert(words.end(), {"--encoding", to_string(o.encoding), "--max-evals", std::to_string(o.max_evaluations),
                                "-o", path});
     return words;

@@ -39,18 +39,26 @@ struct TableOptions {
   double target_error = 0.0;
   std::uint64_t max_bytes = 0;
   int max_fetches = 0;
+  /// With target_error: keep the most accurate table found when the target is out of reach
+  /// (tables::BakeOptions::best_effort) instead of refusing.
+  bool best_effort = false;
   /// The bake options of law g or h (no progress callback).
   tables::BakeOptions bake_options(Law law) const;
   /// What the scene commands (bake --scene, render, export-glsl --scene) bake when no accuracy
   /// option is given: every table to lookup error kSceneTargetError at one hardware-filtered fetch
-  /// per law (docs/lut-format.md, "Baking to an error"). The resolutions above remain what --res-g
-  /// and --res-h replace.
+  /// per law (docs/lut-format.md, "Baking to an error"), best effort: where one fetch does not reach
+  /// it, the most accurate one-fetch table found, its stated error the miss. The resolutions above
+  /// remain what --res-g and --res-h replace.
   static TableOptions scene_defaults();
 };
 inline constexpr double kSceneTargetError = 1e-3;
-/// The fetch budget of scene tables: every scheme's fetches (Catmull–Rom's 64 for g), searched
-/// fewest first, so a target one fetch cannot reach is met by the next scheme instead of refused.
-inline constexpr int kSceneFetches = 64;
+/// The fetch budget of the scene defaults: one fetch per law, the cost Koenderink & Pont promise
+/// (that of Lambert's surface under a point source with an ambient term).
+inline constexpr int kSceneFetches = 1;
+/// The fetch budget of a scene's explicit --max-error without --fetches: every scheme's fetches
+/// (Catmull–Rom's 64 for g), searched fewest first, so a target one fetch cannot reach is met by
+/// the next scheme.
+inline constexpr int kSceneSearchFetches = 64;
 
 /// Which light fields a set of lights contains.
 struct LightFields {

@@ -227,8 +227,9 @@ TableQuery parse_table(const Query& query, const Limits& limits, TableEndpoint e
   std::vector<std::string> names{"model", "law", "res", "tol", "encoding", "max_error", "fetches"};
   if (endpoint == TableEndpoint::table) names.push_back("format");
   check_names(query, endpoint == TableEndpoint::table ? "/api/table" : "/api/glsl", names);
-  if (query.count("max_error") && query.count("res"))
-    throw bad("give res or max_error, not both: with max_error the baker chooses the resolution");
+  if (query.count("max_error") && (query.count("res") || query.count("tol")))
+    throw bad(std::string("give ") + (query.count("res") ? "res" : "tol") +
+              " or max_error, not both: with max_error the baker chooses the resolution and the tolerance");
   TableQuery q;
   q.law = as_request([&] { return tables::parse_tabulated_law("law", required(query, "law", "g (one of g, h, a)")); });
   q.model = parse_served_model(required(query, "model", "specular:alpha=8"), limits);
@@ -245,11 +246,17 @@ TableQuery parse_table(const Query& query, const Limits& limits, TableEndpoint e
                                 " entries; this service bakes at most " + std::to_string(limits.max_entries) +
                                 " on demand (bake larger tables with `ganzfeld bake`)");
   q.options.tolerance = tolerance(query, defaults.tolerance);
+  if (query.count("res") || query.count("tol")) {  // as the command line's --res/--tol: a fixed bake, no search
+    q.options.target_error = 0.0;
+    q.options.max_bytes = 0;
+    q.options.max_fetches = 0;
+  }
   if (const auto max_error = number(query, "max_error")) {
     // As `bake --max-error`: the smallest table whose validated lookup error is <= max_error,
     // within this service's own size cap (max_entries floats of values).
     q.options.target_error = *max_error;
     q.options.max_bytes = limits.max_entries * sizeof(float);
+    q.options.best_effort = false;  // a target asked for is met or refused
   }
   if (const auto fetches = number(query, "fetches")) {  // as `bake --fetches N`: the lookup's fetch budget
     if (!q.options.target_error) throw bad("fetches needs max_error (it is the fetch budget of that search)");

@@ -54,6 +54,10 @@ struct BakeOptions {
   /// With target_error: the most texture fetches one lookup may cost a shader (tables::fetches;
   /// 0: no budget, the fewest value bytes the search finds among texel-fetch lookups).
   int max_fetches = 0;
+  /// With target_error: when no scheme within the budget reaches it, keep the most accurate table
+  /// the search baked (its stated lookup error says by how much it misses) instead of refusing.
+  /// What the scene defaults ask for; an explicit --max-error is strict.
+  bool best_effort = false;
   /// Called with (entries done, total) at most ~kProgressSteps times, serialized (never two at
   /// once) and with increasing `done`, from whichever worker thread finished the entry.
   std::function<void(std::uint64_t done, std::uint64_t total)> progress;

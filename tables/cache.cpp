@@ -33,6 +33,7 @@ TableKey table_key(const Model& model, Law law, const BakeOptions& options) {
     key.target_bytes = options.max_bytes ? options.max_bytes : kDefaultMaxValueBytes;
     if (options.max_fetches != 0) check_fetch_budget(options.max_fetches);
     key.target_fetches = options.max_fetches;
+    key.best_effort = options.best_effort;
     return key;
   }
   key.axes = bake_axes(law, options);
@@ -133,6 +134,8 @@ std::optional<Table> read_if_matching(const std::string& path, const TableKey& k
     Table table = read_table(path);
     if (!same_key(table_key(table), key))
       reason = "it holds another table (its metadata is not the key)";
+    else if (!key.best_effort && table.target_error > 0.0 && table.lookup_error > table.target_error)
+      reason = "it misses its target error (a best-effort bake's table)";
     else if (table.values_digest.empty())
       reason = "it has no ganzfeld.values_digest to verify its numbers by";
     else

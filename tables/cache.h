@@ -42,6 +42,9 @@ struct TableKey {
   double target_error = 0.0;
   std::uint64_t target_bytes = 0;
   int target_fetches = 0;  ///< --fetches (0: no budget)
+  /// Not part of the file's key (a table that meets its target serves both): a table that misses
+  /// its target, which only a best-effort bake (BakeOptions::best_effort) keeps, serves only those.
+  bool best_effort = false;
 };
 
 /// The key of the table bake(model, law, options) would make (axes: make_axes). Throws

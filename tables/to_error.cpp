@@ -157,9 +157,11 @@ void check_fetch_budget(long long fetches) {
 
 namespace {
 
-/// What one search found: the table that met E, or the best error it measured and that table's size.
+/// What one search found: the table that met E, or the best error it measured, that table's size
+/// and, for a best-effort bake, the table.
 struct SearchResult {
   std::optional<Table> table;
+  std::optional<Table> best_table;
   double best_error = std::numeric_limits<double>::infinity();
   double best_bytes = 0.0;
   int best_fetches = 0;
@@ -188,14 +190,15 @@ SearchResult search_counts(const Model& model, Law law, BakeOptions options, dou
     Table table = bake_resolution(model, law, options);
     // The warp has one sample per theta_j node (tables/frame.h): refitted when that count changes.
     if (table.frame == Frame::warped) options.warp = table.warp;
+    if (table.lookup_error <= E) {
+      result.table = std::move(table);
+      return result;
+    }
     if (table.lookup_error < result.best_error) {
       result.best_error = table.lookup_error;
       result.best_bytes = static_cast<double>(value_bytes(table));
       result.best_fetches = fetches(table);
-    }
-    if (table.lookup_error <= E) {
-      result.table = std::move(table);
-      return result;
+      if (options.best_effort) result.best_table = table;
     }
     // Calibrate the per-axis estimates of each interpolation with the validated error (the
     // estimates see node differences only; the validation sees the whole domain).
@@ -284,6 +287,7 @@ Table bake_to_error(const Model& model, Law law, const BakeOptions& requested) {
     options.interpolation = Interpolation::catmull_rom;
     SearchResult found = search_counts(model, law, options, E, cap);
     if (found.table) return finish(std::move(*found.table));
+    if (found.best_table) return finish(std::move(*found.best_table));
     // Only what was measured: the refusal names the best table a bake made, never an extrapolation
     // to the cap (a number no bake has checked).
     throw InputError({std::string("cannot reach "), Named{"max_error", format_number(E)},
@@ -313,6 +317,7 @@ Table bake_to_error(const Model& model, Law law, const BakeOptions& requested) {
     if (found.table) return finish(std::move(*found.table));
     if (found.best_error < best.best_error) best = std::move(found);
   }
+  if (best.best_table) return finish(std::move(*best.best_table));
   throw InputError({std::string("cannot reach "), Named{"max_error", format_number(E)},
                     " for law " + std::string(to_string(law)) + " of '" + model.spec() + "' within " +
                         std::to_string(requested.max_fetches) + " texture fetch" +

@@ -63,7 +63,8 @@ void check_fetch_budget(long long fetches);
 /// The table of law `law` of `model` with lookup_error <= options.max_error and value_bytes <=
 /// options.max_bytes (0: kDefaultMaxValueBytes), baked as described above; options.resolution,
 /// mappings, interpolation, lobe, tolerance, random_checks and check_tolerance are chosen here.
-/// Throws InputError "cannot reach ... within ... bytes; the best ... is ..." when it cannot.
+/// Throws InputError "cannot reach ... within ... bytes; the best ... is ..." when it cannot,
+/// unless options.best_effort: then the most accurate table the search baked, target unmet.
 Table bake_to_error(const Model& model, Law law, const BakeOptions& options);
 
 }  // namespace ganzfeld::tables

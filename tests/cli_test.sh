@@ -147,6 +147,12 @@ expect_bad "--max-bytes needs --max-error" bake --model specular:alpha=8 --law h
 expect_bad "--max-bytes 8 is too small" bake --model specular:alpha=8 --law g --max-error 1e-3 --max-bytes 8 -o "$tmp/bad_e.exr"
 expect_bad "cannot reach --max-error" bake --model specular:alpha=100 --law g --max-error 1e-6 --max-bytes 4096 -o "$tmp/bad_e.exr"
 expect_bad "below what a unorm16 table can hold" bake --model specular:alpha=8 --law h --max-error 1e-5 --encoding unorm16 -o "$tmp/bad_e.exr"
+# --best-effort: the most accurate table the search made, its stated error the miss
+expect_bad "--best-effort needs --max-error" bake --model specular:alpha=8 --law h --res 9 --best-effort -o "$tmp/bad_e.exr"
+"$G" bake --model specular:alpha=100 --law h --max-error 1e-6 --max-bytes 32 --best-effort -o "$tmp/best.exr" --quiet &&
+  "$G" info "$tmp/best.exr" --json >"$tmp/best.json" &&
+  [ "$(json_field "$tmp/best.json" "d['error'] > d['target_error'] == 1e-6 and d['value_bytes'] <= 32")" = True ] &&
+  ok || fail "bake --best-effort: $(cat "$tmp/best.json" 2>/dev/null | head -c 300)"
 # --fetches: a fetch budget per lookup; one fetch is the hardware filter, and its bound says so
 expect_bad "--fetches 0 is not allowed" bake --model specular:alpha=8 --law h --max-error 1e-3 --fetches 0 -o "$tmp/bad_e.exr"
 expect_bad "--fetches" bake --model specular:alpha=8 --law h --max-error 1e-3 --fetches 1.5 -o "$tmp/bad_e.exr"

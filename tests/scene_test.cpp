@@ -325,6 +325,30 @@ TEST(Scene, CacheReusesAMatchingTable) {
   EXPECT_EQ(std::distance(fs::directory_iterator(dir), fs::directory_iterator{}), 2);  // no temporaries left
 }
 
+// A best-effort bake (the scene defaults) keeps the most accurate table its search made when the
+// target is out of reach, its stated error the miss; that table serves best-effort requests only:
+// a strict request for the same key bakes again and is refused.
+TEST(Scene, CacheServesABestEffortTableOnlyToBestEffortRequests) {
+  const std::string dir = fresh_dir("best-effort");
+  const ModelPtr m = parse_model("specular:alpha=100");
+  BakeOptions o;
+  o.target_error = 1e-6;
+  o.max_bytes = 32;  // 8 nodes of h: far from 1e-6
+  o.best_effort = true;
+  const std::string path = cache_path(dir, *m, Law::h, o);
+  const CacheResult first = bake_or_reuse(path, *m, Law::h, o, "test");
+  EXPECT_EQ(first.status, CacheStatus::baked);
+  EXPECT_GT(first.table.lookup_error, 1e-6);
+  EXPECT_EQ(first.table.target_error, 1e-6);
+  EXPECT_LE(value_bytes(first.table), 32u);
+  EXPECT_EQ(bake_or_reuse(path, *m, Law::h, o, "test").status, CacheStatus::reused);
+  BakeOptions strict = o;
+  strict.best_effort = false;
+  EXPECT_EQ(cache_path(dir, *m, Law::h, strict), path);  // one file per target
+  EXPECT_THROW(bake_or_reuse(path, *m, Law::h, strict, "test"), InputError);
+  EXPECT_EQ(bake_or_reuse(path, *m, Law::h, o, "test").status, CacheStatus::reused);  // still there
+}
+
 TEST(Scene, CacheRebakesACorruptFile) {
   const std::string dir = fresh_dir("corrupt");
   const ModelPtr m = parse_model("asperity:alpha=4");

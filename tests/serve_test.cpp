@@ -140,6 +140,12 @@ TEST(ServeRequest, TableUsesTheCacheKeysOfBake) {
   EXPECT_EQ(q.options.resolution, (std::vector<int>{8, 6, 4}));
   EXPECT_EQ(q.options.encoding, tables::Encoding::half);
   EXPECT_EQ(q.format, TableFormat::ktx2);
+  // res or tol asks for that table, as bake --res/--tol does: no search to an error target
+  EXPECT_EQ(q.options.target_error, 0.0);
+  EXPECT_EQ(q.options.max_fetches, 0);
+  const TableQuery tol_only = parse_table(parse_query("model=minnaert:xi=1&law=h&tol=1e-6"), Limits{}, TableEndpoint::table);
+  EXPECT_EQ(tol_only.options.target_error, 0.0);
+  EXPECT_EQ(tol_only.options.resolution, scene::TableOptions{}.resolution_h);
   const tables::TableKey key = tables::table_key(*q.model, q.law, q.options);
   EXPECT_EQ(q.key, tables::key_text(key));
   EXPECT_EQ(q.file_name, tables::cache_file_name(key));
@@ -148,6 +154,15 @@ TEST(ServeRequest, TableUsesTheCacheKeysOfBake) {
   const TableQuery d = parse_table(parse_query("model=minnaert:xi=1&law=g"), Limits{}, TableEndpoint::table);
   EXPECT_EQ(d.options.resolution, scene::TableOptions{}.resolution_g);
   EXPECT_EQ(d.options.tolerance, scene::TableOptions{}.tolerance);
+  // the service's defaults (serve/service.h): a query without res or tol is baked to the scene's target
+  const TableQuery s = parse_table(parse_query("model=minnaert:xi=1&law=g"), Limits{}, TableEndpoint::table,
+                                   scene::TableOptions::scene_defaults());
+  EXPECT_EQ(s.options.target_error, scene::kSceneTargetError);
+  EXPECT_EQ(s.options.max_fetches, scene::kSceneFetches);
+  const TableQuery fixed = parse_table(parse_query("model=minnaert:xi=1&law=g&res=8x6x4"), Limits{},
+                                       TableEndpoint::table, scene::TableOptions::scene_defaults());
+  EXPECT_EQ(fixed.options.target_error, 0.0);
+  EXPECT_EQ(fixed.options.max_fetches, 0);
 }
 
 TEST(ServeRequest, TableRefusals) {
@@ -171,7 +186,8 @@ TEST(ServeRequest, TableRefusals) {
   // max_error: as bake --max-error, named as the query names it
   for (const auto& [query, fragment] :
        {std::pair{"model=lambert&law=h&max_error=-1", "max_error=-1 is not allowed; expected a positive number"},
-        std::pair{"model=lambert&law=h&max_error=1e-3&res=9", "give res or max_error, not both"}}) {
+        std::pair{"model=lambert&law=h&max_error=1e-3&res=9", "give res or max_error, not both"},
+        std::pair{"model=lambert&law=h&max_error=1e-3&tol=1e-6", "give tol or max_error, not both"}}) {
     const auto [got, message] = table_refusal(query);
     EXPECT_EQ(got, 400) << query;
     EXPECT_NE(message.find(fragment), std::string::npos) << query << " -> " << message;
