@@ -101,7 +101,7 @@ std::string render_markdown(const RenderBenchResult& r, const std::string& comma
      << r.size << "×" << r.size << " sphere (a " << raster::kSphereSegments
      << "-segment mesh), rasterized and shaded (bench/render_bench.h): (a) Lambert under a collimated light and an "
         "ambient Ganzfeld; (b) 0.8 `minnaert:xi=1` + 0.2 `specular:alpha=8` under a collimated light, a sky and a "
-        "Ganzfeld, g and h from tables at the scene defaults (`bake --scene`); (c) the same with g and h by cubature "
+        "Ganzfeld, g and h from tables at the scene defaults (`bake scene`); (c) the same with g and h by cubature "
         "per pixel (`render --direct`), on a "
      << r.crop << "×" << r.crop << " crop. " << r.repeats << " repeats after one warm-up.\n\n"
      << "| picture | seconds per frame (median) | min … max |\n|---|---|---|\n"
@@ -114,7 +114,7 @@ std::string render_markdown(const RenderBenchResult& r, const std::string& comma
      << "| direct ÷ tables, per pixel | " << significant(util::median(r.direct_vs_tables)) << " | "
      << spread(r.direct_vs_tables) << " | – |\n";
   if (!r.tables.empty()) {
-    md << "\n(b)'s tables, as `bake --scene` makes them by default:\n\n";
+    md << "\n(b)'s tables, as `bake scene` makes them by default:\n\n";
     for (const std::string& t : r.tables) md << "- " << t << "\n";
   }
   return md.str();

@@ -2,7 +2,7 @@
 // as Koenderink & Pont claim? One sphere mesh, rendered in one run:
 //   (a) Lambert under a collimated beam + an ambient constant (a Lambertian Ganzfeld: h = 1)
 //   (b) 0.8 minnaert:xi=1 + 0.2 specular:alpha=8 under collimated + sky + Ganzfeld, from tables
-//       baked at the scene defaults (scene/plan.h: the scheme `bake --scene` uses)
+//       baked at the scene defaults (scene/plan.h: the scheme `bake scene` uses)
 //   (c) the same as (b) with the laws integrated per pixel (--direct), on a small crop
 // Each repeat renders (a), (b) and (c) side by side, so a change of load on a shared machine hits
 // all three; the ratios are per repeat and per pixel: tables_vs_lambert = b/a (whole frames:

@@ -11,6 +11,7 @@
 
 #include "bench/cubature_bench.h"
 #include "export/glsl.h"
+#include "export/glsl_f.h"
 #include "export/param_export.h"
 #include "gl/draw.h"
 #include "models/spec.h"
@@ -150,14 +151,14 @@ std::vector<TableSet> table_sets(bool quick) {
   if (quick) {
     scene::TableOptions small{{9, 9, 5}, {17}, 1e-6};
     scene::TableOptions to_error;
-    to_error.target_error = 1e-2;
+    to_error.target = tables::ErrorTarget{1e-2, 0, 0};
     return {{"`--res 9x9x5` (g), `--res 17` (h)", small}, {"`--max-error 1e-2`", to_error}};
   }
-  std::vector<TableSet> out{{"scene defaults (`bake --scene`: `--max-error 1e-3 --fetches 1`)",
+  std::vector<TableSet> out{{"scene defaults (`bake scene`: `--max-error 1e-3 --fetches 1`)",
                              scene::TableOptions::scene_defaults()}};
   for (const auto& [e, text] : {std::pair{1e-3, "1e-3"}, std::pair{1e-4, "1e-4"}}) {
     scene::TableOptions options;
-    options.target_error = e;
+    options.target = tables::ErrorTarget{e, 0, 0};
     out.push_back({std::string("`--max-error ") + text + "`", options});
   }
   return out;
@@ -343,7 +344,7 @@ ShadersBenchResult run_shaders_benchmark(const ShadersBenchOptions& options) {
     ShaderPass pass = named("S", "GGX point light (height-correlated Smith, Schlick) + split-sum IBL: a " +
                                      std::to_string(kEnvironmentSide) + "² RGBA16F cubemap with mips, one RG16F fetch "
                                      "of a " + std::to_string(samples) +
-                                     "² DFG table (`bake --preset dfg --model ggx`), 9 SH coefficients");
+                                     "² DFG table (`bake preset dfg --model ggx`), 9 SH coefficients");
     pass.value_bytes = environment_bytes + dfg_bytes;
     Bound* b = add_pass(std::move(pass), kSplitSum, "gz_split_sum(n, j)");
     b->textures = {{GL_TEXTURE_CUBE_MAP, textures[textures.size() - 2].id()}, {GL_TEXTURE_2D, textures.back().id()}};

@@ -131,7 +131,7 @@ std::string shell_line(const std::vector<std::string>& words) {
 }
 
 /// A progress bar for the bake of `law` of `spec` when stderr is a terminal and not --quiet.
-void attach_progress(tables::BakeOptions& options, bool quiet, Law law, const std::string& spec) {
+void attach_progress(tables::BakeCommon& options, bool quiet, Law law, const std::string& spec) {
   options.progress = util::progress_bar(std::string("baking ") + to_string(law) + " of " + spec, quiet);
 }
 
@@ -158,36 +158,45 @@ std::string prepare_directory(const std::string& flag, const std::string& text) 
 
 void check_max_evaluations(long long n) { ganzfeld::check_max_evaluations("max_evals", n); }
 
-void TableOptionArgs::add_to(CLI::App& app, const scene::TableOptions& defaults) {
-  app.add_option("--res-g", res_g,
-                 "nodes of every g table, NIxNJxNPHI (default " + tables::resolution_text(defaults.resolution_g) + ")");
-  app.add_option("--res-h", res_h, "nodes of every h table (default " + tables::resolution_text(defaults.resolution_h) + ")");
-  app.add_option("--tol", tol, "absolute tolerance of every table entry's cubature (default " +
-                                   format_number(defaults.tolerance) + ")");
+TableOptionArgs::Added TableOptionArgs::add_to(CLI::App& app, const scene::TableOptions& defaults,
+                                               bool per_law_grids) {
+  if (per_law_grids) {
+    app.add_option("--res-g", res_g,
+                   "nodes of every g table, NIxNJxNPHI (default " + tables::resolution_text(defaults.resolution_g) + ")");
+    app.add_option("--res-h", res_h,
+                   "nodes of every h table (default " + tables::resolution_text(defaults.resolution_h) + ")");
+  }
+  Added added{};
+  added.tol = app.add_option("--tol", tol, "absolute tolerance of every table entry's cubature (default " +
+                                               format_number(defaults.tolerance) + ")");
   app.add_option("--encoding", encoding, "stored precision of the tables: float (default), half, or unorm16 (16-bit codes over the table's range, docs/lut-format.md)");
   app.add_option("--max-evals", max_evaluations,
                  "evaluation budget per table entry; beyond it the entry is kept and counted as unconverged");
-  app.add_option("--max-error", max_error,
+  added.max_error = app.add_option("--max-error", max_error,
                  "bake every table to this validated lookup error: the baker chooses resolution, axes, interpolation "
                  "and tolerance (excludes --res, --res-g, --res-h, --tol)");
-  app.add_option("--max-bytes", max_bytes,
+  added.max_bytes = app.add_option("--max-bytes", max_bytes,
                  "with --max-error: cap of each table's value bytes (default " +
                      std::to_string(tables::kDefaultMaxValueBytes) + "); refused when the error cannot be met within it");
-  app.add_option("--fetches", fetches,
+  added.fetches = app.add_option("--fetches", fetches,
                  "with --max-error: texture fetches one lookup of a table may cost a shader, N >= 1 (1: one "
                  "hardware-filtered fetch, its bound covering 8-bit filter weights); the cheapest scheme within N is "
                  "baked (default: " +
-                     (defaults.target_error > 0.0
-                          ? "with no accuracy option scenes bake to --max-error " + format_number(defaults.target_error) +
-                                " --fetches " + std::to_string(defaults.max_fetches) +
-                                " --best-effort; a scene's --max-error alone searches within " +
+                     (defaults.target
+                          ? "with no accuracy option scenes bake to --max-error " +
+                                format_number(defaults.target->lookup_error) + " --fetches " +
+                                std::to_string(defaults.target->max_fetches) +
+                                (defaults.target->best_effort ? " --best-effort" : "") +
+                                "; a scene's --max-error alone searches within " +
                                 std::to_string(scene::kSceneSearchFetches) + "; "
                           : std::string()) +
                      "one table: no budget, the fewest value bytes)");
   app.add_flag("--best-effort", best_effort,
                "with --max-error: where no scheme within the budget reaches it, keep the most accurate table the "
                "search baked (its stated lookup error is the miss) instead of refusing" +
-                   std::string(defaults.best_effort ? " (the scene defaults are best effort)" : ""));
+                   std::string(defaults.target && defaults.target->best_effort ? " (the scene defaults are best effort)"
+                                                                               : ""));
+  return added;
 }
 
 namespace {
@@ -225,16 +234,14 @@ scene::TableOptions TableOptionArgs::options(const scene::TableOptions& defaults
                         Named{!res_g.empty() ? "res_g" : !res_h.empty() ? "res_h" : "tol"}, " or ", target});
     // E here; B against the smallest table of each table's own law when it is keyed (bake, table_key).
     tables::check_error_target(*max_error, 0, Law::g, out.encoding);
-    out.target_error = *max_error;
-    out.max_bytes = max_bytes.value_or(0);
-    out.max_fetches = fetches                ? static_cast<int>(std::min<long long>(*fetches, 1 << 20))
-                      : defaults.max_fetches ? scene::kSceneSearchFetches
-                                             : 0;
-    out.best_effort = best_effort;  // a target asked for is met or refused, unless --best-effort
+    const bool budgeted_defaults = defaults.target && defaults.target->max_fetches;
+    const int budget = fetches             ? static_cast<int>(std::min<long long>(*fetches, 1 << 20))
+                       : budgeted_defaults ? scene::kSceneSearchFetches
+                                           : 0;
+    // A target asked for is met or refused, unless --best-effort.
+    out.target = tables::ErrorTarget{*max_error, max_bytes.value_or(0), budget, best_effort};
   } else if (fixed) {  // a resolution or tolerance asked for: no search
-    out.target_error = 0.0;
-    out.max_bytes = 0;
-    out.max_fetches = 0;
+    out.target.reset();
   }
   return out;
 }
@@ -245,7 +252,7 @@ scene::TableStore table_store(const std::string& cache_dir, bool quiet, bool for
   store.force = force;
   store.command_line = shell_line;
   store.before_bake = [quiet](scene::TableRequest& request) {
-    attach_progress(request.options, quiet, request.law, request.spec);
+    attach_progress(tables::common(request.options), quiet, request.law, request.spec);
   };
   return store;
 }

@@ -56,7 +56,7 @@ void validate_tolerance(double tol);
 std::string shell_line(const std::vector<std::string>& words);
 
 /// A progress bar on stderr for the bake of `law` of `spec`, when stderr is a terminal and not `quiet`.
-void attach_progress(tables::BakeOptions& options, bool quiet, Law law, const std::string& spec);
+void attach_progress(tables::BakeCommon& options, bool quiet, Law law, const std::string& spec);
 
 /// The table cache directory named by `flag` (--out, --cache): created if its parent exists;
 /// a missing parent, a non-directory or an unwritable directory is refused. Returns it.
@@ -65,7 +65,7 @@ std::string prepare_directory(const std::string& flag, const std::string& text);
 /// Refuses an evaluation budget below 1000 per entry.
 void check_max_evaluations(long long n);
 
-/// The table options of every command that takes a scene (bake --scene, render, export-glsl
+/// The table options of every command that takes a scene (bake scene, render, export-glsl
 /// --scene) and of figure: --res-g, --res-h, --tol, --encoding, --max-evals. One parser and one
 /// set of defaults (scene::TableOptions), so that the commands reach the same cache entries.
 struct TableOptionArgs {
@@ -76,11 +76,16 @@ struct TableOptionArgs {
   std::optional<unsigned long long> max_bytes;
   std::optional<long long> fetches;
   bool best_effort = false;
-  /// Registers the flags; `defaults` is what --help shows and what unset flags mean.
-  void add_to(CLI::App& app, const scene::TableOptions& defaults);
+  /// The options add_to registered (the accuracy flags that exclude or need one another).
+  struct Added {
+    CLI::Option *tol, *max_error, *max_bytes, *fetches;
+  };
+  /// Registers the flags; `defaults` is what --help shows and what unset flags mean. Without
+  /// `per_law_grids`, no --res-g and --res-h (one table's grid is its own flag).
+  Added add_to(CLI::App& app, const scene::TableOptions& defaults, bool per_law_grids = true);
   /// The options, validated (InputError naming the parameter: res_g, max_error, ...; the command line
-  /// spells it as a flag, a library file as its key); unset flags take `defaults`. Defaults that bake
-  /// to an error (scene_defaults) give way to a fixed resolution when --res-g, --res-h or --tol is given.
+  /// spells it as a flag, a library file as its key); unset flags take `defaults`. Defaults that
+  /// bake to an error (scene_defaults) give way to a fixed resolution when res_g, res_h or tol is given.
   scene::TableOptions options(const scene::TableOptions& defaults) const;
 };
 

@@ -1,12 +1,16 @@
-// ganzfeld bake: one law of one model into an OpenEXR table (tables/, docs/lut-format.md), every
-// table a scene needs into a cache directory (scene/plan.h, tables/cache.h), or one shard of a
-// material library's tables into one (cli/library.h, docs/scale-out.md). A table whose file
-// already carries exactly the requested key (spec, law, axes, tolerance, encoding, format
+// ganzfeld bake: four jobs, one subcommand each, each with only its own flags: `bake model` (one
+// law of one model into an OpenEXR table, on a fixed grid or to an error target: tables/bake.h,
+// docs/lut-format.md), `bake preset` (a table over a roughness axis, tables/preset.h), `bake scene`
+// (every table a scene needs into a cache directory, scene/plan.h, tables/cache.h) and `bake
+// library` (one shard of a material library's tables, cli/library.h, docs/scale-out.md). The
+// spellings `bake --model/--preset/--scene/--library` remain aliases (bake_alias). A table whose
+// file already carries exactly the requested key (spec, law, axes, tolerance, encoding, format
 // version) is reused, not re-baked, unless --force.
 #include <algorithm>
 #include <cstdio>
 #include <iostream>
 #include <optional>
+#include <variant>
 
 #include <nlohmann/json.hpp>
 
@@ -58,7 +62,7 @@ void refuse_preset_parameters(const std::string& spec) {
   for (const SpecTerm& term : parse_spec(spec).terms)
     for (const char* set : {"alpha", "roughness", "alpha_x", "alpha_y", "f0"})
       if (term.model.values.count(set))
-        throw InputError("--preset: the model spec '" + spec + "' sets " + set +
+        throw InputError("bake preset: the model spec '" + spec + "' sets " + set +
                          ", which the table's axis and channels set; give the model as ggx or ggx:g2=...");
 }
 
@@ -66,7 +70,7 @@ tables::PresetOptions preset_options(const BakeArgs& args) {
   tables::PresetOptions options;
   options.preset = tables::parse_preset(args.preset);
   if (!args.dfg_layout.empty()) {
-    if (options.preset != tables::Preset::dfg) throw InputError("--dfg-layout is for --preset dfg");
+    if (options.preset != tables::Preset::dfg) throw InputError("--dfg-layout is for bake preset dfg");
     options.layout = tables::parse_dfg_layout(args.dfg_layout);
   }
   if (!args.axis.empty()) options.axis = args.axis;
@@ -84,13 +88,10 @@ tables::PresetOptions preset_options(const BakeArgs& args) {
   return options;
 }
 
-/// bake --preset dfg|kulla-conty --model ggx -o FILE.exr: a format version 3 table.
+/// bake preset dfg|kulla-conty --model ggx -o FILE.exr: a format version 3 table.
 int bake_preset_table(const BakeArgs& args) {
-  for (const auto& [flag, set] : {std::pair{"--law", !args.law.empty()}, {"--mapping", !args.mapping.empty()},
-                                  {"--frame", !args.frame.empty()}, {"--interpolation", !args.interpolation.empty()},
-                                  {"--checks", args.checks.has_value()}, {"--max-error", args.table.max_error.has_value()}})
-    if (set) throw InputError(std::string(flag) + " cannot be combined with --preset, which fixes it");
-  if (args.output.empty()) throw InputError("bake --preset needs -o FILE.exr");
+  if (args.model.empty()) throw InputError("bake preset needs --model ggx[:g2=...] (the model over the roughness axis)");
+  if (args.output.empty()) throw InputError("bake preset needs -o FILE.exr");
   tables::PresetOptions options = preset_options(args);
   refuse_preset_parameters(args.model);
   const ModelPtr model = parse_model(args.model);
@@ -127,54 +128,56 @@ int bake_preset_table(const BakeArgs& args) {
   return 0;
 }
 
-int bake_one(const BakeArgs& args) {
-  if (!args.preset.empty()) return bake_preset_table(args);
-  for (const auto& [flag, set] : {std::pair{"--dfg-layout", !args.dfg_layout.empty()}, {"--axis", !args.axis.empty()},
-                                  {"--grid", !args.grid.empty()}})
-    if (set) throw InputError(std::string(flag) + " is for --preset bakes");
-  // Everything is checked before the (possibly long) bake.
-  if (args.law.empty()) throw InputError("bake --model needs --law g|h|a");
-  const bool to_error = args.table.max_error.has_value();
-  if (args.res.empty() && !to_error) throw InputError("bake --model needs --res N[xN[xN]] or --max-error E");
-  if (!args.res.empty() && to_error)
-    throw InputError("--res and --max-error are mutually exclusive: --max-error chooses the resolution itself");
-  if (to_error)
-    for (const auto& [flag, set] : {std::pair{"--mapping", !args.mapping.empty()}, {"--frame", !args.frame.empty()},
-                                    {"--interpolation", !args.interpolation.empty()}, {"--checks", args.checks.has_value()},
-                                    {"--filter", !args.filter.empty()}})
-      if (set) throw InputError(std::string(flag) + " cannot be combined with --max-error, which chooses it itself");
-  if (args.output.empty()) throw InputError("bake --model needs -o FILE.exr");
-  const Law law = tables::parse_tabulated_law("--law", args.law);
-  const ModelPtr model = parse_model(args.model);
+/// What `bake model` asks for: a fixed grid (--res and the grid's flags) or an error target
+/// (--max-error and the target's flags); the flag set lets only one kind's flags through.
+tables::BakeRequest model_request(const BakeArgs& args, const Model& model, Law law) {
   scene::TableOptions defaults;
   defaults.tolerance = kModelTol;
-  const scene::TableOptions table_options = args.table.options(defaults);
-  tables::BakeOptions options = table_options.bake_options(law);
-  if (!to_error) options.resolution = tables::parse_resolution(args.res, law);
-  else tables::check_error_target(options.target_error, options.max_bytes, law, options.encoding);
-  if (!args.mapping.empty()) options.mappings = tables::parse_mappings(args.mapping, law);
-  if (!args.interpolation.empty()) options.interpolation = tables::parse_interpolation(args.interpolation);
+  const tables::BakeRequest request = args.table.options(defaults).request(law);
+  if (const auto* target = std::get_if<tables::TargetBake>(&request)) {
+    tables::check_error_target(target->target.lookup_error, target->target.max_bytes, law, target->encoding);
+    return request;
+  }
+  tables::BakeOptions grid = std::get<tables::BakeOptions>(request);
+  grid.resolution = tables::parse_resolution(args.res, law);
+  if (!args.mapping.empty()) grid.mappings = tables::parse_mappings(args.mapping, law);
+  if (!args.interpolation.empty()) grid.interpolation = tables::parse_interpolation(args.interpolation);
   const tables::Frame frame = args.frame.empty() ? tables::Frame::cosines : tables::parse_frame(args.frame);
   if (frame != tables::Frame::cosines) {
     if (law != Law::g)
-      throw InputError(std::string("--frame ") + to_string(frame) + " is for law g; h and a tables use the cosines frame");
-    options.lobe = tables::lobe_frame_of(*model);
-    if (!options.lobe)
-      throw InputError(std::string("--frame ") + to_string(frame) + ": model '" + model->spec() +
-                       "' hints no lobe at the mirror direction or at j to follow; use --frame cosines");
-    options.warped = frame == tables::Frame::warped;
+      throw InputError({Named{"frame", to_string(frame)}, " is for law g; h and a tables use the cosines frame"});
+    grid.lobe = tables::lobe_frame_of(model);
+    if (!grid.lobe)
+      throw InputError({Named{"frame", to_string(frame)}, ": model '" + model.spec() +
+                                                              "' hints no lobe at the mirror direction or at j to "
+                                                              "follow; use ",
+                        Named{"frame", "cosines"}});
+    grid.warped = frame == tables::Frame::warped;
   }
   if (!args.filter.empty()) {
-    options.filter = tables::parse_filter(args.filter);
-    if (options.filter == tables::Filter::hardware && options.interpolation != tables::Interpolation::linear)
-      throw InputError("--filter hardware is validated for --interpolation linear only");
+    grid.filter = tables::parse_filter(args.filter);
+    if (grid.filter == tables::Filter::hardware && grid.interpolation != tables::Interpolation::linear)
+      throw InputError({Named{"filter", "hardware"}, " is validated for ", Named{"interpolation", "linear"}, " only"});
   }
-  if (args.checks) options.random_checks = *args.checks;
-  tables::table_key(*model, law, options);  // refuses bad axes now
-  check_writable(args.output);
-  attach_progress(options, args.quiet, law, model->spec());
+  if (args.checks) grid.random_checks = *args.checks;
+  return grid;
+}
 
-  const tables::CacheResult r = tables::bake_or_reuse(args.output, *model, law, options, shell_line(args.argv), args.force);
+int bake_one(const BakeArgs& args) {
+  // Everything is checked before the (possibly long) bake.
+  if (args.model.empty()) throw InputError("bake model needs the model spec, e.g. bake model specular:alpha=8");
+  if (args.law.empty()) throw InputError("bake model needs --law g|h|a");
+  if (args.res.empty() && !args.table.max_error)
+    throw InputError("bake model needs --res N[xN[xN]] (a fixed grid) or --max-error E (an error target)");
+  if (args.output.empty()) throw InputError("bake model needs -o FILE.exr");
+  const Law law = tables::parse_tabulated_law("--law", args.law);
+  const ModelPtr model = parse_model(args.model);
+  tables::BakeRequest request = model_request(args, *model, law);
+  tables::table_key(*model, law, request);  // refuses bad axes now
+  check_writable(args.output);
+  attach_progress(tables::common(request), args.quiet, law, model->spec());
+
+  const tables::CacheResult r = tables::bake_or_reuse(args.output, *model, law, request, shell_line(args.argv), args.force);
   const tables::Table& table = r.table;
   if (args.json) {
     std::cout << nlohmann::ordered_json{{"tables", {shapes::table_json(r.path, r.table, r.status, r.seconds)}}}.dump(2) << "\n";
@@ -185,9 +188,10 @@ int bake_one(const BakeArgs& args) {
     std::string nodes;
     for (const tables::Axis& a : table.axes) nodes += (nodes.empty() ? "" : "x") + std::to_string(a.count);
     if (table.target_error > 0.0)
-      std::printf("target lookup error %s within %llu value bytes%s: met\n", format_number(table.target_error).c_str(),
+      std::printf("target lookup error %s within %llu value bytes%s: %s\n", format_number(table.target_error).c_str(),
                   static_cast<unsigned long long>(table.target_bytes),
-                  table.target_fetches ? (" and " + std::to_string(table.target_fetches) + " fetches").c_str() : "");
+                  table.target_fetches ? (" and " + std::to_string(table.target_fetches) + " fetches").c_str() : "",
+                  tables::misses_target(table) ? "missed (best effort: the most accurate table found)" : "met");
     std::printf("baked %s of %s, %s nodes (%s frame, %s, %s filter: %d fetches per lookup, %zu entries, %s, %llu value "
                 "bytes) in %.2f s: lookup error %.3g (validated at %lld points%s; node error %.3g), %lld unconverged -> %s\n",
                 to_string(law), table.model.c_str(), nodes.c_str(), to_string(table.frame),
@@ -224,7 +228,7 @@ std::size_t baked_count(const scene::ShadingPlan& plan) {
 }
 
 int bake_scene(const BakeArgs& args) {
-  if (args.out_dir.empty()) throw InputError("bake --scene needs --out DIR (the table cache directory)");
+  if (args.out_dir.empty()) throw InputError("bake scene needs --out DIR (the table cache directory)");
   const scene::TableOptions options = args.table.options(scene::TableOptions::scene_defaults());
   const Scene scene = load_scene(args.scene);
   const std::string dir = prepare_directory("--out", args.out_dir);
@@ -247,7 +251,7 @@ int bake_scene(const BakeArgs& args) {
 /// One shard of a library's tables into the cache --out (docs/scale-out.md): the library and the
 /// shard are checked before the directory is created or anything is baked.
 int bake_library(const BakeArgs& args) {
-  if (args.out_dir.empty()) throw InputError("bake --library needs --out DIR (the table cache directory)");
+  if (args.out_dir.empty()) throw InputError("bake library needs --out DIR (the table cache directory)");
   const Shard shard = args.shard ? parse_shard(*args.shard) : Shard{};
   const std::vector<scene::TableRequest> all = load_library(args.library);
   const std::vector<scene::TableRequest> mine = shard_of(all, shard);
@@ -271,45 +275,134 @@ int bake_library(const BakeArgs& args) {
   return 0;
 }
 
-enum class BakeMode { model, scene, library };
+}  // namespace
 
-/// The flags only some modes take; --tol, --encoding, --max-evals, --max-error, --max-bytes are
-/// for --model and --scene (a library states them per accuracy).
-struct ModeFlag {
-  const char* flag;
-  bool model, scene, library;
-};
-constexpr ModeFlag kModeFlags[] = {
-    {"--law", true, false, false},   {"--res", true, false, false},       {"--mapping", true, false, false},
-    {"--output", true, false, false}, {"--frame", true, false, false},    {"--interpolation", true, false, false},
-    {"--checks", true, false, false}, {"--out", false, true, true},       {"--res-g", false, true, false},
-    {"--res-h", false, true, false},  {"--shard", false, false, true},    {"--tol", true, true, false},
-    {"--encoding", true, true, false}, {"--max-evals", true, true, false}, {"--max-error", true, true, false},
-    {"--max-bytes", true, true, false}, {"--fetches", true, true, false}, {"--preset", true, false, false},
-    {"--dfg-layout", true, false, false},
-    {"--axis", true, false, false},   {"--grid", true, false, false}};
-
-/// Which of --model, --scene, --library was given (exactly one), with no flag of another mode.
-BakeMode bake_mode(const CLI::App& cmd) {
-  const bool model = cmd.count("--model") > 0, scene = cmd.count("--scene") > 0, library = cmd.count("--library") > 0;
-  if (model + scene + library > 1)
-    throw InputError("--model, --scene and --library are mutually exclusive; bake one table (--model), a scene's "
-                     "(--scene) or a library's (--library)");
-  if (!model && !scene && !library)
-    throw InputError("bake needs --model SPEC (one table, with --law, --res, -o), --scene SCENE.json --out DIR or "
-                     "--library LIB.json --out DIR [--shard K/N]");
-  const BakeMode mode = model ? BakeMode::model : scene ? BakeMode::scene : BakeMode::library;
-  const char* name = model ? "--model" : scene ? "--scene" : "--library";
-  for (const ModeFlag& f : kModeFlags) {
-    const bool allowed = mode == BakeMode::model ? f.model : mode == BakeMode::scene ? f.scene : f.library;
-    if (!allowed && cmd.count(f.flag) > 0) {
-      const char* hint = mode == BakeMode::model     ? "with --model use --law, --res, -o FILE.exr"
-                         : mode == BakeMode::scene ? "with --scene use --out DIR, --res-g, --res-h"
-                                                   : "with --library use --out DIR, --shard K/N; accuracies go in the library";
-      throw InputError(std::string(f.flag) + " is not for " + name + " bakes; " + hint);
+std::vector<std::string> bake_alias(const std::vector<std::string>& words) {
+  if (words.size() < 3 || words[1] != "bake" || words[2].empty() || words[2][0] != '-') return words;
+  auto given = [&](const std::string& flag) {
+    return std::any_of(words.begin() + 2, words.end(), [&](const std::string& w) {
+      return w == flag || w.rfind(flag + "=", 0) == 0;
+    });
+  };
+  // The old dispatch: --preset first (it took --model too), then --scene, --library, --model.
+  for (const char* kind : {"preset", "scene", "library", "model"})
+    if (given(std::string("--") + kind)) {
+      std::vector<std::string> out = words;
+      out.insert(out.begin() + 2, kind);
+      return out;
     }
-  }
-  return mode;
+  return words;
+}
+
+namespace {
+
+/// -o FILE.exr, --force, --quiet, --json: the flags of the jobs that write one table.
+void add_output_flags(CLI::App& cmd, BakeArgs& args) {
+  cmd.add_option("-o,--output", args.output, "the table to write, FILE.exr (written atomically)");
+  cmd.add_flag("--force", args.force, "bake even when the file already holds exactly this table");
+}
+
+/// --out DIR: the cache directory of the jobs that bake many tables.
+void add_cache_flags(CLI::App& cmd, BakeArgs& args) {
+  cmd.add_option("--out", args.out_dir,
+                 "the cache directory (created if its parent exists); file names are SPEC.LAW.HASH.exr");
+  cmd.add_flag("--force", args.force, "bake even when the cache already holds exactly a table");
+}
+
+void add_quiet_flag(CLI::App& cmd, BakeArgs& args) {
+  cmd.add_flag("--quiet", args.quiet, "no progress bar (it is shown only when stderr is a terminal)");
+}
+
+/// `bake model`: one law of one model, on a fixed grid or to an error target.
+void add_model_job(CLI::App& bake, Action& action, const std::shared_ptr<BakeArgs>& args) {
+  auto* cmd = bake.add_subcommand(
+      "model",
+      "one law (g, h, a) of one model into an OpenEXR table with per-entry error: on a fixed grid (--res, with "
+      "--mapping, --frame, --interpolation, --filter, --checks, --tol) or to an error target (--max-error, with "
+      "--max-bytes, --fetches, --best-effort)");
+  cmd->add_option("spec,--model", args->model, "the model spec, e.g. specular:alpha=8 (see `ganzfeld models`)");
+  cmd->add_option("--law", args->law, "g (vignetting, 3-D), h (darkening, 1-D) or a (albedo, 1-D)");
+  add_output_flags(*cmd, *args);
+  CLI::Option* res = cmd->add_option(
+      "--res", args->res, "fixed grid: nodes per axis, N or NIxNJxNPHI for g (axes cos_theta_i, cos_theta_j, phi); each >= 2");
+  std::vector<CLI::Option*> grid{res};
+  grid.push_back(cmd->add_option("--mapping", args->mapping,
+                                 "fixed grid: axis mappings, M or MxMxM for g (M = linear, sqrt, cos; default: the "
+                                 "law's defaults)"));
+  grid.push_back(cmd->add_option(
+      "--frame", args->frame,
+      "fixed grid: g axes, cosines (i·n, j·n, phi; default), lobe (theta_j, psi, beta about the lobe's peak) or "
+      "warped (theta_j, the sky edge's warped offset from the lobe, beta; docs/lut-format.md)"));
+  grid.push_back(cmd->add_option("--filter", args->filter,
+                                 "fixed grid: the lookup its bound covers, texel-fetch (default) or hardware (one "
+                                 "GPU-filtered fetch, 8-bit weights; linear interpolation only)"));
+  grid.push_back(cmd->add_option("--interpolation", args->interpolation,
+                                 "fixed grid: lookup, linear (default) or catmull-rom"));
+  grid.push_back(cmd->add_option(
+      "--checks", args->checks,
+      "fixed grid: seeded random validation points (besides the cell centres) against direct cubature"));
+  scene::TableOptions defaults;
+  defaults.tolerance = kModelTol;
+  const TableOptionArgs::Added added = args->table.add_to(*cmd, defaults, false);
+  grid.push_back(added.tol);
+  for (CLI::Option* target : {added.max_error, added.max_bytes, added.fetches})
+    for (CLI::Option* fixed : grid) target->excludes(fixed);
+  added.max_bytes->needs(added.max_error);
+  added.fetches->needs(added.max_error);
+  add_quiet_flag(*cmd, *args);
+  add_json_flag(*cmd, args->json, "{\"tables\": [{path, model, law, status}]}");
+  cmd->callback([&action, args] { action = [args] { return bake_one(*args); }; });
+}
+
+/// `bake preset`: a table over a roughness axis, as engines read it.
+void add_preset_job(CLI::App& bake, Action& action, const std::shared_ptr<BakeArgs>& args) {
+  auto* cmd = bake.add_subcommand(
+      "preset",
+      "a table over a roughness axis, as engines read it: dfg (split-sum DFG) or kulla-conty (E, E_avg) of "
+      "--model ggx[:g2=...]; docs/lut-format.md, version 3");
+  cmd->add_option("preset,--preset", args->preset, "dfg or kulla-conty");
+  cmd->add_option("--model", args->model, "ggx or ggx:g2=... (the axis and the channels set alpha and f0)");
+  cmd->add_option("--res", args->res, "samples per axis, N or NxN (roughness x cos_theta_i)");
+  cmd->add_option("--dfg-layout", args->dfg_layout,
+                  "dfg channels: filament (default: dfg_fc, dfg_e, charlie) or ue4 (scale, bias)");
+  cmd->add_option("--axis", args->axis, "the parameter axis, roughness (default; alpha = R^2) or alpha");
+  cmd->add_option("--grid", args->grid,
+                  "texel (default; sample k at (k + 0.5)/N, what a GPU lookup reads) or node (k/(N - 1))");
+  cmd->add_option("--tol", args->table.tol,
+                  "absolute tolerance of every texel's cubature (default " + format_number(tables::kPresetTolerance) +
+                      ")");
+  cmd->add_option("--encoding", args->table.encoding, "stored precision: float (default), half or unorm16");
+  cmd->add_option("--max-evals", args->table.max_evaluations,
+                  "evaluation budget per texel; beyond it the texel is kept and counted as unconverged");
+  cmd->add_option("-o,--output", args->output, "the table to write, FILE.exr (written atomically)");
+  add_quiet_flag(*cmd, *args);
+  cmd->callback([&action, args] { action = [args] { return bake_preset_table(*args); }; });
+}
+
+/// `bake scene`: every table a scene needs, into a cache directory.
+void add_scene_job(CLI::App& bake, Action& action, const std::shared_ptr<BakeArgs>& args) {
+  auto* cmd = bake.add_subcommand("scene", "every table a scene needs into a cache directory");
+  cmd->add_option("scene,--scene", args->scene, "the scene file, SCENE.json (e.g. examples/default.json)");
+  add_cache_flags(*cmd, *args);
+  args->table.add_to(*cmd, scene::TableOptions::scene_defaults());
+  add_quiet_flag(*cmd, *args);
+  add_json_flag(*cmd, args->json, "{\"tables\": [{path, model, law, status}, ...]}");
+  cmd->callback([&action, args] { action = [args] { return bake_scene(*args); }; });
+}
+
+/// `bake library`: one shard of a material library's tables, into a cache directory.
+void add_library_job(CLI::App& bake, Action& action, const std::shared_ptr<BakeArgs>& args) {
+  auto* cmd = bake.add_subcommand(
+      "library", "one shard of a material library's tables into a cache directory (docs/scale-out.md)");
+  cmd->add_option("library,--library", args->library,
+                  "LIB.json, groups of model specs x laws x accuracies (the accuracies go in the library)");
+  cmd->add_option("--shard", args->shard,
+                  "bake only shard K of N (K/N, 0 <= K < N; default 0/1, all); the N shards are disjoint and "
+                  "together are the whole library");
+  add_cache_flags(*cmd, *args);
+  add_quiet_flag(*cmd, *args);
+  add_json_flag(*cmd, args->json, "{\"shard\", \"library_tables\", \"tables\": [...]}");
+  cmd->callback([&action, args] { action = [args] { return bake_library(*args); }; });
 }
 
 }  // namespace
@@ -317,52 +410,22 @@ BakeMode bake_mode(const CLI::App& cmd) {
 void add_bake_command(CLI::App& app, Action& action, int argc, const char* const* argv) {
   auto* cmd = app.add_subcommand(
       "bake",
-      "tabulate a law (g, h, a) of a model into an OpenEXR table with per-entry error, or every table a scene "
-      "needs into a cache directory; a file that already holds exactly the requested table is reused");
+      "bake tables: `bake model` (one law of one model), `bake preset` (a roughness-axis table), `bake scene` "
+      "(a scene's tables) or `bake library` (a library's); a file that already holds exactly the requested table is "
+      "reused. The spellings bake --model/--preset/--scene/--library are aliases of these");
   auto args = std::make_shared<BakeArgs>();
   args->argv.assign(argv, argv + argc);
-  cmd->add_option("--model", args->model, "one table: model spec, e.g. specular:alpha=8 (see `ganzfeld models`)");
-  cmd->add_option("--law", args->law, "one table: g (vignetting, 3-D), h (darkening, 1-D) or a (albedo, 1-D)");
-  cmd->add_option("--res", args->res,
-                  "one table: nodes per axis, N or NIxNJxNPHI for g (axes cos_theta_i, cos_theta_j, phi); each >= 2");
-  cmd->add_option("--mapping", args->mapping,
-                  "one table: axis mappings, M or MxMxM for g (M = linear, sqrt, cos; default: the law's defaults)");
-  cmd->add_option("--frame", args->frame,
-                  "one table: g axes, cosines (i·n, j·n, phi; default), lobe (theta_j, psi, beta about the lobe's "
-                  "peak) or warped (theta_j, the sky edge's warped offset from the lobe, beta; docs/lut-format.md)");
-  cmd->add_option("--filter", args->filter,
-                  "one table: the lookup its bound covers, texel-fetch (default) or hardware (one GPU-filtered fetch, "
-                  "8-bit weights; linear interpolation only)");
-  cmd->add_option("--interpolation", args->interpolation, "one table: lookup, linear (default) or catmull-rom");
-  cmd->add_option("--checks", args->checks,
-                  "one table: seeded random validation points (besides the cell centres) against direct cubature");
-  cmd->add_option("--preset", args->preset,
-                  "one table over a roughness axis, as engines read it: dfg (split-sum DFG) or kulla-conty (E, E_avg); "
-                  "--model ggx[:g2=...]; docs/lut-format.md, version 3");
-  cmd->add_option("--dfg-layout", args->dfg_layout,
-                  "--preset dfg channels: filament (default: dfg_fc, dfg_e, charlie) or ue4 (scale, bias)");
-  cmd->add_option("--axis", args->axis, "--preset: the parameter axis, roughness (default; alpha = R^2) or alpha");
-  cmd->add_option("--grid", args->grid,
-                  "--preset: texel (default; sample k at (k + 0.5)/N, what a GPU lookup reads) or node (k/(N - 1))");
-  cmd->add_option("-o,--output", args->output, "one table: the table to write, FILE.exr (written atomically)");
-  cmd->add_option("--scene", args->scene, "a scene's tables: the scene file, SCENE.json (e.g. examples/default.json)");
-  cmd->add_option("--library", args->library,
-                  "a library's tables: LIB.json, groups of model specs x laws x accuracies (docs/scale-out.md)");
-  cmd->add_option("--shard", args->shard,
-                  "a library's tables: bake only shard K of N (K/N, 0 <= K < N; default 0/1, all); the N shards "
-                  "are disjoint and together are the whole library");
-  cmd->add_option("--out", args->out_dir,
-                  "a scene's or a library's tables: the cache directory (created if its parent exists); file "
-                  "names are SPEC.LAW.HASH.exr");
-  args->table.add_to(*cmd, scene::TableOptions::scene_defaults());  // --res-g, --res-h (scenes), --tol, --encoding, ...
-  cmd->add_flag("--force", args->force, "bake even when the file already holds exactly this table");
-  cmd->add_flag("--quiet", args->quiet, "no progress bar (it is shown only when stderr is a terminal)");
-  add_json_flag(*cmd, args->json, "{\"tables\": [{path, model, law, status}, ...]}");
-  cmd->callback([&action, args, cmd] {
-    action = [args, cmd] {
-      const BakeMode mode = bake_mode(*cmd);
-      return mode == BakeMode::model ? bake_one(*args) : mode == BakeMode::scene ? bake_scene(*args) : bake_library(*args);
-    };
+  add_model_job(*cmd, action, args);
+  add_preset_job(*cmd, action, args);
+  add_scene_job(*cmd, action, args);
+  add_library_job(*cmd, action, args);
+  cmd->callback([&action, cmd] {
+    if (cmd->get_subcommands().empty())
+      action = []() -> int {
+        throw InputError("bake needs a job: bake model SPEC --law g|h|a (--res N | --max-error E) -o FILE.exr, "
+                         "bake preset dfg|kulla-conty --model ggx -o FILE.exr, bake scene SCENE.json --out DIR or "
+                         "bake library LIB.json --out DIR [--shard K/N]");
+      };
   });
 }
 

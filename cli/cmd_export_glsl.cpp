@@ -3,7 +3,7 @@
 //   export-glsl TABLE.exr -o LAW.glsl [--texture ktx2|header|none] [--model SPEC --law L]
 //       the sampling function of one table, and its texture beside it (LAW.ktx2 or LAW.h);
 //       --model/--law state what the shader expects: a table of another model or law is refused.
-//   export-glsl --scene SCENE.json --out DIR [--cache DIR] [table options as bake --scene] [--texture ...]
+//   export-glsl --scene SCENE.json --out DIR [--cache DIR] [table options as bake scene] [--texture ...]
 //       DIR/ganzfeld_scene.glsl (the reference shading of every material), one texture and one
 //       sampling snippet per table the scene needs (named after its sampler uniform) and
 //       DIR/manifest.json binding them.
@@ -35,7 +35,7 @@ namespace {
 
 struct ExportArgs {
   std::string table, output, scene, out_dir, cache, texture, model, law;  ///< texture "": ktx2 (header for version 3)
-  TableOptionArgs tables;  // with --scene: the same table options as `bake --scene` and `render`
+  TableOptionArgs tables;  // with --scene: the same table options as `bake scene` and `render`
   bool json = false, quiet = false;
 };
 
@@ -130,7 +130,10 @@ int export_scene(const ExportArgs& args) {
                                  {"model", planned.request.spec},
                                  {"law", to_string(planned.request.law)},
                                  {"lookup_error", table->lookup_error},
-                                 {"node_error", table->node_error}};
+                                 {"node_error", table->node_error},
+                                 {"frame", to_string(table->frame)},
+                                 {"filter", to_string(table->filter)},
+                                 {"fetches", tables::fetches(*table)}};
     if (format) {
       const std::string file = sampler + exporting::texture_extension(*format);
       exporting::write_texture(*table, *format, (std::filesystem::path(dir) / file).string(), sampler);

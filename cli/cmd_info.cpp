@@ -88,8 +88,9 @@ void add_info_command(CLI::App& app, Action& action) {
                   format_number(table.lookup_error).c_str(),
                   table.format_version >= 2 ? "margin x the largest measured" : "measured", table.interpolation_checks);
       if (table.target_error > 0.0)
-        std::printf("  target       lookup error <= %s within %llu value bytes\n", format_number(table.target_error).c_str(),
-                    static_cast<unsigned long long>(table.target_bytes));
+        std::printf("  target       lookup error <= %s within %llu value bytes: %s\n", format_number(table.target_error).c_str(),
+                    static_cast<unsigned long long>(table.target_bytes),
+                    tables::misses_target(table) ? "missed (a best-effort bake)" : "met");
       if (table.target_fetches > 0) std::printf("  fetch budget %d per lookup\n", table.target_fetches);
       std::printf("  frame        %s%s%s, %s interpolation\n", to_string(table.frame),
                   table.frame != tables::Frame::cosines ? ", peak " : "",

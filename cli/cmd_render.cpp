@@ -1,6 +1,6 @@
 // ganzfeld render: a scene file (examples/default.json) to a linear EXR or an sRGB PNG. The scene decides
 // which tables exist (scene/plan.h): only those are baked, or reused from --cache DIR (tables/cache.h,
-// the same files `ganzfeld bake --scene SCENE --out DIR` makes with the same table options).
+// the same files `ganzfeld bake scene SCENE --out DIR` makes with the same table options).
 #include <optional>
 #include <cstdio>
 #include <iostream>
@@ -32,7 +32,7 @@ constexpr double kDirectTol = 1e-6;
 
 struct RenderArgs {
   std::string scene, output, cache;
-  TableOptionArgs table;  // the same table options as `bake --scene`, hence the same cache entries
+  TableOptionArgs table;  // the same table options as `bake scene`, hence the same cache entries
   bool direct = false, json = false, quiet = false;
 };
 
@@ -87,7 +87,7 @@ void add_render_command(CLI::App& app, Action& action) {
   args->table.add_to(*cmd, scene::TableOptions::scene_defaults());  // with --direct, --tol is per pixel (default 1e-6)
   cmd->add_option("--cache", args->cache,
                   "reuse tables from DIR and store new ones there (created if its parent exists); the files of "
-                  "`ganzfeld bake --scene SCENE --out DIR`. Default: bake in memory");
+                  "`ganzfeld bake scene SCENE --out DIR`. Default: bake in memory");
   cmd->add_flag("--quiet", args->quiet, "no progress and no summary line");
   add_json_flag(*cmd, args->json);
   cmd->callback([&action, args] { action = [args] { return run_render(*args); }; });

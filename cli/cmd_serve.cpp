@@ -1,6 +1,7 @@
 // ganzfeld serve: the models, laws, tables and shaders over HTTP (serve/, docs/serve.md).
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include "cli/args.h"
 #include "cli/commands.h"
@@ -13,6 +14,7 @@ namespace ganzfeld::cli {
 namespace {
 struct ServeArgs {
   std::string cache = "ganzfeld-cache";
+  std::string data;
   serve::ServerOptions server;
   int jobs = 1, queue = 4;
   long long max_entries = serve::Limits{}.max_entries;
@@ -50,7 +52,10 @@ void add_serve_command(CLI::App& app, Action& action) {
                                           "over HTTP until SIGINT/SIGTERM (docs/serve.md)");
   auto args = std::make_shared<ServeArgs>();
   const serve::LoopOptions loop;
-  cmd->add_option("--cache", args->cache, "the table cache directory, shared with `bake --scene --out` (default ganzfeld-cache)");
+  cmd->add_option("--cache", args->cache, "the table cache directory, shared with `bake scene --out` (default ganzfeld-cache)");
+  cmd->add_option("--data", args->data,
+                  "a directory of measured data files (MERL, tabulated, Beard-Maxwell first-surface tables) served "
+                  "by name: merl:file=NAME (default none: requests naming a file are refused)");
   cmd->add_option("--port", args->server.port, "TCP port (default 8080; 0: any free port, logged on stderr)");
   cmd->add_option("--bind", args->server.bind, "address to listen on (default 127.0.0.1: this machine only)");
   cmd->add_option("--allowed-hosts", args->allowed_hosts,
@@ -108,6 +113,12 @@ void add_serve_command(CLI::App& app, Action& action) {
       check_range("--write-timeout", args->server.loop.write_seconds, 0.1, 3600);
       check_range("--drain-seconds", args->server.drain_seconds, 0, 60);
       serve::ServiceOptions options;
+      if (!args->data.empty()) {
+        options.data = serve::DataFiles::scan(args->data);
+        std::fprintf(stderr, "ganzfeld serve: --data %s: %zu measured files served by name, %zu skipped\n",
+                     args->data.c_str(), options.data.files().size(), options.data.skipped().size());
+        for (const std::string& why : options.data.skipped()) std::fprintf(stderr, "  skipped %s\n", why.c_str());
+      }
       options.cache_dir = prepare_directory("--cache", args->cache);
       options.jobs = args->jobs;
       options.queue = args->queue;

@@ -2,6 +2,8 @@
 #pragma once
 
 #include <functional>
+#include <string>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 
@@ -14,6 +16,11 @@ void add_models_command(CLI::App& app, Action& action);
 void add_eval_command(CLI::App& app, Action& action);
 void add_verify_command(CLI::App& app, Action& action);
 void add_bake_command(CLI::App& app, Action& action, int argc, const char* const* argv);  ///< argv: the command metadata
+/// The command line with the alias spellings of bake (`bake --model ...`, `bake --preset ...`,
+/// `bake --scene ...`, `bake --library ...`) given their job's subcommand (`bake model --model
+/// ...`); the old dispatch order decides: --preset, then --scene, --library, --model. Other words
+/// are returned as they are.
+std::vector<std::string> bake_alias(const std::vector<std::string>& words);
 void add_info_command(CLI::App& app, Action& action);
 void add_sample_command(CLI::App& app, Action& action);
 void add_tradeoff_command(CLI::App& app, Action& action);

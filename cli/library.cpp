@@ -91,7 +91,7 @@ class LibraryParser {
         const std::string at_law = where + ".laws[" + std::to_string(l) + "]";
         const Law law = at(at_law, [&] { return tables::parse_tabulated_law("law", text(laws[l], at_law)); });
         for (std::size_t a = 0; a < options.size(); ++a)
-          add({model->spec(), law, model, options[a].bake_options(law == Law::g ? Law::g : Law::h)},
+          add({model->spec(), law, model, options[a].request(law == Law::g ? Law::g : Law::h)},
               at_model + ", " + at_law + ", accuracies[" + std::to_string(a) + "]");
       }
     }
@@ -131,11 +131,7 @@ class LibraryParser {
 
   /// Adds the table unless the library already has it (same cache key).
   void add(scene::TableRequest request, const std::string& where) {
-    const tables::BakeOptions& o = request.options;
-    const tables::TableKey key = at(where, [&] {
-      if (o.target_error > 0.0) tables::check_error_target(o.target_error, o.max_bytes, request.law, o.encoding);
-      return tables::table_key(*request.model, request.law, o);
-    });
+    const tables::TableKey key = at(where, [&] { return tables::table_key(*request.model, request.law, request.options); });
     if (keys_.insert(tables::key_text(key)).second) tables_.push_back(std::move(request));
   }
 };
@@ -143,8 +139,8 @@ class LibraryParser {
 /// Entries of a table baked at a fixed resolution; tables baked to an error target count as
 /// larger than any (their size is chosen while baking).
 std::uint64_t size_rank(const scene::TableRequest& r) {
-  if (r.options.target_error > 0.0) return UINT64_MAX;
-  return tables::table_bytes(r.options.resolution) / tables::kBytesPerEntry;
+  const auto* grid = std::get_if<tables::BakeOptions>(&r.options);
+  return grid ? tables::table_bytes(grid->resolution) / tables::kBytesPerEntry : UINT64_MAX;
 }
 
 }  // namespace

@@ -1,12 +1,12 @@
-// Material libraries for `ganzfeld bake --library LIB.json --out DIR --shard K/N` (docs/scale-out.md):
+// Material libraries for `ganzfeld bake library LIB.json --out DIR --shard K/N` (docs/scale-out.md):
 // a JSON file of groups, each a list of model specs × laws × accuracies, names the tables of a
-// library; the tables are the cache entries `bake --scene`, `render` and `serve` use (same keys,
+// library; the tables are the cache entries `bake scene`, `render` and `serve` use (same keys,
 // same file names: tables/cache.h), so shards baked anywhere merge by copying files.
 //
 //   {"groups": [{"models": ["specular:alpha=8", "minnaert:xi=1"], "laws": ["g", "h"],
 //                "accuracies": [{}, {"res_g": "16x16x8", "res_h": "64", "tol": 1e-6}, {"max_error": 1e-4}]}]}
 //
-// An accuracy's keys are the table flags of `bake --scene` without their dashes (res_g, res_h,
+// An accuracy's keys are the table flags of `bake scene` without their dashes (res_g, res_h,
 // tol, encoding, max_evals, max_error, max_bytes), checked by the same parser (TableOptionArgs);
 // unset keys take the same defaults (scene::TableOptions), so {} is a scene's default table.
 // Laws h and a take res_h (one axis), g takes res_g.

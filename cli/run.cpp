@@ -49,8 +49,12 @@ int run_cli(int argc, const char* const* argv, bool parse_only) {
     };
   });
 #endif
+  // The alias spellings of bake become its subcommands; the tables still stamp argv as typed.
+  const std::vector<std::string> words = bake_alias(std::vector<std::string>(argv, argv + argc));
+  std::vector<const char*> parsed;
+  for (const std::string& word : words) parsed.push_back(word.c_str());
   try {
-    app.parse(argc, argv);
+    app.parse(static_cast<int>(parsed.size()), parsed.data());
   } catch (const CLI::Success& e) {  // --help, --version
     return app.exit(e);
   } catch (const CLI::ParseError& e) {

@@ -6,13 +6,12 @@
 #include <set>
 #include <sstream>
 
-#include "export/literal.h"
+#include "export/glsl_f.h"
 #include "util/error.h"
-#include "models/kp_lobes.h"
-#include "models/mixture.h"
 #include "scene/plan.h"
 #include "tables/cache.h"
 #include "tables/sample.h"
+#include "util/literal.h"
 
 namespace ganzfeld::exporting {
 
@@ -529,69 +528,6 @@ void check_table_is(const Table& table, const Model& model, Law law) {
   check_table(table);
 }
 
-std::string glsl_model_f(const Model& model) {
-  const std::string name = glsl_identifier("f_" + model.spec());
-  std::ostringstream s;
-  if (const auto* mixture = dynamic_cast<const Mixture*>(&model)) {
-    // f of a mixture is the weighted sum of its lobes' f (models/mixture.h; weights normalized).
-    std::set<std::string> emitted;
-    std::string sum;
-    for (const Lobe& lobe : mixture->lobes()) {
-      const std::string lobe_name = glsl_identifier("f_" + lobe.model->spec());
-      if (emitted.insert(lobe_name).second) s << glsl_model_f(*lobe.model);
-      sum += (sum.empty() ? "" : " + ") + literal(lobe.weight) + " * " + lobe_name + "(i, j, n)";
-    }
-    s << "// f of the mixture " << comment_text(model.spec()) << "\n"
-      << "float " << name << "(vec3 i, vec3 j, vec3 n) { return " << sum << "; }\n";
-    return s.str();
-  }
-  s << "// f of " << comment_text(model.spec()) << " (models/kp_lobes.h); i, j, n unit.\n"
-    << "float " << name << "(vec3 i, vec3 j, vec3 n) {\n"
-    << "  float mi = dot(i, n), mj = dot(j, n);\n"
-    << "  if (mi < 0.0 || mj < 0.0) return 0.0;\n";
-  if (dynamic_cast<const Lambert*>(&model)) {
-    s << "  return " << literal(std::numbers::inv_pi) << ";\n";
-  } else if (const auto* m = dynamic_cast<const Minnaert*>(&model)) {
-    // K&P "Bulk scattering": f_d = C_d ((i.n)(j.n))^xi
-    s << "  return " << literal(minnaert::C_d(m->xi())) << " * "
-      << (m->xi() == 0.0 ? std::string("1.0") : "pow(mi * mj, " + literal(m->xi()) + ")") << ";\n";
-  } else if (const auto* sp = dynamic_cast<const Specular*>(&model)) {
-    // K&P "Specular reflection": f_s = C_s ((1 + k.j)/2)^alpha, k = 2(i.n)n - i, so k.j = 2 mi mj - i.j
-    s << "  float x = clamp(0.5 * (1.0 + 2.0 * mi * mj - dot(i, j)), 0.0, 1.0);\n"
-      << "  return " << literal(sp->C_s()) << " * pow(x, " << literal(sp->alpha()) << ");\n";
-  } else if (const auto* b = dynamic_cast<const Backscatter*>(&model)) {
-    // K&P "Backscattering": f_b = C_b ((1 + i.j)/2)^alpha
-    s << "  float x = clamp(0.5 * (1.0 + dot(i, j)), 0.0, 1.0);\n"
-      << "  return " << literal(b->C_b()) << " * pow(x, " << literal(b->alpha()) << ");\n";
-  } else if (const auto* pb = dynamic_cast<const PerfectBackscatter*>(&model)) {
-    // K&P: f_pb = C_pb (1 + i.j)^alpha / ((i + j).n) = (C_pb 2^alpha) ((1 + i.j)/2)^alpha / ((i + j).n)
-    s << "  float d = mi + mj;\n"
-      << "  if (d <= 0.0) return 0.0;\n"
-      << "  float x = clamp(0.5 * (1.0 + dot(i, j)), 0.0, 1.0);\n"
-      << "  return " << literal(pb->C_pb_times_2_pow_alpha()) << " * pow(x, " << literal(pb->alpha()) << ") / d;\n";
-  } else if (const auto* a = dynamic_cast<const Asperity*>(&model)) {
-    // K&P "Asperity scattering": f_a = (1/pi) (1 - (i.n)(j.n))^alpha
-    s << "  return " << literal(std::numbers::inv_pi) << " * pow(max(1.0 - mi * mj, 0.0), " << literal(a->alpha())
-      << ");\n";
-  } else {
-    throw InputError("no GLSL form of f for model '" + model.spec() +
-                     "' (a collimated light needs f); available: lambert, minnaert, specular, backscatter, "
-                     "perfect-backscatter, asperity");
-  }
-  s << "}\n";
-  return s.str();
-}
-
-namespace {
-/// Whether the model has a mirror delta (Model::mirror_reflectance) at some incidence.
-bool has_mirror_term(const Model& model) {
-  constexpr int kSteps = 64;
-  for (int k = 1; k <= kSteps; ++k)
-    if (model.mirror_reflectance(static_cast<double>(k) / kSteps) > 0.0) return true;
-  return false;
-}
-}  // namespace
-
 void check_scene_exportable(const Scene& scene) {
   bool collimated = false, extended = false;
   for (const Light& light : scene.lights) {
@@ -601,7 +537,7 @@ void check_scene_exportable(const Scene& scene) {
   for (const SceneObject& object : scene.objects)
     for (const MaterialLobe& lobe : scene.materials.at(object.material).lobes) {
       if (collimated) glsl_model_f(*lobe.model);
-      if (extended && has_mirror_term(*lobe.model))
+      if (extended && has_mirror_delta(*lobe.model))
         throw InputError("model '" + lobe.spec + "' has a mirror delta besides f (the coherent specular term rho_s) that "
                          "its tables do not hold; render adds it under skies and the Ganzfeld, the GLSL would not: "
                          "allowed: models without a mirror delta under extended lights");
@@ -641,7 +577,7 @@ struct LobeCode {
     tables << glsl_table_function(*table);
   }
   void add_f(const scene::PlannedLobe& lobe) {
-    if (done.insert(glsl_identifier("f_" + lobe.spec)).second) fs << glsl_model_f(*lobe.model);
+    if (done.insert(glsl_f_name(lobe.spec)).second) fs << glsl_model_f(*lobe.model);
   }
 };
 
@@ -667,7 +603,7 @@ std::string light_term(const Light& light, std::size_t k, const scene::PlannedMa
   const std::string L = "GZ_LIGHT" + std::to_string(k);
   std::string sum;
   for (const scene::PlannedLobe& lobe : lobes) {
-    const std::string law = light.type == Light::Type::collimated      ? glsl_identifier("f_" + lobe.spec) + "(i, j, n)"
+    const std::string law = light.type == Light::Type::collimated      ? glsl_f_name(lobe.spec) + "(i, j, n, t)"
                             : light.type == Light::Type::hemispherical ? law_expression(lobe, Law::g)
                                                                        : law_expression(lobe, Law::h);
     Rgb weighted{};
@@ -701,7 +637,7 @@ std::string material_function(const std::string& name, std::size_t m, const std:
                               const std::vector<Light>& lights, const scene::PlannedMaterial& lobes) {
   std::ostringstream out;
   out << "// material " << m << " '" << comment_text(material_name) << "'\n"
-      << "vec3 " << name << "(vec3 n, vec3 j) {\n"
+      << "vec3 " << name << "(vec3 n, vec3 j, vec3 t) {\n"
       << "  vec3 jc = gz_clamp_to_horizon(j, n);\n"
       << "  vec3 radiance = vec3(0.0);\n";
   for (std::size_t k = 0; k < lights.size(); ++k) out << light_term(lights[k], k, lobes);
@@ -723,7 +659,7 @@ std::string glsl_scene_shader(const Scene& scene, const scene::ShadingPlan& plan
     }
     const std::string name = glsl_identifier("material_" + std::to_string(m) + "_" + scene.materials[m].name);
     materials << material_function(name, m, scene.materials[m].name, scene.lights, plan.materials[m]);
-    dispatch << "  if (material == " << m << ") return " << name << "(n, j);\n";
+    dispatch << "  if (material == " << m << ") return " << name << "(n, j, t);\n";
   }
   std::ostringstream out;
   out << "// ganzfeld scene shader for " << comment_text(source) << " (generated; docs/shaders.md).\n"
@@ -734,13 +670,17 @@ std::string glsl_scene_shader(const Scene& scene, const scene::ShadingPlan& plan
       << glsl_common() << "\n"
       << code.uniforms.str() << "\n"
       << code.tables.str() << "\n"
-      << code.fs.str() << "\n"
+      << glsl_helpers({"gz_frame"}) << code.fs.str() << "\n"
       << "// Lights (world space; directions unit, towards the source), from the scene file.\n"
       << light_constants(scene.lights) << "\n"
       << materials.str()
-      << "// Radiance of material `material` (its index in the scene file) at unit normal n, towards unit j.\n"
+      << "// Radiance of material `material` (its index in the scene file) at unit normal n, towards unit j;\n"
+      << "// t the surface's tangent (anisotropic lobes are oriented by it: the object's \"tangent\" rule of the\n"
+      << "// scene file, gz_brush_tangent; isotropic ones ignore it).\n"
+      << "vec3 gz_scene_radiance(int material, vec3 n, vec3 j, vec3 t) {\n"
+      << dispatch.str() << "  return vec3(0.0);\n}\n"
       << "vec3 gz_scene_radiance(int material, vec3 n, vec3 j) {\n"
-      << dispatch.str() << "  return vec3(0.0);\n}\n";
+      << "  return gz_scene_radiance(material, n, j, gz_brush_tangent(n, vec3(0.0, 1.0, 0.0), true));\n}\n";
   return out.str();
 }
 

@@ -69,12 +69,6 @@ std::string glsl_table_snippet(const tables::Table& table);
 /// file to a shader function.
 void check_table_is(const tables::Table& table, const Model& model, Law law);
 
-/// f of a model as GLSL, `float NAME(vec3 i, vec3 j, vec3 n)`, NAME = gz_f_<spec>, for models
-/// with a closed form we emit: the Koenderink–Pont lobes, and mixtures of them (each lobe's
-/// function, then their weighted sum). Throws InputError naming the model and what is available
-/// otherwise.
-std::string glsl_model_f(const Model& model);
-
 /// Throws what glsl_scene_shader would throw about the scene itself (a lobe lit by a collimated
 /// light without a GLSL f; under extended lights an anisotropic lobe, or one with a mirror delta
 /// that render adds and no table holds: Model::mirror_reflectance), so that the exporter can

@@ -8,8 +8,8 @@
 #include <Imath/half.h>
 
 #include "export/glsl.h"
-#include "export/literal.h"
 #include "models/registry.h"
+#include "util/literal.h"
 
 namespace ganzfeld::exporting {
 

@@ -10,9 +10,9 @@
 
 #include <Imath/half.h>
 
-#include "export/literal.h"
 #include "tables/exr_io.h"
 #include "util/error.h"
+#include "util/literal.h"
 #include "util/names.h"
 #include "util/atomic_file.h"
 

@@ -3,7 +3,7 @@
 // The algorithm in three steps (after QUADPACK's qag and Genz & Malik's adaptive scheme, as in
 // S. G. Johnson's hcubature.c):
 //  1. Start from a grid of panels whose lines are given by the caller (the known lobe peaks,
-//     widths and boundary layers of the integrand: MassHints, models/model.h), so that the first nodes
+//     widths and boundary layers of the integrand: MassHints, models/mass_hints.h), so that the first nodes
 //     cannot all miss a sharp lobe.
 //  2. On each panel apply the 15-point Kronrod rule in every axis (15^D nodes) and its embedded
 //     7-point Gauss rule; the panel's error is the larger of |K⊗K − G⊗G| and the sum of the

@@ -35,16 +35,19 @@ Vec3 direction_from_cos(double cos_theta, double phi) {
 namespace {
 
 const Vec3 kNormal{0.0, 0.0, 1.0};
-constexpr double kBroadLobe = 0.35;   // wider hints (radians) are left to plain adaptivity
-constexpr double kThinLayer = 0.3;    // thicker horizon layers likewise
-constexpr double kCentreLineOnly = 0.02;  // lobes at least this wide get only a line at their centre
-// Horizon grading (Grading below) for rough horizons and layers thinner than this. Measured on
-// the peers benchmark (40 cases a family, evaluations to reach 1e-10): Minnaert 2.3x, perfect
-// backscatter 2.6x, asperity 1.5x, degenerate geometries 1.5x fewer; asperity alpha=10 with a
-// 0.27 layer cost 17% more graded, so thicker layers are not graded.
-constexpr double kGradedLayer = 0.02;
+// The rules by which hints become lines, stated once with their reasons (models/mass_hints.h).
+using hint_rules::kBroadLobe;
+using hint_rules::kCentreLineOnly;
+using hint_rules::kFlankWidths;
+using hint_rules::kGradedLayer;
+using hint_rules::kLadderFirst;
+using hint_rules::kLadderRatio;
+using hint_rules::kLayerLines;
+using hint_rules::kNarrowestWidth;
+using hint_rules::kPoleLadderEnd;
+using hint_rules::kReachWidths;
+using hint_rules::kThinLayer;
 constexpr double kNearHorizonEdge = 0.1;  // a sky edge this close to the horizon is graded too
-constexpr double kPoleLadderEnd = 1e-12;  // a pole's ladder of lines stops this close to it (radians)
 
 }  // namespace
 
@@ -88,12 +91,11 @@ void add_exact_lines(std::vector<double>& cuts, const std::vector<double>& lines
   }
 }
 
-/// Initial cut lines from the model's mass hints: each peak (clamped into the rectangle) gets
-/// lines at its centre and, when sharper than kCentreLineOnly, at ±2 widths (measured: 15% fewer
-/// evaluations than ±1, ±4, as honest),
-/// per scale when the lobe is elongated (Peak::across); a horizon layer of thickness delta gets
-/// lines at delta and 4 delta from the horizon (phi = pi/2, phi = -pi/2 for the hemisphere, and
-/// the caps t = ±pi/2).
+/// Initial cut lines from the model's mass hints (the rules: models/mass_hints.h): each peak
+/// (clamped into the rectangle) gets lines at its centre and, when sharper than kCentreLineOnly,
+/// at ±kFlankWidths widths, and a ladder outwards, per scale when the lobe is elongated
+/// (Peak::across); a horizon layer of thickness delta gets lines at kLayerLines deltas from the
+/// horizon (phi = pi/2, phi = -pi/2 for the hemisphere, and the caps t = ±pi/2).
 /// `first_axis(t, phi)` maps a line at latitude t, placed for longitude phi, to the first
 /// coordinate of the rectangle (t itself on a lune; the clipped crease frame's s).
 template <typename FirstAxis>
@@ -113,35 +115,28 @@ std::array<std::vector<double>, 2> cuts_from_hints(const MassHints& hints, const
     // against the plane of the peak), so both get lines at both scales.
     for (double scale : {peak.width, across}) {
       if (!(scale < kBroadLobe)) continue;
-      const double w = std::max(scale, 1e-13);
+      const double w = std::max(scale, kNarrowestWidth);
       const double w_phi = w / std::max(std::cos(t_d), w);  // longitude shrinks towards the poles
       // Within a few widths of a pole t = ±pi/2 of the coordinates (the lune's tip: a thin lune
       // of g with the lobe at its end) the lobe's centre lies on the rectangle's edge, where no
       // panels meet around it: it needs its ±2w lines whatever its width (tests/extremes_test.cpp,
       // SharpLobeAtTheTipOfAThinLuneIsHonest).
-      const bool at_pole = std::abs(t_d) + 4.0 * w > pi / 2;
+      const bool at_pole = std::abs(t_d) + kReachWidths * w > pi / 2;
       // A lobe at a pole t = ±pi/2 of the coordinates: every longitude meets there, so the part
       // of the lobe inside the domain can be far smaller than the lobe (a thin lune's tip cuts a
       // sliver 1e-8 wide from a lobe 1e-2 wide, which the ±2w lines leave to one panel whose nodes
       // all miss it: tests/extremes_test.cpp, SliverOfALobeAtTheTipIsHonest). A geometric ladder of
-      // lines towards the pole, w/8, w/64, ... down to 1e-12 rad, gives the refinement a panel at
-      // every scale there.
+      // lines towards the pole, w/8, w/64, ... down to kPoleLadderEnd, gives the refinement a panel
+      // at every scale there.
       if (at_pole)
-        for (double offset = w / 8.0; offset > kPoleLadderEnd; offset /= 8.0)
+        for (double offset = w / kLadderRatio; offset > kPoleLadderEnd; offset /= kLadderRatio)
           pole_ladder.push_back(first_axis((t_d < 0.0 ? -1.0 : 1.0) * (pi / 2 - offset), phi_d));
-      for (double m : {-2.0, 0.0, 2.0}) {
-        // A lobe wider than kCentreLineOnly is seen by the nodes of the panels that meet at its
-        // centre (their first Kronrod node lies within 0.0043 panel widths of an edge, < 0.014
-        // rad), so it needs no ±2w lines: measured on the 1,200-case benchmark, 25% fewer
-        // evaluations for specular and backscatter lobes and no estimate less honest.
+      for (double m : {-kFlankWidths, 0.0, kFlankWidths}) {
         if (m != 0.0 && w >= kCentreLineOnly && !at_pole) continue;
         t_lines.push_back(first_axis(t_d + m * w, phi_d));
         phi_lines.push_back(phi_d + m * w_phi);
       }
-      // A ladder of lines at 16 and 128 widths (up to the broad-lobe scale), so the panels next
-      // to a very sharp lobe grow gradually: a hint narrower than the lobe's real tails would
-      // otherwise leave them at the edge of a panel a thousand times wider, where no node looks.
-      for (double m = 16.0; m * w < kBroadLobe; m *= 8.0)
+      for (double m = kLadderFirst; m * w < kBroadLobe; m *= kLadderRatio)
         for (double sign : {-1.0, 1.0}) {
           t_lines.push_back(first_axis(t_d + sign * m * w, phi_d));
           phi_lines.push_back(phi_d + sign * m * w_phi);
@@ -151,7 +146,7 @@ std::array<std::vector<double>, 2> cuts_from_hints(const MassHints& hints, const
   }
   const double delta = hints.horizon_layer;
   if (delta > 0.0 && delta < kThinLayer) {
-    for (double m : {1.0, 4.0}) {
+    for (double m : kLayerLines) {
       phi_lines.push_back(pi / 2 - m * delta);
       if (fr.phi_lo <= -pi / 2) phi_lines.push_back(-pi / 2 + m * delta);  // the hemisphere: both ends
       t_lines.push_back(first_axis(pi / 2 - m * delta, 0.0));
@@ -279,12 +274,12 @@ Estimate integrate_on_lune(const Model& model, const Lune& fr, std::array<std::v
 /// ±2 widths when sharp, and a ladder outwards), as for a lobe (cuts_from_hints).
 void add_step_lines(std::vector<double>& phi_cuts, double centre, double w) {
   if (!(w < kBroadLobe) || !(centre > phi_cuts.front() && centre < phi_cuts.back())) return;
-  w = std::max(w, 1e-13);
+  w = std::max(w, kNarrowestWidth);
   std::vector<double> lines(phi_cuts.begin() + 1, phi_cuts.end() - 1);
   lines.push_back(centre);
   std::vector<double> offsets;
-  if (w < kCentreLineOnly) offsets.push_back(2.0);
-  for (double m = 16.0; m * w < kBroadLobe; m *= 8.0) offsets.push_back(m);
+  if (w < kCentreLineOnly) offsets.push_back(kFlankWidths);
+  for (double m = kLadderFirst; m * w < kBroadLobe; m *= kLadderRatio) offsets.push_back(m);
   for (double m : offsets) {
     lines.push_back(centre - m * w);
     lines.push_back(centre + m * w);

@@ -65,6 +65,29 @@ double AshikhminShirley::f(const Vec3& i, const Vec3& j) const noexcept {
   return std::isfinite(s) ? d + s : d;
 }
 
+std::optional<GlslF> AshikhminShirley::glsl_f() const {
+  // As f, from s = i + j without cancellation: 1 - (1 - x)^5 = x (1 + y + y^2 + y^3 + y^4), y = 1 - x;
+  // 1 - k.h = |i - j|^2 / (4 (1 + k.h)) (unit i, j); 1 - h.n = |s_xy|^2 / (|s| (|s| + s_z)); e(h) from
+  // s_x^2 and s_y^2, which scale as h's.
+  const std::string diffuse = decimal_literal(28.0 * rd_ / (23.0 * pi) * (1.0 - rs_));
+  return GlslF{std::string(kGlslBelowHorizon) +
+                   "  float xi = 0.5 * min(i.z, 1.0), xj = 0.5 * min(j.z, 1.0), yi = 1.0 - xi, yj = 1.0 - xj;\n"
+                   "  float d = " + diffuse + " * ((xi * (1.0 + yi * (1.0 + yi * (1.0 + yi * (1.0 + yi))))) *\n"
+                   "            (xj * (1.0 + yj * (1.0 + yj * (1.0 + yj * (1.0 + yj))))));\n"
+                   "  vec3 s = i + j, e = i - j;\n"
+                   "  float len = length(s), mu_max = max(i.z, j.z);\n"
+                   "  if (!(len > 0.0) || !(mu_max > 0.0)) return d;\n"
+                   "  float kh = 0.5 * len, x = clamp(dot(e, e) / (4.0 * (1.0 + kh)), 0.0, 1.0), x2 = x * x;\n"
+                   "  float F = " + decimal_literal(rs_) + " + " + decimal_literal(1.0 - rs_) + " * (x2 * x2 * x);\n"
+                   "  float sxx = s.x * s.x, syy = s.y * s.y, sxy = sxx + syy;\n"
+                   "  float exponent = sxy > 0.0 ? (" + decimal_literal(nu_) + " * sxx + " + decimal_literal(nv_) +
+                   " * syy) / sxy : 0.0;\n"
+                   "  float lobe = s.z > 0.0 ? gz_pow_pair(s.z / len, sxy / (len * (len + s.z)), exponent) : 0.0;\n"
+                   "  float spec = " + decimal_literal(norm_ / (8.0 * pi)) + " * lobe / (kh * mu_max) * F;\n"
+                   "  return isinf(spec) || isnan(spec) ? d : d + spec;\n",
+               {"gz_pow_pair"}};
+}
+
 double AshikhminShirley::halfway_pdf(const Vec3& h) const noexcept {
   if (!(h.z > 0.0)) return 0.0;
   return norm_ / (2.0 * pi) * std::pow(std::min(h.z, 1.0), exponent(h));
@@ -107,7 +130,7 @@ double AshikhminShirley::pdf_incident(const Vec3& j, const Vec3& i) const {
 
 MassHints AshikhminShirley::mass_hints(const Vec3& fixed, Varying) const {
   const double along = 2.0 / std::sqrt(std::max(nu_, nv_) + 1.0);
-  return {{{mirror(fixed), along, along * std::max(fixed.z, 1e-3)}}, 0.0};
+  return HintBuilder().lobe(mirror(fixed), along, along * std::max(fixed.z, 1e-3)).build();
 }
 
 // ---------------------------------------------------------------------------------------------

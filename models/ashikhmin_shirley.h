@@ -35,6 +35,7 @@ class AshikhminShirley final : public Model {
   /// 0.9996, R_s = 1, n_u = n_v = 10000, normal incidence), though no bound is proved.
   Traits traits() const override { return {nu_ == nv_, true, EnergyClass::plausible}; }
   double f(const Vec3& i, const Vec3& j) const noexcept override;
+  std::optional<GlslF> glsl_f() const override;
   /// The mirror direction, width 2/sqrt(max(n_u, n_v) + 1) along the plane of n and the fixed
   /// direction (as blinn-phong: the halfway lobe (h·n)^e ~ exp(-e delta^2/2), psi ~ 2 delta),
   /// (fixed·n) times thinner across, floored at 1e-3 of it.

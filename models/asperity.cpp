@@ -19,10 +19,19 @@ double Asperity::f(const Vec3& i, const Vec3& j) const noexcept {
   return std::numbers::inv_pi * std::pow(1.0 - i.z * j.z, alpha_);
 }
 
+std::optional<GlslF> Asperity::glsl_f() const {
+  // 1 - (i.n)(j.n) = (|i_xy|^2 + |j_xy|^2 + (i.z - j.z)^2)/2 for unit i, j: no cancellation when
+  // both stand near the normal.
+  return GlslF{std::string(kGlslBelowHorizon) +
+                   "  float u = 0.5 * (dot(i.xy, i.xy) + dot(j.xy, j.xy) + (i.z - j.z) * (i.z - j.z));\n"
+                   "  return " + decimal_literal(std::numbers::inv_pi) + " * gz_pow_pair(u, i.z * j.z, " +
+                   decimal_literal(alpha_) + ");\n",
+               {"gz_pow_pair"}};
+}
+
 MassHints Asperity::mass_hints(const Vec3& fixed, Varying) const {
   // (k·n)(1 - (k·n)(fixed·n))^alpha peaks at k·n = 1/((alpha+1) fixed·n): a layer on the horizon.
-  const double layer = 1.0 / ((alpha_ + 1.0) * std::max(fixed.z, 1e-300));
-  return {{}, layer < 0.3 ? layer : 0.0};
+  return HintBuilder().layer(1.0 / ((alpha_ + 1.0) * std::max(fixed.z, 1e-300))).build();
 }
 
 namespace asperity {

@@ -20,8 +20,14 @@ double Backscatter::f(const Vec3& i, const Vec3& j) const noexcept {
   return C_b_ * std::pow(x, alpha_);
 }
 
+std::optional<GlslF> Backscatter::glsl_f() const {
+  return GlslF{std::string(kGlslBelowHorizon) + "  return " + decimal_literal(C_b_) + " * gz_half_cos_power(i, j, " +
+                   decimal_literal(alpha_) + ");\n",
+               {"gz_half_cos_power"}};
+}
+
 MassHints Backscatter::mass_hints(const Vec3& fixed, Varying) const {
-  return {{{fixed, std::sqrt(2.0 / alpha_)}}, 0.0};
+  return HintBuilder().lobe(fixed, std::sqrt(2.0 / alpha_)).build();
 }
 
 namespace backscatter {

@@ -200,21 +200,49 @@ double BeardMaxwell::f(const Vec3& i, const Vec3& j) const noexcept {
   return first_surface(i, j) + volumetric(i, j);
 }
 
+std::optional<GlslF> BeardMaxwell::glsl_f() const {
+  // A first-surface table read from a file has no GLSL form here: the viewer asks the service.
+  if (fs_.is_table()) return std::nullopt;
+  // As first_surface() + volumetric(): theta_N, beta and the Beckmann rho_fs cos^2 from s = i + j
+  // (tan^2 theta_N = |s_xy|^2/s_z^2, no 1 - cos^2 cancellation near the peak).
+  const double m2 = fs_.m() * fs_.m();
+  return GlslF{std::string(kGlslBelowHorizon) +
+                   "  float volumetric = " + decimal_literal(rho_D_) + " + " + decimal_literal(2.0 * rho_V_) +
+                   " / max(i.z + j.z, " + decimal_literal(kGrazingCosFloor) + ");\n"
+                   "  vec3 s = i + j;\n"
+                   "  float len_s = length(s);\n"
+                   "  if (!(len_s > 0.0) || !(s.z > 0.0)) return volumetric;\n"
+                   "  float theta_N = gz_atan2(length(s.xy), s.z);\n"
+                   "  float beta = gz_atan2(length(i - j), len_s);\n"
+                   "  float c = s.z / len_s, c2 = c * c;\n"
+                   "  float q = " + decimal_literal(fs_.B() / (4.0 * pi * m2)) +
+                   " * exp(-dot(s.xy, s.xy) / (s.z * s.z * " + decimal_literal(m2) + ")) / (c2 * c2);\n"
+                   "  if (!(q > 0.0)) return volumetric;\n"
+                   "  float mu = max(i.z, " + decimal_literal(kGrazingCosFloor) + ") * max(j.z, " +
+                   decimal_literal(kGrazingCosFloor) + ");\n"
+                   "  float x = theta_N * " + decimal_literal(1.0 / omega_) + ";\n"
+                   "  float SO = (1.0 + x * exp(-2.0 * beta * " + decimal_literal(1.0 / tau_) + ")) / (1.0 + x);\n"
+                   "  float v = gz_fresnel_complex(min(0.5 * len_s, 1.0), " + decimal_literal(n_) + ", " +
+                   decimal_literal(k_) + ") * " + decimal_literal(1.0 / R0_) + " * q / mu * SO;\n"
+                   "  return (isinf(v) || isnan(v) || !(v > 0.0) ? 0.0 : v) + volumetric;\n",
+               {"gz_atan2", "gz_fresnel_complex"}};
+}
+
 MassHints BeardMaxwell::mass_hints(const Vec3& fixed, Varying) const {
-  MassHints hints;
+  HintBuilder hints;
   const double peak = fs_.rho_fs_cos2(0.0, 1.0);
   if (peak > 0.0 || fs_.is_table()) {
     // theta_N ~ psi/2 near the mirror (psi the angle from the mirror direction).
-    hints.peaks.push_back({mirror(fixed), std::min(std::sqrt(2.0) * fs_.width(), pi / 2)});
+    hints.lobe(mirror(fixed), std::min(std::sqrt(2.0) * fs_.width(), pi / 2));
     // SO's e^{-2 beta/tau} has a conical kink at k = fixed (beta = |k - fixed|/2).
     const double mu = std::clamp(fixed.z, 0.0, 1.0);
     const double theta_fixed = std::acos(mu);
     if (tau_ < pi / 2 && fs_.rho_fs_cos2(theta_fixed, mu) > kRetroHintFraction * peak)
-      hints.peaks.push_back({fixed, std::max(tau_, 1e-3)});
+      hints.lobe(fixed, std::max(tau_, 1e-3));
   }
   // 2 rho_V/(mu + mu_fixed) switches over mu ~ mu_fixed (as Hapke's 1/(mu_i + mu_j)).
-  if (rho_V_ > 0.0 && fixed.z < 0.3) hints.horizon_layer = std::max(fixed.z, 0.0);
-  return hints;
+  if (rho_V_ > 0.0) hints.layer(fixed.z);
+  return hints.build();
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -107,6 +107,7 @@ class BeardMaxwell final : public Model {
   /// albedo grows like 1/cos theta_i at grazing incidence (and rho_D, rho_V are unbounded fits).
   Traits traits() const override { return {true, true, EnergyClass::not_plausible}; }
   double f(const Vec3& i, const Vec3& j) const noexcept override;
+  std::optional<GlslF> glsl_f() const override;
   /// A peak at mirror(fixed) (the first-surface lobe, width sqrt(2) x its theta_N width), one at
   /// `fixed` (SO's conical kink at beta = 0, width tau), and a horizon layer mu_fixed when
   /// rho_V > 0 and mu_fixed < 0.3 (the 1/(mu + mu_fixed) switch).

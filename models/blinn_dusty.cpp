@@ -110,6 +110,50 @@ double BlinnDusty::f(const Vec3& i, const Vec3& j) const noexcept {
   return w_ * phase_(PhaseAngle::between(i, j)) * scattered / (4.0 * pi * std::max(sum, kGrazingCosFloor));
 }
 
+namespace {
+/// Henyey–Greenstein as henyey_greenstein(), its denominator written about the peak.
+std::string glsl_henyey_greenstein(double g) {
+  const std::string d =
+      g >= 0.0 ? decimal_literal((1.0 - g) * (1.0 - g)) + " + " + decimal_literal(2.0 * g) + " * one_minus_cos"
+               : decimal_literal((1.0 + g) * (1.0 + g)) + " - " + decimal_literal(2.0 * g) + " * one_plus_cos";
+  std::string out = decimal_literal(1.0 - g * g);
+  out += " / ((" + d + ") * sqrt(" + d + "))";
+  return "(" + out + ")";
+}
+}  // namespace
+
+std::optional<GlslF> BlinnDusty::glsl_f() const {
+  if (!(tau_ > 0.0)) return GlslF{"  return 0.0;\n", {}};
+  std::string Phi;
+  switch (phase_.kind) {
+    case BlinnPhase::constant: Phi = "1.0"; break;
+    case BlinnPhase::anisotropic:
+      Phi = phase_.x >= 0.0 ? decimal_literal(1.0 - phase_.x) + " + " + decimal_literal(phase_.x) + " * one_plus_cos"
+                            : decimal_literal(1.0 + phase_.x) + " - " + decimal_literal(phase_.x) + " * one_minus_cos";
+      break;
+    case BlinnPhase::lambert_sphere: Phi = decimal_literal(8.0 / (3.0 * pi)) + " * bracket"; break;
+    case BlinnPhase::rayleigh: Phi = "0.75 * (1.0 + cos_a * cos_a)"; break;
+    case BlinnPhase::henyey_greenstein: Phi = glsl_henyey_greenstein(phase_.g); break;
+    case BlinnPhase::two_term_hg:
+      Phi = decimal_literal(phase_.m) + " * " + glsl_henyey_greenstein(phase_.g) + " + " +
+            decimal_literal(1.0 - phase_.m) + " * " + glsl_henyey_greenstein(phase_.g2);
+      break;
+  }
+  const std::string bracket =
+      phase_.kind != BlinnPhase::lambert_sphere ? "" : "  float bracket = gz_lambert_sphere_bracket(i, j);\n";
+  return GlslF{std::string(kGlslBelowHorizon) +
+                   "  float mu_i = min(i.z, 1.0), mu_j = min(j.z, 1.0);\n"
+                   "  float sum = mu_i + mu_j, prod = mu_i * mu_j;\n"
+                   "  float scattered = prod > 0.0 ? -gz_expm1(-" + decimal_literal(tau_) + " * (sum / prod)) : 1.0;\n"
+                   "  vec3 d = i - j, s = i + j;\n"
+                   "  float one_minus_cos = clamp(0.5 * dot(d, d), 0.0, 2.0), one_plus_cos = clamp(0.5 * dot(s, s), "
+                   "0.0, 2.0);\n"
+                   "  float cos_a = clamp(dot(i, j), -1.0, 1.0);\n" +
+                   bracket + "  return " + decimal_literal(w_ / (4.0 * pi)) + " * (" + Phi +
+                   ") * scattered / max(sum, " + decimal_literal(kGrazingCosFloor) + ");\n",
+               {"gz_expm1", "gz_lambert_sphere_bracket"}};
+}
+
 MassHints BlinnDusty::mass_hints(const Vec3& fixed, Varying) const {
   // f is symmetric in (i, j), so both integrals see the same features about `fixed`:
   // - a Henyey–Greenstein lobe about cos alpha = sign(g): the source direction for g > 0 (Blinn's
@@ -119,19 +163,18 @@ MassHints BlinnDusty::mass_hints(const Vec3& fixed, Varying) const {
   // - the Lommel–Seeliger factor mu/(mu + mu_fixed) switching over mu ~ mu_fixed, and the thin-layer
   //   factor 1 - exp(-tau/mu ...) switching over mu ~ tau: a horizon layer min(mu_fixed, tau).
   //   The other phase functions are smooth on the scale of the sphere.
-  MassHints hints;
+  HintBuilder hints;
   const auto add_hg = [&](double g, double weight) {
     if (!(weight > 0.0) || g == 0.0) return;
     const double ag = std::abs(g);
-    hints.peaks.push_back({g > 0.0 ? fixed : -fixed, (1.0 - ag) / std::sqrt(ag)});
+    hints.lobe(g > 0.0 ? fixed : -fixed, (1.0 - ag) / std::sqrt(ag));
   };
   if (phase_.kind == BlinnPhase::henyey_greenstein) add_hg(phase_.g, 1.0);
   if (phase_.kind == BlinnPhase::two_term_hg) {
     add_hg(phase_.g, phase_.m);
     add_hg(phase_.g2, 1.0 - phase_.m);
   }
-  hints.horizon_layer = std::min(std::max(fixed.z, 0.0), tau_);
-  return hints;
+  return hints.layer(std::min(fixed.z, tau_)).build();
 }
 
 // ---------------------------------------------------------------------------------------------

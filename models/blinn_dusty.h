@@ -98,6 +98,7 @@ class BlinnDusty final : public Model {
   std::string spec() const override;
   Traits traits() const override { return {true, true, EnergyClass::plausible}; }
   double f(const Vec3& i, const Vec3& j) const noexcept override;
+  std::optional<GlslF> glsl_f() const override;
   MassHints mass_hints(const Vec3& fixed, Varying varying) const override;
   const BlinnPhaseFunction& phase() const { return phase_; }
 

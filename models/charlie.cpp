@@ -28,15 +28,28 @@ double Charlie::f(const Vec3& i, const Vec3& j) const noexcept {
   return D((sum.x * sum.x + sum.y * sum.y) / len2) / den;
 }
 
+std::optional<GlslF> Charlie::glsl_f() const {
+  // sin^2 theta_h from the unnormalized halfway vector, as Charlie::f.
+  return GlslF{std::string(kGlslBelowHorizon) +
+                   "  vec3 s = i + j;\n"
+                   "  float len2 = dot(s, s);\n"
+                   "  float den = 4.0 * (i.z + j.z - i.z * j.z);\n"
+                   "  if (!(len2 > 0.0) || !(den > 0.0)) return 0.0;\n"
+                   "  return " + decimal_literal((2.0 + 1.0 / alpha_) / (2.0 * std::numbers::pi)) +
+                   " * gz_pow_pair(dot(s.xy, s.xy) / len2, s.z * s.z / len2, " + decimal_literal(0.5 / alpha_) +
+                   ") / den;\n",
+               {"gz_pow_pair"}};
+}
+
 MassHints Charlie::mass_hints(const Vec3& fixed, Varying) const {
   // sin^(1/α) θ_h ~ exp(−cos²θ_h/(2α)): for small α only halfway vectors within ~√α of the
   // surface plane count, i.e. both directions near the horizon: a layer of thickness ~√α, and
   // none when the fixed direction stands higher than that. Measured: 4.5% fewer evaluations on 80
   // cases of a and g (α = 0.001 … 1, θ up to 89.9°) at 1e-9, as honest.
-  MassHints hints;
+  HintBuilder hints;
   const double layer = std::sqrt(alpha_);
-  if (fixed.z < 4.0 * layer) hints.horizon_layer = layer;
-  return hints;
+  if (fixed.z < hint_rules::kReachWidths * layer) hints.layer(layer);
+  return hints.build();
 }
 
 void register_charlie_models(std::vector<ModelInfo>& c) {

@@ -27,6 +27,7 @@ class Charlie final : public Model {
   /// (measured: 1.0013 at 89.9° for α = 0.2, 12.6 on the horizon for α = 0.001; docs/models.md).
   Traits traits() const override { return {true, true, EnergyClass::not_plausible}; }
   double f(const Vec3& i, const Vec3& j) const noexcept override;
+  std::optional<GlslF> glsl_f() const override;
   MassHints mass_hints(const Vec3& fixed, Varying varying) const override;
   /// The distribution for sin²θ_h: (2 + 1/α)(sin²θ_h)^(1/(2α))/(2π).
   double D(double sin2_theta_h) const noexcept;

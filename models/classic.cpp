@@ -68,6 +68,25 @@ double Phong::f(const Vec3& i, const Vec3& j) const noexcept {
   return kd_ / pi + ks_ * lobe(glm::dot(mirror(i), j)) / std::max(i.z, kGrazingCosFloor);
 }
 
+std::optional<GlslF> Phong::glsl_f() const {
+  const std::string floor = decimal_literal(kGrazingCosFloor);
+  if (lobe_ == PhongLobe::cosine_power)
+    return GlslF{std::string(kGlslBelowHorizon) + "  return " + decimal_literal(kd_ / pi) + " + " +
+                     decimal_literal(ks_) + " * gz_mirror_power(i, j, " + decimal_literal(n_) + ") / max(i.z, " +
+                     floor + ");\n",
+                 {"gz_mirror_power"}};
+  // Schlick's rational t/(n - n t + t) = t/(n (1 - t) + t), t = k.j, 1 - t = |k - j|^2 / 2 for unit k, j
+  // (as gz_mirror_power): no cancellation at the peak.
+  const std::string n = decimal_literal(n_);
+  return GlslF{std::string(kGlslBelowHorizon) +
+                   "  vec3 k = vec3(-i.x, -i.y, i.z), d = k - j;\n"
+                   "  float t = dot(k, j);\n"
+                   "  float lobe = t > 0.0 ? min(t, 1.0) / (" + n + " * (0.5 * dot(d, d)) + t) : 0.0;\n"
+                   "  return " + decimal_literal(kd_ / pi) + " + " + decimal_literal(ks_) + " * lobe / max(i.z, " +
+                   floor + ");\n",
+               {}};
+}
+
 MassHints Phong::mass_hints(const Vec3& fixed, Varying varying) const {
   // cos^n psi ~ exp(-n psi^2 / 2): a Gaussian of standard deviation 1/sqrt(n) about the mirror.
   // Over incident directions k the specular part of (k·n) f is ks cos^n psi min(1, (k·n) /
@@ -82,10 +101,12 @@ MassHints Phong::mass_hints(const Vec3& fixed, Varying varying) const {
   // always declared.
   const bool rational = lobe_ == PhongLobe::schlick_rational;
   const double w = rational ? std::sqrt(2.0 / n_) : 1.0 / std::sqrt(n_);
-  MassHints hints{{{mirror(fixed), w}}, 0.0};
-  if (varying == Varying::incident && (rational || std::asin(std::clamp(fixed.z, 0.0, 1.0)) < 4.0 * w + 0.05))
-    hints.horizon_layer = kGrazingCosFloor;
-  return hints;
+  HintBuilder hints;
+  hints.lobe(mirror(fixed), w);
+  if (varying == Varying::incident && rational) hints.layer(kGrazingCosFloor);
+  if (varying == Varying::incident)
+    hints.layer_where_lobe_meets_horizon(std::asin(std::clamp(fixed.z, 0.0, 1.0)), w, kGrazingCosFloor);
+  return hints.build();
 }
 
 PhongLewis::PhongLewis(double kd, double ks, double n)
@@ -100,8 +121,14 @@ double PhongLewis::f(const Vec3& i, const Vec3& j) const noexcept {
   return kd_ / pi + ks_ * C_ * cosine_power(glm::dot(mirror(i), j), n_);
 }
 
+std::optional<GlslF> PhongLewis::glsl_f() const {
+  return GlslF{std::string(kGlslBelowHorizon) + "  return " + decimal_literal(kd_ / pi) + " + " +
+                   decimal_literal(ks_ * C_) + " * gz_mirror_power(i, j, " + decimal_literal(n_) + ");\n",
+               {"gz_mirror_power"}};
+}
+
 MassHints PhongLewis::mass_hints(const Vec3& fixed, Varying) const {
-  return {{{mirror(fixed), 1.0 / std::sqrt(n_)}}, 0.0};
+  return HintBuilder().lobe(mirror(fixed), 1.0 / std::sqrt(n_)).build();
 }
 
 double blinn_phong_normalization(double n) {
@@ -124,6 +151,18 @@ double BlinnPhong::f(const Vec3& i, const Vec3& j) const noexcept {
   return kd_ / pi + ks_ * C_ * cosine_power(h.z, n_);
 }
 
+std::optional<GlslF> BlinnPhong::glsl_f() const {
+  // (h.n)^n with 1 - h.n = |s_xy|^2 / (|s| (|s| + s_z)), s = i + j: exact to float rounding at the peak.
+  return GlslF{std::string(kGlslBelowHorizon) +
+                   "  vec3 s = i + j;\n"
+                   "  float len = length(s);\n"
+                   "  if (!(len > 0.0)) return " + decimal_literal(kd_ / pi) + ";\n"
+                   "  float y = dot(s.xy, s.xy) / (len * (len + s.z));\n"
+                   "  return " + decimal_literal(kd_ / pi) + " + " + decimal_literal(ks_ * C_) +
+                   " * gz_pow_pair(s.z / len, y, " + decimal_literal(n_) + ");\n",
+               {"gz_pow_pair"}};
+}
+
 MassHints BlinnPhong::mass_hints(const Vec3& fixed, Varying) const {
   // (h·n)^n ~ exp(-n delta^2 / 2) and delta ~ psi/2 near the mirror: width 2/sqrt(n) in psi.
   // Across the plane of n and the fixed direction v, tilting h by delta moves k = 2(v·h)h - v by
@@ -136,7 +175,7 @@ MassHints BlinnPhong::mass_hints(const Vec3& fixed, Varying) const {
   // as at that scale. On the 88-case grid of blinn-phong (n = 1, 20, 1000, tolerance 1e-8) a
   // floor of 1e-9 cost 4.6-8.7x the evaluations, 1e-3 1.5-1.9x; both honest.
   const double along = 2.0 / std::sqrt(n_);
-  return {{{mirror(fixed), along, along * std::max(fixed.z, 1e-3)}}, 0.0};
+  return HintBuilder().lobe(mirror(fixed), along, along * std::max(fixed.z, 1e-3)).build();
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -188,9 +227,39 @@ double CookTorrance::f(const Vec3& i, const Vec3& j) const noexcept {
   return std::isfinite(s) ? diffuse + ks_ * s : diffuse;
 }
 
+std::optional<GlslF> CookTorrance::glsl_f() const {
+  // D as CookTorrance::D, with tan^2 delta = |s_xy|^2 / s_z^2 and delta = atan2(|s_xy|, s_z) taken
+  // from s = i + j (no 1 - cos^2 cancellation near the peak); j.h = |s|/2 for unit i, j.
+  const std::string D =
+      d_ == FacetDistribution::beckmann
+          ? "  float c2 = nh * nh;\n"
+            "  float D = exp(-dot(s.xy, s.xy) / (s.z * s.z * " + decimal_literal(m_ * m_) + ")) / (" +
+                decimal_literal(pi * m_ * m_) + " * c2 * c2);\n"
+          : "  float delta = gz_atan2(length(s.xy), s.z);\n"
+            "  float D = " + decimal_literal(c_gauss_) + " * exp(-(delta * delta) * " +
+                decimal_literal(1.0 / (m_ * m_)) + ");\n";
+  const std::string diffuse = decimal_literal(kd_ / pi);
+  return GlslF{std::string(kGlslBelowHorizon) +
+                   "  vec3 s = i + j;\n"
+                   "  float len = length(s);\n"
+                   "  if (!(len > 0.0)) return " + diffuse + ";\n"
+                   "  float nh = s.z / len, jh = 0.5 * len;\n"
+                   "  float mu_max = max(i.z, j.z);\n"
+                   "  if (!(mu_max > 0.0) || !(jh > 0.0) || !(nh > 0.0)) return " + diffuse + ";\n"
+                   "  float G_over = 2.0 * nh / jh / mu_max;\n"
+                   "  float p = i.z * j.z;\n"
+                   "  if (p > 0.0) G_over = min(G_over, 1.0 / p);\n" +
+                   D +
+                   "  float spec = gz_fresnel_complex(jh, " + decimal_literal(eta_) + ", " + decimal_literal(k_) +
+                   ") * D * G_over / 4.0;\n"
+                   "  return isinf(spec) || isnan(spec) ? " + diffuse + " : " + diffuse + " + " + decimal_literal(ks_) +
+                   " * spec;\n",
+               {"gz_fresnel_complex", "gz_atan2"}};
+}
+
 MassHints CookTorrance::mass_hints(const Vec3& fixed, Varying) const {
   // exp(-tan^2 delta/m^2) ~ exp(-psi^2/(4 m^2)) near the mirror (psi ~ 2 delta): width sqrt(2) m.
-  return {{{mirror(fixed), std::sqrt(2.0) * m_}}, 0.0};
+  return HintBuilder().lobe(mirror(fixed), std::sqrt(2.0) * m_).build();
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -214,6 +283,22 @@ double Ward::f(const Vec3& i, const Vec3& j) const noexcept {
   if (!(e < 700.0)) return diffuse;
   const double root = std::sqrt(std::max(i.z * j.z, kGrazingCosFloor * kGrazingCosFloor));
   return diffuse + rho_s_ * std::exp(-e) / (4.0 * pi * alpha_x_ * alpha_y_ * root);
+}
+
+std::optional<GlslF> Ward::glsl_f() const {
+  const std::string diffuse = decimal_literal(rho_d_ / pi);
+  return GlslF{std::string(kGlslBelowHorizon) +
+                   "  vec3 h = i + j;\n"
+                   "  if (!(h.z > 0.0)) return " + diffuse + ";\n"
+                   "  float ex = h.x / (" + decimal_literal(alpha_x_) + " * h.z), ey = h.y / (" +
+                   decimal_literal(alpha_y_) + " * h.z);\n"
+                   "  float e = ex * ex + ey * ey;\n"
+                   "  if (!(e < 700.0)) return " + diffuse + ";\n"
+                   "  float root = sqrt(max(i.z * j.z, " + decimal_literal(kGrazingCosFloor * kGrazingCosFloor) +
+                   "));\n"
+                   "  return " + diffuse + " + " + decimal_literal(rho_s_ / (4.0 * pi * alpha_x_ * alpha_y_)) +
+                   " * exp(-e) / root;\n",
+               {}};
 }
 
 std::optional<IncidentSample> Ward::sample_incident(const Vec3& j, const std::array<double, 3>& u) const {
@@ -255,7 +340,7 @@ double Ward::pdf_incident(const Vec3& j, const Vec3& i) const {
 }
 
 MassHints Ward::mass_hints(const Vec3& fixed, Varying) const {
-  return {{{mirror(fixed), std::sqrt(2.0) * std::min(alpha_x_, alpha_y_)}}, 0.0};
+  return HintBuilder().lobe(mirror(fixed), std::sqrt(2.0) * std::min(alpha_x_, alpha_y_)).build();
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -287,6 +372,45 @@ double OrenNayar::f(const Vec3& i, const Vec3& j) const noexcept {
   return L1 + L2;
 }
 
+std::optional<GlslF> OrenNayar::glsl_f() const {
+  // In the elevations e = pi/2 - theta, from the direction's own components (exact at the horizon,
+  // where the terms below nearly cancel): of the lower direction (alpha) cos e_a = s_a, sin e_a =
+  // mu_a; of the higher (beta) s_b, mu_b. sin alpha - (2 beta/pi)^3 = u (3 - 3u + u^2) - (1 - s_a),
+  // u = 2 e_b/pi, 1 - s_a = mu_a^2/(1 + s_a); tan beta = s_b/mu_b; tan((alpha + beta)/2) = cos h /
+  // sin h with h the mean elevation: cos h = sqrt((1 + cos E)/2), sin h = sin E/(2 cos h), E = e_a + e_b;
+  // 1 - |cos dphi| = sin^2 dphi/(1 + |cos dphi|).
+  const double s2 = sigma_ * sigma_;
+  return GlslF{std::string(kGlslBelowHorizon) +
+                   "  float si = length(i.xy), sj = length(j.xy);\n"
+                   "  float e_i = gz_atan2(i.z, si), e_j = gz_atan2(j.z, sj);\n"
+                   "  bool i_lower = e_i <= e_j;\n"
+                   "  float e_a = i_lower ? e_i : e_j, e_b = i_lower ? e_j : e_i;\n"
+                   "  float s_a = i_lower ? si : sj, mu_a = i_lower ? i.z : j.z;\n"
+                   "  float s_b = i_lower ? sj : si, mu_b = i_lower ? j.z : i.z;\n"
+                   "  float alpha = 1.5707963268 - e_a, beta = 1.5707963268 - e_b;\n"
+                   "  float pxy = si * sj;\n"
+                   "  float cos_dphi = pxy > 0.0 ? clamp(dot(i.xy, j.xy) / pxy, -1.0, 1.0) : 0.0;\n"
+                   "  float sin_dphi = pxy > 0.0 ? (i.x * j.y - i.y * j.x) / pxy : 0.0;\n"
+                   "  float one_minus_abs_cos = pxy > 0.0 ? sin_dphi * sin_dphi / (1.0 + abs(cos_dphi)) : 1.0;\n"
+                   "  float two_beta_pi = 2.0 * beta / 3.1415926536, u = 2.0 * e_b / 3.1415926536;\n"
+                   "  float C2 = " + decimal_literal(0.45 * s2 / (s2 + 0.09)) +
+                   " * (cos_dphi < 0.0 ? u * (3.0 - 3.0 * u + u * u) - mu_a * mu_a / (1.0 + s_a) : s_a);\n"
+                   "  float q = 4.0 * alpha * beta / 9.8696044011;\n"
+                   "  float C3 = " + decimal_literal(0.125 * s2 / (s2 + 0.09)) + " * q * q;\n"
+                   "  float tan_beta = s_b / max(mu_b, " + decimal_literal(kGrazingCosFloor) + ");\n"
+                   "  float cos_E = s_a * s_b - mu_a * mu_b, sin_E = mu_a * s_b + s_a * mu_b;\n"
+                   "  float cos_h = sqrt(max(0.5 * (1.0 + cos_E), 0.0));\n"
+                   "  float sin_h = cos_h > 0.0 ? 0.5 * sin_E / cos_h : 1.0;\n"
+                   "  float tan_half = cos_h / max(sin_h, " + decimal_literal(kGrazingCosFloor) + ");\n"
+                   "  float L1 = " + decimal_literal(rho_ / pi) + " * (" +
+                   decimal_literal(1.0 - 0.5 * s2 / (s2 + 0.33)) +
+                   " + cos_dphi * C2 * tan_beta + one_minus_abs_cos * C3 * tan_half);\n"
+                   "  float L2 = " + decimal_literal(0.17 * rho_ * rho_ / pi * s2 / (s2 + 0.13)) +
+                   " * (1.0 - cos_dphi * two_beta_pi * two_beta_pi);\n"
+                   "  return L1 + L2;\n",
+               {"gz_atan2"}};
+}
+
 // ---------------------------------------------------------------------------------------------
 Lafortune::Lafortune(double kd, double C_x, double C_y, double C_z, double n)
     : kd_(kd), lobes_{{C_x, C_y, C_z, n}} {}
@@ -316,15 +440,26 @@ double Lafortune::f(const Vec3& i, const Vec3& j) const noexcept {
   return sum;
 }
 
+std::optional<GlslF> Lafortune::glsl_f() const {
+  std::string body = std::string(kGlslBelowHorizon) + "  float sum = " + decimal_literal(kd_ / pi) + ";\n  float x;\n";
+  double power = 0.0;
+  for (const Lobe& l : lobes_) {
+    body += "  x = " + decimal_literal(l.C_x) + " * i.x * j.x + " + decimal_literal(l.C_y) + " * i.y * j.y + " +
+            decimal_literal(l.C_z) + " * i.z * j.z;\n  if (x > 0.0) sum += pow(x, " + decimal_literal(l.n) + ");\n";
+    power = std::max(power, l.n);
+  }
+  return GlslF{body + "  return sum;\n", {}, power};
+}
+
 MassHints Lafortune::mass_hints(const Vec3& fixed, Varying) const {
   // Each lobe peaks along (Cx x, Cy y, Cz z) of the fixed direction; width ~ 1/sqrt(n).
-  MassHints hints;
+  HintBuilder hints;
   for (const Lobe& l : lobes_) {
     const Vec3 axis{l.C_x * fixed.x, l.C_y * fixed.y, l.C_z * fixed.z};
     const double len = glm::length(axis);
-    if (len > 0.0) hints.peaks.push_back({axis / len, 1.0 / std::sqrt(l.n)});
+    if (len > 0.0) hints.lobe(axis / len, 1.0 / std::sqrt(l.n));
   }
-  return hints;
+  return hints.build();
 }
 
 ModelPtr lafortune_paint(int channel) {
@@ -365,11 +500,35 @@ double Hapke::f(const Vec3& i, const Vec3& j) const noexcept {
   return rho_ * S * B(tan_a, cos_a, g_) / (pi * std::max(i.z + j.z, kGrazingCosFloor));
 }
 
+std::optional<GlslF> Hapke::glsl_f() const {
+  std::string S = "1.0";
+  if (phase_ == HapkePhase::forward) S = "0.444444444 * (1.0 - 0.5 * cos_a) * (1.0 - 0.5 * cos_a)";
+  // sin a + (pi - a) cos a = sin d - d cos d, d = pi - a: gz_lambert_sphere_bracket.
+  if (phase_ == HapkePhase::back) S = "gz_lambert_sphere_bracket(i, j) / 3.1415926536";
+  // B(alpha, g) as Hapke::B; 1 - cos alpha from |i - j|^2/2, sin alpha from |i x j|.
+  return GlslF{std::string(kGlslBelowHorizon) +
+                   "  vec3 d = i - j;\n"
+                   "  float cos_a = clamp(1.0 - 0.5 * dot(d, d), -1.0, 1.0);\n"
+                   "  float sin_a = length(cross(i, j));\n"
+                   "  float B = 1.0;\n"
+                   "  if (cos_a > 0.0) {\n"
+                   "    float tan_a = sin_a / cos_a;\n"
+                   "    if (!(tan_a > 0.0)) {\n"
+                   "      B = 2.0;\n"
+                   "    } else {\n"
+                   "      float one_minus_e = -gz_expm1(-" + decimal_literal(g_) + " / tan_a);\n"
+                   "      B = 2.0 - tan_a * " + decimal_literal(0.5 / g_) + " * one_minus_e * (2.0 + one_minus_e);\n"
+                   "    }\n"
+                   "  }\n"
+                   "  return " + decimal_literal(rho_ / pi) + " * " + S + " * B / max(i.z + j.z, " +
+                   decimal_literal(kGrazingCosFloor) + ");\n",
+               {"gz_lambert_sphere_bracket", "gz_expm1"}};
+}
+
 MassHints Hapke::mass_hints(const Vec3& fixed, Varying) const {
   // The opposition surge on `fixed` (B falls from 2 over tan alpha ~ g), and the
   // Lommel–Seeliger factor (k·n)/((k + fixed)·n) switching over k·n ~ fixed·n.
-  const double layer = fixed.z < 0.3 ? fixed.z : 0.0;
-  return {{{fixed, std::min(g_, 1.0)}}, layer};
+  return HintBuilder().lobe(fixed, std::min(g_, 1.0)).layer(fixed.z).build();
 }
 
 // ---------------------------------------------------------------------------------------------

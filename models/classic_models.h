@@ -58,6 +58,7 @@ class Phong final : public Model {
   std::string spec() const override;
   Traits traits() const override { return {true, false, EnergyClass::not_plausible}; }
   double f(const Vec3& i, const Vec3& j) const noexcept override;
+  std::optional<GlslF> glsl_f() const override;
   MassHints mass_hints(const Vec3& fixed, Varying varying) const override;
 
  private:
@@ -76,6 +77,7 @@ class PhongLewis final : public Model {
   std::string spec() const override;
   Traits traits() const override { return {true, true, EnergyClass::plausible}; }
   double f(const Vec3& i, const Vec3& j) const noexcept override;
+  std::optional<GlslF> glsl_f() const override;
   MassHints mass_hints(const Vec3& fixed, Varying varying) const override;
 
  private:
@@ -90,6 +92,7 @@ class BlinnPhong final : public Model {
   std::string spec() const override;
   Traits traits() const override { return {true, true, EnergyClass::plausible}; }
   double f(const Vec3& i, const Vec3& j) const noexcept override;
+  std::optional<GlslF> glsl_f() const override;
   MassHints mass_hints(const Vec3& fixed, Varying varying) const override;
 
  private:
@@ -116,6 +119,7 @@ class CookTorrance final : public Model {
   std::string spec() const override;
   Traits traits() const override { return {true, true, EnergyClass::plausible}; }
   double f(const Vec3& i, const Vec3& j) const noexcept override;
+  std::optional<GlslF> glsl_f() const override;
   MassHints mass_hints(const Vec3& fixed, Varying varying) const override;
   /// The normalized facet distribution D_n(cos delta), ∫ D_n (h·n) dh = 1.
   double D(double cos_delta) const noexcept;
@@ -137,6 +141,7 @@ class Ward final : public Model {
   std::string spec() const override;
   Traits traits() const override { return {!anisotropic_, true, EnergyClass::not_plausible}; }
   double f(const Vec3& i, const Vec3& j) const noexcept override;
+  std::optional<GlslF> glsl_f() const override;
   MassHints mass_hints(const Vec3& fixed, Varying varying) const override;
   /// Ward's sampling (1992, section 5.3, eq. 6–7 and 9–10), with the density B. Walter derived
   /// for it ("Notes on the Ward BRDF", 2005): the halfway vector from
@@ -161,6 +166,7 @@ class OrenNayar final : public Model {
   std::string spec() const override;
   Traits traits() const override { return {true, true, EnergyClass::not_plausible}; }
   double f(const Vec3& i, const Vec3& j) const noexcept override;
+  std::optional<GlslF> glsl_f() const override;
 
  private:
   double sigma_, rho_;
@@ -182,6 +188,7 @@ class Lafortune final : public Model {
   std::string spec() const override;
   Traits traits() const override;
   double f(const Vec3& i, const Vec3& j) const noexcept override;
+  std::optional<GlslF> glsl_f() const override;
   MassHints mass_hints(const Vec3& fixed, Varying varying) const override;
 
  private:
@@ -211,6 +218,7 @@ class Hapke final : public Model {
   std::string spec() const override;
   Traits traits() const override { return {true, true, EnergyClass::not_plausible}; }
   double f(const Vec3& i, const Vec3& j) const noexcept override;
+  std::optional<GlslF> glsl_f() const override;
   MassHints mass_hints(const Vec3& fixed, Varying varying) const override;
   /// The retroreflection function B(alpha, g) for the phase angle's cosine and tangent.
   static double B(double tan_alpha, double cos_alpha, double g) noexcept;

@@ -116,6 +116,34 @@ double Ggx::f(const Vec3& i, const Vec3& j) const noexcept {
   return std::min(value, std::numeric_limits<double>::max());
 }
 
+std::string Ggx::glsl_single_scattering() const {
+  // D(s/|s|) = |s|^4 / (pi ax ay Q^2), Q = (s_x/ax)^2 + (s_y/ay)^2 + s_z^2 (ggx::D of the unit m,
+  // multiplied out); i.h = |s|/2; the visibility as ggx::visibility.
+  const std::string den = g2_ == ggx::G2Form::height_correlated ? "2.0 * (j.z * r_i + i.z * r_j)"
+                                                                 : "(i.z + r_i) * (j.z + r_j)";
+  return "  float ggx_value = 0.0;\n"
+         "  vec3 s = i + j;\n"
+         "  float len = length(s);\n"
+         "  if (len > 0.0) {\n"
+         "    float F = gz_schlick(0.5 * len, " + decimal_literal(f0_) + ", 1.0);\n"
+         "    vec3 m = s / len;\n"
+         "    float x = m.x * " + decimal_literal(1.0 / alpha_.x) + ", y = m.y * " + decimal_literal(1.0 / alpha_.y) +
+         ";\n"
+         "    float q = x * x + y * y + m.z * m.z;\n"
+         "    float D = m.z > 0.0 ? " + decimal_literal(1.0 / (pi * alpha_.x * alpha_.y)) + " / (q * q) : 0.0;\n"
+         "    vec3 a = vec3(" + decimal_literal(alpha_.x) + ", " + decimal_literal(alpha_.y) + ", 1.0);\n"
+         "    float r_i = length(a * i), r_j = length(a * j);\n"
+         "    float den = " + den + ";\n"
+         "    ggx_value = den > 0.0 ? F * D / den : 0.0;\n"
+         "    if (isnan(ggx_value)) ggx_value = 0.0;\n"
+         "    ggx_value = min(ggx_value, 3.40282347e38);\n"
+         "  }\n";
+}
+
+std::optional<GlslF> Ggx::glsl_f() const {
+  return GlslF{std::string(kGlslBelowHorizon) + glsl_single_scattering() + "  return ggx_value;\n", {"gz_schlick"}};
+}
+
 MassHints Ggx::mass_hints(const Vec3& fixed, Varying) const {
   // D ~ (1 + tan²δ/α²)^-2 about the mirror direction (ψ ≈ 2δ) is half its peak at ψ ≈ 1.3 α:
   // width √2 α, as cook-torrance's √2 m. Towards grazing the lobe hugs the horizon: a layer.
@@ -124,8 +152,8 @@ MassHints Ggx::mass_hints(const Vec3& fixed, Varying) const {
   // HVD lobes) cost 43% more evaluations and was no more honest; without the layer, 1% more
   // evaluations and the worst true error reached 0.91 of the estimate (0.32 with it).
   const double w = std::sqrt(2.0) * std::min(alpha_.x, alpha_.y);
-  MassHints hints{{{mirror(fixed), w}}, 0.0};
-  if (fixed.z < 4.0 * w + 0.05) hints.horizon_layer = std::max(w, 1e-9);
+  HintBuilder hints;
+  hints.lobe(mirror(fixed), w).layer_where_lobe_meets_horizon(fixed.z, w);
   // The height-correlated visibility 1/(2 ((j·n) r_k + (k·n) r_j)) (ggx::visibility) holds, for a
   // fixed direction just above the horizon, a layer in k·n as thin as fixed·n: times (k·n) it is
   // (k·n)/(2 (j·n) r_k + 2 (k·n) r_j), flat above k·n ~ (j·n) r_k/r_j and falling to 0 below it,
@@ -134,9 +162,9 @@ MassHints Ggx::mass_hints(const Vec3& fixed, Varying) const {
   if (g2_ == ggx::G2Form::height_correlated && fixed.z > 0.0) {
     const double r_fixed = ggx::projected_root(fixed, alpha_);
     const double layer = fixed.z * std::max(alpha_.x, alpha_.y) / r_fixed;  // r_k of a grazing k <= max alpha
-    if (layer < kVisibilityLayerCeiling) hints.add_horizon_layer(layer);
+    if (layer < kVisibilityLayerCeiling) hints.layer(layer);
   }
-  return hints;
+  return hints.build();
 }
 
 std::optional<IncidentSample> Ggx::sample_incident(const Vec3& j, const std::array<double, 3>& u) const {

@@ -77,10 +77,14 @@ class Ggx final : public Model {
   ParamValues parameters() const;
   Traits traits() const override { return {alpha_.x == alpha_.y, true, EnergyClass::plausible}; }
   double f(const Vec3& i, const Vec3& j) const noexcept override;
+  std::optional<GlslF> glsl_f() const override;
   MassHints mass_hints(const Vec3& fixed, Varying varying) const override;
   std::optional<IncidentSample> sample_incident(const Vec3& j, const std::array<double, 3>& u) const override;
   double pdf_incident(const Vec3& j, const Vec3& i) const override;
   ggx::Alpha alpha() const { return alpha_; }
+  /// GLSL statements that set `float ggx_value` to f(i, j) above the horizon (Ggx::glsl_f and
+  /// ggx-ms's, models/ggx_ms.cpp); they declare s, len, m and the visibility's names too.
+  std::string glsl_single_scattering() const;
 
  private:
   ggx::Alpha alpha_;

@@ -54,6 +54,7 @@ class GgxMs final : public Model {
   std::string spec() const override;
   Traits traits() const override { return {true, true, EnergyClass::plausible}; }
   double f(const Vec3& i, const Vec3& j) const noexcept override;
+  std::optional<GlslF> glsl_f() const override;
   MassHints mass_hints(const Vec3& fixed, Varying varying) const override { return ggx_.mass_hints(fixed, varying); }
   /// With probability E(μ_j) a visible-normal draw of the GGX lobe (u[0], u[1]), else a cosine
   /// draw for the compensation; u[2] chooses. pdf: the same mixture of the two densities.

@@ -225,6 +225,61 @@ double HeTorrance::f(const Vec3& i, const Vec3& j) const noexcept {
   return directional_diffuse(i, j) + a_ / pi;  // eqs. 71 + 72 (the delta of eq. 70 excluded)
 }
 
+std::optional<GlslF> HeTorrance::glsl_f() const {
+  const std::string diffuse = decimal_literal(a_ / pi);
+  if (!(sigma0_ > 0.0)) return GlslF{std::string(kGlslBelowHorizon) + "  return " + diffuse + ";\n", {}};
+  const std::string tau = decimal_literal(tau_), sigma0 = decimal_literal(sigma0_);
+  // As directional_diffuse() + a/pi: the effective roughness of eqs. 80-83 (0 when a direction
+  // grazes: K is infinite there), g of eq. 79, the series of eq. 78 over g, G (mu_i + mu_j)^2 =
+  // |i + j|^4, the shadowing over the cosines, Fresnel at the bisector.
+  return GlslF{std::string(kGlslBelowHorizon) +
+                   "  float diffuse = " + diffuse + ";\n"
+                   "  float mu_i = min(i.z, 1.0), mu_j = min(j.z, 1.0);\n"
+                   "  float sin_i = length(i.xy), sin_j = length(j.xy);\n"
+                   "  vec3 v = i + j;\n"
+                   "  float vv = dot(v, v);\n"
+                   "  if (!(vv > 0.0)) return diffuse;\n"
+                   "  if ((!(mu_i > 0.0) && sin_i > 0.0) || (!(mu_j > 0.0) && sin_j > 0.0)) return diffuse;\n"
+                   "  float f0 = (gz_he_K(mu_i, sin_i, " + tau + ", " + sigma0 + ") + gz_he_K(mu_j, sin_j, " + tau + ", " +
+                   sigma0 + ")) * " + decimal_literal(1.0 / std::sqrt(8.0 * pi)) + ";\n"
+                   "  if (isinf(f0)) return diffuse;\n"
+                   "  float x = gz_he_z0_over_sigma0(f0);\n"
+                   "  float sigma = x > 1e18 ? " + sigma0 + " / x : " + sigma0 + " / sqrt(1.0 + x * x);\n"
+                   "  if (!(sigma > 0.0)) return diffuse;\n"
+                   "  float kappa = sigma * " + decimal_literal(2.0 * pi / lambda_) + ";\n"
+                   "  float g = (kappa * (mu_i + mu_j)) * (kappa * (mu_i + mu_j));\n"
+                   "  float c = " + decimal_literal(c_scale_) + " * dot(v.xy, v.xy);\n"
+                   "  float D_over = " + decimal_literal(prefactor_) + " * kappa * kappa * gz_he_series_over_g(g, c);\n"
+                   "  float S_over = gz_he_shadowing_over_cos(mu_i, sin_i, " + tau + ", " + sigma0 +
+                   ") * gz_he_shadowing_over_cos(mu_j, sin_j, " + tau + ", " + sigma0 + ");\n"
+                   "  float F = gz_fresnel_complex(0.5 * sqrt(vv), " + decimal_literal(eta_) + ", " +
+                   decimal_literal(k_) + ");\n"
+                   "  float rho = F * " + decimal_literal(1.0 / pi) + " * vv * vv * S_over * D_over;\n"
+                   "  return (isinf(rho) || isnan(rho) || !(rho > 0.0) ? 0.0 : rho) + diffuse;\n",
+               {"gz_he_terms", "gz_he_series_over_g", "gz_fresnel_complex"}};
+}
+
+std::optional<GlslF> HeTorrance::glsl_mirror_reflectance() const {
+  // As specular_reflectance: F S^2 exp(-g), S = mu (S/mu), g of eq. 79 at theta_r = theta_i with the
+  // effective roughness of eqs. 80-83 (glsl_f's steps with both directions at mu).
+  const std::string fresnel = "gz_fresnel_complex(mu, " + decimal_literal(eta_) + ", " + decimal_literal(k_) + ")";
+  if (!(sigma0_ > 0.0))
+    return GlslF{"  float mu = clamp(c, 0.0, 1.0);\n  return " + fresnel + ";\n", {"gz_fresnel_complex"}};
+  const std::string tau = decimal_literal(tau_), sigma0 = decimal_literal(sigma0_);
+  return GlslF{"  float mu = clamp(c, 0.0, 1.0), sin_t = sqrt((1.0 - mu) * (1.0 + mu));\n"
+               "  if (!(mu > 0.0)) return 0.0;\n"
+               "  float S = mu * gz_he_shadowing_over_cos(mu, sin_t, " + tau + ", " + sigma0 + ");\n"
+               "  if (!(S > 0.0)) return 0.0;\n"
+               "  float f0 = 2.0 * gz_he_K(mu, sin_t, " + tau + ", " + sigma0 + ") * " +
+                   decimal_literal(1.0 / std::sqrt(8.0 * pi)) + ";\n"
+               "  float x = isinf(f0) ? 0.0 : gz_he_z0_over_sigma0(f0);\n"
+               "  float sigma = isinf(f0) ? 0.0 : x > 1e18 ? " + sigma0 + " / x : " + sigma0 +
+               " / sqrt(1.0 + x * x);\n"
+               "  float two_kappa_mu = 2.0 * mu * sigma * " + decimal_literal(2.0 * pi / lambda_) + ";\n"
+               "  return " + fresnel + " * exp(-two_kappa_mu * two_kappa_mu) * S * S;\n",
+               {"gz_he_terms", "gz_fresnel_complex"}};
+}
+
 MassHints HeTorrance::mass_hints(const Vec3& fixed, Varying) const {
   if (!(sigma0_ > 0.0)) return {};
   const Vec3 r = mirror(fixed);
@@ -236,15 +291,11 @@ MassHints HeTorrance::mass_hints(const Vec3& fixed, Varying) const {
   // sqrt(2m)/(k tau) = sqrt(m) lambda/(sqrt(2) pi tau). Moving j by delta across the plane of
   // n and the peak moves (i + j)_xy by delta, along it by cos(theta_r) delta.
   const double w1 = lambda_ / (std::sqrt(2.0) * pi * tau_);
-  auto peak = [&](double w) {
-    const double across = std::min(w, pi / 2);
-    const double along = std::min(w / std::max(mu, 1e-6), pi / 2);
-    return Peak{r, along, across};
-  };
-  MassHints hints;
-  hints.peaks.push_back(peak(w1));
-  if (g > 4.0) hints.peaks.push_back(peak(w1 * std::sqrt(g)));
-  return hints;
+  HintBuilder hints;
+  auto lobe = [&](double w) { hints.lobe(r, std::min(w / std::max(mu, 1e-6), pi / 2), std::min(w, pi / 2)); };
+  lobe(w1);
+  if (g > 4.0) lobe(w1 * std::sqrt(g));
+  return hints.build();
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -86,6 +86,8 @@ class HeTorrance final : public Model {
   Traits traits() const override { return {true, true, EnergyClass::not_plausible}; }
   /// rho_dd + a/pi (eqs. 71, 72); the specular delta is excluded (specular_reflectance).
   double f(const Vec3& i, const Vec3& j) const noexcept override;
+  std::optional<GlslF> glsl_f() const override;
+  std::optional<GlslF> glsl_mirror_reflectance() const override;
   /// Two peaks at mirror(fixed): the m = 1 term of eq. 78 (exp(-c): width lambda/(sqrt 2 pi tau)
   /// across, that over cos theta along) and, when g > 4, the m ~ g terms (sqrt(g) times wider).
   MassHints mass_hints(const Vec3& fixed, Varying varying) const override;

@@ -109,8 +109,8 @@ double lobe_width(double R, double n, double height) {
 
 std::string num(double x) { return format_number(x); }
 
-/// Layers thicker than this are left to the initial grid and adaptivity (integrate/ uses layer
-/// hints below 0.3 only; grazing is where the scaling projection's layer is thin).
+/// The scaling projection's layer is declared below this height only: it is thin at grazing, and
+/// well below hint_rules::kThinLayer, where the engine starts to use a layer.
 constexpr double kScalingLayerCeiling = 0.05;
 
 }  // namespace
@@ -135,6 +135,33 @@ double HvdEmpirical::f(const Vec3& i, const Vec3& j) const noexcept {
   const auto L = lumps(j);
   const double p = (1.0 - p_.k) * (p_.k < 1.0 ? L[0].pdf(h) : 0.0) + p_.k * (p_.k > 0.0 ? L[1].pdf(h) : 0.0);
   return diffuse + F * divide_by_cos(p * J, i.z);
+}
+
+std::optional<GlslF> HvdEmpirical::glsl_f() const {
+  // As f: the lumps of eq. 32 placed for j (R_s = rs (1 - sin theta_o) = rs cos^2/(1 + sin), sin
+  // theta_o = |j_xy|), the scaling projection and its Jacobian (hvd::scaling_uv, scaling_jacobian).
+  std::string lumps;
+  if (p_.k < 1.0)
+    lumps += decimal_literal(1.0 - p_.k) + " * gz_hvd_lump(h, vec2(0.0), vec2(" + decimal_literal(p_.rs_u) + ", " +
+             decimal_literal(p_.rs_v) + ") * R_max, " + decimal_literal(p_.n_s) + ")";
+  if (p_.k > 0.0)
+    lumps += std::string(lumps.empty() ? "" : " + ") + decimal_literal(p_.k) + " * gz_hvd_lump(h, j.xy, vec2(" +
+             decimal_literal(p_.rr_u) + ", " + decimal_literal(p_.rr_v) + "), " + decimal_literal(p_.n_r) + ")";
+  return GlslF{std::string(kGlslBelowHorizon) +
+                   "  float F = gz_schlick(j.z, " + decimal_literal(p_.F_0) + ", 1.0);\n"
+                   "  float diffuse = gz_one_minus_schlick(j.z, " + decimal_literal(p_.F_0) + ", 1.0) * " +
+                   decimal_literal(p_.C_d / pi) + ";\n"
+                   "  if (!(j.z > 0.0)) return diffuse;\n"
+                   "  vec3 H = i + j;\n"
+                   "  if (!(H.z > 0.0)) return diffuse;\n"
+                   "  float J = j.z * j.z * dot(H, H) / (2.0 * H.z * H.z * H.z);\n"
+                   "  if (!(J > 0.0)) return diffuse;\n"
+                   "  vec2 h = (j.z / H.z) * H.xy;\n"
+                   "  float R_max = j.z * j.z / (1.0 + length(j.xy));\n"
+                   "  float Q = (" + lumps + ") * J;\n"
+                   "  if (!(Q > 0.0)) return diffuse;\n"
+                   "  return diffuse + F * min(Q / max(i.z, 1.17549435e-38), 3.40282347e38);\n",
+               {"gz_schlick", "gz_one_minus_schlick", "gz_hvd_lump"}};
 }
 
 namespace {
@@ -188,7 +215,7 @@ MassHints HvdEmpirical::mass_hints(const Vec3& fixed, Varying) const {
   // The specular lump's centre maps to Ĥ = n, i.e. the mirror direction; the retro lump's centre
   // to Ĥ = ω_o, i.e. back to the fixed direction. Used for albedo too (fixed = i): the lobes
   // in ω_o then sit near the same directions.
-  MassHints hints;
+  HintBuilder hints;
   const double height = std::max(fixed.z, 0.0);
   // Anisotropic lumps: one peak per axis, so the initial grid resolves both scales.
   const double R_max = hvd::max_specular_radius(height);
@@ -199,21 +226,21 @@ MassHints HvdEmpirical::mass_hints(const Vec3& fixed, Varying) const {
   // near grazing the lobe is a thin arc, 1/(j·n) times thinner across than along.
   const double across_s = lobe_width(std::min(p_.rs_u, p_.rs_v) * R_max, p_.n_s, 1.0);
   if (p_.k < 1.0) {
-    hints.peaks.push_back({mirror(fixed), w_s, across_s});
-    if (w_s_wide > w_s) hints.peaks.push_back({mirror(fixed), w_s_wide, across_s});
+    hints.lobe(mirror(fixed), w_s, across_s);
+    if (w_s_wide > w_s) hints.lobe(mirror(fixed), w_s_wide, across_s);
   }
   if (p_.k > 0.0) {
-    hints.peaks.push_back({fixed, lobe_width(std::min(p_.rr_u, p_.rr_v), p_.n_r, 1.0)});
-    if (p_.rr_u != p_.rr_v) hints.peaks.push_back({fixed, lobe_width(std::max(p_.rr_u, p_.rr_v), p_.n_r, 1.0)});
+    hints.lobe(fixed, lobe_width(std::min(p_.rr_u, p_.rr_v), p_.n_r, 1.0));
+    if (p_.rr_u != p_.rr_v) hints.lobe(fixed, lobe_width(std::max(p_.rr_u, p_.rr_v), p_.n_r, 1.0));
   }
-  // Towards grazing the specular lobe hugs the horizon, within a few widths of it.
-  if (p_.k < 1.0 && height < 4.0 * w_s + 0.05) hints.horizon_layer = std::max(w_s, 1e-9);
+  // Towards grazing the specular lobe hugs the horizon.
+  if (p_.k < 1.0) hints.layer_where_lobe_meets_horizon(height, w_s);
   // The scaling projection's Jacobian j_z² |H|²/(2 H_z³) and its uv = (j_z/H_z) H_xy change within
   // k·n ~ fixed·n of the horizon (H_z = k_z + fixed_z): a layer of that thickness holding O(1) of
   // either lump's mass, whatever k, retro only (k = 1) included (tests/extremes_test.cpp,
   // HvdScalingLayerIsHonest).
-  if (height < kScalingLayerCeiling) hints.add_horizon_layer(height);
-  return hints;
+  if (height < kScalingLayerCeiling) hints.layer(height);
+  return hints.build();
 }
 
 std::string HvdEmpirical::spec() const {
@@ -254,6 +281,19 @@ double HvdFit::f(const Vec3& i, const Vec3& j) const noexcept {
   return (1.0 - F) * p_.C_d / pi + F * p;
 }
 
+std::optional<GlslF> HvdFit::glsl_f() const {
+  return GlslF{std::string(kGlslBelowHorizon) +
+                   "  float F = gz_schlick(j.z, " + decimal_literal(p_.F_0) + ", " + decimal_literal(p_.F_90) + ");\n"
+                   "  vec2 h = i.xy + j.xy;\n"
+                   "  float p = " + decimal_literal(1.0 - p_.k) + " * gz_hvd_lump(h, vec2(0.0), vec2(" +
+                   decimal_literal(p_.R_1) + "), " + decimal_literal(p_.n_1) + ") + " + decimal_literal(p_.k) +
+                   " * gz_hvd_lump(h, vec2(0.0), vec2(" + decimal_literal(p_.R_2) + "), " + decimal_literal(p_.n_2) +
+                   ");\n"
+                   "  return gz_one_minus_schlick(j.z, " + decimal_literal(p_.F_0) + ", " + decimal_literal(p_.F_90) +
+                   ") * " + decimal_literal(p_.C_d / pi) + " + F * p;\n",
+               {"gz_schlick", "gz_one_minus_schlick", "gz_hvd_lump"}};
+}
+
 std::optional<IncidentSample> HvdFit::sample_incident(const Vec3& j, const std::array<double, 3>& u) const {
   const double F = hvd::schlick(j.z, p_.F_0, p_.F_90);
   return sample_hvd(*this, j, u, diffuse_share((1.0 - F) * p_.C_d, F), lumps(), p_.k,
@@ -274,16 +314,14 @@ double HvdFit::pdf_incident(const Vec3& j, const Vec3& i) const {
 MassHints HvdFit::mass_hints(const Vec3& fixed, Varying) const {
   // h = i_uv + j_uv = 0 at the mirror direction; ρ cos dω = p dA, and dA = cos dω, so the lobe's
   // angular width about the mirror direction is ~ R/√(n+1) / cos θ near grazing.
-  MassHints hints;
+  HintBuilder hints;
   const double height = std::max(fixed.z, 1e-300);
   const double w1 = std::min(pi, p_.R_1 / std::sqrt(p_.n_1 + 1.0) / std::sqrt(height));
   const double w2 = std::min(pi, p_.R_2 / std::sqrt(p_.n_2 + 1.0) / std::sqrt(height));
   // Across the plane of incidence a disk offset moves i by the same angle whatever the height.
-  if (p_.k < 1.0) hints.peaks.push_back({mirror(fixed), w1, std::min(pi, p_.R_1 / std::sqrt(p_.n_1 + 1.0))});
-  if (p_.k > 0.0) hints.peaks.push_back({mirror(fixed), w2, std::min(pi, p_.R_2 / std::sqrt(p_.n_2 + 1.0))});
-  const double w = std::min(w1, w2);
-  if (fixed.z < 4.0 * w + 0.05) hints.horizon_layer = std::max(w, 1e-9);
-  return hints;
+  if (p_.k < 1.0) hints.lobe(mirror(fixed), w1, std::min(pi, p_.R_1 / std::sqrt(p_.n_1 + 1.0)));
+  if (p_.k > 0.0) hints.lobe(mirror(fixed), w2, std::min(pi, p_.R_2 / std::sqrt(p_.n_2 + 1.0)));
+  return hints.layer_where_lobe_meets_horizon(fixed.z, std::min(w1, w2)).build();
 }
 
 std::string HvdFit::spec() const {

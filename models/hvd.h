@@ -84,6 +84,7 @@ class HvdEmpirical final : public Model {
   std::string spec() const override;
   Traits traits() const override;
   double f(const Vec3& i, const Vec3& j) const noexcept override;
+  std::optional<GlslF> glsl_f() const override;
   MassHints mass_hints(const Vec3& fixed, Varying varying) const override;
   /// Eq. 12–13, 21, 28–29: the diffuse part by cosine, the lumps on the disk, chosen in
   /// proportion to their shares of ∫ f (i·n) di, so that f (i·n)/pdf = (1 − F) C_d + F for every
@@ -110,6 +111,7 @@ class HvdFit final : public Model {
   std::string spec() const override;
   Traits traits() const override;
   double f(const Vec3& i, const Vec3& j) const noexcept override;
+  std::optional<GlslF> glsl_f() const override;
   MassHints mass_hints(const Vec3& fixed, Varying varying) const override;
   /// Eq. 25, 28–29 with the orthogonal projection; draws whose lump point falls off the disk
   /// fail (that is the energy the model loses), so the density integrates to the success rate.

@@ -38,8 +38,22 @@ double Kajiya::f(const Vec3& i, const Vec3& j) const noexcept {
   return (kd_ * sin_to_axis(i) / pi + ks_ * highlight) / std::max(i.z, kGrazingCosFloor);
 }
 
+std::optional<GlslF> Kajiya::glsl_f() const {
+  // As f, with 1 - c from the fibre-plane vectors (i.x, sin(t, i)) and (j.x, -sin(t, j)): for unit i, j,
+  // c = -cos(a + b) (a, b their angles to the axis), 1 - c = |(i.x + j.x, sin(t, i) - sin(t, j))|^2 / 2,
+  // formed without cancellation at the cone, where the power needs it.
+  return GlslF{std::string(kGlslBelowHorizon) +
+                   "  float si = min(1.0, length(i.yz)), sj = min(1.0, length(j.yz));\n"
+                   "  vec2 d = vec2(i.x + j.x, si - sj);\n"
+                   "  float highlight = gz_pow_pair(si * sj - i.x * j.x, 0.5 * dot(d, d), " + decimal_literal(n_) +
+                   ");\n"
+                   "  return (" + decimal_literal(kd_ / pi) + " * si + " + decimal_literal(ks_) +
+                   " * highlight) / max(i.z, " + decimal_literal(kGrazingCosFloor) + ");\n",
+               {"gz_pow_pair"}};
+}
+
 MassHints Kajiya::mass_hints(const Vec3& fixed, Varying varying) const {
-  MassHints hints;
+  HintBuilder hints;
   const double width = 1.0 / std::sqrt(n_);
   // The cone k·x = -fixed·x: k = (-fixed_x, s cos beta, s sin beta), s = sin(t, fixed), beta in [0, pi].
   const double s = sin_to_axis(fixed);
@@ -47,10 +61,10 @@ MassHints Kajiya::mass_hints(const Vec3& fixed, Varying varying) const {
   if (ks_ > 0.0 && s > 0.0)
     for (int m = 0; m < kPoints; ++m) {
       const double beta = pi * m / (kPoints - 1);
-      hints.peaks.push_back({Vec3{-fixed.x, s * std::cos(beta), s * std::sin(beta)}, width});
+      hints.lobe(Vec3{-fixed.x, s * std::cos(beta), s * std::sin(beta)}, width);
     }
-  if (varying == Varying::incident) hints.horizon_layer = kGrazingCosFloor;
-  return hints;
+  if (varying == Varying::incident) hints.layer(kGrazingCosFloor);
+  return hints.build();
 }
 
 // ---------------------------------------------------------------------------------------------

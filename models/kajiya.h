@@ -33,6 +33,7 @@ class Kajiya final : public Model {
   /// (albedo ~ 1/(i·n) at grazing incidence).
   Traits traits() const override { return {false, false, EnergyClass::not_plausible}; }
   double f(const Vec3& i, const Vec3& j) const noexcept override;
+  std::optional<GlslF> glsl_f() const override;
   /// The highlight is the cone k·t = -fixed·t about the fibres, a circle through the horizon:
   /// seven points along its upper half, width 1/sqrt(n) (cos^n psi ~ exp(-n psi^2/2)); and, over
   /// incident directions, the layer k·n < kGrazingCosFloor where the floored 1/(k·n) makes

@@ -16,6 +16,7 @@ class Lambert final : public Model {
   std::string spec() const override { return "lambert"; }
   Traits traits() const override { return {true, true, EnergyClass::conserving}; }
   double f(const Vec3& i, const Vec3& j) const noexcept override;
+  std::optional<GlslF> glsl_f() const override;
 };
 namespace lambert {
 double g(double c);  // K&P: g_L = (1 + i·n)/2; h_L = a_L = r_L = 1
@@ -29,6 +30,7 @@ class Minnaert final : public Model {
   std::string spec() const override;
   Traits traits() const override { return {true, true, EnergyClass::plausible}; }
   double f(const Vec3& i, const Vec3& j) const noexcept override;
+  std::optional<GlslF> glsl_f() const override;
   MassHints mass_hints(const Vec3& fixed, Varying varying) const override;
   double xi() const { return xi_; }
 
@@ -54,6 +56,7 @@ class Specular final : public Model {
   std::string spec() const override;
   Traits traits() const override { return {true, true, EnergyClass::plausible}; }
   double f(const Vec3& i, const Vec3& j) const noexcept override;
+  std::optional<GlslF> glsl_f() const override;
   MassHints mass_hints(const Vec3& fixed, Varying varying) const override;
   double alpha() const { return alpha_; }
   double C_s() const { return C_s_; }
@@ -81,6 +84,7 @@ class Backscatter final : public Model {
   std::string spec() const override;
   Traits traits() const override { return {true, true, EnergyClass::plausible}; }
   double f(const Vec3& i, const Vec3& j) const noexcept override;
+  std::optional<GlslF> glsl_f() const override;
   MassHints mass_hints(const Vec3& fixed, Varying varying) const override;
   double alpha() const { return alpha_; }
   double C_b() const { return C_b_; }
@@ -107,6 +111,7 @@ class PerfectBackscatter final : public Model {
   std::string spec() const override;
   Traits traits() const override { return {true, true, EnergyClass::plausible}; }
   double f(const Vec3& i, const Vec3& j) const noexcept override;
+  std::optional<GlslF> glsl_f() const override;
   MassHints mass_hints(const Vec3& fixed, Varying varying) const override;
   int alpha() const { return alpha_; }
   /// C_pb 2^alpha = (1 + alpha)/(2 pi): f = this × ((1 + i·j)/2)^alpha / ((i + j)·n).
@@ -129,6 +134,7 @@ class Asperity final : public Model {
   std::string spec() const override;
   Traits traits() const override { return {true, true, EnergyClass::plausible}; }
   double f(const Vec3& i, const Vec3& j) const noexcept override;
+  std::optional<GlslF> glsl_f() const override;
   MassHints mass_hints(const Vec3& fixed, Varying varying) const override;
   double alpha() const { return alpha_; }
 

@@ -20,6 +20,10 @@ double Lambert::f(const Vec3& i, const Vec3& j) const noexcept {
   return std::numbers::inv_pi;
 }
 
+std::optional<GlslF> Lambert::glsl_f() const {
+  return GlslF{std::string(kGlslBelowHorizon) + "  return " + decimal_literal(std::numbers::inv_pi) + ";\n", {}};
+}
+
 double lambert::g(double c) { return 0.5 * (1.0 + c); }
 
 double lune_moment_2(double c) { return std::numbers::pi - std::acos(c) + c * std::sqrt(1.0 - c * c); }

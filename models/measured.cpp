@@ -153,7 +153,7 @@ double MerlModel::f(const Vec3& i, const Vec3& j) const noexcept {
 }
 
 MassHints MerlModel::mass_hints(const Vec3& fixed, Varying) const {
-  return {{{mirror(fixed), peak_width_}}, 0.0};
+  return HintBuilder().lobe(mirror(fixed), peak_width_).build();
 }
 
 std::string MerlModel::spec() const {

@@ -22,13 +22,22 @@ double Minnaert::f(const Vec3& i, const Vec3& j) const noexcept {
   return C_d_ * std::pow(i.z * j.z, xi_);
 }
 
+std::optional<GlslF> Minnaert::glsl_f() const {
+  if (xi_ == 0.0) return GlslF{std::string(kGlslBelowHorizon) + "  return " + decimal_literal(C_d_) + ";\n", {}};
+  // 1 - (i.n)(j.n) = (|i_xy|^2 + |j_xy|^2 + (i.z - j.z)^2)/2 for unit i, j: accurate near the normal.
+  return GlslF{std::string(kGlslBelowHorizon) +
+                   "  float u = 0.5 * (dot(i.xy, i.xy) + dot(j.xy, j.xy) + (i.z - j.z) * (i.z - j.z));\n"
+                   "  return " + decimal_literal(C_d_) + " * gz_pow_pair(i.z * j.z, u, " + decimal_literal(xi_) +
+                   ");\n",
+               {"gz_pow_pair"}};
+}
+
 MassHints Minnaert::mass_hints(const Vec3&, Varying) const {
   // The integrand (k·n)^(xi+1) ~ exp(-(xi+2) theta^2 / 2): a lobe on n of width 1/sqrt(xi+2).
   const double width = 1.0 / std::sqrt(xi_ + 2.0);
-  MassHints hints;
-  if (width <= 0.3) hints.peaks.push_back({Vec3{0, 0, 1}, width});
-  hints.rough_horizon = xi_ < 1.0 && xi_ > 0.0;
-  return hints;
+  HintBuilder hints;
+  if (width <= 0.3) hints.lobe(Vec3{0, 0, 1}, width);
+  return hints.rough_horizon(xi_ < 1.0 && xi_ > 0.0).build();
 }
 
 namespace minnaert {

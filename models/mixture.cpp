@@ -76,23 +76,10 @@ double Mixture::mirror_reflectance(double cos_theta) const noexcept {
 }
 
 MassHints Mixture::mass_hints(const Vec3& fixed, Varying varying) const {
-  MassHints all;
-  for (const auto& lobe : lobes_) {
-    MassHints h = lobe.model->mass_hints(fixed, varying);
-    all.peaks.insert(all.peaks.end(), h.peaks.begin(), h.peaks.end());
-    all.add_horizon_layer(h.horizon_layer);
-    all.rough_horizon = all.rough_horizon || h.rough_horizon;
-    // One crease frame per integral: lobes creased about the same axis share it (every
-    // cylinder model puts its cylinders along x); a lobe creased about another axis would be
-    // left to plain adaptivity.
-    if (h.crease_axis != Vec3{0.0, 0.0, 0.0} &&
-        (all.crease_axis == Vec3{0.0, 0.0, 0.0} || all.crease_axis == h.crease_axis)) {
-      all.crease_axis = h.crease_axis;
-      all.crease_longitudes.insert(all.crease_longitudes.end(), h.crease_longitudes.begin(),
-                                   h.crease_longitudes.end());
-    }
-  }
-  return all;
+  // Every cylinder model puts its cylinders along x, so the lobes' creases share one frame.
+  HintBuilder all;
+  for (const auto& lobe : lobes_) all.merge(lobe.model->mass_hints(fixed, varying));
+  return all.build();
 }
 
 }  // namespace ganzfeld

@@ -26,6 +26,13 @@ std::optional<IncidentSample> Model::sample_incident(const Vec3& j, const std::a
   return IncidentSample{i, i.z * std::numbers::inv_pi};
 }
 
+bool has_mirror_delta(const Model& model) noexcept {
+  constexpr int kSteps = 64;
+  for (int k = 1; k <= kSteps; ++k)
+    if (model.mirror_reflectance(static_cast<double>(k) / kSteps) > 0.0) return true;
+  return false;
+}
+
 double Model::pdf_incident(const Vec3& j, const Vec3& i) const {
   if (!(j.z > 0.0) || !(i.z > 0.0)) return 0.0;
   return i.z * std::numbers::inv_pi;

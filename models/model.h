@@ -17,6 +17,9 @@
 #include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
 
+#include "models/glsl.h"
+#include "models/mass_hints.h"
+
 namespace ganzfeld {
 
 using Vec3 = glm::dvec3;
@@ -34,38 +37,6 @@ struct Traits {
   bool isotropic = true;   ///< invariant under rotation about n: laws depend on (i·n, j·n, i·j)
   bool reciprocal = true;  ///< f(i,j) = f(j,i) (Helmholtz), hence a = h
   EnergyClass energy = EnergyClass::plausible;
-};
-
-/// Where a model's integrand has its mass, so the integrator splits panels there instead of
-/// hoping its first nodes land on a lobe (integrate/cubature.h).
-struct Peak {
-  Vec3 direction;  ///< unit vector of the lobe's maximum (may lie outside the domain)
-  double width;    ///< angular scale in radians (e.g. sqrt(2/alpha) for a cosine-power lobe)
-  /// Angular scale across the plane of n and the peak, when the lobe is elongated (0: the same
-  /// as width). Halfway-vector lobes near grazing are 10^4 times thinner across than along.
-  double across = 0.0;
-};
-struct MassHints {
-  std::vector<Peak> peaks;
-  /// Thickness in k·n of a layer of mass hugging the horizon (asperity lobes, the
-  /// 1/((i+j)·n) factor of perfect backscatter); 0 when there is none.
-  double horizon_layer = 0.0;
-  /// Declares one more layer: of several, the thinnest is the one the grid must resolve.
-  void add_horizon_layer(double thickness) {
-    if (thickness > 0.0) horizon_layer = horizon_layer > 0.0 ? std::min(horizon_layer, thickness) : thickness;
-  }
-  /// The integrand behaves like (k·n)^nu at the horizon with a non-integer nu < 2 (Minnaert's
-  /// (k·n)^(1+xi)): a weak singularity at the edge of the domain, which the integrator grades.
-  bool rough_horizon = false;
-  /// Half great circles from -crease_axis to +crease_axis across which the integrand jumps or
-  /// kinks, given by their longitude about crease_axis: phi(k) = atan2(k·u, k·n) with
-  /// u = crease_axis × n, in (-pi/2, pi/2). Poulin–Fournier's cylinder shadowing depends only on
-  /// the angle of k projected on the plane perpendicular to the cylinders, so its jumps lie on
-  /// such circles. The integrator then works in a frame whose meridians are these circles and
-  /// cuts its panels there (integrate/laws_integrals.cpp): the jumps are resolved by splitting,
-  /// not by bisecting towards them. crease_axis must be horizontal (·n = 0); zero means none.
-  Vec3 crease_axis{0.0, 0.0, 0.0};
-  std::vector<double> crease_longitudes{};
 };
 
 /// Which argument of f an integral runs over while the other is held fixed.
@@ -100,7 +71,8 @@ class Model {
   virtual void f_batch(std::span<const Vec3> i, std::span<const Vec3> j,
                        std::span<double> out) const noexcept;
 
-  /// Where the integrand k -> (k·n) f(k, fixed) [or f(fixed, k)] has its mass.
+  /// Where the integrand k -> (k·n) f(k, fixed) [or f(fixed, k)] has its mass, built by HintBuilder
+  /// (models/mass_hints.h); none by default.
   virtual MassHints mass_hints(const Vec3& fixed, Varying varying) const;
 
   /// Importance sampling of the incident direction i for the outgoing (viewing) direction j,
@@ -113,13 +85,26 @@ class Model {
   /// integral over the hemisphere is the probability that a draw succeeds.
   virtual double pdf_incident(const Vec3& j, const Vec3& i) const;
 
+  /// f as GLSL (models/glsl.h): the body of float f(vec3 i, vec3 j) in the local frame, written
+  /// beside f in the model's own file. Nothing for a model with no closed form to emit (measured
+  /// data, tables read from a file); the viewer then asks the service for f (docs/serve.md).
+  virtual std::optional<GlslF> glsl_f() const { return std::nullopt; }
+
   /// The reflectance rho(cos theta) of a mirror (Dirac) term the model has besides f: the
   /// fraction of the flux from k reflected coherently into mirror(k), which no BRDF value can
   /// hold. f, and every law integrated from f (g, h, a, r, the tables), exclude it; renders add
   /// its exact contribution under extended sources: rho(j·n) to h, and to g when mirror(j) lies
   /// in the sky (rasterizer/shading.h). 0 for every model without one (all but he-torrance).
   virtual double mirror_reflectance(double /*cos_theta*/) const noexcept { return 0.0; }
+  /// mirror_reflectance as GLSL (models/glsl.h): the body of float rho(float c), c = cos theta,
+  /// written beside it; nothing for a model without a mirror term. The viewer adds it to its sky
+  /// and Ganzfeld spheres as render does (serve/viewer/viewer.js).
+  virtual std::optional<GlslF> glsl_mirror_reflectance() const { return std::nullopt; }
 };
+
+/// Whether the model has a mirror delta (Model::mirror_reflectance > 0) at some incidence: the
+/// cosines k/64, k = 1..64, are tried.
+bool has_mirror_delta(const Model& model) noexcept;
 
 /// Cosine-weighted direction about n = +z from two uniform numbers (Malley's method: a uniform
 /// point of the unit disk lifted to the hemisphere); density (i·n)/π.

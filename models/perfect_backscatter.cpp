@@ -27,10 +27,18 @@ double PerfectBackscatter::f(const Vec3& i, const Vec3& j) const noexcept {
   return C_pb_times_2_pow_alpha_ * std::pow(x, alpha_) / denominator;
 }
 
+std::optional<GlslF> PerfectBackscatter::glsl_f() const {
+  return GlslF{std::string(kGlslBelowHorizon) +
+                   "  float denominator = i.z + j.z;\n"
+                   "  if (denominator <= 0.0) return 0.0;\n"
+                   "  return " + decimal_literal(C_pb_times_2_pow_alpha_) + " * gz_half_cos_power(i, j, " +
+                   decimal_literal(alpha_) + ") / denominator;\n",
+               {"gz_half_cos_power"}};
+}
+
 MassHints PerfectBackscatter::mass_hints(const Vec3& fixed, Varying) const {
   // The lobe on `fixed`, and (k·n)/((k + fixed)·n) switching from 0 to 1 over k·n ~ fixed·n.
-  const double layer = fixed.z < 0.3 ? fixed.z : 0.0;
-  return {{{fixed, std::sqrt(2.0 / alpha_)}}, layer};
+  return HintBuilder().lobe(fixed, std::sqrt(2.0 / alpha_)).layer(fixed.z).build();
 }
 
 namespace perfect_backscatter {

@@ -212,6 +212,37 @@ double PoulinFournier::f(const Vec3& i, const Vec3& j) const noexcept {
   return std::isfinite(value) && value > 0.0 ? value : 0.0;
 }
 
+std::optional<GlslF> PoulinFournier::glsl_f() const {
+  // As f(): the local blinn-phong (BlinnPhong::glsl_f's form), then the fronts of i and j, their
+  // intersection on the arc and on the floor, the arc integrals (models/glsl.cpp, gz_pf).
+  const std::string flat = "  vec3 s = i + j;\n"
+                           "  float len = length(s);\n"
+                           "  float flat_f = " + decimal_literal(kd_ / pi) + ";\n"
+                           "  if (len > 0.0) flat_f += " + decimal_literal(ks_ * C_) +
+                           " * gz_pow_pair(s.z / len, dot(s.xy, s.xy) / (len * (len + s.z)), " +
+                           decimal_literal(n_) + ");\n";
+  if (!(theta_M_ > 0.0)) return GlslF{std::string(kGlslBelowHorizon) + flat + "  return flat_f;\n", {"gz_pow_pair"}};
+  const std::string d = decimal_literal(d_), theta_M = decimal_literal(theta_M_), w = decimal_literal(floor_w_);
+  return GlslF{std::string(kGlslBelowHorizon) + flat +
+                   "  vec2 pi_ = gz_pf_project(i), pj = gz_pf_project(j);\n"
+                   "  vec4 fi = gz_pf_front(pi_, " + d + ", " + theta_M + ", " + w + "), fj = gz_pf_front(pj, " + d + ", " +
+                   theta_M + ", " + w + ");\n"
+                   "  float a = max(fi.x, fj.x), b = min(fi.y, fj.y);\n"
+                   "  float floor_vi = max(0.0, min(fi.w, fj.w) - max(fi.z, fj.z));\n"
+                   "  float arc = 0.0;\n"
+                   "  if (b > a) {\n" +
+                   (kd_ > 0.0 ? "    arc += " + decimal_literal(kd_ / pi) +
+                                    " * gz_pf_arc_cosine_product(pi_, pj, a, b);\n"
+                              : "") +
+                   (ks_ > 0.0 ? "    if (len > 0.0) arc += " + decimal_literal(ks_ * C_) +
+                                    " * gz_pf_arc_specular(pi_, pj, a, b, s / len, " + decimal_literal(n_) + ");\n"
+                              : "") +
+                   "  }\n"
+                   "  float value = (arc + floor_vi * flat_f) * " + decimal_literal(1.0 / d_) + ";\n"
+                   "  return isinf(value) || isnan(value) || !(value > 0.0) ? 0.0 : value;\n",
+               {"gz_pow_pair", "gz_pf"}, 0.0, true};
+}
+
 // ---------------------------------------------------------------------------------------------
 std::vector<PfCrease> PoulinFournier::creases(const Vec3& fixed) const {
   std::vector<PfCrease> out;
@@ -293,9 +324,8 @@ std::vector<double> PoulinFournier::crease_longitudes(const Vec3& fixed) const {
 }
 
 MassHints PoulinFournier::mass_hints(const Vec3& fixed, Varying) const {
-  MassHints hints;
-  hints.crease_axis = theta_M_ > 0.0 ? Vec3{1.0, 0.0, 0.0} : Vec3{0.0, 0.0, 0.0};
-  hints.crease_longitudes = crease_longitudes(fixed);
+  HintBuilder hints;
+  hints.creases(theta_M_ > 0.0 ? Vec3{1.0, 0.0, 0.0} : Vec3{0.0, 0.0, 0.0}, crease_longitudes(fixed));
   if (ks_ > 0.0) {
     // (N.h)^n about the mirror of `fixed` in N(psi), width 2/sqrt(n) as blinn-phong; psi spans
     // the arc, so the highlight is a band (the cone j_x = -i_x): five points along it. Across the
@@ -311,10 +341,10 @@ MassHints PoulinFournier::mass_hints(const Vec3& fixed, Varying) const {
       // the along one adds nothing but cut lines a sliver apart (the reference then bisects the
       // slivers next to the creases until its budget runs out: h at j = n).
       const double height = glm::dot(N, fixed), across = width * std::max(height, 1e-3);
-      hints.peaks.push_back({2.0 * height * N - fixed, width, across < 0.5 * width ? across : 0.0});
+      hints.lobe(2.0 * height * N - fixed, width, across < 0.5 * width ? across : 0.0);
     }
   }
-  return hints;
+  return hints.build();
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -122,6 +122,7 @@ class PoulinFournier final : public Model {
   /// measured).
   Traits traits() const override { return {false, true, EnergyClass::plausible}; }
   double f(const Vec3& i, const Vec3& j) const noexcept override;
+  std::optional<GlslF> glsl_f() const override;
   /// Creases (see above) about the x axis, and peaks at the mirror directions of `fixed` about
   /// the normals N(psi), psi in {-theta_M, -theta_M/2, 0, theta_M/2, theta_M}, width 2/sqrt(n)
   /// (blinn-phong's): the highlight is a band along the cone j_x = -i_x.

@@ -79,6 +79,40 @@ double Schlick::f(const Vec3& i, const Vec3& j) const noexcept {
   return std::isfinite(value) ? value : 0.0;
 }
 
+std::optional<GlslF> Schlick::glsl_f() const {
+  // As f, from s = i + j without cancellation: 1 - u = |i - j|^2 / (4 (1 + u)) (unit i, j);
+  // Z = r |s|^4 / (|s_xy|^2 + r s_z^2)^2 (1 - t^2 = |s_xy|^2 / |s|^2); A^2 = p |s_xy|^2 / (p^2 s_y^2 + s_x^2)
+  // (p at h = n, where cos_azimuth's w = 1); 1 - G(v) = r (1 - v) / (r - r v + v), so that
+  // 1 - G(v) G(v') = (1 - G(v)) + G(v) (1 - G(v')) keeps its digits where both G are near 1.
+  const std::string r = decimal_literal(r_), p = decimal_literal(p_), four_pi = decimal_literal(4.0 * pi);
+  const std::string floor = decimal_literal(kGrazingCosFloor);
+  const std::string azimuth =
+      p_ == 1.0 ? "  float a = 1.0;\n"
+                : "  float sxy = dot(s.xy, s.xy);\n"
+                  "  float a = " + decimal_literal(1.0 / a_mean_) + " * (sxy > 0.0 ? sqrt(" + p + " * sxy / (" + p +
+                      " * " + p + " * s.y * s.y + s.x * s.x)) : sqrt(" + p + "));\n";
+  return GlslF{std::string(kGlslBelowHorizon) +
+                   "  vec3 s = i + j, e = i - j;\n"
+                   "  float len = length(s);\n"
+                   "  if (!(len > 0.0)) return 0.0;\n"
+                   "  float v = min(i.z, 1.0), w = min(j.z, 1.0);\n"
+                   "  float u = 0.5 * len, x = clamp(dot(e, e) / (4.0 * (1.0 + u)), 0.0, 1.0), x2 = x * x;\n"
+                   "  float S = " + decimal_literal(C_) + " + " + decimal_literal(1.0 - C_) + " * (x2 * x2 * x);\n"
+                   "  float q = dot(s.xy, s.xy) + " + r + " * s.z * s.z;\n"
+                   "  float Z = " + r + " * ((len * len) / q) * ((len * len) / q);\n" +
+                   azimuth +
+                   "  float Di = " + r + " - " + r + " * v + v, Dj = " + r + " - " + r + " * w + w;\n"
+                   "  float single = Z * a / (" + four_pi + " * (Di * Dj));\n"
+                   "  float Gi = v > 0.0 ? v / Di : 0.0, Gj = w > 0.0 ? w / Dj : 0.0;\n"
+                   "  float Oi = v > 0.0 ? " + r + " * (1.0 - v) / Di : 1.0;\n"
+                   "  float Oj = w > 0.0 ? " + r + " * (1.0 - w) / Dj : 1.0;\n"
+                   "  float multiple = (Oi + Gi * Oj) / (" + four_pi + " * (max(v, " + floor + ") * max(w, " + floor +
+                   ")));\n"
+                   "  float value = S * (single + multiple);\n"
+                   "  return isinf(value) || isnan(value) ? 0.0 : value;\n",
+               {}};
+}
+
 double Schlick::probability_cosine(double mu_j) const noexcept {
   return std::clamp(1.0 - schlick::smith(mu_j, r_), 0.05, 0.95);
 }
@@ -132,7 +166,7 @@ double Schlick::pdf_incident(const Vec3& j, const Vec3& i) const {
 }
 
 MassHints Schlick::mass_hints(const Vec3& fixed, Varying) const {
-  return {{{mirror(fixed), std::sqrt(2.0 * r_) * p_}}, 0.0};
+  return HintBuilder().lobe(mirror(fixed), std::sqrt(2.0 * r_) * p_).build();
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -58,6 +58,7 @@ class Schlick final : public Model {
   /// interreflection term's albedo grows as 1/(2 (i·n)) towards grazing incidence.
   Traits traits() const override { return {p_ == 1.0, true, EnergyClass::not_plausible}; }
   double f(const Vec3& i, const Vec3& j) const noexcept override;
+  std::optional<GlslF> glsl_f() const override;
   /// The mirror direction with width sqrt(2 r) p (Z is a GGX lobe of alpha = sqrt(r); A narrows
   /// it to within p of the plane across T).
   MassHints mass_hints(const Vec3& fixed, Varying varying) const override;

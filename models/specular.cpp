@@ -25,9 +25,15 @@ double Specular::f(const Vec3& i, const Vec3& j) const noexcept {
   return C_s_ * std::pow(x, alpha_);
 }
 
+std::optional<GlslF> Specular::glsl_f() const {
+  return GlslF{std::string(kGlslBelowHorizon) + "  return " + decimal_literal(C_s_) +
+                   " * gz_half_cos_power(vec3(-i.x, -i.y, i.z), j, " + decimal_literal(alpha_) + ");\n",
+               {"gz_half_cos_power"}};
+}
+
 MassHints Specular::mass_hints(const Vec3& fixed, Varying) const {
   // ((1 + cos gamma)/2)^alpha = cos^(2 alpha)(gamma/2) ~ exp(-alpha gamma^2 / 4).
-  return {{{mirror(fixed), std::sqrt(2.0 / alpha_)}}, 0.0};
+  return HintBuilder().lobe(mirror(fixed), std::sqrt(2.0 / alpha_)).build();
 }
 
 namespace specular {

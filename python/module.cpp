@@ -219,7 +219,7 @@ py::tuple sample(const PyTable& self, const py::array_t<double>& i_rows, const p
   return py::make_tuple(value, node_error);
 }
 
-/// The options of `ganzfeld bake --model` (cli/cmd_bake.cpp), by keyword; the package has
+/// The options of `ganzfeld bake model` (cli/cmd_bake.cpp), by keyword; the package has
 /// turned tuples into the command line's texts.
 struct BakeArguments {
   std::optional<std::string> res, mapping, frame, interpolation;
@@ -230,26 +230,32 @@ struct BakeArguments {
   std::string encoding = "float";
 };
 
-tables::BakeOptions bake_options(const Model& model, Law law, const BakeArguments& a) {
+/// The request of `bake`: an error target with max_error=, else a fixed grid (res= and the grid's
+/// keywords); one kind's keywords are refused with the other's.
+tables::BakeRequest bake_request(const Model& model, Law law, const BakeArguments& a) {
   if (!a.res && !a.max_error) throw InputError("bake needs res= (node counts) or max_error= (a lookup error)");
   if (a.res && a.max_error)
     throw InputError("res= and max_error= are mutually exclusive: max_error= chooses the resolution itself");
   if (a.max_bytes && !a.max_error) throw InputError("max_bytes= needs max_error= (it caps the table max_error= sizes)");
-  tables::BakeOptions options;
   check_tolerance("tol", a.tol);
   check_max_evaluations("max_evals", a.max_evaluations);
-  options.tolerance = a.tol;
-  options.max_evaluations = a.max_evaluations;
-  options.encoding = tables::parse_encoding(a.encoding);
+  const tables::Encoding encoding = tables::parse_encoding(a.encoding);
   if (a.max_error) {
     for (const auto& [name, set] : {std::pair{"mapping=", a.mapping.has_value()}, {"frame=", a.frame.has_value()},
                                     {"interpolation=", a.interpolation.has_value()}, {"checks=", a.checks.has_value()}})
       if (set) throw InputError(std::string(name) + " cannot be combined with max_error=, which chooses it itself");
-    options.target_error = *a.max_error;
-    options.max_bytes = a.max_bytes.value_or(0);
-    tables::check_error_target(options.target_error, options.max_bytes, law, options.encoding);
-    return options;
+    tables::TargetBake bake;
+    bake.max_evaluations = a.max_evaluations;
+    bake.encoding = encoding;
+    bake.target.lookup_error = *a.max_error;
+    bake.target.max_bytes = a.max_bytes.value_or(0);
+    tables::check_error_target(bake.target.lookup_error, bake.target.max_bytes, law, encoding);
+    return bake;
   }
+  tables::BakeOptions options;
+  options.tolerance = a.tol;
+  options.max_evaluations = a.max_evaluations;
+  options.encoding = encoding;
   options.resolution = tables::parse_resolution(*a.res, law);
   if (a.mapping) options.mappings = tables::parse_mappings(*a.mapping, law);
   if (a.interpolation) options.interpolation = tables::parse_interpolation(*a.interpolation);
@@ -267,16 +273,16 @@ tables::BakeOptions bake_options(const Model& model, Law law, const BakeArgument
 PyTable bake(const PyModel& model, const std::string& law_name, const BakeArguments& arguments,
              const std::string& command, const py::object& progress) {
   const Law law = tables::parse_tabulated_law("law", law_name);
-  tables::BakeOptions options = bake_options(*model.model, law, arguments);
+  tables::BakeRequest request = bake_request(*model.model, law, arguments);
   BatchControl control;
   std::atomic<std::uint64_t> total{0};
-  options.progress = [&](std::uint64_t done, std::uint64_t of) {
+  tables::common(request).progress = [&](std::uint64_t done, std::uint64_t of) {
     if (control.cancel) throw Cancelled();
     total = of;
     control.done = done;
   };
   auto table = std::make_shared<tables::Table>();
-  run_released(control, total, progress, [&] { *table = tables::bake(*model.model, law, options); });
+  run_released(control, total, progress, [&] { *table = tables::bake(*model.model, law, request); });
   table->command = command;
   return {table, ""};
 }

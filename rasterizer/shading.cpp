@@ -88,9 +88,12 @@ TangentFrame::TangentFrame(const Vec3& normal) : n(normal) {
   b = {b_, sign + n.y * n.y * a, -n.y};
 }
 
+TangentFrame::TangentFrame(const Vec3& normal, const Vec3& tangent)
+    : t(glm::normalize(tangent - glm::dot(tangent, normal) * normal)), b(glm::cross(normal, t)), n(normal) {}
+
 MaterialShader::MaterialShader(const ShadingMaterial& material, const std::vector<Light>& lights) {
   for (const Light& light : lights) {
-    PreparedLight prepared{light.type, glm::normalize(light.direction), {}, {}};
+    PreparedLight prepared{light.type, glm::normalize(light.direction), {}, {}, {}};
     const Law law = light.type == Light::Type::hemispherical ? Law::g : Law::h;
     for (const ShadingLobe& lobe : material) {
       LobeTerm term{&lobe, {}};
@@ -101,10 +104,12 @@ MaterialShader::MaterialShader(const ShadingMaterial& material, const std::vecto
         prepared.lobes.push_back(term);
         continue;
       }
+      if (has_mirror_delta(*lobe.model)) prepared.mirrors.push_back(term);  // no table holds the delta
       auto shared = std::find_if(prepared.tables.begin(), prepared.tables.end(),
-                                 [&](const SummedTable& t) { return tables::same_lookup(*t.layout, *table); });
+                                 [&](const SummedTable& t) { return tables::same_lookup(t.lookup.table(), *table); });
       if (shared == prepared.tables.end()) {
-        prepared.tables.push_back({table, std::vector<std::array<double, 3>>(table->value.size(), {0.0, 0.0, 0.0})});
+        prepared.tables.push_back(
+            {tables::Lookup(*table), std::vector<std::array<double, 3>>(table->value.size(), {0.0, 0.0, 0.0})});
         shared = prepared.tables.end() - 1;
       }
       for (std::size_t m = 0; m < table->value.size(); ++m)
@@ -114,8 +119,8 @@ MaterialShader::MaterialShader(const ShadingMaterial& material, const std::vecto
   }
 }
 
-Rgb MaterialShader::radiance(const Vec3& n, const Vec3& j_world) const {
-  const TangentFrame frame(n);
+Rgb MaterialShader::radiance(const Vec3& n, const Vec3& j_world, const Vec3& tangent) const {
+  const TangentFrame frame(n, tangent);
   const Vec3 j = frame.local(j_world);
   const Vec3 j_clamped = clamp_to_horizon(j);
   Rgb out{0, 0, 0};
@@ -135,14 +140,18 @@ Rgb MaterialShader::radiance(const Vec3& n, const Vec3& j_world) const {
       }
       for (int c = 0; c < 3; ++c) out[c] += term.scale[c] * value;
     }
+    for (const LobeTerm& term : light.mirrors) {
+      const Vec3* sky_pole = light.type == Light::Type::hemispherical ? &i : nullptr;
+      const double rho = mirror_term(*term.lobe->model, j_clamped, sky_pole);
+      for (int c = 0; c < 3; ++c) out[c] += term.scale[c] * rho;
+    }
     if (light.tables.empty()) continue;
     // The law's coordinates once per light (TableLaws: g at (i, j clamped), h at clamped j·n).
     tables::Point x;
     if (light.type == Light::Type::hemispherical) x = tables::law_point(Law::g, i, j_clamped);
     else x.x[0] = std::clamp(j_clamped.z, 0.0, 1.0), x.size = 1;
     for (const SummedTable& table : light.tables) {
-      const tables::Point y = tables::axis_point(*table.layout, x.span());
-      tables::for_each_node(*table.layout, y.span(), [&](std::size_t m, double w) {
+      table.lookup.visit(table.lookup.at_law(x), [&](std::size_t m, double w) {
         for (int c = 0; c < 3; ++c) out[c] += w * table.entries[m][c];
       });
     }
@@ -150,8 +159,9 @@ Rgb MaterialShader::radiance(const Vec3& n, const Vec3& j_world) const {
   return out;
 }
 
-Rgb shade(const ShadingMaterial& material, const std::vector<Light>& lights, const Vec3& n, const Vec3& j_world) {
-  return MaterialShader(material, lights).radiance(n, j_world);
+Rgb shade(const ShadingMaterial& material, const std::vector<Light>& lights, const Vec3& n, const Vec3& j_world,
+          const Vec3& tangent) {
+  return MaterialShader(material, lights).radiance(n, j_world, tangent);
 }
 
 void check_laws_available(const RenderScene& scene) {
@@ -179,7 +189,8 @@ Image shade_image(const RenderScene& scene, const GBuffer& gb) {
       for (int x = 0; x < gb.width; ++x) {
         const Fragment& f = gb.at(x, y);
         if (f.mesh == Fragment::kNone) continue;
-        const Rgb c = shaders[scene.mesh_material[f.mesh]]->radiance(f.normal, f.view);
+        const TangentRule rule = f.mesh < scene.mesh_tangent.size() ? scene.mesh_tangent[f.mesh] : TangentRule{};
+        const Rgb c = shaders[scene.mesh_material[f.mesh]]->radiance(f.normal, f.view, brush_tangent(f.normal, rule));
         float* p = image.at(x, y);
         for (int k = 0; k < 3; ++k) p[k] = static_cast<float>(c[k]);
       }
@@ -194,6 +205,7 @@ void add_scene_geometry(const Scene& scene, RenderScene& out) {
     if (object.shape == SceneObject::Shape::sphere) out.meshes.push_back(uv_sphere(object.center, object.radius, kSphereSegments));
     else out.meshes.push_back(load_obj(object.mesh_path));
     out.mesh_material.push_back(object.material);
+    out.mesh_tangent.push_back(object.tangent);
   }
 }
 

@@ -3,9 +3,10 @@
 //   collimated beam     N = H0 (i·n) f(i, j)        0 when i·n <= 0 (body shadow) or j·n <= 0
 //   hemispherical sky   N = N_i g(i, j, n)          i = the sky's pole, i·n in [-1, 1]
 //   Ganzfeld            N = N_i h(j, n)
-// Everything is evaluated in the LOCAL frame of the pixel's normal (n = +z, an orthonormal
-// tangent frame built from n alone): the isotropic laws only see i·n, j·n and the relative
-// azimuth of the tangential parts of i and j, which the frame preserves.
+// Everything is evaluated in the LOCAL frame of the pixel's normal (n = +z) and the object's
+// tangent (+x: the scene file's tangent rule, scene/scene.h brush_tangent): anisotropic lobes are
+// oriented by it; the isotropic laws only see i·n, j·n and the relative azimuth of the tangential
+// parts of i and j, which any frame preserves.
 // A pixel's j·n can be slightly negative only through interpolated mesh normals at a silhouette;
 // for the sky and the Ganzfeld j is then clamped to the horizon (the limit of the visible side).
 //
@@ -28,6 +29,7 @@
 #include "integrate/laws.h"
 #include "scene/plan.h"
 #include "scene/scene.h"
+#include "tables/sample.h"
 #include "tables/table.h"
 #include "rasterizer/image.h"
 #include "rasterizer/raster.h"
@@ -66,11 +68,13 @@ struct ShadingLobe {
 };
 using ShadingMaterial = std::vector<ShadingLobe>;
 
-/// A right-handed orthonormal frame (t, b, n) for unit n (Duff et al. 2017, "Building an
-/// orthonormal basis, revisited"); local(v) = (v·t, v·b, v·n).
+/// A right-handed orthonormal frame (t, b, n); local(v) = (v·t, v·b, v·n).
 struct TangentFrame {
   Vec3 t, b, n;
+  /// Any frame for unit n (Duff et al. 2017, "Building an orthonormal basis, revisited").
   explicit TangentFrame(const Vec3& n);
+  /// t = the part of `tangent` across unit n, normalized (tangent not along n); b = n x t.
+  TangentFrame(const Vec3& n, const Vec3& tangent);
   Vec3 local(const Vec3& v) const { return {glm::dot(v, t), glm::dot(v, b), glm::dot(v, n)}; }
 };
 
@@ -79,16 +83,18 @@ struct TangentFrame {
 /// lookup (tables::same_lookup) summed entry by entry into one colour table per light and law, so
 /// that a pixel looks each law up once per light however many lobes the material has (the laws are
 /// linear in f: a lookup's blend of the summed entries is the sum of the lobes' lookups, up to
-/// rounding). Lobes without tables (closed forms, cubature) are evaluated one by one.
+/// rounding). Lobes without tables (closed forms, cubature) are evaluated one by one, and so is the
+/// mirror delta of a lobe with tables (Model::mirror_reflectance), which its tables leave out.
 class MaterialShader {
  public:
   MaterialShader(const ShadingMaterial& material, const std::vector<Light>& lights);
-  /// Radiance towards j (unit, world) of a surface with unit world normal n.
-  Rgb radiance(const Vec3& n, const Vec3& j) const;
+  /// Radiance towards j (unit, world) of a surface with unit world normal n and tangent t (any
+  /// vector not along n; anisotropic lobes are oriented by its part across n).
+  Rgb radiance(const Vec3& n, const Vec3& j, const Vec3& t) const;
 
   /// Lobes whose law (g or h) is looked up in a table, and the lookups a pixel makes per light.
   struct SummedTable {
-    const tables::Table* layout = nullptr;  ///< the lookup's axes (one of the summed tables)
+    tables::Lookup lookup;  ///< the lookup's axes (one of the summed tables), prepared once
     std::vector<std::array<double, 3>> entries;  ///< Σ weight x colour x light intensity x value
   };
   struct LobeTerm {
@@ -100,6 +106,7 @@ class MaterialShader {
     Vec3 direction{0, 0, 1};        ///< unit, world
     std::vector<LobeTerm> lobes;    ///< collimated: every lobe; sky, Ganzfeld: lobes without a table
     std::vector<SummedTable> tables;
+    std::vector<LobeTerm> mirrors;  ///< sky, Ganzfeld: lobes in `tables` with a mirror delta, added apart
   };
   const std::vector<PreparedLight>& lights() const { return lights_; }
 
@@ -107,15 +114,17 @@ class MaterialShader {
   std::vector<PreparedLight> lights_;
 };
 
-/// Radiance towards j (unit, world) of a surface with unit world normal n
-/// (MaterialShader(material, lights).radiance(n, j); a picture prepares its materials once).
-Rgb shade(const ShadingMaterial& material, const std::vector<Light>& lights, const Vec3& n, const Vec3& j);
+/// Radiance towards j (unit, world) of a surface with unit world normal n and tangent t
+/// (MaterialShader(material, lights).radiance(n, j, t); a picture prepares its materials once).
+Rgb shade(const ShadingMaterial& material, const std::vector<Light>& lights, const Vec3& n, const Vec3& j,
+          const Vec3& t);
 
 /// Everything the rasterizer needs to make a picture.
 struct RenderScene {
   Camera camera;
   std::vector<Mesh> meshes;
   std::vector<std::size_t> mesh_material;  ///< per mesh: index into materials
+  std::vector<TangentRule> mesh_tangent;   ///< per mesh: its object's tangent rule (empty: the default)
   std::vector<ShadingMaterial> materials;
   std::vector<Light> lights;
 };

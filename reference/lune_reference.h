@@ -35,7 +35,7 @@ struct Options {
   long long max_evaluations = 1'000'000'000'000;
   /// Break points: the mirror direction and the fixed direction (where K&P's specular and
   /// backscatter lobes peak) and, when set, the peaks, widths and horizon layer of the model's
-  /// mass hints (models/model.h: the model's own data, not the engine's).
+  /// mass hints (models/mass_hints.h: the model's own data, not the engine's).
   bool use_mass_hints = true;
   bool swapped = false;      ///< psi outer, t inner, gauss_kronrod<31>: the second reference
   /// The tolerance relative to each integral's L1 norm over all its panels (false: relative to

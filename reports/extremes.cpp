@@ -109,7 +109,8 @@ reference::Value reference_law(const Model& model, Law law, const Vec3& i, const
 
 }  // namespace
 
-ExtremesCase judge_case(const Model& model, Law law, const Vec3& i, const Vec3& j, double engine_tolerance) {
+ExtremesCase judge_case(const Model& model, Law law, const Vec3& i, const Vec3& j, double engine_tolerance,
+                        long long engine_budget) {
   ExtremesCase c;
   c.spec = model.spec();
   c.law = law;
@@ -117,6 +118,7 @@ ExtremesCase judge_case(const Model& model, Law law, const Vec3& i, const Vec3& 
   c.j = j;
   CubatureOptions options;
   options.abs_tol = engine_tolerance;
+  options.max_evaluations = engine_budget;
   c.engine = evaluate_law(model, law, i, j, options);
   c.finite = std::isfinite(c.engine.value);
   c.converged = c.engine.converged;

@@ -75,8 +75,10 @@ struct ExtremesRow {
 std::vector<ExtremesRow> extremes_report(const ExtremesOptions& options);
 
 /// Judges one case: engine at the tolerance against the reference (and the second reference when
-/// they disagree). Exposed for the tests.
-ExtremesCase judge_case(const Model& model, Law law, const Vec3& i, const Vec3& j, double engine_tolerance);
+/// they disagree). Exposed for the tests, which may give the engine a smaller evaluation budget
+/// (a case that does not converge within it is not judged).
+ExtremesCase judge_case(const Model& model, Law law, const Vec3& i, const Vec3& j, double engine_tolerance,
+                        long long engine_budget = CubatureOptions{}.max_evaluations);
 
 /// The section of docs/reliability.md: the method, the per-model table, the targets met or
 /// missed and every flagged case; `command` is the stamp, `seconds` the run's wall time.

@@ -42,7 +42,7 @@ class BlinnPhongIntensityForm final : public Model {
     return kd_ / pi + ks_ * C_ * std::pow(hn, n_) / std::max(i.z, kGrazingCosFloor);
   }
   MassHints mass_hints(const Vec3& fixed, Varying) const override {
-    return {{{mirror(fixed), std::min(1.0, 2.0 / std::sqrt(n_ + 1.0))}}, 0.0};
+    return HintBuilder().lobe(mirror(fixed), std::min(1.0, 2.0 / std::sqrt(n_ + 1.0))).build();
   }
 
  private:

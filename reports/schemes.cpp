@@ -94,7 +94,7 @@ std::vector<int> counts_of(const Table& table) {
 /// Bakes `options` `repeats` times, fills the row from the table and the reference. A bake the
 /// baker refuses (an error target it cannot reach, values outside the half range) leaves its
 /// message in row.refused, worded as the rows' `bake` flags are, and nothing.
-std::optional<Table> measure_row(const Model& model, Law law, const BakeOptions& options, int repeats,
+std::optional<Table> measure_row(const Model& model, Law law, const BakeRequest& options, int repeats,
                                  const Reference& reference, SchemeRow& row) {
   Table table;
   try {
@@ -184,9 +184,8 @@ SchemeReport measure_schemes(const Model& model, Law law, const SchemeOptions& o
     row.target = target;
     row.target_bytes = bytes;
     row.encoding = encoding;
-    BakeOptions bake_options;
-    bake_options.target_error = target;
-    bake_options.max_bytes = bytes;
+    TargetBake bake_options;
+    bake_options.target = {target, bytes, 0};
     bake_options.encoding = encoding;
     std::optional<Table> table = measure_row(model, law, bake_options, options.repeats, report.reference, row);
     if (table && encoding == Encoding::single && target == plan.targets.back()) pick = std::move(table);
@@ -249,9 +248,8 @@ SchemeReport measure_schemes(const Model& model, Law law, const SchemeOptions& o
       SchemeRow pick = row_of(SchemeKind::max_error, {});
       pick.target = target;
       pick.target_fetches = budget;
-      BakeOptions pick_options;
-      pick_options.target_error = target;
-      pick_options.max_fetches = budget;
+      TargetBake pick_options;
+      pick_options.target = {target, 0, budget};
       measure_row(model, law, pick_options, options.repeats, report.reference, pick);
       add(pick);
     }

@@ -7,24 +7,25 @@
 
 namespace ganzfeld::scene {
 
-tables::BakeOptions TableOptions::bake_options(Law law) const {
-  tables::BakeOptions options;
-  options.resolution = law == Law::g ? resolution_g : resolution_h;
-  options.tolerance = tolerance;
-  options.max_evaluations = max_evaluations;
-  options.encoding = encoding;
-  options.target_error = target_error;
-  options.max_bytes = max_bytes;
-  options.max_fetches = max_fetches;
-  options.best_effort = best_effort;
-  return options;
+tables::BakeRequest TableOptions::request(Law law) const {
+  if (target) {
+    tables::TargetBake bake;
+    bake.max_evaluations = max_evaluations;
+    bake.encoding = encoding;
+    bake.target = *target;
+    return bake;
+  }
+  tables::BakeOptions grid;
+  grid.max_evaluations = max_evaluations;
+  grid.encoding = encoding;
+  grid.resolution = law == Law::g ? resolution_g : resolution_h;
+  grid.tolerance = tolerance;
+  return grid;
 }
 
 TableOptions TableOptions::scene_defaults() {
   TableOptions options;
-  options.target_error = kSceneTargetError;
-  options.max_fetches = kSceneFetches;
-  options.best_effort = true;
+  options.target = tables::ErrorTarget{kSceneTargetError, kSceneMaxBytes, kSceneFetches, true};
   return options;
 }
 
@@ -62,7 +63,7 @@ std::vector<TableRequest> requests_of(const std::vector<Material>& materials, co
       if (!used[m]) continue;
       for (const MaterialLobe& lobe : materials[m].lobes) {
         if (law_origin(*lobe.model, law, fields) != LawOrigin::table) continue;
-        TableRequest r{lobe.spec, law, lobe.model, options.bake_options(law)};
+        TableRequest r{lobe.spec, law, lobe.model, options.request(law)};
         if (std::find(out.begin(), out.end(), r) == out.end()) out.push_back(std::move(r));
       }
     }
@@ -142,21 +143,22 @@ std::vector<TableRequest> tables_needed(const Scene& scene, const TableOptions& 
 }
 
 std::vector<std::string> bake_command(const TableRequest& request, const std::string& path) {
-  const tables::BakeOptions& o = request.options;
-  if (o.target_error > 0.0) {
-    std::vector<std::string> words{"ganzfeld", "bake", "--model", request.spec, "--law", to_string(request.law),
-                                   "--max-error", format_number(o.target_error)};
-    if (o.max_bytes) words.insert(words.end(), {"--max-bytes", std::to_string(o.max_bytes)});
-    if (o.max_fetches) words.insert(words.end(), {"--fetches", std::to_string(o.max_fetches)});
-    if (o.best_effort) words.push_back("--best-effort");
-    words.insert(words.end(), {"--encoding", to_string(o.encoding), "--max-evals", std::to_string(o.max_evaluations),
-                               "-o", path});
-    return words;
+  const tables::BakeCommon& common = tables::common(request.options);
+  std::vector<std::string> words{"ganzfeld", "bake", "--model", request.spec, "--law", to_string(request.law)};
+  if (const auto* bake = std::get_if<tables::TargetBake>(&request.options)) {
+    const tables::ErrorTarget& target = bake->target;
+    words.insert(words.end(), {"--max-error", format_number(target.lookup_error)});
+    if (target.max_bytes) words.insert(words.end(), {"--max-bytes", std::to_string(target.max_bytes)});
+    if (target.max_fetches) words.insert(words.end(), {"--fetches", std::to_string(target.max_fetches)});
+    if (target.best_effort) words.push_back("--best-effort");
+  } else {
+    const tables::BakeOptions& grid = std::get<tables::BakeOptions>(request.options);
+    words.insert(words.end(),
+                 {"--res", tables::resolution_text(grid.resolution), "--tol", format_number(grid.tolerance)});
   }
-  return {"ganzfeld", "bake", "--model", request.spec, "--law", to_string(request.law),
-          "--res", tables::resolution_text(o.resolution), "--tol", format_number(o.tolerance),
-          "--encoding", to_string(o.encoding), "--max-evals", std::to_string(o.max_evaluations),
-          "-o", path};
+  words.insert(words.end(), {"--encoding", to_string(common.encoding), "--max-evals",
+                             std::to_string(common.max_evaluations), "-o", path});
+  return words;
 }
 
 ShadingPlan plan_shading(const Scene& scene, const TableOptions& options, const TableStore& store, bool direct) {

@@ -15,6 +15,7 @@
 
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -26,35 +27,33 @@
 
 namespace ganzfeld::scene {
 
-/// The options of a scene's tables, with the defaults every command shares.
+/// The options of a scene's tables, with the defaults every command shares: a fixed grid per law
+/// (resolution_g, resolution_h, tolerance) or, when `target` is set, an error target for every
+/// table instead (the grid fields are then not read: request() makes a tables::TargetBake).
 struct TableOptions {
   std::vector<int> resolution_g{32, 32, 16};
   std::vector<int> resolution_h{128};
   double tolerance = 1e-8;  ///< absolute tolerance of every entry's cubature
   long long max_evaluations = CubatureOptions{}.max_evaluations;
   tables::Encoding encoding = tables::Encoding::single;
-  /// > 0: every table is baked to this lookup error (tables/to_error.h) instead of the
-  /// resolutions and tolerance above; max_bytes caps each table's value bytes (0: the default);
-  /// max_fetches the texture fetches per lookup (0: no budget).
-  double target_error = 0.0;
-  std::uint64_t max_bytes = 0;
-  int max_fetches = 0;
-  /// With target_error: keep the most accurate table found when the target is out of reach
-  /// (tables::BakeOptions::best_effort) instead of refusing.
-  bool best_effort = false;
-  /// The bake options of law g or h (no progress callback).
-  tables::BakeOptions bake_options(Law law) const;
-  /// What the scene commands (bake --scene, render, export-glsl --scene) bake when no accuracy
+  /// Every table baked to this lookup error (tables/to_error.h), value-byte cap and fetch budget.
+  std::optional<tables::ErrorTarget> target = std::nullopt;
+  /// The bake request of law g or h (no progress callback).
+  tables::BakeRequest request(Law law) const;
+  /// What the scene commands (bake scene, render, export-glsl --scene) bake when no accuracy
   /// option is given: every table to lookup error kSceneTargetError at one hardware-filtered fetch
-  /// per law (docs/lut-format.md, "Baking to an error"), best effort: where one fetch does not reach
-  /// it, the most accurate one-fetch table found, its stated error the miss. The resolutions above
-  /// remain what --res-g and --res-h replace.
+  /// per law in at most kSceneMaxBytes (docs/lut-format.md, "Baking to an error"), best effort:
+  /// where one fetch does not reach it, the most accurate one-fetch table found, its stated error
+  /// the miss. The resolutions above remain what --res-g and --res-h replace.
   static TableOptions scene_defaults();
 };
 inline constexpr double kSceneTargetError = 1e-3;
 /// The fetch budget of the scene defaults: one fetch per law, the cost Koenderink & Pont promise
 /// (that of Lambert's surface under a point source with an ambient term).
 inline constexpr int kSceneFetches = 1;
+/// The value-byte cap of each table of the scene defaults: where one fetch misses the target
+/// (GGX), the best-effort search ends at a table this size instead of growing to megabytes.
+inline constexpr std::uint64_t kSceneMaxBytes = std::uint64_t{512} << 10;
 /// The fetch budget of a scene's explicit --max-error without --fetches: every scheme's fetches
 /// (Catmull–Rom's 64 for g), searched fewest first, so a target one fetch cannot reach is met by
 /// the next scheme.
@@ -82,7 +81,7 @@ struct TableRequest {
   std::string spec;  ///< canonical spec of a single (non-mixture) model, Model::spec()
   Law law = Law::h;  ///< g or h
   ModelPtr model;
-  tables::BakeOptions options;
+  tables::BakeRequest options;
   friend bool operator==(const TableRequest& a, const TableRequest& b) { return a.spec == b.spec && a.law == b.law; }
 };
 

@@ -255,7 +255,7 @@ class Parser {
     const Json& shape = value["shape"];
     if (shape == "sphere") {
       o.shape = SceneObject::Shape::sphere;
-      check_keys(value, key, {"shape", "center", "radius", "material"});
+      check_keys(value, key, {"shape", "center", "radius", "material", "tangent"});
       if (value.contains("center")) o.center = point(value["center"], key + ".center");
       if (value.contains("radius")) {
         o.radius = number(value["radius"], key + ".radius");
@@ -264,7 +264,7 @@ class Parser {
       }
     } else if (shape == "mesh") {
       o.shape = SceneObject::Shape::mesh;
-      check_keys(value, key, {"shape", "path", "material"});
+      check_keys(value, key, {"shape", "path", "material", "tangent"});
       if (!value.contains("path")) refuse(key + " (a mesh) has no \"path\"; expected the path of an OBJ file");
       const Json& p = value["path"];
       if (!p.is_string() || p.get<std::string>().empty())
@@ -285,7 +285,21 @@ class Parser {
              (defined.empty() ? "none" : defined));
     }
     o.material = found->second;
+    if (value.contains("tangent")) o.tangent = tangent(value["tangent"], key + ".tangent");
     return o;
+  }
+
+  TangentRule tangent(const Json& value, const std::string& key) const {
+    object_at(value, key, "an object {\"axis\": [x, y, z], \"along\": \"latitude\" | \"longitude\"}");
+    check_keys(value, key, {"axis", "along"});
+    TangentRule rule;
+    if (value.contains("axis")) rule.axis = direction(value["axis"], key + ".axis");
+    if (value.contains("along")) {
+      const Json& along = value["along"];
+      if (along != "latitude" && along != "longitude") fail(key + ".along", along, "allowed: latitude, longitude");
+      rule.latitude = along == "latitude";
+    }
+    return rule;
   }
 
   Light light(const Json& value, const std::string& key) const {
@@ -316,6 +330,12 @@ class Parser {
 };
 
 }  // namespace
+
+Vec3 brush_tangent(const Vec3& n, const TangentRule& rule) {
+  const Vec3 t = rule.latitude ? glm::cross(rule.axis, n) : rule.axis - glm::dot(rule.axis, n) * n;
+  if (glm::dot(t, t) > 1e-12 * glm::dot(rule.axis, rule.axis)) return glm::normalize(t);
+  return std::abs(n.x) < 0.9 ? Vec3{1.0, 0.0, 0.0} : Vec3{0.0, 1.0, 0.0};
+}
 
 Scene load_scene(const std::string& path) { return Parser(path).parse(); }
 

@@ -34,12 +34,27 @@ struct Material {
   std::vector<MaterialLobe> lobes;
 };
 
+/// How an object orients anisotropic lobes (their local +x axis, models/model.h): the tangent
+/// follows the circles of latitude about `axis` (axis x n: "brushed" around the axis) or its
+/// meridians (the axis' part across n: brushed towards the axis' poles), as Walker's Fig. 30
+/// shows them. Default: latitude about +y (world up). Isotropic lobes ignore it.
+struct TangentRule {
+  Vec3 axis{0, 1, 0};
+  bool latitude = true;
+};
+
+/// The unit tangent of `rule` at unit normal n. Where n lies along the axis (|rule's tangent|^2
+/// <= 1e-12 |axis|^2: the poles) the world axis farthest from n instead: +x, or +y when
+/// |n.x| >= 0.9. models/glsl.cpp's gz_brush_tangent is the same rule in GLSL.
+Vec3 brush_tangent(const Vec3& n, const TangentRule& rule);
+
 struct SceneObject {
   enum class Shape { sphere, mesh } shape = Shape::sphere;
   Vec3 center{0, 0, 0};
   double radius = 1.0;
   std::string mesh_path;  ///< resolved relative to the scene file's directory
   std::size_t material = 0;  ///< index into Scene::materials
+  TangentRule tangent;       ///< "tangent": {"axis": [x, y, z], "along": "latitude" | "longitude"}
 };
 
 struct Light {

@@ -6,7 +6,7 @@
 // request once drain() has begun. Each bake is one tables::bake_or_reuse, which writes its file
 // atomically, so the cache never holds a partial table whatever stops it.
 //
-// Every bake is bounded: it is cancelled (its flag, tables::BakeOptions::cancel) once nobody
+// Every bake is bounded: it is cancelled (its flag, tables::BakeCommon::cancel) once nobody
 // waits for it any more (the last waiter's request was cancelled: deadline, client gone), once it
 // has run longer than its budget, or by cancel_running() at shutdown; its waiters then get
 // Cancelled, and nothing is written.
@@ -40,7 +40,7 @@ class Busy : public std::runtime_error {
 class Bakery {
  public:
   using Result = std::shared_ptr<const tables::CacheResult>;
-  /// One bake: reads `cancel` (tables::BakeOptions::cancel) and throws Cancelled once it is set.
+  /// One bake: reads `cancel` (tables::BakeCommon::cancel) and throws Cancelled once it is set.
   using Job = std::function<Result(const std::atomic<bool>& cancel)>;
 
   /// `jobs` >= 1 bakes at once, `queue` >= 0 waiting; a bake running longer than

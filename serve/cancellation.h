@@ -1,7 +1,7 @@
 // Why a request's work stops before it is done (docs/serve.md, "Limits"): its deadline
 // (--max-request-seconds) passed, its client went away, or the service is shutting down. The
 // connection loop (serve/connection_loop.h) sets the flag; the engine reads it between panels
-// (CubatureOptions::cancel) and the bakery between entries (tables::BakeOptions::cancel).
+// (CubatureOptions::cancel) and the bakery between entries (tables::BakeCommon::cancel).
 #pragma once
 
 #include <atomic>
@@ -21,7 +21,7 @@ class Cancellation {
   }
   bool cancelled() const noexcept { return flag_.load(std::memory_order_relaxed); }
   StopReason reason() const noexcept { return reason_.load(); }
-  /// The flag itself, for CubatureOptions::cancel and tables::BakeOptions::cancel.
+  /// The flag itself, for CubatureOptions::cancel and tables::BakeCommon::cancel.
   const std::atomic<bool>* flag() const noexcept { return &flag_; }
 
  private:

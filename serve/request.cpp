@@ -23,43 +23,6 @@ namespace {
 
 RequestError bad(const std::string& message) { return RequestError(400, message); }
 
-/// Refuses repeated parameters and parameters the endpoint does not know, naming what it knows.
-void check_names(const Query& query, const std::string& endpoint, const std::vector<std::string>& allowed) {
-  std::string list;
-  for (const std::string& name : allowed) list += (list.empty() ? "" : ", ") + name;
-  for (auto it = query.begin(); it != query.end(); it = query.upper_bound(it->first)) {
-    if (std::find(allowed.begin(), allowed.end(), it->first) == allowed.end())
-      throw bad("unknown parameter '" + it->first + "' for " + endpoint + "; allowed: " + list);
-    if (query.count(it->first) > 1) throw bad("parameter '" + it->first + "' is given more than once");
-  }
-}
-
-std::optional<std::string> text_of(const Query& query, const std::string& name) {
-  const auto it = query.find(name);
-  if (it == query.end()) return std::nullopt;
-  return it->second;
-}
-
-std::string required(const Query& query, const std::string& name, const std::string& example) {
-  const std::optional<std::string> text = text_of(query, name);
-  if (!text || text->empty()) throw bad("missing parameter '" + name + "'; e.g. " + name + "=" + example);
-  return *text;
-}
-
-/// A finite decimal number, all of the text: an optional '-', digits with an optional point,
-/// an optional exponent (std::from_chars, general format: no hexadecimal, no leading space or
-/// '+', nothing beyond a double's range).
-std::optional<double> number(const Query& query, const std::string& name) {
-  const std::optional<std::string> text = text_of(query, name);
-  if (!text) return std::nullopt;
-  double x = 0.0;
-  const char* const last = text->data() + text->size();
-  const auto [end, status] = std::from_chars(text->data(), last, x, std::chars_format::general);
-  if (text->empty() || status != std::errc() || end != last || !std::isfinite(x))
-    throw bad(name + "='" + *text + "' is not a number; expected a finite decimal number such as 45, 0.5 or 1e-9");
-  return x;
-}
-
 double angle(const Query& query, const std::string& name, double max_deg, const std::string& why) {
   const std::optional<double> deg = number(query, name);
   if (!deg) throw bad("missing parameter '" + name + "'" + why);
@@ -113,6 +76,39 @@ std::string decoded(std::string_view text) {
 
 }  // namespace
 
+void check_names(const Query& query, const std::string& endpoint, const std::vector<std::string>& allowed) {
+  std::string list;
+  for (const std::string& name : allowed) list += (list.empty() ? "" : ", ") + name;
+  for (auto it = query.begin(); it != query.end(); it = query.upper_bound(it->first)) {
+    if (std::find(allowed.begin(), allowed.end(), it->first) == allowed.end())
+      throw bad("unknown parameter '" + it->first + "' for " + endpoint + "; allowed: " + list);
+    if (query.count(it->first) > 1) throw bad("parameter '" + it->first + "' is given more than once");
+  }
+}
+
+std::optional<std::string> text_of(const Query& query, const std::string& name) {
+  const auto it = query.find(name);
+  if (it == query.end()) return std::nullopt;
+  return it->second;
+}
+
+std::string required(const Query& query, const std::string& name, const std::string& example) {
+  const std::optional<std::string> text = text_of(query, name);
+  if (!text || text->empty()) throw bad("missing parameter '" + name + "'; e.g. " + name + "=" + example);
+  return *text;
+}
+
+std::optional<double> number(const Query& query, const std::string& name) {
+  const std::optional<std::string> text = text_of(query, name);
+  if (!text) return std::nullopt;
+  double x = 0.0;
+  const char* const last = text->data() + text->size();
+  const auto [end, status] = std::from_chars(text->data(), last, x, std::chars_format::general);
+  if (text->empty() || status != std::errc() || end != last || !std::isfinite(x))
+    throw bad(name + "='" + *text + "' is not a number; expected a finite decimal number such as 45, 0.5 or 1e-9");
+  return x;
+}
+
 Query parse_query(std::string_view text) {
   Query query;
   while (!text.empty()) {
@@ -153,9 +149,10 @@ void refuse_data_files(const nlohmann::json& value) {
 }
 }  // namespace
 
-SpecQuery parse_served_spec(const std::string& text, const Limits& limits) {
-  const Spec spec = as_request([&] { return parse_spec(text); });
-  refuse_data_file(spec, text);
+SpecQuery parse_served_spec(const std::string& text, const Limits& limits, const DataFiles& data) {
+  const Spec parsed = as_request([&] { return parse_spec(text); });
+  if (!data.enabled()) refuse_data_file(parsed, text);
+  const Spec spec = data.resolve(parsed);
   if (spec.terms.size() > limits.max_lobes)
     throw RequestError(413, "model '" + text.substr(0, 80) + (text.size() > 80 ? "...'" : "'") + " is a mixture of " +
                                 std::to_string(spec.terms.size()) + " lobes; this service computes at most " +
@@ -163,20 +160,20 @@ SpecQuery parse_served_spec(const std::string& text, const Limits& limits) {
   return {spec, as_request([&] { return make_model(spec); })};
 }
 
-ModelPtr parse_served_model(const std::string& spec, const Limits& limits) {
-  return parse_served_spec(spec, limits).model;
+ModelPtr parse_served_model(const std::string& spec, const Limits& limits, const DataFiles& data) {
+  return parse_served_spec(spec, limits, data).model;
 }
 
-SpecQuery parse_spec_query(const Query& query, const Limits& limits) {
+SpecQuery parse_spec_query(const Query& query, const Limits& limits, const DataFiles& data) {
   check_names(query, "/api/spec", {"model"});
-  return parse_served_spec(required(query, "model", "specular:alpha=8"), limits);
+  return parse_served_spec(required(query, "model", "specular:alpha=8"), limits, data);
 }
 
-EvalQuery parse_eval(const Query& query, const Limits& limits) {
+EvalQuery parse_eval(const Query& query, const Limits& limits, const DataFiles& data) {
   check_names(query, "/api/eval", {"model", "law", "theta_i", "theta_j", "phi", "tol"});
   EvalQuery q;
   q.law = as_request([&] { return parse_law(required(query, "law", "g (one of f, g, h, a, r)")); });
-  q.model = parse_served_model(required(query, "model", "specular:alpha=8"), limits);
+  q.model = parse_served_model(required(query, "model", "specular:alpha=8"), limits, data);
   const bool needs_i = q.law == Law::f || q.law == Law::g || q.law == Law::a;
   const bool needs_j = q.law == Law::f || q.law == Law::g || q.law == Law::h;
   const std::string law = std::string(" (law ") + to_string(q.law) + " needs it)";
@@ -197,9 +194,9 @@ bool is_f_glsl(const Query& query) {
   return law != query.end() && law->second == "f";
 }
 
-ModelPtr parse_f_glsl(const Query& query, const Limits& limits) {
+ModelPtr parse_f_glsl(const Query& query, const Limits& limits, const DataFiles& data) {
   check_names(query, "/api/glsl with law=f", {"model", "law"});
-  return parse_served_model(required(query, "model", "specular:alpha=8"), limits);
+  return parse_served_model(required(query, "model", "specular:alpha=8"), limits, data);
 }
 
 namespace {
@@ -223,7 +220,7 @@ const char* to_string(TableFormat format) { return info(format).name; }
 const char* content_type(TableFormat format) { return info(format).content_type; }
 
 TableQuery parse_table(const Query& query, const Limits& limits, TableEndpoint endpoint,
-                       const scene::TableOptions& defaults) {
+                       const scene::TableOptions& defaults, const DataFiles& data) {
   std::vector<std::string> names{"model", "law", "res", "tol", "encoding", "max_error", "fetches"};
   if (endpoint == TableEndpoint::table) names.push_back("format");
   check_names(query, endpoint == TableEndpoint::table ? "/api/table" : "/api/glsl", names);
@@ -232,40 +229,47 @@ TableQuery parse_table(const Query& query, const Limits& limits, TableEndpoint e
               " or max_error, not both: with max_error the baker chooses the resolution and the tolerance");
   TableQuery q;
   q.law = as_request([&] { return tables::parse_tabulated_law("law", required(query, "law", "g (one of g, h, a)")); });
-  q.model = parse_served_model(required(query, "model", "specular:alpha=8"), limits);
+  q.model = parse_served_model(required(query, "model", "specular:alpha=8"), limits, data);
   if (!q.model->traits().isotropic)
     throw bad("model '" + q.model->spec() + "' is anisotropic; tables hold isotropic models only");
-  q.options = defaults.bake_options(q.law == Law::g ? Law::g : Law::h);
-  q.options.max_evaluations = limits.max_evaluations;
-  if (const auto res = text_of(query, "res")) {
-    q.options.resolution = as_request([&] { return tables::parse_resolution(*res, q.law); });
-  }
-  const std::uint64_t entries = tables::table_bytes(q.options.resolution) / tables::kBytesPerEntry;
-  if (entries > limits.max_entries)
-    throw RequestError(413, "res=" + tables::resolution_text(q.options.resolution) + " is " + std::to_string(entries) +
-                                " entries; this service bakes at most " + std::to_string(limits.max_entries) +
-                                " on demand (bake larger tables with `ganzfeld bake`)");
-  q.options.tolerance = tolerance(query, defaults.tolerance);
-  if (query.count("res") || query.count("tol")) {  // as the command line's --res/--tol: a fixed bake, no search
-    q.options.target_error = 0.0;
-    q.options.max_bytes = 0;
-    q.options.max_fetches = 0;
-  }
+  const tables::Encoding encoding = text_of(query, "encoding")
+                                        ? as_request([&] { return tables::parse_encoding(*text_of(query, "encoding")); })
+                                        : defaults.encoding;
+  const Law grid_law = q.law == Law::g ? Law::g : Law::h;  // a: h's grid
   if (const auto max_error = number(query, "max_error")) {
-    // As `bake --max-error`: the smallest table whose validated lookup error is <= max_error,
+    // As `bake model --max-error`: the smallest table whose validated lookup error is <= max_error,
     // within this service's own size cap (max_entries floats of values).
-    q.options.target_error = *max_error;
-    q.options.max_bytes = limits.max_entries * sizeof(float);
-    q.options.best_effort = false;  // a target asked for is met or refused
+    tables::TargetBake bake;
+    bake.target.lookup_error = *max_error;
+    bake.target.max_bytes = limits.max_entries * sizeof(float);
+    bake.target.max_fetches = scene::kSceneSearchFetches;  // as a scene's --max-error without --fetches
+    bake.target.best_effort = false;                       // a target asked for is met or refused
+    q.options = bake;
+  } else if (defaults.target && !query.count("res") && !query.count("tol")) {
+    q.options = defaults.request(grid_law);  // the defaults' target (the scene defaults: best effort)
+  } else {  // res or tol, as the command line's --res/--tol: a fixed grid, no search
+    tables::BakeOptions grid;
+    grid.resolution = grid_law == Law::g ? defaults.resolution_g : defaults.resolution_h;
+    if (const auto res = text_of(query, "res"))
+      grid.resolution = as_request([&] { return tables::parse_resolution(*res, q.law); });
+    const std::uint64_t entries = tables::table_bytes(grid.resolution) / tables::kBytesPerEntry;
+    if (entries > limits.max_entries)
+      throw RequestError(413, "res=" + tables::resolution_text(grid.resolution) + " is " + std::to_string(entries) +
+                                  " entries; this service bakes at most " + std::to_string(limits.max_entries) +
+                                  " on demand (bake larger tables with `ganzfeld bake model`)");
+    grid.tolerance = tolerance(query, defaults.tolerance);
+    q.options = grid;
   }
-  if (const auto fetches = number(query, "fetches")) {  // as `bake --fetches N`: the lookup's fetch budget
-    if (!q.options.target_error) throw bad("fetches needs max_error (it is the fetch budget of that search)");
+  if (const auto fetches = number(query, "fetches")) {  // as `bake model --fetches N`: the lookup's fetch budget
+    tables::TargetBake* bake = std::get_if<tables::TargetBake>(&q.options);
+    if (!bake) throw bad("fetches needs max_error (it is the fetch budget of that search)");
     if (*fetches != std::floor(*fetches) || *fetches < 1 || *fetches > 1e6)
       throw bad("fetches=" + format_number(*fetches) + " is not allowed; expected an integer >= 1");
-    q.options.max_fetches = static_cast<int>(*fetches);
+    bake->target.max_fetches = static_cast<int>(*fetches);
   }
-  if (const auto encoding = text_of(query, "encoding"))
-    q.options.encoding = as_request([&] { return tables::parse_encoding(*encoding); });
+  tables::BakeCommon& common = tables::common(q.options);
+  common.max_evaluations = limits.max_evaluations;
+  common.encoding = encoding;
   if (const auto format = text_of(query, "format")) {
     const auto known = std::find_if(std::begin(kFormats), std::end(kFormats),
                                     [&](const FormatInfo& f) { return *format == f.name; });
@@ -275,7 +279,7 @@ TableQuery parse_table(const Query& query, const Limits& limits, TableEndpoint e
   return table_query(q.model, q.law, q.options, q.format);
 }
 
-TableQuery table_query(ModelPtr model, Law law, tables::BakeOptions options, TableFormat format) {
+TableQuery table_query(ModelPtr model, Law law, tables::BakeRequest options, TableFormat format) {
   TableQuery q{std::move(model), law, std::move(options), format, "", ""};
   const tables::TableKey key = as_request([&] { return tables::table_key(*q.model, q.law, q.options); });
   q.key = tables::key_text(key);

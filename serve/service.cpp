@@ -6,11 +6,13 @@
 #include <regex>
 
 #include "export/glsl.h"
+#include "export/glsl_f.h"
 #include "export/texture_file.h"
 #include "models/registry.h"
 #include "scene/plan.h"
 #include "serve/assets.h"
 #include "serve/etag.h"
+#include "serve/field.h"
 #include "shapes/json.h"
 #include "tables/exr_io.h"
 #include "util/error.h"
@@ -194,22 +196,29 @@ Reply Service::handle(const Request& request) {
     const Query& query = request.query;
     // The viewer's files (serve/assets.h); the page reads its own query (model, light, test mode).
     if (const Asset* asset = find_asset(path)) return {200, std::string(asset->media_type), std::string(asset->body), {}};
-    const bool fixed = path == "/healthz" || path == "/api/models";
+    const bool fixed = path == "/healthz" || path == "/api/models" || path == "/api/data";
     if (fixed && !query.empty()) return error_reply(400, path + " takes no parameters");
     if (path == "/healthz") return json_reply(draining_ ? 503 : 200, health());
     if (path == "/api/models") return {200, "application/json", models_, {}};
+    if (path == "/api/data") return json_reply(200, options_.data.listing());
     if (path == "/api/eval") return eval(request);
     if (path == "/api/spec") {
-      const SpecQuery q = parse_spec_query(query, options_.limits);
-      return json_reply(200, shapes::spec_json(q.spec, q.model->spec()));
+      const SpecQuery q = parse_spec_query(query, options_.limits, options_.data);
+      return json_reply(200, shapes::spec_json(q.spec, options_.data.display(q.model->spec())));
     }
+    if (path == "/api/fgrid") {
+      const FGridQuery q = parse_fgrid(query, options_.data);
+      return cacheable(json_reply(200, fgrid_json(q, options_.data)), request.if_none_match);
+    }
+    if (path == "/api/sphere") return sphere(request);
     if (path == "/api/table") return table(request, TableEndpoint::table);
     if (path == "/api/glsl") {
       if (query.count("scene")) return scene_glsl(request);
       return is_f_glsl(query) ? f_shader(request) : table(request, TableEndpoint::glsl);
     }
     return error_reply(404, "no endpoint '" + path +
-                                "'; allowed: /, /viewer.js, /healthz, /api/models, /api/spec, /api/eval, /api/table, /api/glsl");
+                                "'; allowed: /, /viewer.js, /healthz, /api/models, /api/data, /api/spec, /api/eval, "
+                                "/api/fgrid, /api/sphere, /api/table, /api/glsl");
   } catch (const RequestError& e) {
     return error_reply(e.status(), e.what());
   } catch (const Busy& e) {
@@ -225,7 +234,7 @@ Reply Service::handle(const Request& request) {
 }
 
 Reply Service::eval(const Request& request) {
-  const EvalQuery q = parse_eval(request.query, options_.limits);
+  const EvalQuery q = parse_eval(request.query, options_.limits, options_.data);
   const ComputingSlot slot(*this);
   CubatureOptions options = q.options;
   if (request.cancel) options.cancel = request.cancel->flag();
@@ -233,7 +242,8 @@ Reply Service::eval(const Request& request) {
   const Estimate e = evaluate_law(*q.model, q.law, q.i.value_or(Vec3{0, 0, 1}), q.j.value_or(Vec3{0, 0, 1}), options);
   if (request.cancel && request.cancel->cancelled())
     return stopped(request.cancel, stop_message(request.cancel->reason(), options_.max_request_seconds));
-  return json_reply(200, shapes::eval_json(q.model->spec(), q.law, e, q.tolerance, q.i, q.j, watch.seconds()));
+  return json_reply(200, shapes::eval_json(options_.data.display(q.model->spec()), q.law, e, q.tolerance, q.i, q.j,
+                                           watch.seconds()));
 }
 
 std::optional<tables::Table> Service::cached(const TableQuery& q, const std::string& path) {
@@ -256,13 +266,15 @@ Bakery::Result Service::obtain(const TableQuery& q, std::string& status, const C
   const Bakery::Ticket ticket = bakery_.submit(q.key, [this, q, path](const std::atomic<bool>& stop) {
     scene::TableRequest request{q.model->spec(), q.law, q.model, q.options};
     const std::string command = options_.command_line ? options_.command_line(scene::bake_command(request, path)) : "";
-    tables::BakeOptions options = q.options;
-    options.cancel = &stop;
+    tables::BakeRequest options = q.options;
+    tables::common(options).cancel = &stop;
     tables::CacheResult baked;
     try {
       baked = tables::bake_or_reuse(path, *q.model, q.law, options, command);
-    } catch (const InputError&
-                 e) {  // the cache cannot take the file (a directory at its name, a full disk): ours, not the client's
+    } catch (const InputError& e) {
+      // A refusal naming a parameter (a max_error no scheme reaches) is the client's; the cache not
+      // taking the file (a directory at its name, a full disk) is ours.
+      if (!e.refused().parameter.empty()) throw RequestError(400, e.worded(InputError::query_spelling));
       throw std::runtime_error("the cache cannot hold " + q.file_name + ": " + e.what());
     }
     auto r = std::make_shared<const tables::CacheResult>(std::move(baked));
@@ -274,13 +286,20 @@ Bakery::Result Service::obtain(const TableQuery& q, std::string& status, const C
   return result;
 }
 
+Reply Service::sphere(const Request& request) {
+  const SphereQuery q = parse_sphere(request.query, options_.data);
+  if (q.law == Law::f) return cacheable(json_reply(200, sphere_json(q, options_.data)), request.if_none_match);
+  const ComputingSlot slot(*this);  // g and h: a cubature per pixel, as /api/eval's
+  return cacheable(json_reply(200, sphere_json(q, options_.data)), request.if_none_match);
+}
+
 Reply Service::f_shader(const Request& request) {
-  const ModelPtr model = parse_f_glsl(request.query, options_.limits);
+  const ModelPtr model = parse_f_glsl(request.query, options_.limits, options_.data);
   return cacheable({200, "text/plain; charset=utf-8", exporting::glsl_model_f(*model), {}}, request.if_none_match);
 }
 
 Reply Service::table(const Request& request, TableEndpoint endpoint) {
-  const TableQuery q = parse_table(request.query, options_.limits, endpoint, options_.defaults);
+  const TableQuery q = parse_table(request.query, options_.limits, endpoint, options_.defaults, options_.data);
   if (any_representation(request.if_none_match)) return {304, "application/json", "", {{"Cache-Control", kImmutable}}};
   std::string status;
   const Bakery::Result r = obtain(q, status, request.cancel);
@@ -308,7 +327,7 @@ Reply Service::scene_glsl(const Request& request) {
   std::string statuses;  // "baked", "reused", "joined" of each table, comma-separated
   store.obtain = [&](scene::TableRequest r) {
     std::string status;
-    r.options.max_evaluations = options_.limits.max_evaluations;
+    tables::common(r.options).max_evaluations = options_.limits.max_evaluations;
     const Bakery::Result result = obtain(table_query(r.model, r.law, r.options), status, request.cancel);
     statuses += (statuses.empty() ? "" : ",") + status;
     scene::PlannedTable planned{std::move(r), std::shared_ptr<const tables::Table>(result, &result->table), result->path,

@@ -9,6 +9,8 @@
 //   GET /api/table    the table from the cache (baked on demand: serve/bakery.h) as exr, ktx2 or json
 //   GET /api/glsl     export::glsl_table_snippet of that table; with law=f, export::glsl_model_f;
 //                     with scene=SCENE the scene's shader (export::glsl_scene_shader) and its tables
+//   GET /api/data     the measured files of --data DIR, by name (serve/data.h)
+//   GET /api/fgrid    f over a direction grid; GET /api/sphere the figure's sphere (serve/field.h)
 // Errors: {"error": "one line"} with 400 (bad value), 404 (no such endpoint), 413 (too large),
 // 503 (no bake or computing slot free, or shutting down: Retry-After; or the request's work was
 // stopped: its deadline, its client gone: serve/cancellation.h) or 500.
@@ -43,6 +45,7 @@ struct ServiceOptions {
   int max_computing = 28;
   Limits limits;
   scene::TableOptions defaults = scene::TableOptions::scene_defaults();  ///< what unset table parameters mean
+  DataFiles data;                 ///< `--data DIR`: the measured files requests may name (serve/data.h)
   /// Joins the words of the equivalent `ganzfeld bake` into the line stamped into each table.
   std::function<std::string(const std::vector<std::string>&)> command_line;
   /// One line for the operator's log (cache entries refused and baked again, internal errors
@@ -108,6 +111,8 @@ class Service {
   class ComputingSlot;
   /// `message` without the cache directory's path (error bodies name files by their cache name).
   std::string without_paths(std::string message) const;
+  /// GET /api/sphere: f at once, g and h (a cubature per pixel) in a computing slot.
+  Reply sphere(const Request& request);
 
   ServiceOptions options_;
   Bakery bakery_;

@@ -110,9 +110,16 @@ std::vector<Axis> bake_axes(Law law, const BakeOptions& options) {
   return make_axes(law, options.resolution, options.mappings);
 }
 
-Table bake(const Model& model, Law law, const BakeOptions& options) {
-  if (options.target_error != 0.0 || options.max_bytes > 0) return bake_to_error(model, law, options);
-  return bake_resolution(model, law, options);
+BakeCommon& common(BakeRequest& request) noexcept {
+  return std::visit([](BakeCommon& c) -> BakeCommon& { return c; }, request);
+}
+const BakeCommon& common(const BakeRequest& request) noexcept {
+  return std::visit([](const BakeCommon& c) -> const BakeCommon& { return c; }, request);
+}
+
+Table bake(const Model& model, Law law, const BakeRequest& request) {
+  if (const TargetBake* target = std::get_if<TargetBake>(&request)) return bake_to_error(model, law, *target);
+  return bake_resolution(model, law, std::get<BakeOptions>(request));
 }
 
 namespace {

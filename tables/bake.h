@@ -8,6 +8,7 @@
 #include <functional>
 #include <optional>
 #include <string>
+#include <variant>
 #include <vector>
 
 #include "integrate/cubature.h"
@@ -22,13 +23,25 @@ namespace ganzfeld::tables {
 inline constexpr std::uint64_t kMaxTableBytes = std::uint64_t{2} << 30;  // 2 GiB
 inline constexpr std::uint64_t kBytesPerEntry = 2 * sizeof(float);
 
-struct BakeOptions {
+/// What every bake takes, whichever kind it is: how the values are stored and each entry's
+/// evaluation budget.
+struct BakeCommon {
+  long long max_evaluations = CubatureOptions{}.max_evaluations;  ///< per entry
+  Encoding encoding = Encoding::single;
+  /// Called with (entries done, total) at most ~kProgressSteps times, serialized (never two at
+  /// once) and with increasing `done`, from whichever worker thread finished the entry.
+  std::function<void(std::uint64_t done, std::uint64_t total)> progress;
+  /// When set, read before every entry and by every entry's cubature (CubatureOptions::cancel):
+  /// once it holds true the bake stops and throws Cancelled (no table, nothing written).
+  const std::atomic<bool>* cancel = nullptr;
+};
+
+/// A bake on a fixed grid: the caller chooses every node count, axis, lookup and tolerance.
+struct BakeOptions : BakeCommon {
   std::vector<int> resolution;  ///< nodes per axis (g: 3 counts; h, a: 1)
   /// Mapping per axis (same count as `resolution`); empty = the law's defaults (default_axes).
   std::vector<Mapping> mappings;
   double tolerance = 1e-9;      ///< absolute tolerance of every entry's cubature
-  long long max_evaluations = CubatureOptions{}.max_evaluations;  ///< per entry
-  Encoding encoding = Encoding::single;
   Interpolation interpolation = Interpolation::linear;
   /// g only: bake in the lobe frame with this peak and width (tables/frame.h); nothing: the
   /// cosines frame (version 1's axes; `mappings` apply).
@@ -46,25 +59,35 @@ struct BakeOptions {
   std::uint64_t random_checks = 0;
   /// Tolerance of the direct cubature the validation compares with (0: `tolerance`).
   double check_tolerance = 0.0;
-  /// > 0: bake to this lookup error instead of `resolution` (tables/to_error.h: the baker
-  /// chooses resolution, frame, interpolation and tolerance); 0: bake `resolution` as given.
-  double target_error = 0.0;
-  /// With target_error: the cap of the value bytes (0: kDefaultMaxValueBytes).
-  std::uint64_t max_bytes = 0;
-  /// With target_error: the most texture fetches one lookup may cost a shader (tables::fetches;
-  /// 0: no budget, the fewest value bytes the search finds among texel-fetch lookups).
+};
+
+/// What a bake to an error must meet (tables/to_error.h).
+struct ErrorTarget {
+  double lookup_error = 0.0;    ///< E > 0: the validated lookup error to reach
+  std::uint64_t max_bytes = 0;  ///< cap of the value bytes (0: kDefaultMaxValueBytes)
+  /// The most texture fetches one lookup may cost a shader (tables::fetches; 0: no budget, the
+  /// fewest value bytes the search finds among texel-fetch lookups).
   int max_fetches = 0;
-  /// With target_error: when no scheme within the budget reaches it, keep the most accurate table
-  /// the search baked (its stated lookup error says by how much it misses) instead of refusing.
+  /// When no scheme within the budget reaches lookup_error, keep the most accurate table the
+  /// search baked (its stated lookup error says by how much it misses) instead of refusing.
   /// What the scene defaults ask for; an explicit --max-error is strict.
   bool best_effort = false;
-  /// Called with (entries done, total) at most ~kProgressSteps times, serialized (never two at
-  /// once) and with increasing `done`, from whichever worker thread finished the entry.
-  std::function<void(std::uint64_t done, std::uint64_t total)> progress;
-  /// When set, read before every entry and by every entry's cubature (CubatureOptions::cancel):
-  /// once it holds true the bake stops and throws Cancelled (no table, nothing written).
-  const std::atomic<bool>* cancel = nullptr;
 };
+
+/// A bake to an error target: the baker chooses resolution, mappings, frame, interpolation,
+/// filter and tolerance (tables/to_error.h), so none of them can be given.
+struct TargetBake : BakeCommon {
+  ErrorTarget target;
+};
+
+/// What to bake: a fixed grid or an error target. The kinds share only BakeCommon, so no field
+/// means one thing in one kind and is silently replaced in the other.
+using BakeRequest = std::variant<BakeOptions, TargetBake>;
+
+/// The fields both kinds share.
+BakeCommon& common(BakeRequest& request) noexcept;
+const BakeCommon& common(const BakeRequest& request) noexcept;
+
 inline constexpr int kProgressSteps = 1000;
 /// The interpolation check after baking (Table::interpolation_error): at least this many cell
 /// centres (all cells when there are fewer), with a fixed seed so bakes are reproducible.
@@ -100,12 +123,11 @@ std::vector<Axis> bake_axes(Law law, const BakeOptions& options);
 /// values outside the half range when encoding = half. Entries that miss the tolerance are
 /// kept with their (larger) error estimate and counted in Table::unconverged.
 /// Table::command is left empty for the caller; Table::version is this build's.
-/// With options.target_error > 0, bake_to_error (tables/to_error.h) instead. Throws Cancelled
-/// when options.cancel is set.
-Table bake(const Model& model, Law law, const BakeOptions& options);
-
-/// bake() of exactly options.resolution (ignores target_error).
 Table bake_resolution(const Model& model, Law law, const BakeOptions& options);
+
+/// The table `request` asks for: bake_resolution of a fixed grid, bake_to_error
+/// (tables/to_error.h) of an error target. Throws Cancelled once BakeCommon::cancel holds true.
+Table bake(const Model& model, Law law, const BakeRequest& request);
 
 /// `count` seeded random points uniform in the law's coordinates, flattened (g: (i·n in
 /// [-1, 1], j·n in [min_cos_j, 1], phi in [0, pi]) each; h, a: cos theta in [0, 1]). Prefix-stable.

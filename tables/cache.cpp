@@ -21,24 +21,25 @@ constexpr std::size_t kMaxNameSpec = 80;
 
 }  // namespace
 
-TableKey table_key(const Model& model, Law law, const BakeOptions& options) {
+TableKey table_key(const Model& model, Law law, const BakeRequest& request) {
   TableKey key;
   key.model = spec_without_paths(model.spec());
   key.content = model.content_digest();
   key.law = law;
-  if (options.target_error != 0.0 || options.max_bytes > 0) {
-    check_error_target(options.target_error, options.max_bytes, law, options.encoding);
-    key.encoding = options.encoding;
-    key.target_error = options.target_error;
-    key.target_bytes = options.max_bytes ? options.max_bytes : kDefaultMaxValueBytes;
-    if (options.max_fetches != 0) check_fetch_budget(options.max_fetches);
-    key.target_fetches = options.max_fetches;
-    key.best_effort = options.best_effort;
+  key.encoding = common(request).encoding;
+  if (const TargetBake* bake = std::get_if<TargetBake>(&request)) {
+    const ErrorTarget& target = bake->target;
+    check_error_target(target.lookup_error, target.max_bytes, law, bake->encoding);
+    key.target_error = target.lookup_error;
+    key.target_bytes = target.max_bytes ? target.max_bytes : kDefaultMaxValueBytes;
+    if (target.max_fetches != 0) check_fetch_budget(target.max_fetches);
+    key.target_fetches = target.max_fetches;
+    key.best_effort = target.best_effort;
     return key;
   }
+  const BakeOptions& options = std::get<BakeOptions>(request);
   key.axes = bake_axes(law, options);
   key.tolerance = options.tolerance;
-  key.encoding = options.encoding;
   key.interpolation = options.interpolation;
   key.frame = options.lobe ? (options.warped ? Frame::warped : Frame::lobe) : Frame::cosines;
   key.peak = options.lobe ? options.lobe->peak : PeakKind::mirror;
@@ -134,7 +135,7 @@ std::optional<Table> read_if_matching(const std::string& path, const TableKey& k
     Table table = read_table(path);
     if (!same_key(table_key(table), key))
       reason = "it holds another table (its metadata is not the key)";
-    else if (!key.best_effort && table.target_error > 0.0 && table.lookup_error > table.target_error)
+    else if (!key.best_effort && misses_target(table))
       reason = "it misses its target error (a best-effort bake's table)";
     else if (table.values_digest.empty())
       reason = "it has no ganzfeld.values_digest to verify its numbers by";
@@ -147,24 +148,24 @@ std::optional<Table> read_if_matching(const std::string& path, const TableKey& k
   return std::nullopt;
 }
 
-CacheResult bake_or_reuse(const std::string& path, const Model& model, Law law, const BakeOptions& options,
+CacheResult bake_or_reuse(const std::string& path, const Model& model, Law law, const BakeRequest& request,
                           const std::string& command, bool force) {
-  const TableKey key = table_key(model, law, options);
+  const TableKey key = table_key(model, law, request);
   if (!force) {
     if (std::optional<Table> table = read_if_matching(path, key))
       return {path, CacheStatus::reused, std::move(*table), 0.0};
   }
   check_writable(path);
   const util::Stopwatch watch;
-  Table table = bake(model, law, options);
+  Table table = bake(model, law, request);
   const double seconds = watch.seconds();
   table.command = command;
   write_table(table, path);
   return {path, CacheStatus::baked, std::move(table), seconds};
 }
 
-std::string cache_path(const std::string& directory, const Model& model, Law law, const BakeOptions& options) {
-  return (std::filesystem::path(directory) / cache_file_name(table_key(model, law, options))).string();
+std::string cache_path(const std::string& directory, const Model& model, Law law, const BakeRequest& request) {
+  return (std::filesystem::path(directory) / cache_file_name(table_key(model, law, request))).string();
 }
 
 }  // namespace ganzfeld::tables

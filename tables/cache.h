@@ -12,7 +12,7 @@
 // written before the digest existed is re-baked once, so every reused table has been verified.
 //
 // Not in the key: data file paths, the evaluation budget per entry
-// (BakeOptions::max_evaluations, not stored in the file), the command line and the ganzfeld
+// (BakeCommon::max_evaluations, not stored in the file), the command line and the ganzfeld
 // version that made the table.
 #pragma once
 
@@ -47,9 +47,9 @@ struct TableKey {
   bool best_effort = false;
 };
 
-/// The key of the table bake(model, law, options) would make (axes: make_axes). Throws
-/// InputError for what bake would refuse about the axes (law, counts, mappings).
-TableKey table_key(const Model& model, Law law, const BakeOptions& options);
+/// The key of the table bake(model, law, request) would make (axes: make_axes). Throws
+/// InputError for what bake would refuse about the axes (law, counts, mappings) or the target.
+TableKey table_key(const Model& model, Law law, const BakeRequest& request);
 /// The key a table read from a file carries.
 TableKey table_key(const Table& table);
 
@@ -85,10 +85,10 @@ std::optional<Table> read_if_matching(const std::string& path, const TableKey& k
 
 /// Reuses the table at `path` if read_if_matching accepts it (and not `force`); otherwise bakes
 /// it, stamps `command` into it and writes it atomically over `path`.
-CacheResult bake_or_reuse(const std::string& path, const Model& model, Law law, const BakeOptions& options,
+CacheResult bake_or_reuse(const std::string& path, const Model& model, Law law, const BakeRequest& request,
                           const std::string& command, bool force = false);
 
 /// The path of this table in the cache `directory`: directory/cache_file_name(key).
-std::string cache_path(const std::string& directory, const Model& model, Law law, const BakeOptions& options);
+std::string cache_path(const std::string& directory, const Model& model, Law law, const BakeRequest& request);
 
 }  // namespace ganzfeld::tables

@@ -21,21 +21,22 @@ constexpr double kProbeDegrees[] = {0.0, 30.0, 60.0, 85.0};
 constexpr double kSameDirection = 1e-12;
 }  // namespace
 
-namespace {
-/// The lobe frame's angles and the pole's components along (p, e1, e2) of the g coordinates.
-struct LobeComponents {
-  double theta_j, psi, beta, ip, ie1, ie2;
-};
-LobeComponents lobe_components(PeakKind peak, double cos_theta_i, double cos_theta_j, double phi) noexcept {
+LobeComponents lobe_components(PeakKind peak, double cos_theta_i, double cos_theta_j, double cos_phi,
+                              double sin_phi) noexcept {
   const double s = sign_of(peak);
   const double ci = std::clamp(cos_theta_i, -1.0, 1.0), cj = std::clamp(cos_theta_j, 0.0, 1.0);
   const double si = std::sqrt(std::max(0.0, 1.0 - ci * ci)), sj = std::sqrt(std::max(0.0, 1.0 - cj * cj));
-  const double cp = std::cos(phi), sp = std::abs(std::sin(phi));
+  const double cp = cos_phi, sp = std::abs(sin_phi);
   const double ip = s * si * sj * cp + ci * cj;
   const double ie1 = -s * si * cj * cp + ci * sj;
   const double ie2 = si * sp;
   const double beta = (ie1 == 0.0 && ie2 == 0.0) ? 0.0 : std::atan2(ie2, ie1);
-  return {std::atan2(sj, cj), std::atan2(std::hypot(ie1, ie2), ip), beta, ip, ie1, ie2};
+  return {std::atan2(sj, cj), std::atan2(std::hypot(ie1, ie2), ip), beta, ip, ie1, ie2, cj, sj};
+}
+
+namespace {
+LobeComponents lobe_components(PeakKind peak, double cos_theta_i, double cos_theta_j, double phi) noexcept {
+  return lobe_components(peak, cos_theta_i, cos_theta_j, std::cos(phi), std::sin(phi));
 }
 }  // namespace
 
@@ -54,10 +55,14 @@ std::pair<Vec3, Vec3> lobe_directions(PeakKind peak, double theta_j, double psi,
 }
 
 WarpSample warp_at(const Warp& warp, const Axis& theta_axis, double theta_j) noexcept {
+  return warp_at_index(warp, theta_axis.index_coordinate(theta_j));
+}
+
+WarpSample warp_at_index(const Warp& warp, double u) noexcept {
   const int K = static_cast<int>(warp.samples.size());
   if (K == 0) return {};
   if (K == 1) return warp.samples[0];
-  const double s = theta_axis.index_coordinate(theta_j) * (K - 1);
+  const double s = u * (K - 1);
   const int k = static_cast<int>(std::min(std::floor(s), static_cast<double>(K - 2)));
   const double t = s - k;
   const WarpSample &a = warp.samples[k], &b = warp.samples[k + 1];
@@ -65,8 +70,12 @@ WarpSample warp_at(const Warp& warp, const Axis& theta_axis, double theta_j) noe
 }
 
 double warp_envelope(const Warp& warp, double theta_j) noexcept {
+  return warp.envelope > 0.0 ? warp_envelope(warp, std::cos(theta_j), std::sin(theta_j)) : 1.0;
+}
+
+double warp_envelope(const Warp& warp, double cos_theta_j, double sin_theta_j) noexcept {
   if (!(warp.envelope > 0.0)) return 1.0;
-  const double c = std::cos(theta_j), s = std::sin(theta_j), w = warp.envelope;
+  const double c = cos_theta_j, s = sin_theta_j, w = warp.envelope;
   return 0.5 * (c + std::sqrt(c * c + w * w * s * s));
 }
 

@@ -34,6 +34,15 @@
 
 namespace ganzfeld::tables {
 
+/// The lobe frame's angles of the g coordinates (c_i, c_j, phi), clamped to their ranges, the
+/// pole's components along (p, e1, e2) and j's cosine and sine (the formulas above).
+struct LobeComponents {
+  double theta_j, psi, beta, ip, ie1, ie2, cos_theta_j, sin_theta_j;
+};
+/// From cos phi and sin phi (only |sin phi| matters: the laws are even in phi).
+LobeComponents lobe_components(PeakKind peak, double cos_theta_i, double cos_theta_j, double cos_phi,
+                              double sin_phi) noexcept;
+
 /// (theta_j, psi, beta) of the g coordinates (c_i, c_j, phi) (clamped to their ranges).
 std::array<double, 3> lobe_coordinates(PeakKind peak, double cos_theta_i, double cos_theta_j, double phi) noexcept;
 
@@ -87,8 +96,12 @@ inline constexpr double kWarpBetaWhitening = 0.8;
 
 /// The warp parameters at theta_j (linear between the samples in theta_axis' index coordinate).
 WarpSample warp_at(const Warp& warp, const Axis& theta_axis, double theta_j) noexcept;
+/// warp_at at the index coordinate u of theta_j on the theta_j axis.
+WarpSample warp_at_index(const Warp& warp, double u) noexcept;
 /// A(theta_j) (1 without an envelope).
 double warp_envelope(const Warp& warp, double theta_j) noexcept;
+/// A(theta_j) from cos theta_j and sin theta_j.
+double warp_envelope(const Warp& warp, double cos_theta_j, double sin_theta_j) noexcept;
 /// The offset of a unit sky pole i with components (i·p, i·e1, i·e2) and angle psi to p.
 double warped_offset(const WarpSample& at, double mix, double ip, double ie1, double ie2, double psi) noexcept;
 /// The third axis' coordinate of a pole with components (i·e1, i·e2 >= 0) at beta = atan2(i·e2, i·e1).

@@ -60,7 +60,7 @@ struct PresetOptions {
   double tolerance = kPresetTolerance;
   long long max_evaluations = CubatureOptions{}.max_evaluations;  ///< per integral
   Encoding encoding = Encoding::single;
-  std::function<void(std::uint64_t done, std::uint64_t total)> progress;  ///< as BakeOptions::progress
+  std::function<void(std::uint64_t done, std::uint64_t total)> progress;  ///< as BakeCommon::progress
 };
 
 /// The g2 form of an isotropic ggx model, as the family spec "ggx:g2=..."; throws InputError

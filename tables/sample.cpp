@@ -10,13 +10,32 @@ namespace ganzfeld::tables {
 
 bool is_even_axis(const Axis& axis) noexcept { return axis.name == kAxisPhi || axis.name == kAxisBeta; }
 
+namespace {
+/// The value and the per-node error bound a lookup blends at `site`.
+Sample blend(const Lookup& lookup, const Lookup::Site& site, WeightRounding rounding) noexcept {
+  const Table& table = lookup.table();
+  Sample out;
+  lookup.visit(
+      site,
+      [&](std::size_t entry, double w) {
+        out.value += w * table.value[entry];
+        out.error += std::abs(w) * table.error[entry];
+      },
+      rounding);
+  return out;
+}
+}  // namespace
+
 AxisTaps catmull_rom_taps(const Axis& axis, int k, double t, WeightRounding rounding) noexcept {
+  return catmull_rom_taps(axis.count, is_even_axis(axis), k, t, rounding);
+}
+
+AxisTaps catmull_rom_taps(int count, bool even, int k, double t, WeightRounding rounding) noexcept {
   // Catmull–Rom on nodes k-1, k, k+1, k+2 (tangents (p[k+1] - p[k-1])/2).
-  const int n = axis.count;
+  const int n = count;
   const double t2 = t * t, t3 = t2 * t;
   double w[4] = {0.5 * (-t3 + 2.0 * t2 - t), 0.5 * (3.0 * t3 - 5.0 * t2 + 2.0), 0.5 * (-3.0 * t3 + 4.0 * t2 + t),
                  0.5 * (t3 - t2)};
-  const bool even = is_even_axis(axis);
   if (k == 0) {  // node -1 is missing: p[1] (even) or 3 p[0] - 3 p[1] + p[2]
     if (even) {
       w[2] += w[0];
@@ -73,20 +92,53 @@ bool same_lookup(const Table& a, const Table& b) noexcept {
   return true;
 }
 
-double lookup_scale(const Table& table, std::span<const double> y) noexcept {
-  return table.frame == Frame::warped && !y.empty() ? warp_envelope(table.warp, y[0]) : 1.0;
+Lookup::Lookup(const Table& table) noexcept : table_(&table), dims_(table.axes.size()) {
+  if (dims_ == 0 || dims_ > 3) return;
+  std::size_t entries = 1;
+  for (std::size_t d = dims_; d-- > 0;) {
+    const Axis& axis = table.axes[d];
+    stride_[d] = entries;
+    entries *= static_cast<std::size_t>(axis.count);
+    index_[d] = AxisIndex(axis);
+    count_[d] = axis.count;
+    even_[d] = is_even_axis(axis);
+  }
+  fits_ = table.value.size() == entries;
+}
+
+Lookup::Site Lookup::at_axes(std::span<const double> y) const noexcept {
+  Site site;
+  if (!fits_ || y.size() != dims_) return site;
+  for (std::size_t d = 0; d < dims_; ++d) site.u[d] = index_[d](y[d]);
+  site.scale = table_->frame == Frame::warped ? warp_envelope(table_->warp, y[0]) : 1.0;
+  site.valid = true;
+  return site;
+}
+
+Lookup::Site Lookup::at_law(const Point& x) const noexcept {
+  const Table& t = *table_;
+  if (!(t.law == Law::g && t.frame != Frame::cosines && x.size == 3 && fits_ && dims_ == 3))
+    return at_axes(axis_point(t, x.span()).span());
+  const LobeComponents c =
+      x.has_azimuth_trig ? lobe_components(t.peak, x.x[0], x.x[1], x.cos_phi, x.sin_phi)
+                         : lobe_components(t.peak, x.x[0], x.x[1], std::cos(x.x[2]), std::sin(x.x[2]));
+  Site site;
+  site.u[0] = index_[0](c.theta_j);
+  if (t.frame == Frame::warped) {
+    const double offset = warped_offset(warp_at_index(t.warp, site.u[0]), t.warp.mix, c.ip, c.ie1, c.ie2, c.psi);
+    site.u[1] = index_[1](offset);
+    site.scale = warp_envelope(t.warp, c.cos_theta_j, c.sin_theta_j);
+  } else {
+    site.u[1] = index_[1](c.psi);
+  }
+  site.u[2] = index_[2](c.beta);
+  site.valid = true;
+  return site;
 }
 
 Sample sample_axes(const Table& table, std::span<const double> y, WeightRounding rounding) noexcept {
-  Sample out;
-  for_each_node(
-      table, y,
-      [&](std::size_t entry, double w) {
-        out.value += w * table.value[entry];
-        out.error += std::abs(w) * table.error[entry];
-      },
-      rounding);
-  return out;
+  const Lookup lookup(table);
+  return blend(lookup, lookup.at_axes(y), rounding);
 }
 
 Point axis_point(const Table& table, std::span<const double> x) noexcept {
@@ -112,8 +164,10 @@ std::vector<double> axis_coordinates(const Table& table, std::span<const double>
 }
 
 Sample sample(const Table& table, std::span<const double> x, WeightRounding rounding) noexcept {
-  const Point y = axis_point(table, x);
-  return sample_axes(table, y.span(), rounding);
+  Point p;
+  if (x.size() <= p.x.size()) p.size = x.size(), std::copy(x.begin(), x.end(), p.x.begin());  // else fits no table
+  const Lookup lookup(table);
+  return blend(lookup, lookup.at_law(p), rounding);
 }
 
 WeightRounding own_rounding(const Table& table) noexcept {
@@ -134,9 +188,13 @@ Point law_point(Law law, const Vec3& i, const Vec3& j) noexcept {
   // Angle between the horizontal projections, in [0, pi]: the laws of isotropic models are even
   // in the relative azimuth.
   const bool along_n = (i.x == 0.0 && i.y == 0.0) || (j.x == 0.0 && j.y == 0.0);
-  const double phi = along_n ? 0.0 : std::abs(std::atan2(i.x * j.y - i.y * j.x, i.x * j.x + i.y * j.y));
+  const double cross = i.x * j.y - i.y * j.x, dot = i.x * j.x + i.y * j.y;
+  const double phi = along_n ? 0.0 : std::abs(std::atan2(cross, dot));
   out.x = {cos_theta(i), cos_theta(j), phi};
   out.size = 3;
+  // |cross|^2 + dot^2 = |i_t|^2 |j_t|^2 > 0 off the normal (Lagrange's identity).
+  const double r = along_n ? 0.0 : std::sqrt(cross * cross + dot * dot);
+  if (r > 0.0) out.has_azimuth_trig = true, out.cos_phi = dot / r, out.sin_phi = std::abs(cross) / r;
   return out;
 }
 
@@ -146,8 +204,8 @@ std::vector<double> coordinates(Law law, const Vec3& i, const Vec3& j) noexcept 
 }
 
 Sample sample(const Table& table, const Vec3& i, const Vec3& j, WeightRounding rounding) noexcept {
-  const Point x = law_point(table.law, i, j);
-  return sample(table, x.span(), rounding);
+  const Lookup lookup(table);
+  return blend(lookup, lookup.at_law(law_point(table.law, i, j)), rounding);
 }
 
 }  // namespace ganzfeld::tables

@@ -70,6 +70,10 @@ int fetches(Interpolation interpolation, Filter filter, std::size_t dims) noexce
 
 int fetches(const Table& table) noexcept { return fetches(table.interpolation, table.filter, table.axes.size()); }
 
+bool misses_target(const Table& table) noexcept {
+  return table.target_error > 0.0 && table.lookup_error > table.target_error;
+}
+
 const char* to_string(PeakKind peak) { return util::name_of(kPeaks, peak); }
 PeakKind parse_peak(const std::string& text) { return util::parse_name(kPeaks, "lobe peak", text); }
 
@@ -132,20 +136,14 @@ double Axis::coordinate(double u) const noexcept {
   return min + (max - min) * t;
 }
 
-double Axis::sinh_index_coordinate(double t) const noexcept {
-  switch (mapping) {
-    case Mapping::sinh: {
-      if (!(width > 0.0)) return t;
-      const SinhAxis s(*this);
-      const double x_clamped = min + (max - min) * t;
-      return std::clamp(0.5 * (std::asinh((x_clamped - s.c) / s.w) / s.V + 1.0), 0.0, 1.0);
-    }
-    case Mapping::sinh_max: {
-      if (!(width > 0.0)) return t;
-      const double V = std::asinh((max - min) / width);
-      return std::clamp(1.0 - std::asinh((max - min) * (1.0 - t) / width) / V, 0.0, 1.0);
-    }
-    default: return t;
+AxisIndex::AxisIndex(const Axis& axis) noexcept
+    : min(axis.min), range(axis.max - axis.min), mapping(axis.mapping), width(axis.width) {
+  if (mapping == Mapping::sinh && width > 0.0) {
+    const SinhAxis s(axis);
+    centre = s.c;
+    v = s.V;
+  } else if (mapping == Mapping::sinh_max && width > 0.0) {
+    v = std::asinh(range / width);
   }
 }
 

@@ -124,25 +124,45 @@ struct Axis {
 
   /// x for the index coordinate u in [0, 1] (clamped).
   double coordinate(double u) const noexcept;
-  /// u in [0, 1] for x (x is clamped to [min, max] first). Inline: a lookup makes one per axis.
-  double index_coordinate(double x) const noexcept {
-    if (!(max > min)) return 0.0;
-    const double t = std::clamp((x - min) / (max - min), 0.0, 1.0);  // NaN -> clamp keeps NaN; caught below
+  /// u in [0, 1] for x (x is clamped to [min, max] first): AxisIndex(*this)(x).
+  double index_coordinate(double x) const noexcept;
+  /// x of node k, exact at both ends.
+  double node(int k) const noexcept;
+};
+
+/// An axis' index coordinate u(x) with the constants of its mapping computed once: the
+/// definition of Axis::index_coordinate, held by a lookup that makes one per axis and point
+/// (tables/sample.h, Lookup). With t = (x - min) / (max - min) clamped to [0, 1]:
+///   linear: u = t;  sqrt: u = sqrt t;  cos: u = acos(1 - 2t) / pi;  sinh and sinh_max: table.h's
+///   inverses above (t itself without a width).
+struct AxisIndex {
+  AxisIndex() = default;
+  explicit AxisIndex(const Axis& axis) noexcept;
+  double operator()(double x) const noexcept {
+    if (!(range > 0.0)) return 0.0;
+    const double t = std::clamp((x - min) / range, 0.0, 1.0);  // NaN -> clamp keeps NaN; caught below
     if (!(t >= 0.0)) return 0.0;
     switch (mapping) {
       case Mapping::linear: return t;
       case Mapping::sqrt: return std::sqrt(t);
       case Mapping::cos: return std::acos(1.0 - 2.0 * t) / std::numbers::pi;
       case Mapping::sinh:
-      case Mapping::sinh_max: break;
+        if (!(width > 0.0)) return t;
+        return std::clamp(0.5 * (std::asinh((min + range * t - centre) / width) / v + 1.0), 0.0, 1.0);
+      case Mapping::sinh_max:
+        if (!(width > 0.0)) return t;
+        return std::clamp(1.0 - std::asinh(range * (1.0 - t) / width) / v, 0.0, 1.0);
     }
-    return sinh_index_coordinate(t);
+    return t;
   }
-  /// index_coordinate of the sinh mappings at the normalized coordinate t in [0, 1].
-  double sinh_index_coordinate(double t) const noexcept;
-  /// x of node k, exact at both ends.
-  double node(int k) const noexcept;
+
+ private:
+  double min = 0.0, range = 0.0;  ///< range = max - min; 0 (or NaN): u = 0
+  Mapping mapping = Mapping::linear;
+  double width = 0.0, centre = 0.0, v = 1.0;  ///< the sinh mappings' w, c and V
 };
+
+inline double Axis::index_coordinate(double x) const noexcept { return AxisIndex(*this)(x); }
 
 /// Axis names of format version 1.
 inline constexpr const char* kAxisCosThetaI = "cos_theta_i";  ///< i·n
@@ -270,6 +290,9 @@ struct Table {
 /// it: texel_fetch reads 2 (linear) or 4 (Catmull–Rom) nodes per axis, i.e. 2^D or 4^D; hardware
 /// filtering does a linear blend in one fetch, and Catmull–Rom in 3 per axis (3^D).
 int fetches(const Table& table) noexcept;
+/// A --max-error table whose stated lookup error is above its target: only a best-effort bake
+/// (BakeOptions::best_effort) keeps one.
+bool misses_target(const Table& table) noexcept;
 int fetches(Interpolation interpolation, Filter filter, std::size_t dims) noexcept;
 
 /// The digest of the stored numbers (docs/lut-format.md, ganzfeld.values_digest): 64-bit FNV-1a

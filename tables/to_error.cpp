@@ -168,8 +168,10 @@ struct SearchResult {
 };
 
 /// The count search of the file comment for one scheme (frame, filter, starting interpolation set
-/// in `options`); Catmull–Rom searches may switch to linear when it predicts fewer bytes.
-SearchResult search_counts(const Model& model, Law law, BakeOptions options, double E, std::uint64_t cap) {
+/// in `options`); Catmull–Rom searches may switch to linear when it predicts fewer bytes. With
+/// `best_effort`, the most accurate table baked is kept for when none meets E.
+SearchResult search_counts(const Model& model, Law law, BakeOptions options, double E, std::uint64_t cap,
+                           bool best_effort) {
   const double dims = static_cast<double>(options.resolution.size());
   // Each axis' share of E: the validated error is kLookupMargin x the measured one, and the
   // axes' errors may add at one point.
@@ -198,7 +200,7 @@ SearchResult search_counts(const Model& model, Law law, BakeOptions options, dou
       result.best_error = table.lookup_error;
       result.best_bytes = static_cast<double>(value_bytes(table));
       result.best_fetches = fetches(table);
-      if (options.best_effort) result.best_table = table;
+      if (best_effort) result.best_table = table;
     }
     // Calibrate the per-axis estimates of each interpolation with the validated error (the
     // estimates see node differences only; the validation sees the whole domain).
@@ -262,16 +264,14 @@ struct Scheme {
 
 }  // namespace
 
-Table bake_to_error(const Model& model, Law law, const BakeOptions& requested) {
-  const double E = requested.target_error;
-  check_error_target(E, requested.max_bytes, law, requested.encoding);
-  if (requested.max_fetches != 0) check_fetch_budget(requested.max_fetches);
-  const std::uint64_t cap = requested.max_bytes ? requested.max_bytes : kDefaultMaxValueBytes;
-  BakeOptions options = requested;
-  options.target_error = 0.0;
-  options.max_bytes = 0;
-  options.max_fetches = 0;
-  options.mappings.clear();
+Table bake_to_error(const Model& model, Law law, const TargetBake& requested) {
+  const ErrorTarget& target = requested.target;
+  const double E = target.lookup_error;
+  check_error_target(E, target.max_bytes, law, requested.encoding);
+  if (target.max_fetches != 0) check_fetch_budget(target.max_fetches);
+  const std::uint64_t cap = target.max_bytes ? target.max_bytes : kDefaultMaxValueBytes;
+  BakeOptions options;  // every grid choice is the search's; encoding, budget and progress are the caller's
+  static_cast<BakeCommon&>(options) = requested;
   options.tolerance = E / kNodeToleranceRatio;
   options.check_tolerance = E / kCheckToleranceRatio;
   options.random_checks = kSearchChecks;
@@ -280,12 +280,12 @@ Table bake_to_error(const Model& model, Law law, const BakeOptions& requested) {
   auto finish = [&](Table table) {
     table.target_error = E;
     table.target_bytes = cap;
-    table.target_fetches = requested.max_fetches;
+    table.target_fetches = target.max_fetches;
     return table;
   };
-  if (requested.max_fetches == 0) {  // no budget: the fewest bytes, read with texelFetch
+  if (target.max_fetches == 0) {  // no budget: the fewest bytes, read with texelFetch
     options.interpolation = Interpolation::catmull_rom;
-    SearchResult found = search_counts(model, law, options, E, cap);
+    SearchResult found = search_counts(model, law, options, E, cap, target.best_effort);
     if (found.table) return finish(std::move(*found.table));
     if (found.best_table) return finish(std::move(*found.best_table));
     // Only what was measured: the refusal names the best table a bake made, never an extrapolation
@@ -293,7 +293,7 @@ Table bake_to_error(const Model& model, Law law, const BakeOptions& requested) {
     throw InputError({std::string("cannot reach "), Named{"max_error", format_number(E)},
                       " for law " + std::string(to_string(law)) + " of '" + model.spec() + "' within " +
                           std::to_string(cap) + " value bytes (",
-                      requested.max_bytes ? InputError::Piece(Named{"max_bytes"}) : "the default cap",
+                      target.max_bytes ? InputError::Piece(Named{"max_bytes"}) : "the default cap",
                       "); the best this search found is " + format_number(found.best_error) + " in " +
                           format_number(found.best_bytes) + " value bytes (the search bakes at most " +
                           std::to_string(kMaxSearchBakes) + " tables)"});
@@ -307,23 +307,23 @@ Table bake_to_error(const Model& model, Law law, const BakeOptions& requested) {
                               {false, Interpolation::catmull_rom, Filter::texel_fetch}};
   SearchResult best;
   for (const Scheme& scheme : schemes) {
-    if (fetches(scheme.interpolation, scheme.filter, D) > requested.max_fetches) continue;
+    if (fetches(scheme.interpolation, scheme.filter, D) > target.max_fetches) continue;
     BakeOptions o = options;
     o.warped = scheme.warped;
     o.interpolation = scheme.interpolation;
     o.filter = scheme.filter;
     if (scheme.warped) o.resolution = {13, 25, 9};  // the offset axis needs the most nodes (docs/tradeoff.md)
-    SearchResult found = search_counts(model, law, o, E, cap);
+    SearchResult found = search_counts(model, law, o, E, cap, target.best_effort);
     if (found.table) return finish(std::move(*found.table));
     if (found.best_error < best.best_error) best = std::move(found);
   }
   if (best.best_table) return finish(std::move(*best.best_table));
   throw InputError({std::string("cannot reach "), Named{"max_error", format_number(E)},
                     " for law " + std::string(to_string(law)) + " of '" + model.spec() + "' within " +
-                        std::to_string(requested.max_fetches) + " texture fetch" +
-                        (requested.max_fetches == 1 ? "" : "es") + " per lookup (",
+                        std::to_string(target.max_fetches) + " texture fetch" +
+                        (target.max_fetches == 1 ? "" : "es") + " per lookup (",
                     Named{"fetches"}, ") and within " + std::to_string(cap) + " value bytes (",
-                    requested.max_bytes ? InputError::Piece(Named{"max_bytes"}) : "the default cap",
+                    target.max_bytes ? InputError::Piece(Named{"max_bytes"}) : "the default cap",
                     "); the best found is " + format_number(best.best_error) + " at " +
                         std::to_string(best.best_fetches) + " fetch" + (best.best_fetches == 1 ? "" : "es") + " in " +
                         format_number(best.best_bytes) + " value bytes"});

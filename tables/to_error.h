@@ -60,11 +60,12 @@ void check_error_target(double max_error, std::uint64_t max_bytes, Law law, Enco
 /// Refuses a fetch budget below 1 ("--fetches N is not allowed; expected an integer >= 1").
 void check_fetch_budget(long long fetches);
 
-/// The table of law `law` of `model` with lookup_error <= options.max_error and value_bytes <=
-/// options.max_bytes (0: kDefaultMaxValueBytes), baked as described above; options.resolution,
-/// mappings, interpolation, lobe, tolerance, random_checks and check_tolerance are chosen here.
-/// Throws InputError "cannot reach ... within ... bytes; the best ... is ..." when it cannot,
-/// unless options.best_effort: then the most accurate table the search baked, target unmet.
-Table bake_to_error(const Model& model, Law law, const BakeOptions& options);
+/// The table of law `law` of `model` with lookup_error <= request.target.lookup_error and
+/// value_bytes <= request.target.max_bytes (0: kDefaultMaxValueBytes), within its fetch budget,
+/// baked as described above: resolution, mappings, frame, interpolation, filter, tolerance,
+/// random_checks and check_tolerance are chosen here. Throws InputError "cannot reach ... within
+/// ... bytes; the best ... is ..." when it cannot, unless request.target.best_effort: then the
+/// most accurate table the search baked, target unmet.
+Table bake_to_error(const Model& model, Law law, const TargetBake& request);
 
 }  // namespace ganzfeld::tables

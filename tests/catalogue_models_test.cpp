@@ -23,6 +23,7 @@
 #include "models/spec.h"
 #include "rasterizer/shading.h"
 #include "scene/scene.h"
+#include "tables/bake.h"
 #include "util/error.h"
 
 namespace ganzfeld {
@@ -242,29 +243,41 @@ TEST(Kajiya, HighlightIsTheConeOfMirrorDirectionsAboutTheFibres) {
   EXPECT_NEAR(d->f(i, dir(10, 0)), std::hypot(i.y, i.z) / pi / i.z, 1e-15);
 }
 
+// Whether its laws come from cubature or from tables (summed with other lobes' tables in a prepared
+// material: rasterizer/shading.h), the delta is added once, apart from them.
 TEST(HeTorranceMirrorDelta, RenderAddsItUnderExtendedSources) {
   const ModelPtr m = parse_model("he-torrance:sigma0=0.02");
   const auto& ht = dynamic_cast<const HeTorrance&>(*m);
-  raster::ShadingLobe lobe;
-  lobe.model = m;
-  lobe.laws = raster::direct_laws(m, 1e-7);
-  const raster::ShadingMaterial material{lobe};
-  const Vec3 n{0, 0, 1}, j = dir(50, 0);
+  const Vec3 n{0, 0, 1}, t{1, 0, 0}, j = dir(50, 0);
   const double rho = ht.specular_reflectance(j.z);
   ASSERT_GT(rho, 0.01);
-  Light ganzfeld;
-  ganzfeld.type = Light::Type::ganzfeld;
-  EXPECT_NEAR(raster::shade(material, {ganzfeld}, n, j)[0], lobe.laws->h(j) + rho, 1e-12);
-  // A sky whose pole sees mirror(j) = (-sin 50, 0, cos 50), and one that does not.
-  Light sky;
-  sky.type = Light::Type::hemispherical;
-  sky.direction = dir(40, 180);
-  EXPECT_NEAR(raster::shade(material, {sky}, n, j)[0], lobe.laws->g(sky.direction, j) + rho, 1e-12);
-  sky.direction = dir(60, 0);
-  ASSERT_LT(glm::dot(mirror(j), sky.direction), 0.0);
-  EXPECT_NEAR(raster::shade(material, {sky}, n, j)[0], lobe.laws->g(sky.direction, j), 1e-12);
+  EXPECT_TRUE(has_mirror_delta(*m));
+  tables::BakeOptions small;
+  small.tolerance = 1e-5;
+  small.resolution = {5, 5, 3};
+  const auto g = std::make_shared<const tables::Table>(tables::bake(*m, Law::g, small));
+  small.resolution = {9};
+  const auto h = std::make_shared<const tables::Table>(tables::bake(*m, Law::h, small));
+  for (const raster::LawSourcePtr& laws : {raster::direct_laws(m, 1e-7), raster::table_laws(g, h)}) {
+    raster::ShadingLobe lobe;
+    lobe.model = m;
+    lobe.laws = laws;
+    const raster::ShadingMaterial material{lobe};
+    Light ganzfeld;
+    ganzfeld.type = Light::Type::ganzfeld;
+    EXPECT_NEAR(raster::shade(material, {ganzfeld}, n, j, t)[0], lobe.laws->h(j) + rho, 1e-12);
+    // A sky whose pole sees mirror(j) = (-sin 50, 0, cos 50), and one that does not.
+    Light sky;
+    sky.type = Light::Type::hemispherical;
+    sky.direction = dir(40, 180);
+    EXPECT_NEAR(raster::shade(material, {sky}, n, j, t)[0], lobe.laws->g(sky.direction, j) + rho, 1e-12);
+    sky.direction = dir(60, 0);
+    ASSERT_LT(glm::dot(mirror(j), sky.direction), 0.0);
+    EXPECT_NEAR(raster::shade(material, {sky}, n, j, t)[0], lobe.laws->g(sky.direction, j), 1e-12);
+  }
   // Models without a mirror term add nothing; a mixture adds its weighted share.
   EXPECT_EQ(parse_model("ggx")->mirror_reflectance(0.5), 0.0);
+  EXPECT_FALSE(has_mirror_delta(*parse_model("ggx")));
   EXPECT_NEAR(parse_model("0.25*he-torrance:sigma0=0.02 + 0.75*lambert")->mirror_reflectance(j.z), 0.25 * rho, 1e-15);
 }
 

@@ -75,7 +75,7 @@ constexpr const char* kSceneJson = R"({
 
 /// The same scene with lobes whose tables `--max-error` bakes in format version 2: the lobe frame
 /// (specular alpha = 100: mirror peak, backscatter alpha = 8: retro) and the cosines frame
-/// (Minnaert, asperity), all Catmull–Rom (bake --scene ... --max-error 1e-2). Minnaert xi = 0.3's
+/// (Minnaert, asperity), all Catmull–Rom (bake scene ... --max-error 1e-2). Minnaert xi = 0.3's
 /// g cannot reach 1e-2 in the default byte cap, so the chalk becomes xi = 1.
 std::string lobe_scene_json() {
   std::string json = kSceneJson;
@@ -165,14 +165,14 @@ struct Baked {
   std::map<std::pair<std::string, Law>, std::shared_ptr<const tables::Table>> tables;
 };
 
-/// The scene's tables at the test's resolutions, or baked to `max_error` (> 0) as bake --scene
+/// The scene's tables at the test's resolutions, or baked to `max_error` (> 0) as bake scene
 /// --max-error does.
 Baked bake_scene(const std::filesystem::path& dir, tables::Encoding encoding, const std::string& json, double max_error) {
   const auto scene_path = dir / "scene.json";
   std::ofstream(scene_path) << json;
   Baked out{load_scene(scene_path.string()), {}, {}};
   scene::TableOptions options{{17, 17, 9}, {33}, 1e-7, CubatureOptions{}.max_evaluations, encoding};
-  options.target_error = max_error;
+  if (max_error > 0.0) options.target = tables::ErrorTarget{max_error, 0, 0};
   out.plan = scene::plan_shading(out.scene, options, scene::TableStore{});
   for (const scene::PlannedTable& t : out.plan.tables) out.tables[{t.request.spec, t.request.law}] = t.table;
   return out;

@@ -14,6 +14,7 @@
 #include "tables/bake.h"
 #include "tables/frame.h"
 #include "export/glsl.h"
+#include "export/glsl_f.h"
 #include "export/texture_file.h"
 #include "tests/temp_dir.h"
 
@@ -197,13 +198,6 @@ TEST(GlslExport, MeasuredTablesBindByContent) {
   EXPECT_THROW(check_table_is(table, *parse_model("tabulated:file=" + a), Law::h), InputError);
 }
 
-TEST(GlslExport, FOfModelsWithoutAGlslFormIsRefused) {
-  EXPECT_THROW(glsl_model_f(*parse_model("oren-nayar:sigma=0.3")), InputError);
-  EXPECT_THROW(glsl_model_f(*parse_model("hvd-empirical:cd=0.5,f0=0.04,k=0.5,ns=10,nr=10")), InputError);
-  const std::string f = glsl_model_f(*parse_model("specular:alpha=8"));
-  EXPECT_NE(f.find("float gz_f_specular_alpha_8(vec3 i, vec3 j, vec3 n)"), std::string::npos);
-}
-
 /// Occurrences of `what` in `text`.
 std::size_t count(const std::string& text, const std::string& what) {
   std::size_t n = 0;
@@ -211,23 +205,42 @@ std::size_t count(const std::string& text, const std::string& what) {
   return n;
 }
 
+TEST(GlslExport, FOfEveryAnalyticModelIsExportedInTheLocalAndTheWorldFrame) {
+  // The model's body in its local frame, the world-space function with a tangent, and for an
+  // isotropic model the one without (tests/gl_f_test.cpp runs them against the CPU f).
+  const std::string f = glsl_model_f(*parse_model("specular:alpha=8"));
+  EXPECT_NE(f.find("float gz_f_specular_alpha_8_local(vec3 i, vec3 j)"), std::string::npos) << f;
+  EXPECT_NE(f.find("float gz_f_specular_alpha_8(vec3 i, vec3 j, vec3 n, vec3 t)"), std::string::npos) << f;
+  EXPECT_NE(f.find("float gz_f_specular_alpha_8(vec3 i, vec3 j, vec3 n)"), std::string::npos) << f;
+  const std::string aniso = glsl_model_f(*parse_model("ward-aniso"));
+  EXPECT_NE(aniso.find("(vec3 i, vec3 j, vec3 n, vec3 t)"), std::string::npos);
+  EXPECT_EQ(aniso.find("(vec3 i, vec3 j, vec3 n)"), std::string::npos) << "an anisotropic f needs its tangent";
+  for (const char* spec : {"oren-nayar:sigma=0.3", "hvd-empirical:cd=0.5,f0=0.04,k=0.5,ns=10,nr=10", "cook-torrance"})
+    EXPECT_NO_THROW(glsl_model_f(*parse_model(spec))) << spec;
+}
+
+TEST(GlslExport, EachHelperIsEmittedOnceInsideItsGuard) {
+  const std::string f = glsl_model_f(*parse_model("0.5*specular:alpha=8 + 0.5*phong"));
+  EXPECT_EQ(count(f, "#ifndef GZ_HELPER_gz_pow1m"), 1u) << f;
+  EXPECT_EQ(count(f, "float gz_pow1m("), 1u) << f;
+}
+
 TEST(GlslExport, FOfAMixtureIsTheWeightedSumOfItsLobes) {
   // Each lobe's function once (GLSL refuses a second definition), then the sum with the mixture's
   // normalized weights (models/mixture.h): 1 and 3 become 0.25 and 0.75.
   const std::string f = glsl_model_f(*parse_model("1*specular:alpha=8 + 3*minnaert:xi=1"));
-  EXPECT_EQ(count(f, "float gz_f_specular_alpha_8(vec3 i, vec3 j, vec3 n)"), 1u);
-  EXPECT_EQ(count(f, "float gz_f_minnaert_xi_1(vec3 i, vec3 j, vec3 n)"), 1u);
+  EXPECT_EQ(count(f, "float gz_f_specular_alpha_8(vec3 i, vec3 j, vec3 n, vec3 t)"), 1u);
+  EXPECT_EQ(count(f, "float gz_f_minnaert_xi_1(vec3 i, vec3 j, vec3 n, vec3 t)"), 1u);
+  EXPECT_NE(f.find("return 0.25 * gz_f_specular_alpha_8(i, j, n, t) + 0.75 * gz_f_minnaert_xi_1(i, j, n, t);"),
+            std::string::npos)
+      << f;
   EXPECT_NE(f.find("return 0.25 * gz_f_specular_alpha_8(i, j, n) + 0.75 * gz_f_minnaert_xi_1(i, j, n);"), std::string::npos)
       << f;
   const std::string twice = glsl_model_f(*parse_model("0.5*specular:alpha=8 + 0.5*specular:alpha=8"));
-  EXPECT_EQ(count(twice, "float gz_f_specular_alpha_8(vec3 i, vec3 j, vec3 n)"), 1u) << twice;
-  // A lobe without a GLSL form makes the whole mixture refused, naming that lobe.
-  try {
-    glsl_model_f(*parse_model("0.5*specular:alpha=8 + 0.5*oren-nayar:sigma=0.3"));
-    ADD_FAILURE() << "a mixture with an oren-nayar lobe was exported";
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("oren-nayar"), std::string::npos) << e.what();
-  }
+  EXPECT_EQ(count(twice, "float gz_f_specular_alpha_8(vec3 i, vec3 j, vec3 n, vec3 t)"), 1u) << twice;
+  // A mixture with an anisotropic lobe has only the function with a tangent.
+  const std::string aniso = glsl_model_f(*parse_model("0.5*lambert + 0.5*ward-aniso"));
+  EXPECT_EQ(count(aniso, "float gz_f_0_5_lambert_0_5_ward_aniso"), 1u) << aniso;
 }
 
 TEST(GlslExport, TheFunctionCarriesTheTableMetadataAndItsShape) {

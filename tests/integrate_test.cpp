@@ -387,12 +387,9 @@ class CreasedStep final : public Model {
     return i.z < 0.0 || j.z < 0.0 ? 0.0 : w(i) * w(j);
   }
   MassHints mass_hints(const Vec3&, Varying) const override {
-    MassHints h;
-    if (hinted_) {
-      h.crease_axis = {1.0, 0.0, 0.0};
-      h.crease_longitudes = {crease_};
-    }
-    return h;
+    HintBuilder h;
+    if (hinted_) h.creases({1.0, 0.0, 0.0}, {crease_});
+    return h.build();
   }
 
  private:

@@ -7,7 +7,7 @@ cd "$1"
 # The arrows: each module and the modules it builds on directly (docs/architecture.md, "The rooms").
 declare -A arrows=(
   [util]="" [models]="util" [reference]="models" [integrate]="models" [tables]="integrate" [scene]="tables" [export]="scene"
-  [shapes]="tables" [serve]="export shapes" [reports]="tables reference" [rasterizer]="scene" [gl]="export" [bench]="rasterizer reports gl"
+  [shapes]="tables" [serve]="export shapes rasterizer" [reports]="tables reference" [rasterizer]="scene" [gl]="export" [bench]="rasterizer reports gl"
   [fit]="export reports" [cli]="serve reports bench fit" [fuzz]="cli" [python]="shapes reports"
 )
 # What a module may use: itself and everything its arrows reach.

@@ -572,7 +572,7 @@ TEST(Rasterizer, PreparedMaterialSumsTheTablesOfLobesThatShareALookup) {
     const Vec3 n = glm::normalize(Vec3{unit(random), unit(random), unit(random)});
     Vec3 j = glm::normalize(Vec3{unit(random), unit(random), unit(random)});
     if (k % 10 == 0) j = glm::normalize(j - (glm::dot(j, n) + 0.01) * n);  // just below the horizon
-    const Rgb expected = lobe_by_lobe(material, lights, n, j), got = shader.radiance(n, j);
+    const Rgb expected = lobe_by_lobe(material, lights, n, j), got = shader.radiance(n, j, TangentFrame(n).t);
     for (int c = 0; c < 3; ++c) {
       largest = std::max(largest, std::abs(got[c] - expected[c]));
       EXPECT_NEAR(got[c], expected[c], kSumRounding * (1.0 + std::abs(expected[c]))) << "point " << k << " channel " << c;

@@ -331,10 +331,8 @@ TEST(Scene, CacheReusesAMatchingTable) {
 TEST(Scene, CacheServesABestEffortTableOnlyToBestEffortRequests) {
   const std::string dir = fresh_dir("best-effort");
   const ModelPtr m = parse_model("specular:alpha=100");
-  BakeOptions o;
-  o.target_error = 1e-6;
-  o.max_bytes = 32;  // 8 nodes of h: far from 1e-6
-  o.best_effort = true;
+  TargetBake o;
+  o.target = {1e-6, 32, 0, true};  // 32 value bytes, 8 nodes of h: far from 1e-6
   const std::string path = cache_path(dir, *m, Law::h, o);
   const CacheResult first = bake_or_reuse(path, *m, Law::h, o, "test");
   EXPECT_EQ(first.status, CacheStatus::baked);
@@ -342,8 +340,8 @@ TEST(Scene, CacheServesABestEffortTableOnlyToBestEffortRequests) {
   EXPECT_EQ(first.table.target_error, 1e-6);
   EXPECT_LE(value_bytes(first.table), 32u);
   EXPECT_EQ(bake_or_reuse(path, *m, Law::h, o, "test").status, CacheStatus::reused);
-  BakeOptions strict = o;
-  strict.best_effort = false;
+  TargetBake strict = o;
+  strict.target.best_effort = false;
   EXPECT_EQ(cache_path(dir, *m, Law::h, strict), path);  // one file per target
   EXPECT_THROW(bake_or_reuse(path, *m, Law::h, strict, "test"), InputError);
   EXPECT_EQ(bake_or_reuse(path, *m, Law::h, o, "test").status, CacheStatus::reused);  // still there

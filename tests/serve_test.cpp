@@ -137,32 +137,59 @@ TEST(ServeRequest, MixturesOfMoreLobesThanTheLimitAre413) {
 TEST(ServeRequest, TableUsesTheCacheKeysOfBake) {
   const TableQuery q = parse_table(parse_query("model=minnaert:xi=1&law=g&res=8x6x4&encoding=half&format=ktx2"), Limits{},
                                    TableEndpoint::table);
-  EXPECT_EQ(q.options.resolution, (std::vector<int>{8, 6, 4}));
-  EXPECT_EQ(q.options.encoding, tables::Encoding::half);
+  EXPECT_EQ(std::get<tables::BakeOptions>(q.options).resolution, (std::vector<int>{8, 6, 4}));
+  EXPECT_EQ(tables::common(q.options).encoding, tables::Encoding::half);
   EXPECT_EQ(q.format, TableFormat::ktx2);
-  // res or tol asks for that table, as bake --res/--tol does: no search to an error target
-  EXPECT_EQ(q.options.target_error, 0.0);
-  EXPECT_EQ(q.options.max_fetches, 0);
-  const TableQuery tol_only = parse_table(parse_query("model=minnaert:xi=1&law=h&tol=1e-6"), Limits{}, TableEndpoint::table);
-  EXPECT_EQ(tol_only.options.target_error, 0.0);
-  EXPECT_EQ(tol_only.options.resolution, scene::TableOptions{}.resolution_h);
+  // res or tol asks for that table, as bake model --res/--tol does: no search to an error target,
+  // even where the defaults are one
+  const TableQuery tol_only = parse_table(parse_query("model=minnaert:xi=1&law=h&tol=1e-6"), Limits{},
+                                          TableEndpoint::table, scene::TableOptions::scene_defaults());
+  ASSERT_TRUE(std::holds_alternative<tables::BakeOptions>(tol_only.options));
+  EXPECT_EQ(std::get<tables::BakeOptions>(tol_only.options).resolution, scene::TableOptions{}.resolution_h);
   const tables::TableKey key = tables::table_key(*q.model, q.law, q.options);
   EXPECT_EQ(q.key, tables::key_text(key));
   EXPECT_EQ(q.file_name, tables::cache_file_name(key));
   EXPECT_EQ(q.file_name.find('/'), std::string::npos);
-  // unset parameters: the scene defaults, so the service and `bake --scene` share entries
+  // unset parameters: the scene defaults, so the service and `bake scene` share entries
   const TableQuery d = parse_table(parse_query("model=minnaert:xi=1&law=g"), Limits{}, TableEndpoint::table);
-  EXPECT_EQ(d.options.resolution, scene::TableOptions{}.resolution_g);
-  EXPECT_EQ(d.options.tolerance, scene::TableOptions{}.tolerance);
+  EXPECT_EQ(std::get<tables::BakeOptions>(d.options).resolution, scene::TableOptions{}.resolution_g);
+  EXPECT_EQ(std::get<tables::BakeOptions>(d.options).tolerance, scene::TableOptions{}.tolerance);
   // the service's defaults (serve/service.h): a query without res or tol is baked to the scene's target
   const TableQuery s = parse_table(parse_query("model=minnaert:xi=1&law=g"), Limits{}, TableEndpoint::table,
                                    scene::TableOptions::scene_defaults());
-  EXPECT_EQ(s.options.target_error, scene::kSceneTargetError);
-  EXPECT_EQ(s.options.max_fetches, scene::kSceneFetches);
+  const auto* scene_target = std::get_if<tables::TargetBake>(&s.options);
+  ASSERT_NE(scene_target, nullptr);
+  EXPECT_EQ(scene_target->target.lookup_error, scene::kSceneTargetError);
+  EXPECT_EQ(scene_target->target.max_fetches, scene::kSceneFetches);
+  EXPECT_TRUE(scene_target->target.best_effort);
   const TableQuery fixed = parse_table(parse_query("model=minnaert:xi=1&law=g&res=8x6x4"), Limits{},
                                        TableEndpoint::table, scene::TableOptions::scene_defaults());
-  EXPECT_EQ(fixed.options.target_error, 0.0);
-  EXPECT_EQ(fixed.options.max_fetches, 0);
+  EXPECT_TRUE(std::holds_alternative<tables::BakeOptions>(fixed.options));
+}
+
+// max_error asks for an error target, nothing else: no grid field is carried along to be
+// silently replaced, and the target is capped at the service's own table size.
+TEST(ServeRequest, MaxErrorIsAnErrorTarget) {
+  Limits limits;
+  const TableQuery q = parse_table(parse_query("model=minnaert:xi=1&law=g&max_error=1e-3&fetches=1&encoding=half"),
+                                   limits, TableEndpoint::table);
+  const auto* bake = std::get_if<tables::TargetBake>(&q.options);
+  ASSERT_NE(bake, nullptr);
+  EXPECT_EQ(bake->target.lookup_error, 1e-3);
+  EXPECT_EQ(bake->target.max_bytes, limits.max_entries * sizeof(float));
+  EXPECT_EQ(bake->target.max_fetches, 1);
+  EXPECT_FALSE(bake->target.best_effort);
+  EXPECT_EQ(bake->encoding, tables::Encoding::half);
+  EXPECT_EQ(bake->max_evaluations, limits.max_evaluations);
+  EXPECT_NE(q.key.find("max_error=0.001"), std::string::npos) << q.key;
+  // max_error alone: strict, and searching every scheme as a scene's --max-error does, even where
+  // the defaults are the scene's best-effort one-fetch target
+  const TableQuery strict = parse_table(parse_query("model=minnaert:xi=1&law=g&max_error=1e-3"), limits,
+                                        TableEndpoint::table, scene::TableOptions::scene_defaults());
+  const auto* strict_bake = std::get_if<tables::TargetBake>(&strict.options);
+  ASSERT_NE(strict_bake, nullptr);
+  EXPECT_EQ(strict_bake->target.max_fetches, scene::kSceneSearchFetches);
+  EXPECT_FALSE(strict_bake->target.best_effort);
 }
 
 TEST(ServeRequest, TableRefusals) {
@@ -187,7 +214,8 @@ TEST(ServeRequest, TableRefusals) {
   for (const auto& [query, fragment] :
        {std::pair{"model=lambert&law=h&max_error=-1", "max_error=-1 is not allowed; expected a positive number"},
         std::pair{"model=lambert&law=h&max_error=1e-3&res=9", "give res or max_error, not both"},
-        std::pair{"model=lambert&law=h&max_error=1e-3&tol=1e-6", "give tol or max_error, not both"}}) {
+        std::pair{"model=lambert&law=h&max_error=1e-3&tol=1e-6", "give tol or max_error, not both"},
+        std::pair{"model=lambert&law=h&res=9&fetches=1", "fetches needs max_error"}}) {
     const auto [got, message] = table_refusal(query);
     EXPECT_EQ(got, 400) << query;
     EXPECT_NE(message.find(fragment), std::string::npos) << query << " -> " << message;

@@ -33,9 +33,10 @@ alive() { kill -0 $pid 2>/dev/null; }
 [ "$(code "/?model=specular:alpha=8")" = 200 ] && ok || fail "/ with the viewer's own query"
 # --- f's closed form as GLSL (the viewer's beam); a model without one is refused
 [ "$(code "/api/glsl?model=0.5*minnaert:xi=1%2B0.5*specular:alpha=8&law=f")" = 200 ] \
-  && grep -q "float gz_f_0_5_minnaert_xi_1_0_5_specular_alpha_8(vec3 i, vec3 j, vec3 n)" "$tmp/body" && [ -n "$(header ETag)" ] \
+  && grep -q "float gz_f_0_5_minnaert_xi_1_0_5_specular_alpha_8(vec3 i, vec3 j, vec3 n, vec3 t)" "$tmp/body" && [ -n "$(header ETag)" ] \
   && ok || fail "/api/glsl law=f: $(cat "$tmp/body")"
-[ "$(code "/api/glsl?model=ggx:alpha=0.3&law=f")" = 400 ] && grep -q "no GLSL form of f" "$tmp/body" && ok || fail "/api/glsl law=f ggx"
+[ "$(code "/api/glsl?model=ggx:alpha=0.3&law=f")" = 200 ] && grep -q "float gz_f_ggx_alpha_0_3_[a-z0-9_]*(vec3 i, vec3 j, vec3 n, vec3 t)" "$tmp/body" \
+  && ok || fail "/api/glsl law=f ggx: $(cat "$tmp/body")"
 [ "$(code "/api/glsl?model=lambert&law=f&res=8")" = 400 ] && grep -q "unknown parameter 'res'" "$tmp/body" && ok || fail "/api/glsl law=f res"
 "$G" models --json >"$tmp/models.json"
 [ "$(code /api/models)" = 200 ] && \
@@ -124,6 +125,19 @@ code /healthz >/dev/null
 # three bakes so far: FAST, the max_error table and SLOW (once, however many asked)
 [ "$(json_field "$tmp/body" "(d['tables_baked'], d['bakes_refused'] >= 1)")" = "(3, True)" ] && ok || fail "/healthz counters: $(cat "$tmp/body")"
 
+# --- without --data: no files listed; f over a grid and the figure's sphere (serve/field.h)
+[ "$(code /api/data)" = 200 ] && [ "$(json_field "$tmp/body" "(d['data'], d['files'])")" = "(False, [])" ] && ok \
+  || fail "/api/data without --data: $(cat "$tmp/body")"
+[ "$(code "/api/fgrid?model=lambert&theta=30&phi=0&res=4")" = 200 ] \
+  && [ "$(json_field "$tmp/body" "(len(d['values']), round(min(d['values']) * 3.141592653589793, 9), round(max(d['values']) * 3.141592653589793, 9))")" = "(32, 1.0, 1.0)" ] \
+  && ok || fail "/api/fgrid lambert: $(head -c 300 "$tmp/body")"
+[ "$(code "/api/sphere?model=lambert&law=f&dir=0,0,1&size=8")" = 200 ] \
+  && [ "$(json_field "$tmp/body" "(d['width'], len(d['value']), max(d['value']) > 0)")" = "(8, 64, True)" ] \
+  && ok || fail "/api/sphere lambert: $(head -c 300 "$tmp/body")"
+bad 400 "phi=400" "/api/fgrid?model=lambert&theta=30&phi=400&res=4"
+bad 400 "names a data file" "/api/fgrid?model=merl:file=/etc/passwd&theta=30&phi=0&res=4"
+bad 400 "law" "/api/sphere?model=lambert&law=a&dir=0,0,1&size=8"
+
 # --- SIGTERM during a bake: its request is answered (200 if it ends within the drain, else 503:
 # cancelled), no partial file, exit 0 (tests/serve_hostile_test.py: an endless bake)
 curl -s -o "$tmp/last" -w '%{http_code}' "$URL/api/table?model=specular:alpha=7&law=g&res=40x40x20&tol=1e-10" >"$tmp/lastcode" &
@@ -138,6 +152,24 @@ grep -q "shutting down on SIGTERM" "$tmp/log" && ok || fail "no shutdown line"
 ls "$tmp/cache" | grep -q tmp && fail "partial files in the cache: $(ls "$tmp/cache")" || ok
 for f in "$tmp"/cache/*; do "$G" info "$f" >/dev/null || fail "unreadable cache file $f"; done
 curl -s -m 2 "$URL/healthz" >/dev/null && fail "still answering after SIGTERM" || ok
+
+# --- --data DIR: files by name, never a path; a missing directory is one line and exit 2
+expect_bad "is not a directory" serve --cache "$tmp/cache2" --data "$tmp/no-such-dir" --port 0
+mkdir -p "$tmp/data"
+"$G" export-brdf --model lambert --format tabulated --res 3x3x3 -o "$tmp/data/flat.tab" >/dev/null || fail "export-brdf"
+echo "not a BRDF" >"$tmp/data/notes.txt"
+start_serve "$tmp/data_log" --cache "$tmp/cache2" --data "$tmp/data" || fail "serve --data did not start: $(cat "$tmp/data_log")"
+[ "$(code /api/data)" = 200 ] \
+  && [ "$(json_field "$tmp/body" "([f['name'] for f in d['files']], [f['spec'] for f in d['files']], len(d['skipped']))")" \
+       = "(['flat.tab'], ['tabulated:file=flat.tab'], 1)" ] && ok || fail "/api/data: $(cat "$tmp/body")"
+[ "$(code "/api/eval?model=tabulated:file=flat.tab&law=f&theta_i=30&theta_j=40&phi=10")" = 200 ] \
+  && json_field "$tmp/body" "d['model']" | grep -q "file=flat.tab" && ! grep -qF "$tmp/data" "$tmp/body" && ok \
+  || fail "a listed file by name: $(cat "$tmp/body")"
+bad 404 "no data file 'x.tab'" "/api/eval?model=tabulated:file=x.tab&law=h&theta_j=1"
+bad 404 "no data file '../data/flat.tab'" "/api/eval?model=tabulated:file=../data/flat.tab&law=h&theta_j=1"
+bad 404 "no data file '$tmp/data/flat.tab'" "/api/eval?model=tabulated:file=$tmp/data/flat.tab&law=h&theta_j=1"
+bad 400 "no GLSL form of f" "/api/glsl?model=tabulated:file=flat.tab&law=f"
+kill -TERM $pid; wait $pid
 
 echo "serve: $passed passed, $failed failed"
 [ "$failed" -eq 0 ]

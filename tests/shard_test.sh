@@ -100,10 +100,10 @@ bad_lib "accuracies[0]: unknown key 'res'" '{"groups": [{"models": ["lambert"], 
 bad_lib "accuracies[0]: res_g='1x1' is not a resolution for law g" '{"groups": [{"models": ["lambert"], "laws": ["g"], "accuracies": [{"res_g": "1x1"}]}]}'
 bad_lib "accuracies[1]: max_error chooses the resolution and the tolerance itself; drop res_h or max_error" '{"groups": [{"models": ["lambert"], "laws": ["h"], "accuracies": [{}, {"max_error": 1e-3, "res_h": "9"}]}]}'
 bad_lib "accuracies[0].tol: \"small\" is not a number" '{"groups": [{"models": ["lambert"], "laws": ["h"], "accuracies": [{"tol": "small"}]}]}'
-bad_lib "is not for --library bakes" "$(cat "$lib")" --res-g 9x9x5
-expect_bad "is not for --scene bakes" bake --scene "$(dirname "$0")/../examples/default.json" --out "$never" --shard 0/2
-expect_bad "mutually exclusive" bake --library "$lib" --scene x.json --out "$never"
-expect_bad "bake --library needs --out DIR" bake --library "$lib"
+bad_lib "not expected: 9x9x5 --res-g" "$(cat "$lib")" --res-g 9x9x5
+expect_bad "not expected: 0/2 --shard" bake --scene "$(dirname "$0")/../examples/default.json" --out "$never" --shard 0/2
+expect_bad "At Most 1" bake --library "$lib" --scene x.json --out "$never"
+expect_bad "bake library needs --out DIR" bake --library "$lib"
 [ ! -e "$never" ] && ok || fail "a refused bake created $never"
 
 echo "shard: $passed passed, $failed failed"

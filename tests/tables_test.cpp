@@ -306,11 +306,12 @@ TEST(Table, ACancelledBakeThrowsAndWritesNothing) {
   options.cancel = &cancel;
   const ModelPtr m = parse_model("specular:alpha=8");
   EXPECT_THROW(bake(*m, Law::g, options), Cancelled);
-  options.target_error = 1e-3;  // the --max-error search stops at its first bake
-  EXPECT_THROW(bake(*m, Law::g, options), Cancelled);
+  TargetBake target;  // the --max-error search stops at its first bake
+  target.target.lookup_error = 1e-3;
+  target.cancel = &cancel;
+  EXPECT_THROW(bake(*m, Law::g, target), Cancelled);
 
   // Set while the nodes are baked (the progress callback runs on the bake's workers).
-  options.target_error = 0.0;
   options.resolution = {33, 33, 17};
   cancel = false;
   std::atomic<std::uint64_t> seen{0};
@@ -891,8 +892,8 @@ TEST(Table, MaxErrorBakeReportsAnHonestLookupError) {
                         Case{"specular:alpha=1000", Law::h, 1e-6},
                         Case{"specular:alpha=1000", Law::h, 5e-5, Encoding::unorm16}}) {
     const ModelPtr model = parse_model(c.spec);
-    BakeOptions options;
-    options.target_error = c.max_error;
+    TargetBake options;
+    options.target.lookup_error = c.max_error;
     options.encoding = c.encoding;
     const Table baked = bake(*model, c.law, options);
     const Table table = round_trip(baked, "to_error.exr");
@@ -1075,9 +1076,8 @@ TEST(Table, FetchBudgetBakeIsOneFilteredFetchWithAnHonestBound) {
   };
   for (const Case& c : {Case{"specular:alpha=100", Law::g}, Case{"specular:alpha=1000", Law::h}}) {
     const ModelPtr model = parse_model(c.spec);
-    BakeOptions options;
-    options.target_error = 1e-3;
-    options.max_fetches = 1;
+    TargetBake options;
+    options.target = {1e-3, 0, 1};
     const Table table = round_trip(bake(*model, c.law, options), "fetch.exr");
     EXPECT_LE(table.lookup_error, 1e-3) << c.spec;
     EXPECT_EQ(fetches(table), 1) << c.spec;
@@ -1098,10 +1098,8 @@ TEST(Table, FetchBudgetBakeIsOneFilteredFetchWithAnHonestBound) {
 // read with texelFetch (2 fetches, full precision) is the pick, with an honest bound.
 TEST(Table, FetchBudgetFallsBackToTexelFetchWhereFilterWeightsCannotReach) {
   const ModelPtr model = parse_model("specular:alpha=1000");
-  BakeOptions options;
-  options.target_error = 1e-5;
-  options.max_fetches = 2;
-  options.max_bytes = 1024;
+  TargetBake options;
+  options.target = {1e-5, 1024, 2};
   const Table table = round_trip(bake(*model, Law::h, options), "fetch2.exr");
   EXPECT_LE(table.lookup_error, 1e-5);
   EXPECT_LE(value_bytes(table), 1024u);
@@ -1115,7 +1113,7 @@ TEST(Table, FetchBudgetFallsBackToTexelFetchWhereFilterWeightsCannotReach) {
               misses, kFreshPoints);
   EXPECT_LE(misses, kAllowedFreshMisses * kFreshPoints);
   // One fetch cannot: the refusal names the best it found at one fetch.
-  options.max_fetches = 1;
+  options.target.max_fetches = 1;
   EXPECT_THROW(bake_to_error(*model, Law::h, options), InputError);
 }
 
@@ -1126,10 +1124,8 @@ TEST(Table, FetchBudgetRefusals) {
   // Within one fetch and 4 kB, 1e-5 is out of reach: the refusal names the best error, its
   // fetches and its bytes.
   const ModelPtr model = parse_model("specular:alpha=8");
-  BakeOptions options;
-  options.target_error = 1e-5;
-  options.max_fetches = 1;
-  options.max_bytes = 4096;
+  TargetBake options;
+  options.target = {1e-5, 4096, 1};
   try {
     bake_to_error(*model, Law::g, options);
     ADD_FAILURE() << "accepted";
@@ -1162,9 +1158,8 @@ TEST(Table, MaxErrorRefusesWhatCannotBeMet) {
   ASSERT_NO_THROW(check_error_target(1.0 / 65534, 0, Law::g, Encoding::unorm16));
   const ModelPtr model = parse_model("specular:alpha=100");
   auto refused = [&](double e, std::uint64_t bytes, Encoding enc, const std::string& fragment) {
-    BakeOptions options;
-    options.target_error = e;
-    options.max_bytes = bytes;
+    TargetBake options;
+    options.target = {e, bytes, 0};
     options.encoding = enc;
     try {
       bake_to_error(*model, Law::g, options);
@@ -1218,10 +1213,11 @@ constexpr double kCappedBest = 1e-4;
 constexpr std::uint64_t kCap = 200000;
 /// The refusal of bake_to_error(options) for `spec`'s g: {best error, its value bytes}, parsed
 /// from "the best this search found is E in B value bytes"; fails the test when it is accepted.
-std::pair<double, double> refused_best(const std::string& spec, const BakeOptions& options) {
+std::pair<double, double> refused_best(const std::string& spec, const TargetBake& options) {
   try {
     bake_to_error(*parse_model(spec), Law::g, options);
-    ADD_FAILURE() << spec << ": " << options.target_error << " within " << options.max_bytes << " bytes accepted";
+    ADD_FAILURE() << spec << ": " << options.target.lookup_error << " within " << options.target.max_bytes
+                  << " bytes accepted";
   } catch (const InputError& error) {
     const std::string what = error.what();
     std::printf("refused: %s\n", what.c_str());
@@ -1239,12 +1235,11 @@ std::pair<double, double> refused_best(const std::string& spec, const BakeOption
 }
 
 TEST(Table, MaxErrorUnderATightCapBakesUpToTheCap) {
-  BakeOptions options;
-  options.target_error = 1e-5;
-  options.max_bytes = kCap;
+  TargetBake options;
+  options.target = {1e-5, kCap, 0};
   const auto [best, bytes] = refused_best("specular:alpha=8", options);
   EXPECT_LT(best, kCappedBest);
-  EXPECT_GT(best, options.target_error);
+  EXPECT_GT(best, options.target.lookup_error);
   EXPECT_LE(bytes, static_cast<double>(kCap));
 }
 
@@ -1255,12 +1250,46 @@ TEST(Table, MaxErrorUnderATightCapBakesUpToTheCap) {
 constexpr double kHopelessBakeBytes = 1e6;
 
 TEST(Table, MaxErrorFarOutOfReachRefusesWithoutACapSizedBake) {
-  BakeOptions options;
-  options.target_error = 1e-4;
+  TargetBake options;
+  options.target.lookup_error = 1e-4;
   const auto [best, bytes] = refused_best("hvd-empirical", options);
-  EXPECT_GT(best, options.target_error);
+  EXPECT_GT(best, options.target.lookup_error);
   EXPECT_GT(bytes, 0.0);
   EXPECT_LT(bytes, kHopelessBakeBytes);
+}
+
+// A lookup from directions (law_point's cos and sin phi, the envelope from j's cosine and sine, the
+// warp and the theta_j axis sharing one index) lands where the lookup at the table's own axis
+// coordinates does, in every frame: the renderer's lookup is the one `sample` and the bound describe.
+TEST(Table, LookupFromDirectionsAgreesWithTheAxisCoordinates) {
+  const ModelPtr model = parse_model("specular:alpha=100");
+  std::vector<Table> tables;
+  for (const Frame frame : {Frame::cosines, Frame::lobe, Frame::warped}) {
+    BakeOptions options;
+    options.resolution = {9, 13, 7};
+    options.tolerance = 1e-6;
+    if (frame != Frame::cosines) options.lobe = lobe_frame_of(*model);
+    options.warped = frame == Frame::warped;
+    tables.push_back(bake(*model, Law::g, options));
+    ASSERT_EQ(tables.back().frame, frame);
+  }
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+  for (const Table& t : tables) {
+    const Lookup lookup(t);
+    for (int p = 0; p < 2000; ++p) {
+      const Vec3 i = glm::normalize(Vec3{uniform(rng), uniform(rng), uniform(rng)});
+      const Vec3 j = glm::normalize(Vec3{uniform(rng), uniform(rng), 0.02 + std::abs(uniform(rng))});
+      const Point x = law_point(Law::g, i, j);
+      ASSERT_TRUE(x.has_azimuth_trig);
+      const Lookup::Site from_directions = lookup.at_law(x);
+      const Lookup::Site from_axes = lookup.at_axes(axis_coordinates(t, coordinates(Law::g, i, j)));
+      ASSERT_TRUE(from_directions.valid && from_axes.valid);
+      for (int d = 0; d < 3; ++d) EXPECT_NEAR(from_directions.u[d], from_axes.u[d], 1e-12) << to_string(t.frame) << d;
+      EXPECT_NEAR(from_directions.scale, from_axes.scale, 1e-12) << to_string(t.frame);
+      EXPECT_NEAR(sample(t, i, j).value, sample_axes(t, axis_coordinates(t, coordinates(Law::g, i, j))).value, 1e-12);
+    }
+  }
 }
 
 }  // namespace

@@ -64,14 +64,21 @@ class Browser:
             raise RuntimeError(f'{expression[:60]}...: {result["exceptionDetails"]}')
         return result['result'].get('value')
 
-    def wait_for(self, expression, what):
-        deadline = time.monotonic() + TIMEOUT_SECONDS
+    def wait_for(self, expression, what, timeout_seconds=TIMEOUT_SECONDS):
+        deadline = time.monotonic() + timeout_seconds
         while time.monotonic() < deadline:
             value = self.evaluate(expression)
             if value:
                 return value
             time.sleep(0.1)
         raise RuntimeError(f'timed out waiting for {what}')
+
+    def open(self, url, timeout_seconds=TIMEOUT_SECONDS):
+        """A new tab on `url`, attached to, once the page says it is ready."""
+        target = self.call('Target.createTarget', url='about:blank')['targetId']
+        self.session = self.call('Target.attachToTarget', targetId=target, flatten=True)['sessionId']
+        self.call('Page.navigate', url=url)
+        self.wait_for('document.getElementById("result")?.textContent.includes("ready")', 'the page', timeout_seconds)
 
     def mouse(self, kind, x, y):
         self.call('Input.dispatchMouseEvent', type=kind, x=x, y=y, button='left', clickCount=1)
@@ -86,10 +93,7 @@ def main():
     with tempfile.TemporaryDirectory() as profile:
         browser = Browser(binary, profile)
         try:
-            target = browser.call('Target.createTarget', url='about:blank')['targetId']
-            browser.session = browser.call('Target.attachToTarget', targetId=target, flatten=True)['sessionId']
-            browser.call('Page.navigate', url=url)
-            browser.wait_for('document.getElementById("result")?.textContent.includes("ready")', 'the page')
+            browser.open(url)
             before = browser.evaluate('document.getElementById("spec-a").value')
             builds = browser.evaluate('state.builds')
             # The slider: press on its thumb, drag to the middle of its track, release.

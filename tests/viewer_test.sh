@@ -3,9 +3,13 @@
 # SwiftShader, loads the page of a running `ganzfeld serve` in its test mode (one sphere of the
 # K&P panel rendered into a float framebuffer, the pixels written into <pre id="result">), and
 # tests/viewer_compare.cpp holds them against `ganzfeld render`'s image of the same scene, shaded
-# from the same cache: the beam, the sky and the Ganzfeld, a mixture, GGX's sky (no GLSL f), a
-# moved light and a changed parameter that must change the image; the interactive page, its
-# numbers at the cursor, and the page's own errors (bad model, no WebGL).
+# from the same cache: the beam, the sky and the Ganzfeld, a mixture, GGX, He-Torrance's sky and
+# Ganzfeld with its mirror delta, an anisotropic model
+# brushed both ways (its sky by the service's cubature), a measured file of --data (its beam from
+# the service, as shown within 2 LSB), a moved light and a changed parameter that must change the
+# image; the interactive page, its numbers at the cursor, the walk over every registered model
+# (tests/viewer_walk.py: no empty panel), and the page's own errors (bad model, bad colour or
+# azimuth, no WebGL).
 # Usage: viewer_test.sh PATH/TO/ganzfeld PATH/TO/viewer_compare
 set -u
 G="$1"
@@ -18,8 +22,25 @@ if [ -z "$BROWSER" ] || [ ! -x "$BROWSER" ]; then
   exit 1
 fi
 SIZE=64  # pixels per side: the sphere covers ~1,700 of them (viewer_compare.cpp: kMinCompared)
+# Tables: the scene defaults (lookup error 1e-3 at one hardware-filtered fetch, best effort: uploaded
+# with LINEAR filtering) for the first model; small fixed tables for the rest,
+# on both sides (the page's table_res and table_tol, render's --res-g, --res-h and --tol), since the
+# page and render are compared on the same cache entries whatever their resolution, and a search
+# per model would take most of the test's time on a shared 2-core machine.
+SMALL_G=12x12x6 SMALL_H=32 SMALL_TOL=1e-5
+SMALL_PAGE="table_res=$SMALL_G,$SMALL_H&table_tol=$SMALL_TOL"
+SMALL_RENDER="--res-g $SMALL_G --res-h $SMALL_H --tol $SMALL_TOL"
+TABLES_PAGE="" TABLES_RENDER=""  # the scene defaults, until the first model's checks are done
 
-"$G" serve --cache "$tmp/cache" --port 0 2>"$tmp/log" &
+# --data: measured files the service lists by name (export-brdf writes MERL and tabulated files
+# from a model; no measured file can be downloaded here), a first-surface table, and a file it skips.
+mkdir -p "$tmp/data"
+"$G" export-brdf --model cook-torrance --format merl -o "$tmp/data/cook.binary" >/dev/null || fail "export-brdf merl"
+"$G" export-brdf --model "0.6*minnaert:xi=1 + 0.4*backscatter:alpha=4" --format tabulated --res 19x19x19 \
+  -o "$tmp/data/moon.tab" >/dev/null || fail "export-brdf tabulated"
+printf 'ganzfeld-beard-maxwell-first-surface 1\ntheta_N: 0 10 20 40 90\nrho_fs: 2 1.2 0.4 0.05 0\n' >"$tmp/data/paint.fs"
+echo "not a BRDF" >"$tmp/data/notes.txt"
+"$G" serve --cache "$tmp/cache" --data "$tmp/data" --port 0 2>"$tmp/log" &
 pid=$!
 trap 'kill -TERM $pid 2>/dev/null; wait $pid 2>/dev/null; rm -rf "$tmp"' EXIT
 for _ in $(seq 100); do grep -qs "listening on" "$tmp/log" && break; sleep 0.1; done
@@ -32,9 +53,10 @@ load() {
   "$BROWSER" --no-sandbox --headless --use-angle=swiftshader --enable-unsafe-swiftshader --virtual-time-budget=60000 \
     --user-data-dir="$tmp/profile" --dump-dom "http://127.0.0.1:$port/?$2" >"$tmp/$1.html" 2>"$tmp/$1.browser.log"
 }
-page() { load "$1" "test=1&size=$SIZE&$2"; }  # the test mode: one sphere, its pixels as JSON
+page() { load "$1" "test=1&size=$SIZE${TABLES_PAGE:+&$TABLES_PAGE}&$2"; }  # the test mode: one sphere, its pixels as JSON
 # reference NAME MODEL LIGHT_JSON BACKGROUND: `ganzfeld render` of the figure's sphere
-# (rasterizer/figure.cpp: eye (0, 0, 6), fov 25°) under one light, from the server's cache.
+# (rasterizer/figure.cpp: eye (0, 0, 6), fov 25°) under one light, from the server's cache, with
+# the tables the page asks for.
 reference() {
   cat >"$tmp/$1.json" <<EOF
 {"camera": {"width": $SIZE, "height": $SIZE, "eye": [0, 0, 6], "target": [0, 0, 0], "up": [0, 1, 0],
@@ -43,7 +65,7 @@ reference() {
  "objects": [{"shape": "sphere", "center": [0, 0, 0], "radius": 1, "material": "m"}],
  "lights": [$3]}
 EOF
-  "$G" render --scene "$tmp/$1.json" --cache "$tmp/cache" --quiet -o "$tmp/$1.exr" || fail "render $1"
+  "$G" render --scene "$tmp/$1.json" --cache "$tmp/cache" --quiet $TABLES_RENDER -o "$tmp/$1.exr" || fail "render $1"
 }
 # check NAME QUERY [--expect-mismatch]: the page of QUERY against reference NAME.
 check() {
@@ -61,17 +83,64 @@ reference ganzfeld "$SPEC" '{"type": "ganzfeld", "radiance": [0.8, 0.8, 0.8]}' 0
 check beam "model=$(uri "$SPEC")&light=collimated&dir=0.3,0.6,0.74" page_beam
 check sky "model=$(uri "$SPEC")&light=sky&dir=0.2,0.9,0.4" page_sky
 check ganzfeld "model=$(uri "$SPEC")&light=ganzfeld" page_ganzfeld
+grep -q '"filters":\["hardware","hardware"\]' "$tmp/page_sky.html" && ok || fail "the default tables are not hardware-filtered"
+TABLES_PAGE=$SMALL_PAGE TABLES_RENDER=$SMALL_RENDER
 
 # A mixture (f of each lobe summed in GLSL; g from the mixture's own table).
 MIX="0.7*minnaert:xi=1 + 0.3*backscatter:alpha=2"
 reference mix_beam "$MIX" "{\"type\": \"collimated\", \"direction\": [-0.5, 0.2, 0.8], \"irradiance\": [$PI08, $PI08, $PI08]}" 0.1
 check mix_beam "model=$(uri "$MIX")&light=collimated&dir=-0.5,0.2,0.8" page_mix_beam
 
-# A model without a GLSL f (GGX): its sky still comes from its table; its beam is refused by name.
+# GGX: its beam from its GLSL f, its sky from its table.
 reference ggx_sky ggx:alpha=0.3 '{"type": "hemispherical", "pole": [0.2, 0.9, 0.4], "radiance": [0.8, 0.8, 0.8]}' 0.1
 check ggx_sky "model=$(uri ggx:alpha=0.3)&light=sky&dir=0.2,0.9,0.4" page_ggx_sky
-page ggx_beam "model=$(uri ggx:alpha=0.3)&light=collimated&dir=0,0,1"
-grep -q '"error":"400 .*no GLSL form of f' "$tmp/ggx_beam.html" && ok || fail "ggx beam: $(grep -o '<pre id="result">.*</pre>' "$tmp/ggx_beam.html")"
+reference ggx_beam ggx:alpha=0.3 "{\"type\": \"collimated\", \"direction\": [0.3, 0.6, 0.74], \"irradiance\": [$PI08, $PI08, $PI08]}" 0.1
+check ggx_beam "model=$(uri ggx:alpha=0.3)&light=collimated&dir=0.3,0.6,0.74" page_ggx_beam
+
+# He-Torrance: its mirror delta, which no table holds, added to the sky (where the mirror direction
+# of j sees it) and to the Ganzfeld on both sides (the page's gz_mirror_<spec>, render's shading).
+HT=he-torrance:sigma0=0.02
+reference ht_sky "$HT" '{"type": "hemispherical", "pole": [0.2, 0.9, 0.4], "radiance": [0.8, 0.8, 0.8]}' 0.1
+check ht_sky "model=$(uri "$HT")&light=sky&dir=0.2,0.9,0.4" page_ht_sky
+reference ht_ganzfeld "$HT" '{"type": "ganzfeld", "radiance": [0.8, 0.8, 0.8]}' 0.8
+check ht_ganzfeld "model=$(uri "$HT")&light=ganzfeld" page_ht_ganzfeld
+
+# Anisotropic Ward, brushed along the latitudes about +y (the default of scenes and the page) and
+# along the meridians: the beam from its GLSL f in the sphere's tangent frame; the sky from the
+# service's cubature per pixel (no tables), against `render`'s cubature per pixel.
+ANISO=ward-aniso:rho_d=0.1,rho_s=0.33,alpha_x=0.05,alpha_y=0.3
+reference aniso_lat "$ANISO" "{\"type\": \"collimated\", \"direction\": [0.3, 0.6, 0.74], \"irradiance\": [$PI08, $PI08, $PI08]}" 0.1
+check aniso_lat "model=$(uri "$ANISO")&light=collimated&dir=0.3,0.6,0.74" page_aniso_lat
+sed 's/"material": "m"}/"material": "m", "tangent": {"along": "longitude"}}/' "$tmp/aniso_lat.json" >"$tmp/aniso_lon.json"
+"$G" render --scene "$tmp/aniso_lon.json" --cache "$tmp/cache" --quiet -o "$tmp/aniso_lon.exr" || fail "render aniso_lon"
+check aniso_lon "model=$(uri "$ANISO")&light=collimated&dir=0.3,0.6,0.74&along=longitude" page_aniso_lon
+"$COMPARE" "$tmp/aniso_lat.exr" "$tmp/page_aniso_lon.html" --expect-mismatch && ok || fail "the tangent does not turn the highlight"
+SMALL=$SIZE; SIZE=48  # a cubature per pixel on both sides: a smaller sphere
+reference aniso_sky "$ANISO" '{"type": "hemispherical", "pole": [0.2, 0.9, 0.4], "radiance": [0.8, 0.8, 0.8]}' 0.1
+page page_aniso_sky "model=$(uri "$ANISO")&light=sky&dir=0.2,0.9,0.4&service_tol=1e-7"
+# render integrates to 1e-6 (cli/cmd_render.cpp, kDirectTol), the service to 1e-7: their sum, 10x.
+"$COMPARE" "$tmp/aniso_sky.exr" "$tmp/page_aniso_sky.html" --absolute 1.1e-5 && ok || fail "anisotropic sky vs render"
+grep -q '"source":"service"' "$tmp/page_aniso_sky.html" && ok || fail "anisotropic sky not from the service"
+SIZE=$SMALL
+
+# A measured file of --data, by name: its beam from the service (no GLSL f), shown as render draws it.
+DATA_SPEC=merl:file=cook.binary
+cat >"$tmp/merl_beam.json" <<EOF
+{"camera": {"width": $SIZE, "height": $SIZE, "eye": [0, 0, 6], "target": [0, 0, 0], "up": [0, 1, 0],
+            "fov_deg": 25, "background": [0.1, 0.1, 0.1]},
+ "materials": {"m": {"model": "merl:file=$tmp/data/cook.binary", "color": [1, 1, 1]}},
+ "objects": [{"shape": "sphere", "center": [0, 0, 0], "radius": 1, "material": "m"}],
+ "lights": [{"type": "collimated", "direction": [0.3, 0.6, 0.74], "irradiance": [$PI08, $PI08, $PI08]}]}
+EOF
+"$G" render --scene "$tmp/merl_beam.json" --cache "$tmp/cache" --quiet -o "$tmp/merl_beam.exr" || fail "render merl"
+# Small g and h tables: the page loads them with f, and only the beam is compared.
+TABLES_PAGE="table_res=5x5x3,9&table_tol=1e-3" page page_merl_beam "model=$(uri "$DATA_SPEC")&light=collimated&dir=0.3,0.6,0.74&display=1"
+if "$COMPARE" "$tmp/merl_beam.exr" "$tmp/page_merl_beam.html" --srgb-lsb 2 >"$tmp/merl_lsb.txt"; then ok; else fail "measured beam vs render: $(cat "$tmp/merl_lsb.txt")"; fi
+[ -n "${LSB_REPORT:-}" ] && cp "$tmp/merl_lsb.txt" "$LSB_REPORT"
+"$COMPARE" "$tmp/merl_beam.exr" "$tmp/page_merl_beam.html" && ok || fail "measured beam vs render (linear)"
+grep -q '"source":"service"' "$tmp/page_merl_beam.html" && ok || fail "measured beam not from the service"
+page page_missing "model=$(uri merl:file=nosuch.binary)&light=collimated&dir=0,0,1"
+grep -q '"error":"404 .*no data file .nosuch.binary' "$tmp/page_missing.html" && ok || fail "a name not in --data: $(grep -o '<pre id="result">.*</pre>' "$tmp/page_missing.html")"
 
 # Without WebGL the page says so (the comparisons above rely on its saying so, not on a blank image).
 "$BROWSER" --no-sandbox --headless --disable-webgl --virtual-time-budget=60000 --user-data-dir="$tmp/profile" \
@@ -86,7 +155,7 @@ reference beam20 specular:alpha=20 "{\"type\": \"collimated\", \"direction\": [0
 
 # A slider dragged with the mouse (tests/viewer_drive.py, DevTools protocol): the spec follows,
 # the row is rebuilt from the new tables, and its beam sphere is `ganzfeld render`'s of the new spec.
-if python3 "$(dirname "$0")/viewer_drive.py" "$BROWSER" "http://127.0.0.1:$port/?model=$(uri "$SPEC")&dir=0.3,0.6,0.74" \
+if python3 "$(dirname "$0")/viewer_drive.py" "$BROWSER" "http://127.0.0.1:$port/?model=$(uri "$SPEC")&dir=0.3,0.6,0.74&$SMALL_PAGE" \
      "$tmp/page_drag.html" "$SIZE" >"$tmp/drive.json" 2>"$tmp/drive.err"; then
   dragged=$(json_field "$tmp/drive.json" "d['after']")
   [ "$(json_field "$tmp/drive.json" "d['before']")" = "$SPEC" ] && [ "$dragged" != "$SPEC" ] && ok || fail "drag: $(cat "$tmp/drive.json")"
@@ -100,7 +169,7 @@ fi
 # The interactive page comes up with its panels for model A and B (no test mode), and the numbers
 # under a probed cursor are f, g, h, a, r at that point's angles: the angles computed here
 # apart from the page (the figure's camera and sphere), the values those of `ganzfeld eval`.
-load interactive "model=$(uri "$SPEC")&model_b=$(uri minnaert:xi=1)&dir=0.3,0.6,0.74&pole=0.2,0.9,0.4&probe=0.6,0.4"
+load interactive "model=$(uri "$SPEC")&model_b=$(uri minnaert:xi=1)&dir=0.3,0.6,0.74&pole=0.2,0.9,0.4&probe=0.6,0.4&$SMALL_PAGE"
 grep -q '"ready":true,"rows":\["specular:alpha=8","minnaert:xi=1"\]' "$tmp/interactive.html" && ok \
   || fail "interactive page: $(grep -o '<pre id="result">.*</pre>' "$tmp/interactive.html"; grep -o 'class="error">[^<]*' "$tmp/interactive.html")"
 python3 - "$tmp/interactive.html" "$G" "$SPEC" <<'PY' && ok || fail "numbers at the cursor"
@@ -141,9 +210,27 @@ for law, angle in one_angle.items():
     assert '%.6g' % cli['value'] == '%.6g' % float(line.group(1)), (law, cli['value'], line.group(1))
 PY
 
-# A bad model in the URL: the page reports the service's one-line error.
+# A bad model in the URL: the page reports the service's one-line error; so for a colour or an
+# azimuth out of range, the page's own.
 page bad "model=nosuchmodel&light=sky&dir=0,1,0"
 grep -q '"error":"400 .*nosuchmodel' "$tmp/bad.html" && ok || fail "bad model: $(grep -o '<pre id="result">.*</pre>' "$tmp/bad.html")"
+page bad_color "model=lambert&light=collimated&dir=0,0,1&color_a=2,0,0"
+grep -q '"error":"color_a=2,0,0 is out of range; allowed: R,G,B, three numbers in \[0, 1\]"' "$tmp/bad_color.html" && ok \
+  || fail "bad colour: $(grep -o '<pre id="result">.*</pre>' "$tmp/bad_color.html")"
+page bad_phi "model=lambert&light=collimated&dir=0,0,1&phi=400"
+grep -q '"error":"phi=400 is out of range; allowed: an azimuth in \[0, 360\] degrees"' "$tmp/bad_phi.html" && ok \
+  || fail "bad azimuth: $(grep -o '<pre id="result">.*</pre>' "$tmp/bad_phi.html")"
+
+# Every registered model and every file of --data through the interactive page, one browser for
+# all, small tables and spheres: no panel may be empty (tests/viewer_walk.py).
+WALK="model=lambert&lobe=16&table_res=5x5x3,9&table_tol=1e-3&service_size=24&service_tol=1e-3"
+if (cd "$(dirname "$0")" && python3 viewer_walk.py "$BROWSER" "http://127.0.0.1:$port/?$WALK") >"$tmp/walk.json" 2>"$tmp/walk.err"; then
+  ok
+else
+  fail "viewer walk: $(tail -1 "$tmp/walk.json") $(grep -v '"lobe": true, "polar": true, "collimated": true, "sky": true, "ganzfeld": true' "$tmp/walk.json" | head -5) $(tail -3 "$tmp/walk.err")"
+fi
+[ -n "${WALK_REPORT:-}" ] && cp "$tmp/walk.json" "$WALK_REPORT"
+
 
 [ -n "${KEEP:-}" ] && cp -r "$tmp" "$KEEP"
 echo "viewer_test: $passed passed, $failed failed"

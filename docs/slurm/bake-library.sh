@@ -22,4 +22,4 @@ if [ "${SLURM_ARRAY_TASK_MIN:-0}" -ne 0 ] || [ "${SLURM_ARRAY_TASK_MAX:-$((N - 1
 fi
 # The bake runs its entries on every core of the task's CPU set (TBB follows the affinity mask
 # Slurm gives the task: --cpus-per-task).
-exec ganzfeld bake --library "$LIBRARY" --out "$CACHE" --shard "$K/$N" --quiet
+exec ganzfeld bake library "$LIBRARY" --out "$CACHE" --shard "$K/$N" --quiet

@@ -393,7 +393,7 @@ def bake(model: Union[Model, str], law: str, *, res: Any = None, max_error: Opti
          max_bytes: Optional[int] = None, tol: float = DEFAULT_TOL, max_evals: int = DEFAULT_MAX_EVALS,
          encoding: str = "float", interpolation: Optional[str] = None, frame: Optional[str] = None,
          mapping: Optional[str] = None, checks: Optional[int] = None, progress: Progress = None) -> Table:
-    """Bakes law g, h or a of an isotropic model into a Table, as `ganzfeld bake --model` (the
+    """Bakes law g, h or a of an isotropic model into a Table, as `ganzfeld bake model` (the
     same options by the same names; the same table for the same options):
 
     res: node counts (int, tuple or '32x32x16'), or max_error: the lookup error to reach (the baker

@@ -1,16 +1,33 @@
 // The ganzfeld viewer (docs/serve.md). Per model, a row of
-//   the indicatrix (lobe) r(j) j, r = f(i, j) / max f, for incidence theta_i in the plane phi = 180°
-//   the polar plot of f in the plane of incidence
+//   the indicatrix (lobe) r(j) j, r = f(i, j) / scale, for incidence (theta_i, phi_i); or, with
+//   "adjoint", r(k) k with r = f(k, j) for the view j fixed at (theta, phi): the lobe over incident
+//   directions; wireframe, solid or transparent, with the normal, the tangent, the mirror direction
+//   and i (or j) marked; scale = the row's own maximum or, shared, the largest of both rows
+//   the polar plot of f in the plane of incidence (for a model that is not reciprocal also the
+//   adjoint f(j, i), dashed, and the largest |f(i, j) - f(j, i)| relative to the largest f)
 //   three spheres: a collimated beam (N = H0 (i.n) f), a hemispherical sky (N = N_i g) and a
-//   Ganzfeld (N = N_i h): Koenderink & Pont's panel (rasterizer/figure.h), live.
-// The shading is the service's own GLSL ES 3.00: f from /api/glsl?law=f, g and h from /api/glsl
-// (export-glsl's snippet) sampling the tables of /api/table (format=json, uploaded as R32F with
-// the table's filter), so the page shades as `ganzfeld render` does from the same cache
-// (tests/viewer_test.sh checks it).
-// The URL keeps the state: ?model=SPEC&model_b=SPEC&dir=X,Y,Z (beam)&pole=X,Y,Z&theta=DEG (lobe's
-// incidence)&lobe=N (its resolution)&probe=U,V (the numbers at that point of the spheres).
-// Test mode (?test=1&model=SPEC&light=collimated|sky|ganzfeld&dir=X,Y,Z&size=N): one sphere rendered
-// into a float framebuffer, its pixels written as JSON into <pre id="result"> for --dump-dom.
+//   Ganzfeld (N = N_i h): Koenderink & Pont's panel (rasterizer/figure.h), live; each lobe's colour
+//   times each light's colour (RGB, as scene files have them).
+// Where each number comes from (the page says it under each row):
+//   f      the service's GLSL ES 3.00 (/api/glsl?law=f) when the model has one (every analytic
+//          model); else (measured data of `serve --data DIR`) the service: /api/fgrid for the lobe
+//          and the polar plot, /api/sphere for the beam's sphere
+//   g, h   isotropic models: export-glsl's snippets (/api/glsl) sampling the tables of /api/table
+//          (format=json, uploaded as R32F with the table's filter), so the page shades as
+//          `ganzfeld render` does from the same cache (tests/viewer_test.sh checks it); anisotropic
+//          models have no tables: /api/sphere, the cubature per pixel `render` does for them
+// Anisotropic lobes are oriented by the sphere's tangent: along the circles of latitude or the
+// meridians about the view's up axis (scene/scene.h, TangentRule; latitude by default).
+// The URL keeps the state: ?model=SPEC&model_b=SPEC&dir=X,Y,Z (beam)&pole=X,Y,Z&theta=DEG and
+// phi=DEG (the lobe's incidence)&lobe=N (its resolution)&adjoint=1&scale=shared&style=wire|solid|
+// transparent&along=latitude|longitude&color_a=R,G,B&color_b=R,G,B&beam_rgb=R,G,B&sky_rgb=R,G,B&
+// ganzfeld_rgb=R,G,B (colours in [0, 1])&probe=U,V (the numbers at that point of the spheres)&
+// table_res=N0xN1xN2,N&table_tol=T (the tables' resolutions and tolerance; default the service's)&
+// service_size=N&service_tol=T (the largest side of the spheres the service computes, 256, and the
+// tolerance of its cubature per pixel, 1e-4).
+// Test mode (?test=1&model=SPEC&light=collimated|sky|ganzfeld&dir=X,Y,Z&size=N[&along=...]): one
+// sphere rendered into a float framebuffer, its pixels written as JSON into <pre id="result"> for
+// --dump-dom. window.panelReport() says, per row, what each panel holds (tests/viewer_walk.py).
 'use strict';
 
 // The figure's scene (rasterizer/figure.h and figure.cpp): every field has radiance
@@ -31,6 +48,10 @@ const kLobeResolutions = [16, 32, 64, 128];
 const kLobeColors = ['#4aa3ff', '#ff9f40'];
 const kViews = ['collimated', 'sky', 'ganzfeld'];
 const kViewTitles = ['collimated beam: H0 (i·n) f', 'hemispherical sky: N g', 'Ganzfeld: N h'];
+// The largest sphere side the service computes by cubature per pixel (serve/field.h,
+// kMaxCubatureSphereSide); the page scales its image up to the view.
+const kMaxCubatureSide = 96;
+const kStyles = ['wire', 'solid', 'transparent'];
 
 function normalize(v) {
   const l = Math.hypot(v[0], v[1], v[2]);
@@ -38,6 +59,10 @@ function normalize(v) {
 }
 const dot = (a, b) => a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 const deg = (radians) => radians * 180 / Math.PI;
+const direction = (thetaDeg, phiDeg) => {
+  const t = thetaDeg * Math.PI / 180, p = phiDeg * Math.PI / 180;
+  return [Math.sin(t) * Math.cos(p), Math.sin(t) * Math.sin(p), Math.cos(t)];
+};
 
 // ---------------------------------------------------------------------------------------------
 // The service
@@ -68,22 +93,59 @@ function cached(url) {
 
 const query = (spec, law) => `model=${encodeURIComponent(spec)}&law=${law}`;
 
-/// The shading code and data of one model: f's GLSL (or its refusal), g and h tables + GLSL.
+/// The tables' resolution and tolerance from the page's URL (table_res=G,H, table_tol=T), as
+/// /api/table parameters; empty: the service's defaults (docs/serve.md).
+const tableOptions = {res: [], tol: null};
+const tableQuery = (law) => {
+  const res = tableOptions.res[law === 'g' ? 0 : 1];
+  return (res ? `&res=${res}` : '') + (tableOptions.tol ? `&tol=${tableOptions.tol}` : '');
+};
+
+/// The shading code and data of one model: f's GLSL (or the service's refusal: no GLSL f), g and
+/// h tables + GLSL (or nothing for an anisotropic model: the service computes its spheres).
 async function loadModel(spec) {
-  const table = (law) => Promise.all([cached(`/api/table?${query(spec, law)}&format=json`).then(JSON.parse),
-                                      cached(`/api/glsl?${query(spec, law)}`)]);
+  const table = (law) => Promise.all([cached(`/api/table?${query(spec, law)}${tableQuery(law)}&format=json`).then(JSON.parse),
+                                      cached(`/api/glsl?${query(spec, law)}${tableQuery(law)}`)]);
   const f = cached(`/api/glsl?${query(spec, 'f')}`).then((code) => ({code}), (error) => ({error: error.message}));
-  const [g, h, fCode] = await Promise.all([table('g'), table('h'), f]);
-  return {spec, f: fCode, g: {table: g[0], code: g[1]}, h: {table: h[0], code: h[1]}};
+  const laws = Promise.all([table('g'), table('h')]).then(
+      ([g, h]) => ({g: {table: g[0], code: g[1]}, h: {table: h[0], code: h[1]}}), (error) => ({error: error.message}));
+  const [fCode, gh] = await Promise.all([f, laws]);
+  // Only these two refusals have another source; any other error (a bad spec, a name not in
+  // --data) is the row's error.
+  if (gh.error && !/is anisotropic/.test(gh.error)) throw new Error(gh.error);
+  if (fCode.error && !/no GLSL form of f/.test(fCode.error)) throw new Error(fCode.error);
+  return {spec, f: fCode, g: gh.g || null, h: gh.h || null, anisotropic: Boolean(gh.error)};
 }
 
-/// The name of the last function defined in `code` whose parameter list starts with `params`.
-function functionName(code, params) {
+/// The name of the last function defined in `code` whose parameter list starts with `params` (a
+/// regular expression), or null.
+function lastFunction(code, params) {
   const pattern = new RegExp(`float (gz_\\w+)\\(${params}`, 'g');
   let name = null;
   for (const m of code.matchAll(pattern)) name = m[1];
+  return name;
+}
+/// lastFunction, which must exist.
+function functionName(code, params) {
+  const name = lastFunction(code, params);
   if (!name) throw new Error(`no function (${params}...) in the service's GLSL`);
   return name;
+}
+
+/// The service's sphere of `law` (f, g, h) lit from `dir`: {value, mask, size} (serve/field.h).
+async function serviceSphere(spec, law, dir, size, along) {
+  const d = law === 'h' ? '' : `&dir=${dir.map((v) => v.toFixed(6)).join(',')}`;
+  const tol = law === 'f' ? '' : `&tol=${state.serviceTol}`;
+  const r = JSON.parse(await cached(`/api/sphere?${query(spec, law)}${d}&size=${size}&along=${along}${tol}`));
+  return {value: Float32Array.from(r.value), mask: Float32Array.from(r.mask), size: r.width};
+}
+
+/// f over the hemisphere from the service (/api/fgrid): as Shading.fGrid.
+async function serviceGrid(spec, thetaDeg, phiDeg, nt, adjoint) {
+  const r = JSON.parse(await cached(`/api/fgrid?model=${encodeURIComponent(spec)}&theta=${thetaDeg}&phi=${phiDeg}` +
+                                    `&res=${nt}&adjoint=${adjoint ? 1 : 0}`));
+  const f = Float32Array.from(r.values);
+  return {f, max: f.reduce((m, v) => Math.max(m, v), 0), nt, np: 2 * nt};
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -96,25 +158,36 @@ void main() {  // one triangle covering the viewport
 }`;
 
 /// The fragment shader: the service's f, g and h code, then the three light fields of
-/// rasterizer/shading.h on the figure's sphere (u_mode 0, 1, 2) or f over the hemisphere for
-/// the lobe (u_mode 3).
+/// rasterizer/shading.h on the figure's sphere (u_mode 0, 1, 2), f over the hemisphere for the
+/// lobe (u_mode 3), or an image the service computed (u_mode 4: value and mask per pixel).
 function fragmentSource(model) {
-  const fName = model.f.code ? functionName(model.f.code, 'vec3 i, vec3 j, vec3 n') : null;
-  const gName = functionName(model.g.code, 'highp sampler3D');
-  const hName = functionName(model.h.code, 'highp sampler2D table, vec3 j');
+  const fName = model.f.code ? functionName(model.f.code, 'vec3 i, vec3 j, vec3 n, vec3 t') : null;
+  const gName = model.g ? functionName(model.g.code, 'highp sampler3D') : null;
+  const hName = model.h ? functionName(model.h.code, 'highp sampler2D table, vec3 j') : null;
+  // A mirror delta besides f (he-torrance; export/glsl_f.h, gz_mirror_<spec>): its reflectance
+  // rho(j.n) under the Ganzfeld, and under the sky where the mirror direction of j sees the sky,
+  // as render adds it (rasterizer/shading.cpp, mirror_term); the tables hold f's laws only.
+  const mName = model.f.code ? lastFunction(model.f.code, 'float c\\)') : null;
+  const skyMirror = mName ? ` + (dot(2.0 * dot(jc, n) * n - jc, u_light) > 0.0 ? ${mName}(dot(jc, n)) : 0.0)` : '';
+  const ganzfeldMirror = mName ? ` + ${mName}(dot(jc, n))` : '';
   return `#version 300 es
-${model.g.code}
-${model.h.code}
+precision highp float;
+${model.g ? model.g.code : ''}
+${model.h ? model.h.code : ''}
 ${model.f.code || ''}
-float F(vec3 i, vec3 j, vec3 n) { return ${fName ? `${fName}(i, j, n)` : '0.0'}; }
+float F(vec3 i, vec3 j, vec3 n, vec3 t) { return ${fName ? `${fName}(i, j, n, t)` : '0.0'}; }
 uniform highp sampler3D u_g;
 uniform highp sampler2D u_h;
-uniform int u_mode;        // 0 collimated, 1 sky, 2 Ganzfeld, 3 f over the hemisphere
-uniform vec3 u_light;      // unit: towards the beam's source, or the sky's pole
+uniform highp sampler2D u_image;
+uniform int u_mode;        // 0 collimated, 1 sky, 2 Ganzfeld, 3 f over the hemisphere, 4 the service's image
+uniform vec3 u_light;      // unit: towards the beam's source, or the sky's pole (mode 3: the fixed direction)
 uniform float u_intensity; // H0 (collimated) or N (sky, Ganzfeld)
 uniform float u_background;
+uniform vec3 u_color;      // the lobe's colour times the light's
 uniform vec2 u_origin, u_size;
 uniform bool u_display;    // sRGB for the screen; else linear radiance and a coverage mask
+uniform bool u_latitude;   // the sphere's tangent along the circles of latitude about +y, else its meridians
+uniform bool u_adjoint;    // mode 3: f(k, fixed) over k instead of f(fixed, k)
 out vec4 color;
 
 const float kPi = 3.14159265358979;
@@ -123,20 +196,33 @@ float srgb(float x) {
   return x <= 0.0031308 ? 12.92 * x : 1.055 * pow(x, 1.0 / 2.4) - 0.055;
 }
 vec4 shown(float radiance, float mask) {
-  return u_display ? vec4(vec3(srgb(radiance)), 1.0) : vec4(radiance, radiance, radiance, mask);
+  if (!u_display) return vec4(radiance, radiance, radiance, mask);
+  vec3 c = mask > 0.0 ? radiance * u_color : vec3(radiance);
+  return vec4(srgb(c.r), srgb(c.g), srgb(c.b), 1.0);
+}
+vec3 tangent_at(vec3 n) {
+  ${model.f.code ? 'return gz_brush_tangent(n, vec3(0.0, 1.0, 0.0), u_latitude);' : 'return vec3(1.0, 0.0, 0.0);'}
 }
 
 void main() {
   vec2 p = gl_FragCoord.xy - u_origin;
-  if (u_mode == 3) {  // f(i, j) at cell centres of (theta_j, phi_j), n = +z
+  if (u_mode == 3) {  // f at cell centres of (theta, phi) over the hemisphere, n = +z, tangent +x
     float theta = (p.y / u_size.y) * 0.5 * kPi, phi = (p.x / u_size.x) * 2.0 * kPi;
-    vec3 j = vec3(sin(theta) * cos(phi), sin(theta) * sin(phi), cos(theta));
-    color = vec4(F(u_light, j, vec3(0.0, 0.0, 1.0)), 0.0, 0.0, 1.0);
+    vec3 k = vec3(sin(theta) * cos(phi), sin(theta) * sin(phi), cos(theta));
+    vec3 n = vec3(0.0, 0.0, 1.0), t = vec3(1.0, 0.0, 0.0);
+    color = vec4(u_adjoint ? F(k, u_light, n, t) : F(u_light, k, n, t), 0.0, 0.0, 1.0);
+    return;
+  }
+  if (u_mode == 4) {  // the service's image, top row first, scaled to the view
+    ivec2 size = textureSize(u_image, 0);
+    ivec2 q = clamp(ivec2(floor(p / u_size * vec2(size))), ivec2(0), size - 1);
+    vec2 value_mask = texelFetch(u_image, ivec2(q.x, size.y - 1 - q.y), 0).rg;
+    color = shown(value_mask.y > 0.0 ? u_intensity * value_mask.x : u_background, value_mask.y);
     return;
   }
   // The pixel ray of rasterizer/raster.cpp (pixel_ray): eye (0, 0, ${kEyeZ}), forward -z, up +y.
-  float t = tan(radians(${kFovDeg.toFixed(1)}) * 0.5);
-  vec2 uv = (2.0 * p / u_size - 1.0) * t * vec2(u_size.x / u_size.y, 1.0);
+  float tf = tan(radians(${kFovDeg.toFixed(1)}) * 0.5);
+  vec2 uv = (2.0 * p / u_size - 1.0) * tf * vec2(u_size.x / u_size.y, 1.0);
   vec3 eye = vec3(0.0, 0.0, ${kEyeZ.toFixed(1)});
   vec3 d = normalize(vec3(uv, -1.0));
   // Through q, the ray's point nearest the centre: b^2 - c of the textbook formula cancels in
@@ -146,16 +232,14 @@ void main() {
   if (disc < 0.0) { color = shown(u_background, 0.0); return; }
   vec3 n = normalize(q - sqrt(disc) * d);
   vec3 j = -d;
-  vec3 jc = gz_clamp_to_horizon(j, n);
   float radiance = 0.0;
   if (u_mode == 0) {  // N = H0 (i.n) f(i, j); nothing in body shadow
     float mi = dot(u_light, n);
-    if (mi > 0.0 && dot(j, n) > 0.0) radiance = u_intensity * mi * F(u_light, j, n);
-  } else if (u_mode == 1) {
-    radiance = u_intensity * ${gName}(u_g, u_light, jc, n);
-  } else {
-    radiance = u_intensity * ${hName}(u_h, jc, n);
-  }
+    if (mi > 0.0 && dot(j, n) > 0.0) radiance = u_intensity * mi * F(u_light, j, n, tangent_at(n));
+  }${gName ? `
+  vec3 jc = gz_clamp_to_horizon(j, n);
+  if (u_mode == 1) radiance = u_intensity * (${gName}(u_g, u_light, jc, n)${skyMirror});
+  if (u_mode == 2) radiance = u_intensity * (${hName}(u_h, jc, n)${ganzfeldMirror});` : ''}
   color = shown(radiance, dot(j, n) > ${kSilhouetteCos} ? 1.0 : 0.5);
 }`;
 }
@@ -190,48 +274,85 @@ function uploadTable(gl, unit, table) {
   gl.bindTexture(target, texture);
   if (table.law === 'g') gl.texImage3D(target, 0, gl.R32F, counts[2], counts[1], counts[0], 0, gl.RED, gl.FLOAT, data);
   else gl.texImage2D(target, 0, gl.R32F, counts[0], 1, 0, gl.RED, gl.FLOAT, data);
-  const filter = table.filter === 'hardware' ? gl.LINEAR : gl.NEAREST;
+  sampling(gl, target, table.filter === 'hardware' ? gl.LINEAR : gl.NEAREST);
+  return texture;
+}
+
+/// Filtering `filter` (gl.NEAREST or gl.LINEAR) and edges clamped on the bound texture of `target`.
+function sampling(gl, target, filter) {
   for (const [k, v] of [[gl.TEXTURE_MIN_FILTER, filter], [gl.TEXTURE_MAG_FILTER, filter],
                         [gl.TEXTURE_WRAP_S, gl.CLAMP_TO_EDGE], [gl.TEXTURE_WRAP_T, gl.CLAMP_TO_EDGE],
                         [gl.TEXTURE_WRAP_R, gl.CLAMP_TO_EDGE]])
     gl.texParameteri(target, k, v);
-  return texture;
 }
+
+/// The light field of view k: beam H0 = pi N, sky and Ganzfeld N; the background behind it.
+const intensityOf = (view) => view === 0 ? Math.PI * kFieldRadiance : kFieldRadiance;
+const backgroundOf = (view) => view === 2 ? kFieldRadiance : kBackground;
 
 /// A model's shading on a WebGL2 context: draw() one field into a viewport, fGrid() f over the
 /// hemisphere.
 class Shading {
   constructor(gl, model) {
     this.gl = gl;
+    this.model = model;
     this.program = program(gl, fragmentSource(model));
-    uploadTable(gl, 0, model.g.table);
-    uploadTable(gl, 1, model.h.table);
     gl.useProgram(this.program);
-    gl.uniform1i(this.location('u_g'), 0);
-    gl.uniform1i(this.location('u_h'), 1);
+    if (model.g) {
+      uploadTable(gl, 0, model.g.table);
+      uploadTable(gl, 1, model.h.table);
+      gl.uniform1i(this.location('u_g'), 0);
+      gl.uniform1i(this.location('u_h'), 1);
+    }
+    gl.uniform1i(this.location('u_image'), 3);
+    this.textures = new WeakMap();  // service image -> its RG32F texture
   }
   location(name) { return this.gl.getUniformLocation(this.program, name); }
 
-  /// Field `mode` (0 collimated, 1 sky, 2 Ganzfeld) into the viewport at (x, y), w x h.
-  draw(mode, light, x, y, w, h, display) {
+  /// Where view k's numbers come from: 'glsl' (f), 'tables' (g, h) or 'service' (/api/sphere).
+  source(view) { return view === 0 ? (this.model.f.code ? 'glsl' : 'service') : (this.model.g ? 'tables' : 'service'); }
+
+  /// View `view` (0 collimated, 1 sky, 2 Ganzfeld) into the viewport at (x, y), w x h; from the
+  /// service's `image` where source(view) is 'service'. `color` (display only): lobe x light RGB.
+  draw(view, light, x, y, w, h, display, {color = [1, 1, 1], image = null, latitude = true} = {}) {
     const gl = this.gl;
-    const intensity = mode === 0 ? Math.PI * kFieldRadiance : kFieldRadiance;
     gl.useProgram(this.program);
     gl.viewport(x, y, w, h);
-    gl.uniform1i(this.location('u_mode'), mode);
+    if (this.source(view) === 'service') {
+      if (!image) return false;
+      gl.activeTexture(gl.TEXTURE3);
+      gl.bindTexture(gl.TEXTURE_2D, this.texture(image));
+    }
+    gl.uniform1i(this.location('u_mode'), this.source(view) === 'service' ? 4 : view);
     gl.uniform3fv(this.location('u_light'), light);
-    gl.uniform1f(this.location('u_intensity'), intensity);
-    gl.uniform1f(this.location('u_background'), mode === 2 ? kFieldRadiance : kBackground);
+    gl.uniform1f(this.location('u_intensity'), intensityOf(view));
+    gl.uniform1f(this.location('u_background'), backgroundOf(view));
+    gl.uniform3fv(this.location('u_color'), color);
     gl.uniform2f(this.location('u_origin'), x, y);
     gl.uniform2f(this.location('u_size'), w, h);
     gl.uniform1i(this.location('u_display'), display ? 1 : 0);
+    gl.uniform1i(this.location('u_latitude'), latitude ? 1 : 0);
     gl.drawArrays(gl.TRIANGLES, 0, 3);
+    return true;
   }
 
-  /// Linear radiance of field `mode` rendered into a float framebuffer, top row first:
+  texture(image) {
+    if (!this.textures.has(image)) {
+      const gl = this.gl, texture = gl.createTexture(), texels = new Float32Array(2 * image.value.length);
+      image.value.forEach((v, k) => { texels[2 * k] = v; texels[2 * k + 1] = image.mask[k]; });
+      gl.activeTexture(gl.TEXTURE3);
+      gl.bindTexture(gl.TEXTURE_2D, texture);
+      gl.texImage2D(gl.TEXTURE_2D, 0, gl.RG32F, image.size, image.size, 0, gl.RG, gl.FLOAT, texels);
+      sampling(gl, gl.TEXTURE_2D, gl.NEAREST);
+      this.textures.set(image, texture);
+    }
+    return this.textures.get(image);
+  }
+
+  /// Linear radiance of view `view` rendered into a float framebuffer, top row first:
   /// {value: Float32Array w*h, mask: 1 sphere, 0.5 near the silhouette, 0 background}.
-  readField(mode, light, size) {
-    const pixels = this.offscreen(size, size, () => this.draw(mode, light, 0, 0, size, size, false));
+  readField(view, light, size, options = {}) {
+    const pixels = this.offscreen(size, size, () => this.draw(view, light, 0, 0, size, size, false, options));
     const value = new Float32Array(size * size), mask = new Float32Array(size * size);
     for (let y = 0; y < size; ++y)
       for (let x = 0; x < size; ++x) {
@@ -242,16 +363,17 @@ class Shading {
     return {value, mask};
   }
 
-  /// f(i, j, +z) for j at the centres of an nt x 2 nt grid of (theta_j, phi_j), rows theta_j:
-  /// {f, max, nt, np}.
-  fGrid(i, nt) {
+  /// f(fixed, k) (or, adjoint, f(k, fixed)) for k at the centres of an nt x 2 nt grid of
+  /// (theta, phi), rows theta, in the local frame (n = +z, tangent +x): {f, max, nt, np}.
+  fGrid(fixed, nt, adjoint = false) {
     const np = 2 * nt;
     const pixels = this.offscreen(np, nt, () => {
       const gl = this.gl;
       gl.useProgram(this.program);
       gl.viewport(0, 0, np, nt);
       gl.uniform1i(this.location('u_mode'), 3);
-      gl.uniform3fv(this.location('u_light'), i);
+      gl.uniform3fv(this.location('u_light'), fixed);
+      gl.uniform1i(this.location('u_adjoint'), adjoint ? 1 : 0);
       gl.uniform2f(this.location('u_origin'), 0, 0);
       gl.uniform2f(this.location('u_size'), np, nt);
       gl.drawArrays(gl.TRIANGLES, 0, 3);
@@ -323,30 +445,86 @@ const state = {
   light: kBeam,       // towards the beam's source
   pole: [0, 1, 0],    // the sky's pole
   thetaLobe: 45,      // incidence of the lobe and the polar plot, degrees (K&P's 45°)
+  phiLobe: 180,       // its azimuth from the tangent (+x), degrees: 180 = from the left, as the figure
+  adjoint: false,     // the lobe over incident directions k, f(k, j), for the view j at (theta, phi)
+  sharedScale: false, // one scale for both rows' lobes (their magnitudes compare)
+  style: 'wire',      // kStyles
+  latitude: true,     // the spheres' tangent: along the circles of latitude about +y, else the meridians
+  colors: [[1, 1, 1], [1, 1, 1]],                 // model A's and B's lobe colour (RGB)
+  lightColors: [[1, 1, 1], [1, 1, 1], [1, 1, 1]], // the beam's, the sky's and the Ganzfeld's (RGB)
   lobeResolution: 64, // theta_j steps of the lobe (kLobeResolutions)
   lobeYaw: -0.5, lobePitch: 0.35,
   builds: 0,          // rows built so far
   dragging: null,     // the sphere view being dragged (0 beam, 1 sky), or null
   turning: null,      // the last mouse position while the lobe is turned, or null
-  rows: [],           // per model: {spec, shading, gl, canvases, grid}
+  rows: [],           // per model: {spec, shading, gl, canvases, grid, adjointGrid, images}
   registry: null,
+  data: {files: []},  // /api/data
+  serviceSize: 256,   // largest side of a sphere the service computes (service_size=N)
+  serviceTol: 1e-4,   // tolerance of its cubature per pixel (service_tol=T)
 };
 
-/// i of the lobe: theta from the normal, from the left (azimuth 180°), as the figure draws it.
-const lobeIncidence = () => {
-  const t = state.thetaLobe * Math.PI / 180;
-  return [-Math.sin(t), 0, Math.cos(t)];
-};
+/// The lobe's fixed direction (i, or j in the adjoint view) in the local frame.
+const lobeFixed = () => direction(state.thetaLobe, state.phiLobe);
+const along = () => (state.latitude ? 'latitude' : 'longitude');
 
 function viewSize() { return Math.max(160, Math.min(320, Math.floor((window.innerWidth - 80) / 5))); }
 
-function drawSpheres(row) {
-  const size = row.size;
-  for (let k = 0; k < 3; ++k)
-    row.shading.draw(k, k === 1 ? state.pole : state.light, k * size, 0, size, size, true);
+/// The service's images a row's views need now (beam without a GLSL f; sky and Ganzfeld of an
+/// anisotropic model), fetched when the light moves; redraws when they arrive.
+function requestImages(row) {
+  const shading = row.shading;
+  const side = Math.min(row.size, state.serviceSize), cubatureSide = Math.min(side, kMaxCubatureSide);
+  const wanted = [[0, 'f', state.light, side], [1, 'g', state.pole, cubatureSide], [2, 'h', [0, 0, 1], cubatureSide]];
+  for (const [view, law, dir, size] of wanted) {
+    if (shading.source(view) !== 'service') continue;
+    const key = `${law}|${dir.join(',')}|${size}|${along()}`;
+    if (row.imageKeys[view] === key) continue;
+    row.imageKeys[view] = key;
+    serviceSphere(row.spec, law, dir, size, along()).then((image) => {
+      if (row.imageKeys[view] !== key) return;  // the light moved on meanwhile
+      row.images[view] = image;
+      drawSpheres(row);
+    }, (error) => { row.element.querySelector('.error').textContent = `${kViews[view]}: ${error.message}`; });
+  }
 }
 
-/// The lobe as a wireframe, turned by yaw and pitch, orthographic; every row's lobe in its colour.
+function drawSpheres(row) {
+  const size = row.size;
+  for (let k = 0; k < 3; ++k) {
+    const color = state.colors[row.index].map((c, m) => c * state.lightColors[k][m]);
+    const drawn = row.shading.draw(k, k === 1 ? state.pole : state.light, k * size, 0, size, size, true,
+                                   {color, image: row.images[k], latitude: state.latitude});
+    if (!drawn) {  // the service's image is on its way: clear the view meanwhile
+      const gl = row.gl;
+      gl.enable(gl.SCISSOR_TEST);
+      gl.scissor(k * size, 0, size, size);
+      gl.clearColor(0.1, 0.1, 0.1, 1);
+      gl.clear(gl.COLOR_BUFFER_BIT);
+      gl.disable(gl.SCISSOR_TEST);
+    }
+  }
+}
+
+function redraw() {
+  for (const row of state.rows) {
+    if (!row.shading) continue;
+    requestImages(row);
+    drawSpheres(row);
+  }
+}
+
+/// The scale of a row's lobe: its own largest f, or the largest of every row's (shared).
+function lobeScale(row) {
+  const own = row.grid ? row.grid.max : 0;
+  if (!state.sharedScale) return own;
+  return state.rows.reduce((m, r) => Math.max(m, r.grid ? r.grid.max : 0), own);
+}
+
+/// The lobe (r(k) k, r = f / scale) turned by yaw and pitch, orthographic; every row's lobe in its
+/// colour, wireframe, solid (painter's order, shaded by the facet's slant) or transparent; the
+/// normal n (white), the tangent t (green: the local +x axis anisotropic lobes are oriented by),
+/// the fixed direction (red: i; cyan: j in the adjoint view) and its mirror direction (yellow).
 function drawLobes() {
   for (const row of state.rows) {
     if (!row.lobe) continue;
@@ -368,28 +546,40 @@ function drawLobes() {
       k ? ctx.lineTo(p[0], p[1]) : ctx.moveTo(p[0], p[1]);
     }
     ctx.stroke();
-    state.rows.forEach((other, index) => {
+    state.rows.forEach((other) => {
       if (!other.grid || (other !== row && !row.overlay)) return;
-      drawWireframe(ctx, other.grid, project, kLobeColors[index]);
+      const scale = lobeScale(other);
+      if (state.style !== 'wire') drawSolid(ctx, other.grid, scale, project, kLobeColors[other.index], state.style === 'transparent');
+      if (state.style !== 'solid') drawWireframe(ctx, other.grid, scale, project, kLobeColors[other.index]);
     });
-    const i = lobeIncidence(), o = project([0, 0, 0]), tip = project(i.map((v) => 1.3 * v));
-    ctx.strokeStyle = '#e33';
-    ctx.lineWidth = 2;
-    ctx.beginPath();
-    ctx.moveTo(o[0], o[1]);
-    ctx.lineTo(tip[0], tip[1]);
-    ctx.stroke();
+    const fixed = lobeFixed(), o = project([0, 0, 0]);
+    const arrow = (v, color, width = 2) => {
+      const tip = project(v.map((x) => 1.3 * x));
+      ctx.strokeStyle = color;
+      ctx.lineWidth = width;
+      ctx.beginPath();
+      ctx.moveTo(o[0], o[1]);
+      ctx.lineTo(tip[0], tip[1]);
+      ctx.stroke();
+    };
+    arrow([0, 0, 1], '#ddd', 1);
+    arrow([1, 0, 0], '#3c3', 1);
+    arrow([-fixed[0], -fixed[1], fixed[2]], '#dd3', 1);
+    arrow(fixed, state.adjoint ? '#3cd' : '#e33');
     ctx.lineWidth = 1;
   }
 }
 
-/// r(j) j with r = f / max f on the grid's theta rings and phi meridians.
-function drawWireframe(ctx, grid, project, color) {
-  const point = (a, b) => {
-    const theta = (a + 0.5) / grid.nt * Math.PI / 2, phi = (b + 0.5) / grid.np * 2 * Math.PI;
-    const r = grid.max > 0 ? grid.f[a * grid.np + (b % grid.np)] / grid.max : 0;
-    return project([r * Math.sin(theta) * Math.cos(phi), r * Math.sin(theta) * Math.sin(phi), r * Math.cos(theta)]);
-  };
+/// The lobe's point at grid node (a, b): r(k) k with r = f / scale.
+function lobePoint(grid, scale, a, b) {
+  const theta = (a + 0.5) / grid.nt * Math.PI / 2, phi = (b + 0.5) / grid.np * 2 * Math.PI;
+  const r = scale > 0 ? grid.f[a * grid.np + (b % grid.np)] / scale : 0;
+  return [r * Math.sin(theta) * Math.cos(phi), r * Math.sin(theta) * Math.sin(phi), r * Math.cos(theta)];
+}
+
+/// The grid's theta rings and phi meridians.
+function drawWireframe(ctx, grid, scale, project, color) {
+  const point = (a, b) => project(lobePoint(grid, scale, a, b));
   ctx.strokeStyle = color;
   ctx.beginPath();
   for (let a = 0; a < grid.nt; a += Math.max(1, grid.nt / 16))
@@ -405,8 +595,45 @@ function drawWireframe(ctx, grid, project, color) {
   ctx.stroke();
 }
 
-/// f in the plane of incidence (phi = 0: forward, right; phi = 180°: towards the source, left),
-/// r = f / max f over the hemisphere, every row's curve in its colour.
+/// The lobe's surface as quads between grid nodes, far ones first, each lit by how squarely it
+/// faces the viewer; transparent: at a third of full opacity.
+function drawSolid(ctx, grid, scale, project, color, transparent) {
+  const step = Math.max(1, grid.nt / 32);  // at most 32 x 64 quads
+  const quads = [];
+  for (let a = 0; a + step < grid.nt; a += step)
+    for (let b = 0; b < grid.np; b += step) {
+      const v = [[a, b], [a + step, b], [a + step, b + step], [a, b + step]].map(([x, y]) => lobePoint(grid, scale, x, y));
+      const p = v.map(project);
+      const e1 = v[2].map((x, k) => x - v[0][k]), e2 = v[3].map((x, k) => x - v[1][k]);
+      const nrm = [e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]];
+      const len = Math.hypot(...nrm);
+      if (!(len > 0)) continue;
+      const facing = Math.abs(project(nrm.map((x) => x / len))[2] - project([0, 0, 0])[2]);
+      quads.push({p, depth: p.reduce((m, q) => m + q[2], 0) / 4, light: 0.35 + 0.65 * Math.min(1, facing)});
+    }
+  quads.sort((x, y) => y.depth - x.depth);
+  const [r, g, b] = [1, 3, 5].map((k) => parseInt(color.slice(k, k + 2), 16));
+  ctx.globalAlpha = transparent ? 0.35 : 1;
+  for (const q of quads) {
+    ctx.fillStyle = `rgb(${Math.round(r * q.light)}, ${Math.round(g * q.light)}, ${Math.round(b * q.light)})`;
+    ctx.beginPath();
+    q.p.forEach((pt, k) => (k ? ctx.lineTo(pt[0], pt[1]) : ctx.moveTo(pt[0], pt[1])));
+    ctx.closePath();
+    ctx.fill();
+  }
+  ctx.globalAlpha = 1;
+}
+
+/// f along the plane of incidence: the grid's columns at the boundary of cells nearest to azimuth
+/// phi (degrees), the two cells either side averaged.
+function planeColumn(grid, a, phi) {
+  const b = ((Math.round(phi / 360 * grid.np) % grid.np) + grid.np) % grid.np;
+  return 0.5 * (grid.f[a * grid.np + b] + grid.f[a * grid.np + ((b + grid.np - 1) % grid.np)]);
+}
+
+/// f in the plane of incidence (towards the source's azimuth on the left, forward on the right),
+/// r = f / the lobe's scale, every row's curve in its colour; for a model that is not reciprocal
+/// its adjoint dashed, and the largest relative difference written beside.
 function drawPolar(row) {
   const ctx = row.polar.getContext('2d');
   const s = row.polar.width, cx = s / 2, cy = 0.8 * s, R = 0.7 * s / 2 * 1.25;
@@ -423,43 +650,76 @@ function drawPolar(row) {
   ctx.lineTo(cx + R, cy);
   ctx.stroke();
   const t = state.thetaLobe * Math.PI / 180;
-  ctx.strokeStyle = '#e33';
+  ctx.strokeStyle = state.adjoint ? '#3cd' : '#e33';
   ctx.beginPath();
   ctx.moveTo(cx, cy);
   ctx.lineTo(cx - R * Math.sin(t), cy - R * Math.cos(t));
   ctx.stroke();
-  state.rows.forEach((other, index) => {
+  row.polarPoints = 0;
+  state.rows.forEach((other) => {
     if (!other.grid || (other !== row && !row.overlay)) return;
-    ctx.strokeStyle = kLobeColors[index];
-    ctx.beginPath();
-    // phi = 180° (column np/2) from the horizon to the normal, then phi = 0 back down.
-    const {nt, np} = other.grid, half = np / 2;
-    const samples = [];
-    for (let a = nt - 1; a >= 0; --a) samples.push([a, half, -1]);
-    for (let a = 0; a < nt; ++a) samples.push([a, 0, 1]);
-    samples.forEach(([a, b, side], k) => {
-      // columns b and b-1 straddle the plane (cell centres at (b + 0.5)/np): average them
-      const f = 0.5 * (other.grid.f[a * np + b] + other.grid.f[a * np + ((b + np - 1) % np)]);
-      const r = other.grid.max > 0 ? f / other.grid.max : 0, theta = (a + 0.5) / nt * Math.PI / 2;
-      const x = cx + side * R * r * Math.sin(theta), y = cy - R * r * Math.cos(theta);
-      k ? ctx.lineTo(x, y) : ctx.moveTo(x, y);
-    });
-    ctx.stroke();
+    const scale = lobeScale(other);
+    const curve = (grid, dashed) => {
+      ctx.strokeStyle = kLobeColors[other.index];
+      ctx.setLineDash(dashed ? [4, 3] : []);
+      ctx.beginPath();
+      const samples = [];
+      for (let a = grid.nt - 1; a >= 0; --a) samples.push([a, state.phiLobe, -1]);
+      for (let a = 0; a < grid.nt; ++a) samples.push([a, state.phiLobe + 180, 1]);
+      samples.forEach(([a, phi, side], k) => {
+        const f = planeColumn(grid, a, phi);
+        if (other === row && f > 0) row.polarPoints += 1;
+        const r = scale > 0 ? f / scale : 0, theta = (a + 0.5) / grid.nt * Math.PI / 2;
+        const x = cx + side * R * r * Math.sin(theta), y = cy - R * r * Math.cos(theta);
+        k ? ctx.lineTo(x, y) : ctx.moveTo(x, y);
+      });
+      ctx.stroke();
+      ctx.setLineDash([]);
+    };
+    curve(other.grid, false);
+    if (other.reciprocity > kReciprocityNoise) curve(other.adjointGrid, true);
   });
-}
-
-function updateLobes() {
-  for (const row of state.rows) {
-    if (!row.shading || !row.model.f.code) { row.grid = null; continue; }
-    row.grid = row.shading.fGrid(lobeIncidence(), state.lobeResolution);
+  if (row.reciprocity > kReciprocityNoise) {
+    ctx.fillStyle = '#ccc';
+    ctx.font = '11px monospace';
+    ctx.fillText(`not reciprocal: max|f(i,j)-f(j,i)|/max f = ${row.reciprocity.toPrecision(3)}`, 4, s - 6);
   }
+}
+/// Below this, f(i, j) and f(j, i) computed in float differ by rounding alone.
+const kReciprocityNoise = 1e-4;
+
+/// The lobe's grid and its adjoint (the other argument of f fixed), from the GPU or the service;
+/// the largest |f(fixed, k) - f(k, fixed)| over k relative to the largest f.
+async function updateLobes() {
+  const fixed = lobeFixed(), nt = state.lobeResolution;
+  await Promise.all(state.rows.map(async (row) => {
+    if (!row.shading) return;
+    const grids = row.model.f.code
+      ? [row.shading.fGrid(fixed, nt, false), row.shading.fGrid(fixed, nt, true)]
+      : await Promise.all([false, true].map((adjoint) => serviceGrid(row.spec, state.thetaLobe, state.phiLobe, nt, adjoint)));
+    const [forward, backward] = grids;
+    row.grid = state.adjoint ? backward : forward;
+    row.adjointGrid = state.adjoint ? forward : backward;
+    let difference = 0;
+    for (let k = 0; k < forward.f.length; ++k) difference = Math.max(difference, Math.abs(forward.f[k] - backward.f[k]));
+    const largest = Math.max(forward.max, backward.max);
+    row.reciprocity = largest > 0 ? difference / largest : 0;
+  }));
   drawLobes();
   state.rows.forEach((row) => row.polar && drawPolar(row));
 }
 
-function redraw() {
-  for (const row of state.rows) if (row.shading) drawSpheres(row);
+/// Where a row's panels come from, written under it.
+function sourcesText(row) {
+  const f = row.model.f.code ? 'f: the service\'s GLSL (/api/glsl)' : 'f: the service (no GLSL f: /api/fgrid for the lobe, /api/sphere for the beam)';
+  const gh = row.model.g ? 'g, h: tables (/api/table) sampled by the exported GLSL'
+    : `g, h: cubature per pixel on the service (anisotropic: no tables; /api/sphere, tolerance ${state.serviceTol})`;
+  return `${f}; ${gh}`;
 }
+
+const rgbText = (c) => c.map((x) => Number(x.toFixed(3))).join(',');
+const hexOf = (c) => '#' + c.map((x) => Math.round(255 * Math.max(0, Math.min(1, x))).toString(16).padStart(2, '0')).join('');
+const rgbOf = (hex) => [1, 3, 5].map((k) => parseInt(hex.slice(k, k + 2), 16) / 255);
 
 /// Builds the row of `spec` (index 0: model A, 1: model B) in `container`.
 async function buildRow(container, spec, index) {
@@ -467,16 +727,20 @@ async function buildRow(container, spec, index) {
   const element = document.createElement('div');
   element.innerHTML = `<div class="model-title" style="color:${kLobeColors[index]}"></div>
     <div class="row"><canvas class="lobe"></canvas><canvas class="polar"></canvas><canvas class="spheres"></canvas></div>
-    <div class="caption"><div style="width:${size}px">indicatrix r(j) j, θi = <span class="theta-value">${state.thetaLobe}</span>°
-      <input type="range" class="theta" min="0" max="89" value="${state.thetaLobe}">
+    <div class="caption"><div style="width:${size}px">${state.adjoint ? 'adjoint: f(k, j) over k, j at' : 'indicatrix r(j) j, i at'}
+      θ = <span class="theta-value">${state.thetaLobe}</span>°
+      <input type="range" class="theta" min="0" max="89" value="${state.thetaLobe}"><br>
+      φ = <span class="phi-value">${state.phiLobe}</span>°
+      <input type="range" class="phi" min="0" max="360" value="${state.phiLobe}">
       <select class="resolution" title="lobe resolution: theta x phi steps">${kLobeResolutions.map((n) =>
         `<option value="${n}"${n === state.lobeResolution ? ' selected' : ''}>${n}×${2 * n}</option>`).join('')}</select></div>
       <div style="width:${size}px">polar plot, plane of incidence</div>
       ${kViewTitles.map((t) => `<div style="width:${size}px">${t}</div>`).join('')}</div>
+    <div class="sources"></div>
     <div class="error"></div>`;
   container.appendChild(element);
-  element.querySelector('.model-title').textContent = (index ? 'B: ' : 'A: ') + spec;
-  const row = {spec, size, element, overlay: true};
+  element.querySelector('.model-title').textContent = (index ? 'B: ' : 'A: ') + spec + `  (colour ${rgbText(state.colors[index])})`;
+  const row = {spec, size, element, index, overlay: true, images: [null, null, null], imageKeys: [null, null, null]};
   row.lobe = element.querySelector('.lobe');
   row.polar = element.querySelector('.polar');
   row.spheres = element.querySelector('.spheres');
@@ -486,7 +750,7 @@ async function buildRow(container, spec, index) {
   row.gl = context(row.spheres);
   row.model = await loadModel(spec);
   row.shading = new Shading(row.gl, row.model);
-  if (row.model.f.error) element.querySelector('.error').textContent = 'f (lobe, beam): ' + row.model.f.error;
+  element.querySelector('.sources').textContent = sourcesText(row);
   attachRowEvents(row);
   return row;
 }
@@ -506,6 +770,7 @@ async function rebuild() {
     message.className = 'error';
     message.textContent = e.message;
     container.appendChild(message);
+    state.builds += 1;
     return;
   }
   if (generation !== state.generation) return;  // a newer request superseded this one
@@ -518,8 +783,8 @@ async function rebuild() {
   if (specs[1]) url.searchParams.set('model_b', specs[1]); else url.searchParams.delete('model_b');
   window.history.replaceState(null, '', url);
   redraw();
-  updateLobes();
-  state.builds += 1;  // tests/viewer_drive.py waits for this after dragging a slider
+  await updateLobes();
+  state.builds += 1;  // tests/viewer_drive.py and viewer_walk.py wait for this after a change
 }
 
 /// Which sphere view and which point of it a mouse event is over, or null.
@@ -547,12 +812,14 @@ function attachRowEvents(row) {
     showNumbers(row, p);
   };
   row.spheres.addEventListener('mousemove', move);
-  row.element.querySelector('.theta').addEventListener('input', (e) => {
-    state.thetaLobe = Number(e.target.value);
-    document.querySelectorAll('.theta').forEach((t) => { t.value = state.thetaLobe; });
-    document.querySelectorAll('.theta-value').forEach((t) => { t.textContent = state.thetaLobe; });
+  const slider = (name, set) => row.element.querySelector(`.${name}`).addEventListener('input', (e) => {
+    set(Number(e.target.value));
+    document.querySelectorAll(`.${name}`).forEach((t) => { t.value = e.target.value; });
+    document.querySelectorAll(`.${name}-value`).forEach((t) => { t.textContent = e.target.value; });
     updateLobes();
   });
+  slider('theta', (v) => { state.thetaLobe = v; });
+  slider('phi', (v) => { state.phiLobe = v; });
   row.element.querySelector('.resolution').addEventListener('change', (e) => {
     state.lobeResolution = Number(e.target.value);
     document.querySelectorAll('.resolution').forEach((r) => { r.value = e.target.value; });
@@ -568,6 +835,31 @@ function attachRowEvents(row) {
     drawLobes();
   });
 }
+
+/// What each panel of each row holds, for tests/viewer_walk.py: the lobe's largest f and its
+/// non-zero nodes, the polar plot's non-zero samples, and per sphere view its source and how many
+/// of its pixels on the sphere are lit (> 0), from a float readback of `size` pixels a side.
+window.panelReport = function panelReport(size = 32) {
+  return state.rows.map((row) => {
+    const views = [0, 1, 2].map((view) => {
+      const source = row.shading.source(view);
+      const light = view === 1 ? state.pole : state.light;
+      let lit = 0, onSphere = 0;
+      if (source === 'service') {
+        const image = row.images[view];
+        if (image) image.value.forEach((v, k) => { onSphere += image.mask[k] > 0; lit += image.mask[k] > 0 && v > 0; });
+      } else {
+        const field = row.shading.readField(view, light, size, {latitude: state.latitude});
+        field.value.forEach((v, k) => { onSphere += field.mask[k] > 0; lit += field.mask[k] > 0 && v > 0; });
+      }
+      return {view: kViews[view], source, onSphere, lit};
+    });
+    const nodes = row.grid ? row.grid.f.reduce((n, v) => n + (v > 0 ? 1 : 0), 0) : 0;
+    return {spec: row.spec, error: row.element.querySelector('.error').textContent,
+            lobe: {max: row.grid ? row.grid.max : 0, nonzero: nodes}, polar: row.polarPoints || 0,
+            reciprocity: row.reciprocity, views};
+  });
+};
 
 /// f, g, h, a, r at the point under the cursor from /api/eval, each with its error estimate.
 let numbersTimer = null;
@@ -639,9 +931,14 @@ function setupEditor(letter, onChange) {
   const select = document.getElementById(`model-${letter}`);
   const sliders = document.getElementById(`sliders-${letter}`);
   const field = document.getElementById(`spec-${letter}`);
-  const models = state.registry.models.filter((m) => m.isotropic && !m.parameters.some((p) => p.type === 'path' && p.required));
+  // Every model that needs no data file, then the measured files of `serve --data DIR` by name.
+  const models = state.registry.models.filter((m) => !m.parameters.some((p) => p.type === 'path' && p.required));
+  const dataSpecs = new Set(state.data.files.map((f) => f.spec));
   select.innerHTML = (letter === 'b' ? '<option value="">(none)</option>' : '') +
-    models.map((m) => `<option>${m.name}</option>`).join('') + '<option value="*">(mixture: type the spec)</option>';
+    models.map((m) => `<option>${m.name}</option>`).join('') +
+    state.data.files.map((f) => `<option value="${f.spec}">data: ${f.name} (${f.model})</option>`).join('') +
+    '<option value="*">(mixture: type the spec)</option>';
+  const showData = () => { if (dataSpecs.has(field.value.trim())) { select.value = field.value.trim(); sliders.innerHTML = ''; } };
 
   const specFromSliders = () => {
     const model = models.find((m) => m.name === select.value);
@@ -650,7 +947,8 @@ function setupEditor(letter, onChange) {
   };
   const buildSliders = (model, values) => {
     sliders.innerHTML = '';
-    for (const param of model.parameters.filter((p) => p.type !== 'path')) {
+    // An optional parameter (one of alternatives, e.g. ggx's alpha or roughness) only when given.
+    for (const param of model.parameters.filter((p) => p.type !== 'path' && (!p.optional || values[p.name] !== undefined))) {
       const div = document.createElement('div');
       div.className = 'slider';
       const given = values[param.name];
@@ -680,10 +978,12 @@ function setupEditor(letter, onChange) {
     const model = parsed && models.find((m) => m.name === parsed.name);
     select.value = model ? model.name : (field.value.trim() ? '*' : '');
     if (model) buildSliders(model, parsed.values); else sliders.innerHTML = '';
+    showData();  // a file of --data: its menu entry, no sliders
   };
   select.addEventListener('change', () => {
     const model = models.find((m) => m.name === select.value);
     if (model) { buildSliders(model, {}); field.value = specFromSliders(); } else if (!select.value) field.value = '';
+    if (dataSpecs.has(select.value)) { sliders.innerHTML = ''; field.value = select.value; }
     onChange();
   });
   field.addEventListener('change', () => { fromSpec(); onChange(); });
@@ -696,8 +996,78 @@ function parseVector(text) {
   return normalize(v);
 }
 
+/// A colour R,G,B of the URL, each in [0, 1]; one line naming the parameter otherwise.
+function parseColor(name, text) {
+  const v = String(text).split(',').map(Number);
+  if (v.length !== 3 || !v.every((x) => Number.isFinite(x) && x >= 0 && x <= 1))
+    throw new Error(`${name}=${text} is out of range; allowed: R,G,B, three numbers in [0, 1]`);
+  return v;
+}
+
+/// The URL's view parameters into `state`; throws one line naming a bad value and what is allowed.
+function readViewParameters(params) {
+  if (params.get('dir')) state.light = parseVector(params.get('dir'));
+  if (params.get('pole')) state.pole = parseVector(params.get('pole'));
+  if (kLobeResolutions.includes(Number(params.get('lobe')))) state.lobeResolution = Number(params.get('lobe'));
+  if (params.get('theta')) state.thetaLobe = Math.max(0, Math.min(89, Number(params.get('theta')) || 45));
+  if (params.has('phi')) {
+    const phi = Number(params.get('phi'));
+    if (!(Number.isFinite(phi) && phi >= 0 && phi <= 360))
+      throw new Error(`phi=${params.get('phi')} is out of range; allowed: an azimuth in [0, 360] degrees`);
+    state.phiLobe = phi;
+  }
+  state.adjoint = params.get('adjoint') === '1';
+  state.sharedScale = params.get('scale') === 'shared';
+  const style = params.get('style') || 'wire';
+  if (!kStyles.includes(style)) throw new Error(`style=${style} is not allowed; allowed: ${kStyles.join(', ')}`);
+  state.style = style;
+  const tangent = params.get('along') || 'latitude';
+  if (tangent !== 'latitude' && tangent !== 'longitude') throw new Error(`along=${tangent} is not allowed; allowed: latitude, longitude`);
+  state.latitude = tangent === 'latitude';
+  ['color_a', 'color_b'].forEach((name, k) => { if (params.has(name)) state.colors[k] = parseColor(name, params.get(name)); });
+  ['beam_rgb', 'sky_rgb', 'ganzfeld_rgb'].forEach((name, k) => {
+    if (params.has(name)) state.lightColors[k] = parseColor(name, params.get(name));
+  });
+  if (params.get('table_res')) tableOptions.res = params.get('table_res').split(',');
+  if (params.get('service_size')) state.serviceSize = Math.max(8, Math.min(256, Number(params.get('service_size')) || 256));
+  if (params.get('service_tol')) state.serviceTol = Number(params.get('service_tol')) || 1e-4;
+  if (params.get('table_tol')) tableOptions.tol = params.get('table_tol');
+}
+
+/// The view fieldset: adjoint, shared scale, lobe style, tangent, colours; each change is kept in
+/// the URL and redrawn.
+function setupViewControls() {
+  const byId = (id) => document.getElementById(id);
+  const keep = (name, value) => {
+    const url = new URL(window.location);
+    if (value === null) url.searchParams.delete(name); else url.searchParams.set(name, value);
+    window.history.replaceState(null, '', url);
+  };
+  byId('adjoint').checked = state.adjoint;
+  byId('shared-scale').checked = state.sharedScale;
+  byId('style').value = state.style;
+  byId('along').value = along();
+  byId('adjoint').addEventListener('change', (e) => { state.adjoint = e.target.checked; keep('adjoint', state.adjoint ? '1' : null); rebuild(); });
+  byId('shared-scale').addEventListener('change', (e) => {
+    state.sharedScale = e.target.checked;
+    keep('scale', state.sharedScale ? 'shared' : null);
+    drawLobes();
+    state.rows.forEach((row) => drawPolar(row));
+  });
+  byId('style').addEventListener('change', (e) => { state.style = e.target.value; keep('style', state.style); drawLobes(); });
+  byId('along').addEventListener('change', (e) => { state.latitude = e.target.value === 'latitude'; keep('along', e.target.value); redraw(); });
+  const colors = [['color-a', state.colors, 0, 'color_a'], ['color-b', state.colors, 1, 'color_b'],
+                  ['beam-rgb', state.lightColors, 0, 'beam_rgb'], ['sky-rgb', state.lightColors, 1, 'sky_rgb'],
+                  ['ganzfeld-rgb', state.lightColors, 2, 'ganzfeld_rgb']];
+  for (const [id, list, k, name] of colors) {
+    byId(id).value = hexOf(list[k]);
+    byId(id).addEventListener('input', (e) => { list[k] = rgbOf(e.target.value); keep(name, rgbText(list[k])); redraw(); });
+  }
+}
+
 // ---------------------------------------------------------------------------------------------
-// Test mode: one field of one model into a float framebuffer, written as JSON for --dump-dom
+// Test mode: one field of one model into a float framebuffer, written as JSON for --dump-dom;
+// with display=1 the view as shown, 8-bit sRGB read back from the canvas.
 
 async function testMode(params) {
   const result = document.getElementById('result');
@@ -706,14 +1076,27 @@ async function testMode(params) {
     if (mode < 0) throw new Error(`light=${params.get('light')}: allowed collimated, sky, ganzfeld`);
     const size = Number(params.get('size') || 64);
     const light = mode === 2 ? [0, 1, 0] : parseVector(params.get('dir'));
+    readViewParameters(params);
     const canvas = document.createElement('canvas');
+    canvas.width = canvas.height = size;
     const gl = context(canvas);
     const model = await loadModel(params.get('model'));
-    if (mode === 0 && model.f.error) throw new Error(model.f.error);
-    const field = new Shading(gl, model).readField(mode, light, size);
-    result.textContent = JSON.stringify({
-      webgl2: true, renderer: gl.getParameter(gl.RENDERER), model: model.spec, light: kViews[mode], dir: light,
-      width: size, height: size, value: Array.from(field.value), mask: Array.from(field.mask)});
+    const shading = new Shading(gl, model);
+    const source = shading.source(mode);
+    const image = source === 'service' ? await serviceSphere(model.spec, ['f', 'g', 'h'][mode], light, size, along()) : null;
+    const options = {image, latitude: state.latitude, color: state.colors[0].map((c, m) => c * state.lightColors[mode][m])};
+    const field = shading.readField(mode, light, size, options);
+    const out = {webgl2: true, renderer: gl.getParameter(gl.RENDERER), model: model.spec, light: kViews[mode], source, dir: light,
+                 filters: [model.g, model.h].map((law) => (law ? law.table.filter : null)),  // the lookups of g, h
+                 width: size, height: size, value: Array.from(field.value), mask: Array.from(field.mask)};
+    if (params.get('display') === '1') {  // as shown: the canvas's 8-bit sRGB, top row first
+      shading.draw(mode, light, 0, 0, size, size, true, options);
+      const pixels = new Uint8Array(4 * size * size);
+      gl.readPixels(0, 0, size, size, gl.RGBA, gl.UNSIGNED_BYTE, pixels);
+      out.srgb = [];
+      for (let y = size - 1; y >= 0; --y) for (let x = 0; x < size; ++x) out.srgb.push(pixels[4 * (y * size + x)]);
+    }
+    result.textContent = JSON.stringify(out);
   } catch (e) {
     result.textContent = JSON.stringify({error: e.message});
   }
@@ -722,27 +1105,37 @@ async function testMode(params) {
 async function main() {
   const params = new URLSearchParams(window.location.search);
   if (params.get('test')) return testMode(params);
-  if (params.get('dir')) state.light = parseVector(params.get('dir'));
-  if (params.get('pole')) state.pole = parseVector(params.get('pole'));
-  if (kLobeResolutions.includes(Number(params.get('lobe')))) state.lobeResolution = Number(params.get('lobe'));
-  if (params.get('theta')) state.thetaLobe = Math.max(0, Math.min(89, Number(params.get('theta')) || 45));
   try {
-    state.registry = JSON.parse(await cached('/api/models'));
+    readViewParameters(params);
+    [state.registry, state.data] = await Promise.all([cached('/api/models').then(JSON.parse), cached('/api/data').then(JSON.parse)]);
   } catch (e) {
     document.getElementById('panels').textContent = e.message;
+    document.getElementById('result').textContent = JSON.stringify({error: e.message});
     return;
   }
   document.getElementById('spec-a').value = params.get('model') || 'specular:alpha=8';
   document.getElementById('spec-b').value = params.get('model_b') || '';
   window.addEventListener('mouseup', () => { state.dragging = null; state.turning = null; });
   await Promise.all([setupEditor('a', rebuild), setupEditor('b', rebuild)]);
+  setupViewControls();
   await rebuild();
   // probe=U,V: the numbers at (U, V) of model A's sphere views (spherePoint), as if the cursor
   // were there (for screenshots and tests/viewer_test.sh).
   const probe = (params.get('probe') || '').split(',').map(Number);
   const point = probe.length === 2 && probe.every(Number.isFinite) && spherePoint(probe[0], probe[1]);
   if (point && state.rows.length) await writeNumbers(state.rows[0], point);
+  await imagesArrived();
   document.getElementById('result').textContent = JSON.stringify({ready: true, rows: state.rows.map((r) => r.spec)});
 }
+
+/// Resolves to true when every row has the service's images its views need, to false after 60 s.
+async function imagesArrived() {
+  for (let waited = 0; waited < 600; ++waited) {
+    if (state.rows.every((row) => [0, 1, 2].every((v) => row.shading.source(v) !== 'service' || row.images[v]))) return true;
+    await new Promise((resolve) => setTimeout(resolve, 100));
+  }
+  return false;
+}
+window.imagesArrived = imagesArrived;
 
 main();

@@ -1,5 +1,5 @@
 // A three.js scene as a ganzfeld scene file (as examples/default.json): what
-// `ganzfeld bake --scene`, `export-glsl --scene` and `render --scene` read, so that ganzfeld bakes
+// `ganzfeld bake scene`, `export-glsl --scene` and `render --scene` read, so that ganzfeld bakes
 // exactly the tables the scene's materials need and renders the picture three.js should show.
 //
 //   camera            PerspectiveCamera: eye, target (eye + its direction), up, vertical fov

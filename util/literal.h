@@ -1,9 +1,10 @@
-// Numbers written into generated source (GLSL snippets, C headers): one way to print them.
+// Numbers written into generated source (GLSL snippets and the GLSL f of models, C headers): one way
+// to print them.
 #pragma once
 
 #include <string>
 
-namespace ganzfeld::exporting {
+namespace ganzfeld {
 
 /// A decimal literal of x with 9 significant digits, which GLSL, C and C++ read back as the float
 /// nearest to x (exactly x when x is a float), with a decimal point where %g would print a whole
@@ -11,4 +12,4 @@ namespace ganzfeld::exporting {
 /// float literals append "f". Throws InputError for a number that is not finite.
 std::string decimal_literal(double x);
 
-}  // namespace ganzfeld::exporting
+}  // namespace ganzfeld

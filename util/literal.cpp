@@ -1,11 +1,11 @@
-#include "export/literal.h"
+#include "util/literal.h"
 
 #include <cmath>
 #include <cstdio>
 
 #include "util/error.h"
 
-namespace ganzfeld::exporting {
+namespace ganzfeld {
 
 std::string decimal_literal(double x) {
   if (!std::isfinite(x)) throw InputError("cannot write the non-finite number " + std::to_string(x) + " into source code");
@@ -16,4 +16,4 @@ std::string decimal_literal(double x) {
   return text;
 }
 
-}  // namespace ganzfeld::exporting
+}  // namespace ganzfeld
