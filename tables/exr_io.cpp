@@ -269,9 +269,11 @@ struct Reader : ExrAttributes {
   /// a newer format is refused before anything else is judged.
   void read_metadata(const Imf::Header& header, Table& table) const {
     const std::string version = attribute(header, kAttrVersion);
-    if (version != "1" && version != "2" && version != std::to_string(kFormatVersion))
-      refuse("format version '" + version + "' is not supported; this ganzfeld reads law tables of versions 1, 2 and " +
-             std::to_string(kFormatVersion) + " (version 3 is a parameter table)");
+    if (version != "1" && version != "2" && version != std::to_string(kWarpedFormatVersion) &&
+        version != std::to_string(kFormatVersion))
+      refuse("format version '" + version + "' is not supported; this ganzfeld reads law tables of versions 1, 2, " +
+             std::to_string(kWarpedFormatVersion) + " and " + std::to_string(kFormatVersion) +
+             " (version 3 is a parameter table)");
     table.format_version = std::stoi(version);
     try {
       table.law = parse_law(attribute(header, kAttrLaw));
@@ -321,7 +323,7 @@ struct Reader : ExrAttributes {
       refuse(std::string(e.what()));
     }
     table.lookup_error = number(header, kAttrLookupError);
-    if (table.format_version >= kFormatVersion) {
+    if (table.format_version >= kWarpedFormatVersion) {
       try {
         table.filter = parse_filter(attribute(header, kAttrFilter));
       } catch (const InputError& e) {

@@ -125,13 +125,14 @@ Lookup::Site Lookup::at_law(const Point& x) const noexcept {
   Site site;
   site.u[0] = index_[0](c.theta_j);
   if (t.frame == Frame::warped) {
-    const double offset = warped_offset(warp_at_index(t.warp, site.u[0]), t.warp.mix, c.ip, c.ie1, c.ie2, c.psi);
-    site.u[1] = index_[1](offset);
+    const WarpSample at = warp_at_index(t.warp, site.u[0]);
+    site.u[1] = index_[1](warped_offset(at, t.warp.mix, c.ip, c.ie1, c.ie2, c.psi));
+    site.u[2] = index_[2](warped_beta(at, t.warp.beta_whitening, c.ie1, c.ie2, c.beta));
     site.scale = warp_envelope(t.warp, c.cos_theta_j, c.sin_theta_j);
   } else {
     site.u[1] = index_[1](c.psi);
+    site.u[2] = index_[2](c.beta);
   }
-  site.u[2] = index_[2](c.beta);
   site.valid = true;
   return site;
 }

@@ -52,7 +52,9 @@ Interpolation parse_interpolation(const std::string& text) {
   return util::parse_name(kInterpolations, "interpolation", text);
 }
 
-bool is_law_table_version(int version) noexcept { return version == 1 || version == 2 || version == kFormatVersion; }
+bool is_law_table_version(int version) noexcept {
+  return version == 1 || version == 2 || version == kWarpedFormatVersion || version == kFormatVersion;
+}
 
 const char* to_string(Frame frame) { return util::name_of(kFrames, frame); }
 Frame parse_frame(const std::string& text) { return util::parse_name(kFrames, "frame", text); }
@@ -335,8 +337,11 @@ void check_table(const Table& table) {
   if (table.frame != Frame::cosines && table.law != Law::g)
     throw InputError(std::string("law ") + law + " tables use the cosines frame; only g has a " +
                      to_string(table.frame) + " frame");
-  if (table.format_version < kFormatVersion && (table.frame == Frame::warped || table.filter != Filter::texel_fetch))
-    throw InputError("the warped frame and hardware filtering need format version " + std::to_string(kFormatVersion));
+  if (table.format_version < kWarpedFormatVersion && (table.frame == Frame::warped || table.filter != Filter::texel_fetch))
+    throw InputError("the warped frame and hardware filtering need format version " +
+                     std::to_string(kWarpedFormatVersion));
+  if (table.format_version < kFormatVersion && table.warp.beta_whitening != 0.0)
+    throw InputError("a whitened beta axis needs format version " + std::to_string(kFormatVersion));
   check_warp(table);
   if (table.filter == Filter::hardware && table.interpolation != Interpolation::linear)
     throw InputError("hardware filtering is validated for linear lookup only, not " +

@@ -1017,6 +1017,20 @@ TEST_F(TableRefusal, WarpedTableRoundTripsAndBadWarpsAreRefused) {
   raw.set("ganzfeld.format_version", "2");
   raw.save(path);
   expect_refused(path, "need format version 4");
+  // Version 4 has the warped frame but no whitened beta axis: such a file is refused, and one whose
+  // warp names no beta_whitening reads as beta itself (0), the lookup version-4 readers performed.
+  raw.set("ganzfeld.format_version", "4");
+  raw.save(path);
+  expect_refused(path, "whitened beta axis needs format version 5");
+  Table plain = baked;
+  plain.warp.beta_whitening = 0.0;
+  write_table(plain, path);
+  raw = RawExr::load(path);
+  raw.set("ganzfeld.format_version", "4");
+  raw.save(path);
+  const Table v4 = read_table(path);
+  EXPECT_EQ(v4.format_version, 4);
+  EXPECT_EQ(v4.warp.beta_whitening, 0.0);
 }
 
 // GGX towards grazing is a thin arc (across ~ 2 alpha cos theta_j, along ~ 2 alpha): at a fixed
