@@ -9,6 +9,7 @@
 #include <numbers>
 #include <optional>
 #include <random>
+#include <fstream>
 #include <sstream>
 #include <thread>
 
@@ -22,6 +23,7 @@
 #include "models/spec.h"
 #include "reference/lune_reference.h"
 #include "reports/plot.h"
+#include "util/error.h"
 #include "util/timing.h"
 
 namespace ganzfeld::bench {
@@ -362,6 +364,17 @@ Verdict judge(const Run& run) {
 
 double Miss::excess() const { return achieved_error / (std::min(tolerance, estimate) + resolution); }
 
+bool CubatureBenchOptions::runs(const std::string& competitor) const {
+  return competitors.empty() || std::find(competitors.begin(), competitors.end(), competitor) != competitors.end();
+}
+
+const std::vector<std::string>& cubature_competitors() {
+  static const std::vector<std::string> names{"ours", "ours_no_hints", "oracle", "mc", "hcubature_lune",
+                                              "hcubature_naive", "pcubature_lune", "boost_gauss_kronrod",
+                                              "boost_tanh_sinh"};
+  return names;
+}
+
 CubatureBenchOptions quick_options() {
   CubatureBenchOptions o;
   o.cases_per_family = 4;
@@ -452,23 +465,32 @@ CaseResult run_case(const Case& c, const CubatureBenchOptions& options, std::uin
   const Reference ref = references(c, lu, out);
   const long long cap = options.competitor_cap;
   for (double tol : options.tolerances) {
-    std::vector<Run> runs{run_ours(c, tol, cap, ref, true), run_ours(c, tol, cap, ref, false),
-                          run_libcubature(c, lu, tol, cap, false, false, ref),
-                          run_libcubature(c, lu, tol, cap, true, false, ref),
-                          run_libcubature(c, lu, tol, cap, false, true, ref),
-                          run_boost("boost_gauss_kronrod", c, lu, tol, cap, ref, nested_gauss_kronrod),
-                          run_boost("boost_tanh_sinh", c, lu, tol, cap, ref, nested_tanh_sinh)};
-    judge_ours(c, runs.front(), out);
-    for (const Run& r : runs) count_failure(r, out.failures);
+    std::vector<Run> runs;
+    if (options.runs("ours")) runs.push_back(run_ours(c, tol, cap, ref, true));
+    if (options.runs("ours_no_hints")) runs.push_back(run_ours(c, tol, cap, ref, false));
+    if (options.runs("hcubature_lune")) runs.push_back(run_libcubature(c, lu, tol, cap, false, false, ref));
+    if (options.runs("hcubature_naive")) runs.push_back(run_libcubature(c, lu, tol, cap, true, false, ref));
+    if (options.runs("pcubature_lune")) runs.push_back(run_libcubature(c, lu, tol, cap, false, true, ref));
+    if (options.runs("boost_gauss_kronrod"))
+      runs.push_back(run_boost("boost_gauss_kronrod", c, lu, tol, cap, ref, nested_gauss_kronrod));
+    if (options.runs("boost_tanh_sinh")) runs.push_back(run_boost("boost_tanh_sinh", c, lu, tol, cap, ref, nested_tanh_sinh));
+    for (const Run& r : runs) {
+      if (r.competitor == "ours") judge_ours(c, r, out);
+      count_failure(r, out.failures);
+    }
     out.runs.insert(out.runs.end(), runs.begin(), runs.end());
   }
+  if (!options.runs("ours")) return out;  // ratios and Monte Carlo are relative to ours
   const double target = options.ratio_tolerance;
   const double ours_cost = cost_to_reach(out.runs, "ours", target, cap).first;
-  out.runs.push_back(run_oracle(c, lu, lune_cuts(*c.model, lu, c.j, Varying::incident), target, ref));
+  if (options.runs("oracle"))
+    out.runs.push_back(run_oracle(c, lu, lune_cuts(*c.model, lu, c.j, Varying::incident), target, ref));
   for (const auto& who : kPeers) {
+    if (!options.runs(who)) continue;
     const auto [cost, capped] = cost_to_reach(out.runs, who, target, cap);
     out.ratio[who] = {cost / ours_cost, capped};
   }
+  if (!options.runs("mc")) return out;
   // Monte Carlo with our wall time at the ratio tolerance. Neither error is floored; ours counts
   // as at least the case's resolution, below which it is not measured (a smaller divisor would
   // inflate the ratio). Both exact (0 / 0) leaves the ratio undefined: the case is left out.
@@ -563,18 +585,18 @@ std::map<std::string, std::vector<std::pair<double, double>>> work_precision(con
   return out;
 }
 
-std::string number(double x, int digits = 3) {
-  std::ostringstream s;
-  s.precision(digits);
-  s << x;
-  return s.str();
-}
+std::string number(double x, int digits = 3) { return significant(x, digits); }
 
 }  // namespace
 
-namespace {
+std::string percent(int part, int whole) {
+  if (!whole) return "—";
+  const double p = 100.0 * part / whole;
+  // Two significant digits below 10%, whole percents above (100% stays "100%", not "1e+02%").
+  return (p < 10.0 ? significant(p, 2) : std::to_string(std::lround(p))) + "%";
+}
 
-std::string percent(int part, int whole) { return whole ? number(100.0 * part / whole, 2) + "%" : std::string("—"); }
+namespace {
 
 std::string ratio_cell(const FamilyResult& f, const char* who) {
   const auto it = f.evals_ratio.find(who);
@@ -663,8 +685,51 @@ void family_target(std::ostringstream& md, const std::string& target, const std:
   md << "- " << target << ": **met** for " << trim(met) << "; **missed** for " << trim(missed) << ".\n";
 }
 
+/// Our evaluations in this run, summed over every case and tolerance of a family: (runs, evaluations).
+std::pair<long long, long long> evaluations_of(const FamilyResult& f, const std::string& who) {
+  long long runs = 0, evaluations = 0;
+  for (const Run& r : f.runs)
+    if (r.competitor == who) ++runs, evaluations += r.evaluations;
+  return {runs, evaluations};
+}
+
+/// The limit on our evaluations against the previous engine's, per family.
+constexpr double kEvaluationGrowthLimit = 1.3;
+
+/// this run / the baseline's evaluations of `who` on `f`; 0 when the baseline lacks the family or
+/// its runs differ (a different case count).
+double growth(const FamilyResult& f, const EvaluationBaseline& baseline, const std::string& who) {
+  const auto family = baseline.totals.find(f.name);
+  if (family == baseline.totals.end()) return 0.0;
+  const auto before = family->second.find(who);
+  const auto now = evaluations_of(f, who);
+  if (before == family->second.end() || before->second.first != now.first || before->second.second <= 0) return 0.0;
+  return double(now.second) / double(before->second.second);
+}
+
+void baseline_section(std::ostringstream& md, const std::vector<FamilyResult>& families,
+                      const EvaluationBaseline& baseline) {
+  md << "\n## Evaluations against the previous engine\n\nOur evaluations summed over every case and tolerance of "
+        "a family, this run against the baseline (" << baseline.source
+     << "): the same cases, the same counting. The limit is " << number(kEvaluationGrowthLimit)
+     << "× for ours (the engine with the models' hints); without hints the first panels are each bisected once "
+        "(integrate/cubature.h), shown for information.\n\n"
+     << "| family | runs | ours | before | ratio | ours, no hints | before | ratio |\n|---|---|---|---|---|---|---|---|\n";
+  for (const auto& f : families) {
+    const auto family = baseline.totals.find(f.name);
+    auto before = [&](const std::string& who) {
+      if (family == baseline.totals.end() || !family->second.count(who)) return std::string("—");
+      return std::to_string(family->second.at(who).second);
+    };
+    md << "| " << f.name << " | " << evaluations_of(f, "ours").first << " | " << evaluations_of(f, "ours").second
+       << " | " << before("ours") << " | " << number(growth(f, baseline, "ours")) << " | "
+       << evaluations_of(f, "ours_no_hints").second << " | " << before("ours_no_hints") << " | "
+       << number(growth(f, baseline, "ours_no_hints")) << " |\n";
+  }
+}
+
 void targets_section(std::ostringstream& md, const std::vector<FamilyResult>& families,
-                     const std::vector<BakeTiming>& bakes) {
+                     const std::vector<BakeTiming>& bakes, const EvaluationBaseline* baseline) {
   auto ratio = [](const char* who) {
     return [who](const FamilyResult& f) { const auto it = f.evals_ratio.find(who); return it == f.evals_ratio.end() ? 0.0 : it->second; };
   };
@@ -686,6 +751,17 @@ void targets_section(std::ostringstream& md, const std::vector<FamilyResult>& fa
   const double met_fraction = runs ? 1.0 - double(missed) / runs : 0.0;
   md << "- ≥ 99.9% of our runs meet the requested tolerance: **" << (met_fraction >= 0.999 ? "met" : "missed") << "** ("
      << number(100 * met_fraction, 5) << "% of " << runs << " runs).\n";
+  int dishonest = 0;
+  for (const auto& f : families) {
+    const auto it = f.failures.find("ours");
+    if (it != f.failures.end()) dishonest += it->second.dishonest;
+  }
+  md << "- 0 dishonest runs of ours: **" << (dishonest == 0 ? "met" : "missed") << "** (" << dishonest << " of " << runs
+     << ").\n";
+  if (baseline)
+    family_target(md, "Our evaluations ≤ " + number(kEvaluationGrowthLimit) + "× the previous engine's", families,
+                  [&](const FamilyResult& f) { return growth(f, *baseline, "ours"); },
+                  [](double r) { return r > 0.0 && r <= kEvaluationGrowthLimit; });
   const double limits[] = {5.0, 60.0};  // seconds on 2 threads: alpha = 8, alpha = 1000
   for (std::size_t k = 0; k < bakes.size() && k < 2; ++k) {
     const double median = util::median(bakes[k].seconds_2);
@@ -807,9 +883,39 @@ void bake_section(std::ostringstream& md, const std::vector<BakeTiming>& bakes) 
 
 }  // namespace
 
+EvaluationBaseline read_evaluation_baseline(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw InputError("cannot read the evaluation baseline '" + path + "'");
+  EvaluationBaseline out;
+  std::string line;
+  bool header = false;
+  while (std::getline(in, line)) {
+    if (line.empty()) continue;
+    if (line[0] == '#') {
+      out.source += (out.source.empty() ? "" : " ") + line.substr(line.find_first_not_of("# "));
+      continue;
+    }
+    if (!header) {  // family,competitor,runs,evaluations
+      header = true;
+      continue;
+    }
+    std::istringstream fields(line);
+    std::string family, competitor, runs, evaluations;
+    if (!std::getline(fields, family, ',') || !std::getline(fields, competitor, ',') || !std::getline(fields, runs, ',') ||
+        !std::getline(fields, evaluations))
+      throw InputError("evaluation baseline '" + path + "': line '" + line + "' is not family,competitor,runs,evaluations");
+    try {
+      out.totals[family][competitor] = {std::stoll(runs), std::stoll(evaluations)};
+    } catch (const std::exception&) {
+      throw InputError("evaluation baseline '" + path + "': line '" + line + "' has no whole numbers of runs and evaluations");
+    }
+  }
+  return out;
+}
+
 std::string performance_markdown(const std::vector<FamilyResult>& families, const CubatureBenchOptions& options,
                                  const std::vector<BakeTiming>& bakes, const std::string& command,
-                                 const std::string& plot_file) {
+                                 const std::string& plot_file, const EvaluationBaseline* baseline) {
   std::ostringstream md;
   md << "<!-- Generated by `" << command << "`; do not edit by hand. -->\n"
      << "# Cubature performance against the peers\n\n";
@@ -820,7 +926,8 @@ std::string performance_markdown(const std::vector<FamilyResult>& families, cons
        << ")\n\nIn the plot, an error below its case's resolution is drawn at the resolution (a geometric mean "
           "cannot take an exact 0).\n";
   failure_table(md, families);
-  targets_section(md, families, bakes);
+  if (baseline) baseline_section(md, families, *baseline);
+  targets_section(md, families, bakes, baseline);
   disagreements_section(md, families);
   misses_section(md, families);
   bake_section(md, bakes);

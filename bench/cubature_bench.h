@@ -57,7 +57,13 @@ struct CubatureBenchOptions {
   double ratio_tolerance = 1e-10;   ///< the requested tolerance at which ratios are reported
   long long competitor_cap = 2'000'000;  ///< evaluations per competitor run
   unsigned seed = 20190117;
+  /// Only these competitors (names as in the tables: ours, ours_no_hints, oracle, mc, ...); empty:
+  /// all. Ratios need ours; the references are computed either way.
+  std::vector<std::string> competitors;
+  bool runs(const std::string& competitor) const;
 };
+/// The competitors' names, as --competitors takes them.
+const std::vector<std::string>& cubature_competitors();
 CubatureBenchOptions quick_options();
 
 struct Run {  // one competitor at one requested tolerance on one case
@@ -142,10 +148,21 @@ std::vector<BakeTiming> run_bake_benchmark(bool quick, int repeats);
 std::string today_utc();
 /// x with `digits` significant digits (%g): the benchmarks' Markdown numbers.
 std::string significant(double x, int digits = 3);
+/// part/whole as a percentage with two significant digits, "—" when whole is 0.
+std::string percent(int part, int whole);
+
+/// Our evaluations per family in a run of the previous engine: `family,competitor,runs,evaluations`
+/// lines (ours and ours_no_hints summed over every case and tolerance) after `#` comment lines that
+/// say how they were made (scripts/performance-baseline). Throws InputError for a malformed file.
+struct EvaluationBaseline {
+  std::string source;  ///< the file's comment lines, joined
+  std::map<std::string, std::map<std::string, std::pair<long long, long long>>> totals;  ///< family → competitor → (runs, evaluations)
+};
+EvaluationBaseline read_evaluation_baseline(const std::string& path);
 
 std::string performance_markdown(const std::vector<FamilyResult>& families, const CubatureBenchOptions& options,
                                  const std::vector<BakeTiming>& bakes, const std::string& command,
-                                 const std::string& plot_file);
+                                 const std::string& plot_file, const EvaluationBaseline* baseline = nullptr);
 
 /// Work–precision plot: per competitor and requested tolerance, the geometric means over all
 /// cases of evaluations (x) and achieved error (y), joined across tolerances.

@@ -1,17 +1,21 @@
+#include <algorithm>
 #include <filesystem>
 #include <cstdio>
 #include <iostream>
+#include <optional>
 
 #include <nlohmann/json.hpp>
 #include <tbb/global_control.h>
 
 #include "bench/cubature_bench.h"
+#include "bench/genz_bench.h"
 #include "bench/realtime_bench.h"
 #include "bench/render_bench.h"
 #include "bench/shaders_bench.h"
 #include "cli/args.h"
 #include "cli/commands.h"
 #include "util/error.h"
+#include "models/registry.h"
 #include "models/spec.h"
 #include "util/atomic_file.h"
 #include "tables/bake.h"
@@ -24,9 +28,12 @@ namespace {
 struct BenchArgs {
   std::string what;
   bool json = false, quick = false;
-  int cases = 0, repeats = 0;
-  std::string markdown, plot;
+  int cases = 0, repeats = 0, instances = 0;
+  long long budget = 0;
+  std::vector<double> tolerances;
+  std::string markdown, plot, baseline;
   CLI::Option* markdown_option = nullptr;  ///< given, with or without a FILE
+  std::vector<std::string> competitors;
   int size = 0, frames = 0;                ///< shaders: 0 = the defaults
   std::string platform = "auto", model, cache;
 };
@@ -52,6 +59,19 @@ nlohmann::ordered_json cubature_report(const BenchArgs& args) {
     throw InputError("bench cubature --markdown needs the FILE to write (docs/performance.md)");
   bench::CubatureBenchOptions options = args.quick ? bench::quick_options() : bench::CubatureBenchOptions{};
   if (args.cases > 0) options.cases_per_family = args.cases;
+  for (const std::string& who : args.competitors)
+    if (std::find(bench::cubature_competitors().begin(), bench::cubature_competitors().end(), who) ==
+        bench::cubature_competitors().end()) {
+      std::string allowed;
+      for (const std::string& name : bench::cubature_competitors()) allowed += (allowed.empty() ? "" : ", ") + name;
+      throw InputError("unknown competitor '" + who + "'; allowed: " + allowed);
+    }
+  options.competitors = args.competitors;
+  if (!args.markdown.empty() && !args.competitors.empty())
+    throw InputError("--markdown writes the whole report; drop --competitors or --markdown");
+  // Read before the run: a bad file is refused at once, not after minutes of benchmark.
+  const std::optional<bench::EvaluationBaseline> baseline =
+      args.baseline.empty() ? std::nullopt : std::optional(bench::read_evaluation_baseline(args.baseline));
   const auto families = bench::run_cubature_benchmark(options);
   // The report includes the bake throughput, measured in the same run (no appended sections).
   const std::vector<bench::BakeTiming> bakes =
@@ -64,9 +84,11 @@ nlohmann::ordered_json cubature_report(const BenchArgs& args) {
     if (args.repeats > 0) words.insert(words.end(), {"--repeats", std::to_string(args.repeats)});
     words.insert(words.end(), {"--markdown", args.markdown});
     if (!args.plot.empty()) words.insert(words.end(), {"--plot", args.plot});
+    if (!args.baseline.empty()) words.insert(words.end(), {"--baseline", args.baseline});
     const std::string command = shell_line(words);
     const std::string plot_file = args.plot.empty() ? "" : std::filesystem::path(args.plot).filename().string();
-    write_text_atomically(args.markdown, bench::performance_markdown(families, options, bakes, command, plot_file));
+    write_text_atomically(args.markdown, bench::performance_markdown(families, options, bakes, command, plot_file,
+                                                                     baseline ? &*baseline : nullptr));
   }
   nlohmann::ordered_json doc;
   doc["benchmark"] = "cubature";
@@ -164,6 +186,57 @@ int render_report(const BenchArgs& args) {
   return 0;
 }
 
+/// Genz's test families (bench/genz_bench.h): a summary per family and competitor, or with
+/// `--markdown -` docs/reliability-genz.md on stdout.
+int genz_report(const BenchArgs& args) {
+  bench::GenzOptions options = args.quick ? bench::quick_genz_options() : bench::GenzOptions{};
+  if (args.instances != 0) options.instances = args.instances;
+  if (args.budget != 0) options.budget = args.budget;
+  if (!args.tolerances.empty()) options.tolerances = args.tolerances;
+  bench::check_genz_options(options);
+  if (prints_section(args) && args.markdown != "-")
+    throw InputError("bench genz --markdown takes '-'" +
+                     (args.markdown.empty() ? "" : ", not '" + args.markdown + "'") +
+                     " (docs/reliability-genz.md on stdout)");
+  const util::Stopwatch watch;
+  const auto cells = bench::run_genz_benchmark(options);
+  const double seconds = watch.seconds();
+  if (!args.markdown.empty()) {
+    std::vector<std::string> words{"ganzfeld", "bench", "genz"};
+    if (args.quick) words.push_back("--quick");
+    if (args.instances != 0) words.insert(words.end(), {"--instances", std::to_string(args.instances)});
+    if (args.budget != 0) words.insert(words.end(), {"--budget", std::to_string(args.budget)});
+    if (!args.tolerances.empty()) {
+      std::string list;
+      for (double t : args.tolerances) list += (list.empty() ? "" : ",") + format_number(t);
+      words.insert(words.end(), {"--tolerances", list});
+    }
+    words.insert(words.end(), {"--markdown", "-"});
+    std::cout << bench::genz_markdown(cells, options, shell_line(words), seconds);
+    return 0;
+  }
+  if (args.json) {
+    nlohmann::ordered_json doc{{"benchmark", "genz"}, {"instances", options.instances}, {"budget", options.budget},
+                               {"tolerances", options.tolerances}, {"cells", nlohmann::ordered_json::array()}};
+    for (const auto& c : cells)
+      doc["cells"].push_back({{"family", bench::to_string(c.family)}, {"dimension", c.dimension},
+                              {"competitor", c.competitor}, {"runs", c.runs}, {"dishonest", c.dishonest},
+                              {"dishonest_unseen", c.dishonest_unseen}, {"worst_ratio", c.worst_ratio},
+                              {"not_converged", c.not_converged}, {"capped", c.capped},
+                              {"evaluations", c.evaluations},
+                              {"geometric_mean_evaluations", c.geometric_mean_evaluations()}});
+    std::cout << doc.dump(2) << "\n";
+    return 0;
+  }
+  std::printf("%-14s %2s %-20s %6s %9s %9s %10s %9s %9s %12s\n", "family", "n", "competitor", "runs", "dishonest",
+              "unseen", "worst", "not-conv", "capped", "geo-evals");
+  for (const auto& c : cells)
+    std::printf("%-14s %2d %-20s %6d %9d %9d %10.3g %9d %9d %12.4g\n", bench::to_string(c.family), c.dimension,
+                c.competitor.c_str(), c.runs, c.dishonest, c.dishonest_unseen, c.worst_ratio, c.not_converged,
+                c.capped, c.geometric_mean_evaluations());
+  return 0;
+}
+
 /// The shaders benchmark (bench/shaders_bench.h): its section of docs/realtime.md with --markdown,
 /// JSON with --json, else a table.
 int shaders_report(const BenchArgs& args) {
@@ -247,7 +320,7 @@ int realtime_report(const BenchArgs& args) {
 void add_bench_command(CLI::App& app, Action& action) {
   auto* cmd = app.add_subcommand("bench", "benchmarks that print ratios measured in one run");
   auto args = std::make_shared<BenchArgs>();
-  cmd->add_option("what", args->what, "cubature | bake | render | realtime | shaders")->required();
+  cmd->add_option("what", args->what, "cubature | genz | bake | render | realtime | shaders")->required();
   add_json_flag(*cmd, args->json);
   cmd->add_flag("--quick", args->quick, "a small sample (CI); the full run takes minutes");
   cmd->add_option("--cases", args->cases, "cases per integrand family (cubature; default 200, quick 4)");
@@ -256,8 +329,15 @@ void add_bench_command(CLI::App& app, Action& action) {
                   "medians and spread");
   args->markdown_option = cmd->add_option("--markdown", args->markdown,
                                           "cubature: also write the report (docs/performance.md) to FILE; realtime, "
-                                          "render, shaders: print the section of docs/realtime.md (no FILE)")
+                                          "render, shaders: print the section of docs/realtime.md (no FILE); "
+                                          "genz: '-' prints docs/reliability-genz.md")
                               ->expected(0, 1);
+  cmd->add_option("--instances", args->instances,
+                  "genz: random instances per family and dimension (default 500, quick 3)");
+  cmd->add_option("--budget", args->budget, "genz: evaluations per competitor run (default 1000000)");
+  cmd->add_option("--tolerances", args->tolerances,
+                  "genz: relative tolerances, comma-separated (default 1e-3 ... 1e-12)")
+      ->delimiter(',');
   cmd->add_option("--size", args->size, "shaders: the pass's width and height in pixels (default 2048, quick 128)");
   cmd->add_option("--frames", args->frames, "shaders: timed frames per pass (default 30)");
   cmd->add_option("--platform", args->platform,
@@ -265,15 +345,23 @@ void add_bench_command(CLI::App& app, Action& action) {
   cmd->add_option("--model", args->model, "shaders: the glossy lobe shaded from tables (default specular:alpha=100)");
   cmd->add_option("--cache", args->cache, "shaders: keep the tables in this cache directory between runs");
   cmd->add_option("--plot", args->plot, "cubature: also write the work-precision plot (PNG) to FILE");
+  cmd->add_option("--competitors", args->competitors,
+                  "cubature: only these competitors, comma-separated (ours, ours_no_hints, oracle, mc, hcubature_lune, "
+                  "hcubature_naive, pcubature_lune, boost_gauss_kronrod, boost_tanh_sinh; default all)")
+      ->delimiter(',');
+  cmd->add_option("--baseline", args->baseline,
+                  "cubature: compare our evaluations per family with FILE (scripts/performance-baseline)");
   cmd->callback([&action, args] {
     action = [args] {
       if (args->what == "realtime") return realtime_report(*args);
       if (args->what == "render") return render_report(*args);
       if (args->what == "shaders") return shaders_report(*args);
+      if (args->what == "genz") return genz_report(*args);
       nlohmann::ordered_json doc;
       if (args->what == "cubature") doc = cubature_report(*args);
       else if (args->what == "bake") doc = bake_report(*args);
-      else throw InputError("unknown benchmark '" + args->what + "'; allowed: cubature, bake, render, realtime, shaders");
+      else throw InputError("unknown benchmark '" + args->what +
+                            "'; allowed: cubature, genz, bake, render, realtime, shaders");
       if (args->json) {
         std::cout << doc.dump(2) << "\n";
         return 0;

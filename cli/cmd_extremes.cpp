@@ -1,7 +1,8 @@
 // ganzfeld extremes: the extremes grid (reports/extremes.h) — every model at the ends
 // of its parameters' ranges and the laws at extreme directions, judged against the independent
-// reference; --markdown prints the section of docs/reliability.md (scripts/docs --reliability).
+// reference; --markdown prints docs/reliability-extremes.md (scripts/docs --reliability).
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
 
 #include <nlohmann/json.hpp>
@@ -10,6 +11,7 @@
 #include "cli/commands.h"
 #include "models/registry.h"
 #include "reports/extremes.h"
+#include "util/atomic_file.h"
 #include "util/progress.h"
 #include "util/timing.h"
 
@@ -21,6 +23,7 @@ struct ExtremesArgs {
   bool json = false, markdown = false, quick = false, defaults_only = false;
   double tol = 1e-8;
   std::vector<std::string> models;
+  std::string csv;
 };
 
 nlohmann::ordered_json vector_json(const Vec3& v) { return {v.x, v.y, v.z}; }
@@ -64,12 +67,14 @@ void add_extremes_command(CLI::App& app, Action& action) {
                                  "the engine's estimates judged against the independent reference");
   auto args = std::make_shared<ExtremesArgs>();
   add_json_flag(*cmd, args->json);
-  cmd->add_flag("--markdown", args->markdown, "print the Markdown section of docs/reliability.md");
+  cmd->add_flag("--markdown", args->markdown, "print docs/reliability-extremes.md (Markdown)");
   cmd->add_flag("--quick", args->quick, "the slice ctest runs: default specs, the grid's corners");
   cmd->add_flag("--defaults-only", args->defaults_only,
                 "every model at its defaults only (the whole direction grid; about ten times faster)");
   cmd->add_option("--tol", args->tol, "the engine's absolute tolerance (default 1e-8)");
   cmd->add_option("--model", args->models, "only these models (catalogue names, or 'mixture'); repeatable");
+  cmd->add_option("--csv", args->csv, "also write every case of the grid to FILE (CSV; with --markdown the section "
+                                      "links it by its file name, so put it beside the document)");
   cmd->callback([&action, args] {
     action = [args] {
       validate_tolerance(args->tol);
@@ -84,13 +89,18 @@ void add_extremes_command(CLI::App& app, Action& action) {
       const util::Stopwatch watch;
       const auto rows = extremes_report(options);
       const double seconds = watch.seconds();
+      std::vector<std::string> words{"ganzfeld", "extremes"};
+      if (args->markdown) words.push_back("--markdown");
+      if (args->quick) words.push_back("--quick");
+      if (args->defaults_only) words.push_back("--defaults-only");
+      if (args->tol != 1e-8) words.insert(words.end(), {"--tol", format_number(args->tol)});
+      for (const std::string& name : args->models) words.insert(words.end(), {"--model", name});
+      if (!args->csv.empty()) words.insert(words.end(), {"--csv", args->csv});
+      const std::string command = shell_line(words);
+      if (!args->csv.empty()) write_text_atomically(args->csv, extremes_csv(rows, command));
       if (args->markdown) {
-        std::vector<std::string> words{"ganzfeld", "extremes", "--markdown"};
-        if (args->quick) words.push_back("--quick");
-        if (args->defaults_only) words.push_back("--defaults-only");
-        if (args->tol != 1e-8) words.insert(words.end(), {"--tol", format_number(args->tol)});
-        for (const std::string& name : args->models) words.insert(words.end(), {"--model", name});
-        std::cout << extremes_markdown(rows, options, shell_line(words), seconds);
+        const std::string csv_name = args->csv.empty() ? "" : std::filesystem::path(args->csv).filename().string();
+        std::cout << extremes_markdown(rows, options, command, seconds, csv_name);
       } else if (args->json) {
         std::cout << extremes_json(rows, options, seconds).dump(2) << "\n";
       } else {

@@ -3,13 +3,22 @@
 // The algorithm in three steps (after QUADPACK's qag and Genz & Malik's adaptive scheme, as in
 // S. G. Johnson's hcubature.c):
 //  1. Start from a grid of panels whose lines are given by the caller (the known lobe peaks,
-//     widths and boundary layers of the integrand: MassHints, models/mass_hints.h), so that the first nodes
-//     cannot all miss a sharp lobe.
+//     widths and boundary layers of the integrand: MassHints, models/mass_hints.h), so that the
+//     first nodes cannot all miss a sharp lobe. Unless the caller says its lines come from such
+//     hints (CubatureOptions::bisect_initial_panels), every initial panel is bisected once at the
+//     start, so that none is accepted before its halves have been compared with it.
 //  2. On each panel apply the 15-point Kronrod rule in every axis (15^D nodes) and its embedded
-//     7-point Gauss rule; the panel's error is the larger of |K⊗K − G⊗G| and the sum of the
-//     per-axis differences |K⊗K − G⊗K| + |K⊗K − K⊗G| (whose signs can cancel in the former),
-//     deliberately raw and pessimistic (no QUADPACK power-law rescaling) so that the estimate
-//     bounds the true error. The per-axis differences also say which axis to split.
+//     7-point Gauss rule. Per axis, the larger of |K⊗K − G⊗K| (the Gauss rule in that axis only)
+//     and, where the panel is not in the rules' asymptotic regime, twice the largest of three
+//     pairs of null rules of degrees 13 … 8 on the same nodes (Berntsen, Espelid & Genz, ACM
+//     TOMS 17(4) 1991, as DCUHRE and Cuba's Cuhre use them): a kink or a jump inside a panel
+//     makes the null rules decay slowly, where G7/K15's difference can vanish by chance. The
+//     panel's error is the larger of |K⊗K − G⊗G| and the sum over the axes, raw and pessimistic
+//     on purpose (no QUADPACK power-law rescaling), plus a check that costs no evaluation:
+//     where a half's nodes, extrapolated to the cut it shares with the other half (or to an
+//     earlier cut), disagree with the integrand on that line (the parent's centre line), a kink
+//     or jump may hide in the gap between the outermost nodes and the cut (0.85% of the panel's
+//     width per end): a bound on it is added, and rechecked when that half is bisected.
 //  3. Repeatedly bisect the panel with the largest error along its worst axis until the summed
 //     error is below the absolute tolerance or the evaluation budget is spent. Not converging is
 //     a result (converged = false), never an exception and never a silent wrong value.
@@ -17,6 +26,9 @@
 //     usually moves an isolated non-finite point or line off the nodes. While such a panel
 //     remains (budget spent, or bisected to the resolution of doubles: a non-finite region) the
 //     result is not converged, with an infinite error and a value that omits those panels.
+// What no rule sees, no estimate bounds: a lobe narrower than the gaps between the nodes of the
+// halves of an initial panel, or a kink or jump between the outermost nodes and the box's own
+// boundary (measured on Genz's test families: ganzfeld bench genz, docs/performance.md).
 // Deterministic: panels are processed sequentially in a fixed order and summed with Neumaier's
 // compensated sum, so the same input gives the same bits whatever runs around it.
 #pragma once
@@ -24,6 +36,7 @@
 #include <array>
 #include <atomic>
 #include <functional>
+#include <limits>
 #include <span>
 #include <string>
 #include <vector>
@@ -41,8 +54,14 @@ struct Estimate {
 struct CubatureOptions {
   double abs_tol = 1e-9;                     ///< stop when the summed error estimate <= this
   /// Budget per integral; beyond it: not converged. The initial grid is always evaluated (a
-  /// result needs at least one rule per panel), so it may exceed a budget smaller than itself.
+  /// result needs at least one rule per panel), so it may exceed a budget smaller than itself;
+  /// a budget smaller than one panel (kRuleNodes^D) is refused.
   long long max_evaluations = 50'000'000;
+  /// Bisect every panel of the initial grid once before any is accepted: a lobe narrower than
+  /// the gaps between a panel's nodes (up to 10% of its width) can hide from all of them, and
+  /// only new nodes find it. Callers whose cuts come from the integrand's own mass hints
+  /// (integrate/laws_integrals.cpp) turn it off: their panels are placed where the mass is.
+  bool bisect_initial_panels = true;
   /// When set, read before every panel: once it holds true the integral stops where it is and
   /// is returned not converged (a caller that no longer wants the answer: a deadline, a client
   /// gone, a shutdown). The caller owns the flag and knows why it set it.
@@ -52,6 +71,11 @@ struct CubatureOptions {
 /// Number of nodes per axis of the Kronrod rule.
 inline constexpr int kRuleNodes = 15;
 
+/// The smallest absolute tolerance adaptive_cubature accepts: below the smallest normal double
+/// the summed error estimates themselves lose their precision. (A front end's user is held to
+/// kMinTolerance below, which check_tolerance enforces.)
+inline constexpr double kEngineMinTolerance = std::numeric_limits<double>::min();
+
 /// The integrand sees a whole panel at once: nodes[d] holds the kRuleNodes abscissas of axis d
 /// and it fills values[a * kRuleNodes + b] = F(nodes[0][a], nodes[1][b]) (D = 2) or
 /// values[a] = F(nodes[0][a]) (D = 1). Panel-wise calls let it hoist trigonometry and batch f.
@@ -60,7 +84,8 @@ using PanelIntegrand =
     std::function<void(const std::array<std::span<const double>, D>& nodes, std::span<double> values)>;
 
 /// Integrates over the box whose axis d is cut by the sorted lines cuts[d] (first = lower
-/// bound, last = upper bound, at least two per axis).
+/// bound, last = upper bound, at least two per axis). Throws InputError (util/error.h) for a
+/// tolerance that is not a finite number >= kEngineMinTolerance or a budget below one panel.
 template <int D>
 Estimate adaptive_cubature(const PanelIntegrand<D>& integrand,
                            const std::array<std::vector<double>, D>& cuts,

@@ -353,9 +353,19 @@ Estimate integrate_creased(const Model& model, const Vec3& pole, const Vec3& fix
   });
 }
 
+/// Whether the model said where its mass is: then the initial grid is placed there and trusted
+/// as it is (CubatureOptions::bisect_initial_panels); a model without hints gets its 2x2 grid's
+/// panels bisected once before any is accepted.
+bool hinted(const MassHints& hints) {
+  return !hints.peaks.empty() || hints.horizon_layer > 0.0 || hints.rough_horizon ||
+         hints.crease_axis != Vec3{0.0, 0.0, 0.0};
+}
+
 Estimate integrate_lune(const Model& model, const Vec3& pole, const Vec3& fixed, Varying varying,
-                        const CubatureOptions& options) {
+                        const CubatureOptions& caller) {
   const MassHints hints = model.mass_hints(fixed, varying);
+  CubatureOptions options = caller;
+  options.bisect_initial_panels = caller.bisect_initial_panels && !hinted(hints);
   if (hints.crease_axis != Vec3{0.0, 0.0, 0.0}) return integrate_creased(model, pole, fixed, varying, hints, options);
   const Lune fr = lune(pole, fixed);
   if (fr.empty) return {};
@@ -387,6 +397,9 @@ Estimate albedo(const Model& model, const Vec3& i, const CubatureOptions& option
 Estimate double_diffuse(const Model& model, const CubatureOptions& options) {
   CubatureOptions inner = options, outer = options;
   inner.abs_tol = outer.abs_tol = 0.5 * options.abs_tol;
+  // The outer integrand is an albedo, smooth in i (each of its nodes is a whole inner integral):
+  // its fixed grid is trusted as it is.
+  outer.bisect_initial_panels = false;
   double max_inner_error = 0.0;
   long long inner_evaluations = 0;
   bool inner_converged = true;

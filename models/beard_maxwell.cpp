@@ -240,6 +240,15 @@ MassHints BeardMaxwell::mass_hints(const Vec3& fixed, Varying) const {
     if (tau_ < pi / 2 && fs_.rho_fs_cos2(theta_fixed, mu) > kRetroHintFraction * peak)
       hints.lobe(fixed, std::max(tau_, 1e-3));
   }
+  // With `fixed` grazing, the facet normal k + fixed turns through 90 degrees within ~fixed.z of
+  // the horizon point below -fixed, where the first surface's 1/(mu mu_fixed) is largest: a cone
+  // the grid's lines must close in on (g at i = n, j·n = 1e-6: 9.8e-6 off with 1e-8 estimated).
+  // The first surface's 1/(mu mu_fixed), floored, makes (k·n) f ramp to 0 across k·n < kGrazingCosFloor
+  // whatever `fixed` (h at j·n = 0.3: 7x dishonest without it): kGrazingLayer.
+  if (peak > 0.0 || fs_.is_table()) {
+    hints.layer(kGrazingLayer);
+    if (fixed.z < 1e-3) hints.lobe(glm::normalize(Vec3{-fixed.x, -fixed.y, 0.0}), std::max(fixed.z, kGrazingCosFloor));
+  }
   // 2 rho_V/(mu + mu_fixed) switches over mu ~ mu_fixed (as Hapke's 1/(mu_i + mu_j)).
   if (rho_V_ > 0.0) hints.layer(fixed.z);
   return hints.build();

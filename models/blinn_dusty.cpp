@@ -161,7 +161,8 @@ MassHints BlinnDusty::mass_hints(const Vec3& fixed, Varying) const {
   //   Phi ∝ ((1 - g)^2 + g alpha^2)^{-3/2} near the peak: half maximum at alpha = 0.77 (1 - g)/sqrt(g);
   //   the scale (1 - |g|)/sqrt(|g|) is given (broad for small |g|, which the engine ignores);
   // - the Lommel–Seeliger factor mu/(mu + mu_fixed) switching over mu ~ mu_fixed, and the thin-layer
-  //   factor 1 - exp(-tau/mu ...) switching over mu ~ tau: a horizon layer min(mu_fixed, tau).
+  //   factor 1 - exp(-tau/mu ...) switching over mu ~ tau: a horizon layer min(mu_fixed, tau), the
+  //   floored 1/(mu + mu_fixed) leaving its ramp (kGrazingLayer) when mu_fixed vanishes.
   //   The other phase functions are smooth on the scale of the sphere.
   HintBuilder hints;
   const auto add_hg = [&](double g, double weight) {
@@ -174,7 +175,7 @@ MassHints BlinnDusty::mass_hints(const Vec3& fixed, Varying) const {
     add_hg(phase_.g, phase_.m);
     add_hg(phase_.g2, 1.0 - phase_.m);
   }
-  return hints.layer(std::min(fixed.z, tau_)).build();
+  return hints.layer(std::max(fixed.z, kGrazingLayer)).layer(tau_).build();
 }
 
 // ---------------------------------------------------------------------------------------------

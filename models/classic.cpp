@@ -348,6 +348,14 @@ OrenNayar::OrenNayar(double sigma, double rho) : sigma_(sigma), rho_(rho) {}
 
 std::string OrenNayar::spec() const { return spec_text({"oren-nayar", {{"sigma", sigma_}, {"rho", rho_}}}); }
 
+MassHints OrenNayar::mass_hints(const Vec3& fixed, Varying) const {
+  // tan beta and tan((alpha + beta)/2) are floored at kGrazingCosFloor where both directions
+  // graze: with `fixed` within a few floors of the horizon, (k·n) f ramps to its limit across
+  // k·n < kGrazingCosFloor (a 12x dishonest g at i·n = j·n = 0 without it:
+  // tests/extremes_test.cpp): kGrazingLayer.
+  return HintBuilder().layer(fixed.z < 10.0 * kGrazingCosFloor ? kGrazingLayer : 0.0).build();
+}
+
 double OrenNayar::f(const Vec3& i, const Vec3& j) const noexcept {
   if (i.z < 0.0 || j.z < 0.0) return 0.0;
   const double mu_i = std::min(i.z, 1.0), mu_j = std::min(j.z, 1.0);
@@ -527,8 +535,9 @@ std::optional<GlslF> Hapke::glsl_f() const {
 
 MassHints Hapke::mass_hints(const Vec3& fixed, Varying) const {
   // The opposition surge on `fixed` (B falls from 2 over tan alpha ~ g), and the
-  // Lommel–Seeliger factor (k·n)/((k + fixed)·n) switching over k·n ~ fixed·n.
-  return HintBuilder().lobe(fixed, std::min(g_, 1.0)).layer(fixed.z).build();
+  // Lommel–Seeliger factor (k·n)/((k + fixed)·n) switching over k·n ~ fixed·n; a grazing `fixed`
+  // leaves the ramp of its floor, k·n < kGrazingCosFloor: kGrazingLayer.
+  return HintBuilder().lobe(fixed, std::min(g_, 1.0)).layer(std::max(fixed.z, kGrazingLayer)).build();
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -63,7 +63,7 @@ MassHints Kajiya::mass_hints(const Vec3& fixed, Varying varying) const {
       const double beta = pi * m / (kPoints - 1);
       hints.lobe(Vec3{-fixed.x, s * std::cos(beta), s * std::sin(beta)}, width);
     }
-  if (varying == Varying::incident) hints.layer(kGrazingCosFloor);
+  if (varying == Varying::incident) hints.layer(kGrazingLayer);
   return hints.build();
 }
 

@@ -37,7 +37,7 @@ class Kajiya final : public Model {
   /// The highlight is the cone k·t = -fixed·t about the fibres, a circle through the horizon:
   /// seven points along its upper half, width 1/sqrt(n) (cos^n psi ~ exp(-n psi^2/2)); and, over
   /// incident directions, the layer k·n < kGrazingCosFloor where the floored 1/(k·n) makes
-  /// (k·n) f fall to 0 (as phong's).
+  /// (k·n) f fall to 0 (kGrazingLayer, models/classic_models.h).
   MassHints mass_hints(const Vec3& fixed, Varying varying) const override;
   /// cos of the angle from j to the cone of mirror directions of i about the fibres.
   static double cone_cosine(const Vec3& i, const Vec3& j) noexcept;

@@ -49,7 +49,7 @@ struct MassHints {
 /// The engine's rules for hints, stated once. integrate/laws_integrals.cpp builds its initial grid
 /// from them; HintBuilder applies the one that a model's hint depends on (a lobe reaching the
 /// horizon). Each is measured on the 1,200-case peers benchmark (bench/) and the extremes grid
-/// (docs/reliability.md); changing one changes every table.
+/// (docs/reliability-extremes.md); changing one changes every table.
 namespace hint_rules {
 
 /// A lobe (or step) wider than this, in radians, gets no lines: the 2x2 starting grid's panels,

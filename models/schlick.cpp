@@ -166,7 +166,9 @@ double Schlick::pdf_incident(const Vec3& j, const Vec3& i) const {
 }
 
 MassHints Schlick::mass_hints(const Vec3& fixed, Varying) const {
-  return HintBuilder().lobe(mirror(fixed), std::sqrt(2.0 * r_) * p_).build();
+  // The second term's floored 1/(k·n) makes (k·n) f ramp to 0 across k·n < kGrazingCosFloor over
+  // either direction, whatever `fixed` (h at j = n: 12x dishonest without it): kGrazingLayer.
+  return HintBuilder().lobe(mirror(fixed), std::sqrt(2.0 * r_) * p_).layer(kGrazingLayer).build();
 }
 
 // ---------------------------------------------------------------------------------------------

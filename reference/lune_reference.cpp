@@ -6,6 +6,7 @@
 #include <numbers>
 
 #include <boost/math/quadrature/gauss_kronrod.hpp>
+#include <boost/math/quadrature/tanh_sinh.hpp>
 
 namespace ganzfeld::reference {
 
@@ -61,6 +62,22 @@ double rough_l1(F&& f, const std::vector<double>& cut, std::vector<double>* pane
   return l1;
 }
 
+/// Each panel's relative tolerance (panels() below): options.tolerance, or with
+/// options.global_tolerance that tolerance relative to the whole range's L1 norm (a rough
+/// gauss_kronrod<Points> pass), and never tighter than `absolute` shared among the panels.
+template <unsigned Points, class F>
+std::vector<double> panel_tolerances(F&& f, const std::vector<double>& cut, const Options& options, double absolute) {
+  const std::size_t count = cut.size() - 1;
+  std::vector<double> tolerance(count, options.tolerance);
+  if (!options.global_tolerance) return tolerance;
+  std::vector<double> rough;
+  const double l1 = rough_l1<Points>(f, cut, &rough);
+  for (std::size_t k = 0; k < count; ++k)
+    if (rough[k] > 0.0)
+      tolerance[k] = std::max({options.tolerance, options.tolerance * l1 / rough[k], absolute / count / rough[k]});
+  return tolerance;
+}
+
 /// ∫ over the panels of `cut` by gauss_kronrod<Points>; adds Boost's error estimates to *error.
 /// Boost stops bisecting a panel when its error is below tolerance × |that panel's integral|; with
 /// options.global_tolerance the tolerance is made relative to the whole range's L1 norm instead
@@ -74,14 +91,7 @@ template <unsigned Points, class F>
 double panels(F&& f, const std::vector<double>& cut, const Options& options, double absolute, double* error) {
   using Rule = boost::math::quadrature::gauss_kronrod<double, Points>;
   const std::size_t count = cut.size() - 1;
-  std::vector<double> tolerance(count, options.tolerance);
-  if (options.global_tolerance) {
-    std::vector<double> rough;
-    const double l1 = rough_l1<Points>(f, cut, &rough);
-    for (std::size_t k = 0; k < count; ++k)
-      if (rough[k] > 0.0)
-        tolerance[k] = std::max({options.tolerance, options.tolerance * l1 / rough[k], absolute / count / rough[k]});
-  }
+  const std::vector<double> tolerance = panel_tolerances<Points>(f, cut, options, absolute);
   double sum = 0.0;
   for (std::size_t k = 0; k < count; ++k) {
     double panel_error = 0.0;
@@ -90,6 +100,25 @@ double panels(F&& f, const std::vector<double>& cut, const Options& options, dou
     // leaf's half-width s_i (gauss_kronrod.hpp, recursive_adaptive_integrate): a panel 3e-6 wide
     // claimed 1e6 times its error, one 3 wide half of it. The leaves' true estimates e_i s_i sum
     // to at most the panel's half-width times the sum Boost returns.
+    *error += panel_error * 0.5 * (cut[k + 1] - cut[k]);
+  }
+  return sum;
+}
+
+/// As panels(), by Boost's tanh_sinh on each panel (relative tolerance per panel as there; its
+/// error is the difference of its last two levels, scaled to the panel).
+template <class F>
+double tanh_sinh_panels(F&& f, const std::vector<double>& cut, const Options& options, double absolute, double* error) {
+  thread_local boost::math::quadrature::tanh_sinh<double> rule;  // integrate() is not const
+  const std::size_t count = cut.size() - 1;
+  const std::vector<double> tolerance = panel_tolerances<15>(f, cut, options, absolute);
+  double sum = 0.0;
+  for (std::size_t k = 0; k < count; ++k) {
+    double panel_error = 0.0;
+    sum += rule.integrate(f, cut[k], cut[k + 1], tolerance[k], &panel_error);
+    // Boost 1.74's tanh_sinh scales the integral and its L1 norm by the panel's half-width but
+    // returns the error on [-1, 1] (tanh_sinh.hpp, integrate(f, a, b, ...)), as its
+    // gauss_kronrod does (panels() above).
     *error += panel_error * 0.5 * (cut[k + 1] - cut[k]);
   }
   return sum;
@@ -120,6 +149,36 @@ Value nested(F&& point, const std::vector<double>& outer_cut, const std::vector<
   return out;
 }
 
+/// nested() with tanh_sinh_panels() at both levels. The inner integrals' errors are integrated
+/// over the outer variable (a midpoint sum over every outer node evaluated: tanh_sinh's nodes
+/// crowd where its panels end, so one poor inner integral next to a cut weighs what its width
+/// does, not the whole span, as nested() charges).
+template <class F>
+Value nested_tanh_sinh(F&& point, const std::vector<double>& outer_cut, const std::vector<double>& inner_cut,
+                       const Options& options) {
+  Value out;
+  const double span = outer_cut.back() - outer_cut.front();
+  const double l1 = rough_l1<15>(
+      [&](double x) { return rough_l1<15>([&](double y) { return point(x, y); }, inner_cut); }, outer_cut);
+  const double inner_absolute = options.global_tolerance ? options.tolerance * l1 / span : 0.0;
+  std::vector<std::pair<double, double>> inner_errors;  // (outer node, inner error there)
+  auto inner = [&](double x) {
+    double error = 0.0;
+    const double value = tanh_sinh_panels([&](double y) { return point(x, y); }, inner_cut, options, inner_absolute, &error);
+    inner_errors.push_back({x, error});
+    return value;
+  };
+  out.value = tanh_sinh_panels(inner, outer_cut, options, 0.0, &out.error);
+  std::sort(inner_errors.begin(), inner_errors.end());
+  for (std::size_t k = 0; k < inner_errors.size(); ++k) {
+    const double left = k == 0 ? outer_cut.front() : 0.5 * (inner_errors[k - 1].first + inner_errors[k].first);
+    const double right =
+        k + 1 == inner_errors.size() ? outer_cut.back() : 0.5 * (inner_errors[k].first + inner_errors[k + 1].first);
+    out.inner_error += inner_errors[k].second * (right - left);
+  }
+  return out;
+}
+
 }  // namespace
 
 Value lune_integral(const std::function<double(const Vec3&)>& f, const LuneCoordinates& lune,
@@ -133,12 +192,15 @@ Value lune_integral(const std::function<double(const Vec3&)>& f, const LuneCoord
     return std::cos(t) * std::max(k.z, 0.0) * f(k);
   };
   try {
-    Value out = options.swapped
+    Value out = options.tanh_sinh ? nested_tanh_sinh(point, t_cuts, psi_cuts, options)
+                : options.swapped
                     ? nested<31>([&](double psi, double t) { return point(t, psi); }, psi_cuts, t_cuts, options)
                     : nested<61>(point, t_cuts, psi_cuts, options);
     out.evaluations = evaluations;
     return out;
   } catch (const OutOfBudget&) {
+    return {0.0, std::numeric_limits<double>::infinity(), 0.0, evaluations, false};
+  } catch (const boost::math::evaluation_error&) {  // tanh_sinh refuses a non-finite value at a node
     return {0.0, std::numeric_limits<double>::infinity(), 0.0, evaluations, false};
   }
 }

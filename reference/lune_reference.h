@@ -4,7 +4,9 @@
 // model's lobes peak. It shares with integrate/ only the definition of the domain:
 //   g(i, j) = ∫_{k·n>0, k·i>0} (k·n) f(k, j) dk,  h(j) = g(n, j),  a(i) = ∫_{k·n>0} (k·n) f(i, k) dk.
 // A second, differently built quadrature (gauss_kronrod<31>, the nesting swapped: psi outer)
-// serves to tell a doubtful reference from a wrong engine (reports/extremes.h).
+// serves to tell a doubtful reference from a wrong engine (reports/extremes.h); a third, Boost's
+// tanh_sinh nested at both levels, resolves layers at the horizon and the lune's tips (views and
+// skies within 1e-6 of grazing) that bisection does not reach within its depth.
 #pragma once
 
 #include <functional>
@@ -38,6 +40,10 @@ struct Options {
   /// mass hints (models/mass_hints.h: the model's own data, not the engine's).
   bool use_mass_hints = true;
   bool swapped = false;      ///< psi outer, t inner, gauss_kronrod<31>: the second reference
+  /// Boost's tanh_sinh at both levels (t outer) instead of gauss_kronrod: its double-exponential
+  /// nodes crowd towards every panel's ends, where a layer 1e-9 thick at the horizon (a view
+  /// 1e-9 above it) or the lune's tip takes a bisecting rule ~30 levels. Ignores max_depth.
+  bool tanh_sinh = false;
   /// The tolerance relative to each integral's L1 norm over all its panels (false: relative to
   /// each panel's own integral, as Boost does and as tests/independent_reference_test.cpp pins it).
   bool global_tolerance = true;

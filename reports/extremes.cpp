@@ -1,11 +1,13 @@
 #include "reports/extremes.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <exception>
 #include <map>
 #include <mutex>
 #include <numbers>
+#include <optional>
 #include <set>
 #include <sstream>
 
@@ -95,10 +97,22 @@ bool honest(double value, double error, double reference, double reference_error
   return std::abs(value - reference) <= error + reference_error + kRoundingSlack * std::max(1.0, std::abs(reference));
 }
 
-reference::Value reference_law(const Model& model, Law law, const Vec3& i, const Vec3& j, bool second) {
+enum class ReferenceRule { gauss_kronrod_61, gauss_kronrod_31_swapped, tanh_sinh };
+
+const char* rule_name(ReferenceRule rule) {
+  switch (rule) {
+    case ReferenceRule::gauss_kronrod_61: return "gauss_kronrod<61>";
+    case ReferenceRule::gauss_kronrod_31_swapped: return "gauss_kronrod<31>, swapped";
+    case ReferenceRule::tanh_sinh: return "tanh_sinh";
+  }
+  return "?";
+}
+
+reference::Value reference_law(const Model& model, Law law, const Vec3& i, const Vec3& j, ReferenceRule rule) {
   reference::Options options;
-  options.swapped = second;
-  options.max_evaluations = kExtremesReferenceBudget;
+  options.swapped = rule == ReferenceRule::gauss_kronrod_31_swapped;
+  options.tanh_sinh = rule == ReferenceRule::tanh_sinh;
+  options.max_evaluations = options.tanh_sinh ? kExtremesTanhSinhBudget : kExtremesReferenceBudget;
   switch (law) {
     case Law::g: return reference::vignetting(model, i, j, options);
     case Law::h: return reference::darkening(model, j, options);
@@ -126,16 +140,70 @@ ExtremesCase judge_case(const Model& model, Law law, const Vec3& i, const Vec3& 
   // unnormalized directions it would measure the formula's conditioning at grazing (1/(i·n)
   // factors turn the last bit of a direction into 1e-10 relative), not an estimate's honesty.
   if (law == Law::f || !c.finite || !c.converged) return c;
-  const reference::Value first = reference_law(model, law, i, j, false);
-  c.reference = first.value;
-  c.reference_error = first.total_error();
-  c.reference_unresolved = !first.resolved || !std::isfinite(first.value) || !(c.reference_error <= engine_tolerance);
+  auto resolved = [&](const reference::Value& r) {
+    return r.resolved && std::isfinite(r.value) && r.total_error() <= engine_tolerance;
+  };
+  // The references in the order they are tried; the first resolved one judges, the others are
+  // computed only when needed (they are far costlier than the engine).
+  constexpr std::array<ReferenceRule, 3> kOrder{ReferenceRule::gauss_kronrod_61, ReferenceRule::gauss_kronrod_31_swapped,
+                                                ReferenceRule::tanh_sinh};
+  std::array<std::optional<reference::Value>, 3> computed;
+  auto get = [&](std::size_t k) -> const reference::Value& {
+    if (!computed[k]) computed[k] = reference_law(model, law, i, j, kOrder[k]);
+    return *computed[k];
+  };
+  std::size_t judging = 0;
+  while (judging < kOrder.size() && !resolved(get(judging))) ++judging;
+  const bool none_resolved = judging == kOrder.size();
+  bool lone_refuter = false;
+  if (none_resolved) {
+    // None resolves the tolerance. An unresolved bound can be wrong: tanh_sinh's across a kink
+    // inside its panel (schlick-phong's a at i·n = 0.3: 4.7e-7 off with 1.7e-8 stated, where both
+    // Gauss–Kronrod references agree with the engine) or at a lune's tip where a grazing lobe sits
+    // (hvd-empirical's g at i·n = 0, θ_o = 89.99°, φ = 90°: 0.16 off with 0.08 stated, where g = h/2
+    // by the mirror symmetry of an isotropic model agrees with the engine). So an unresolved
+    // reference refutes the engine only with a second one that excludes the engine's value too
+    // (the closer bound judges). A lone refuter makes the case "references disagree" where another
+    // agrees with the engine and excludes it, and leaves it unresolved otherwise
+    // (tests/extremes_test.cpp).
+    std::optional<std::size_t> refuting;
+    int refuters = 0;
+    for (std::size_t k = 0; k < kOrder.size(); ++k)
+      if (get(k).resolved && std::isfinite(get(k).value) &&
+          !honest(c.engine.value, c.engine.error, get(k).value, get(k).total_error())) {
+        ++refuters;
+        if (!refuting || get(k).total_error() < get(*refuting).total_error()) refuting = k;
+      }
+    lone_refuter = refuters == 1;
+    c.reference_unresolved = !refuting;
+    judging = refuting.value_or(0);
+  }
+  const reference::Value& ref = get(judging);
+  c.reference = ref.value;
+  c.reference_error = ref.total_error();
+  c.reference_rule = rule_name(kOrder[judging]);
   if (c.reference_unresolved || honest(c.engine.value, c.engine.error, c.reference, c.reference_error)) return c;
-  const reference::Value second = reference_law(model, law, i, j, true);
-  c.second_reference = second.value;
-  c.second_reference_error = second.total_error();
-  c.references_disagree = honest(c.engine.value, c.engine.error, second.value, second.total_error());
-  c.dishonest = !c.references_disagree;
+  // The engine disagrees with the judging reference: another resolved reference (any finite one,
+  // when none resolved) that agrees with it makes the case "references disagree"; none makes it
+  // dishonest.
+  c.dishonest = true;
+  for (std::size_t k = 0; k < kOrder.size(); ++k) {
+    const bool usable = none_resolved ? get(k).resolved && std::isfinite(get(k).value) &&
+                                            !honest(get(k).value, get(k).total_error(), ref.value, ref.total_error())
+                                      : resolved(get(k));
+    if (k == judging || !usable) continue;
+    c.second_reference = get(k).value;
+    c.second_reference_error = get(k).total_error();
+    if (honest(c.engine.value, c.engine.error, c.second_reference, c.second_reference_error)) {
+      c.dishonest = false;
+      c.references_disagree = true;
+      break;
+    }
+  }
+  if (c.dishonest && lone_refuter) {
+    c.dishonest = false;
+    c.reference_unresolved = true;
+  }
   return c;
 }
 
@@ -235,8 +303,11 @@ std::vector<ExtremesRow> extremes_report(const ExtremesOptions& options) {
     row.dishonest += c.dishonest;
     row.references_disagree += c.references_disagree;
     row.unresolved += c.reference_unresolved;
+    row.judged_by_fallback += !c.reference_unresolved && c.finite && c.converged && c.law != Law::f &&
+                              c.reference_rule != "gauss_kronrod<61>";
     if (!c.finite || !c.converged || c.dishonest || c.references_disagree || c.reference_unresolved)
       row.flagged.push_back(c);
+    row.all.push_back(c);
   }
   return rows;
 }
@@ -256,31 +327,68 @@ std::string verdict(const ExtremesCase& c) {
   if (!c.finite) return "non-finite";
   if (!c.converged) return "not converged";
   if (c.reference_unresolved) return "reference unresolved";
-  return c.dishonest ? "dishonest" : "references disagree";
+  if (c.dishonest) return "dishonest";
+  if (c.references_disagree) return "references disagree";
+  return "honest";
 }
 
-void flagged_table(std::ostringstream& md, const std::vector<ExtremesRow>& rows) {
-  md << "\n### Flagged cases\n\n";
-  std::size_t count = 0;
-  for (const auto& r : rows) count += r.flagged.size();
-  if (count == 0) {
-    md << "None: every case is finite, converged and honest.\n";
+/// Flagged cases shown in the page per kind when not all are (the CSV holds every case).
+constexpr std::size_t kShownPerKind = 25;
+
+void case_rows(std::ostringstream& md, const std::vector<ExtremesCase>& cases) {
+  md << "| spec | law | where | engine ± estimate | reference ± error (rule) | second reference ± error | verdict |\n"
+     << "|---|---|---|---|---|---|---|\n";
+  for (const ExtremesCase& c : cases) {
+    const bool judged = c.finite && c.converged;
+    const bool second = c.dishonest || c.references_disagree;
+    md << "| `" << c.spec << "` | " << to_string(c.law) << " | " << c.where << " | " << number(c.engine.value, 12)
+       << " ± " << number(c.engine.error, 2) << " | "
+       << (judged ? number(c.reference, 12) + " ± " + number(c.reference_error, 2) + " (" + c.reference_rule + ")"
+                  : std::string("—"))
+       << " | " << (second ? number(c.second_reference, 12) + " ± " + number(c.second_reference_error, 2) : std::string("—"))
+       << " | " << verdict(c) << " |\n";
+  }
+}
+
+/// One kind of flagged case: every one when few, else the worst (`worse` orders them) and a count.
+template <class Worse>
+void flagged_kind(std::ostringstream& md, const std::vector<ExtremesRow>& rows, const std::string& kind,
+                  const std::string& heading, Worse worse) {
+  std::vector<ExtremesCase> cases;
+  for (const auto& r : rows)
+    for (const ExtremesCase& c : r.flagged)
+      if (verdict(c) == kind) cases.push_back(c);
+  md << "\n### " << heading << " (" << cases.size() << ")\n\n";
+  if (cases.empty()) {
+    md << "None.\n";
     return;
   }
-  md << "Every case that is non-finite, not converged, dishonest, unresolved by the reference, or where the two "
-        "references disagree "
-        "(the second reference is computed only when the first disagrees with the engine).\n\n"
-     << "| spec | law | where | engine ± estimate | reference ± error | second reference ± error | verdict |\n"
-     << "|---|---|---|---|---|---|---|\n";
+  std::stable_sort(cases.begin(), cases.end(), worse);
+  if (cases.size() > kShownPerKind) {
+    md << "The " << kShownPerKind << " worst of " << cases.size() << " (every one is in the CSV):\n\n";
+    cases.resize(kShownPerKind);
+  }
+  case_rows(md, cases);
+}
+
+/// Where the flagged cases of one kind lie: counts per law and position class of the grid.
+void where_counts(std::ostringstream& md, const std::vector<ExtremesRow>& rows, const std::string& kind) {
+  std::map<std::string, int> counts;
   for (const auto& r : rows)
-    for (const ExtremesCase& c : r.flagged) {
-      const bool judged = c.finite && c.converged;
-      md << "| `" << c.spec << "` | " << to_string(c.law) << " | " << c.where << " | " << number(c.engine.value, 12)
-         << " ± " << number(c.engine.error, 2) << " | "
-         << (judged ? number(c.reference, 12) + " ± " + number(c.reference_error, 2) : std::string("—")) << " | "
-         << (judged ? number(c.second_reference, 12) + " ± " + number(c.second_reference_error, 2) : std::string("—"))
-         << " | " << verdict(c) << " |\n";
-    }
+    for (const ExtremesCase& c : r.flagged)
+      if (verdict(c) == kind) {
+        std::string where = c.where.substr(0, c.where.find(", φ="));
+        ++counts[std::string(to_string(c.law)) + " at " + where];
+      }
+  if (counts.empty()) return;
+  std::vector<std::pair<int, std::string>> sorted;
+  for (const auto& [where, n] : counts) sorted.push_back({n, where});
+  std::sort(sorted.begin(), sorted.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+  md << "\nWhere (law and directions, azimuths pooled): ";
+  for (std::size_t k = 0; k < sorted.size() && k < 12; ++k)
+    md << (k ? "; " : "") << sorted[k].second << ": " << sorted[k].first;
+  if (sorted.size() > 12) md << "; " << sorted.size() - 12 << " more places";
+  md << ".\n";
 }
 
 void refused_list(std::ostringstream& md, const std::vector<ExtremesRow>& rows) {
@@ -293,14 +401,42 @@ void refused_list(std::ostringstream& md, const std::vector<ExtremesRow>& rows) 
   for (const auto& text : refused) md << "- `" << text << "`\n";
 }
 
+/// A CSV field: quoted when it holds a comma or a quote (doubled).
+std::string csv_field(const std::string& text) {
+  if (text.find_first_of(",\"") == std::string::npos) return text;
+  std::string out = "\"";
+  for (char ch : text) out += ch == '"' ? std::string("\"\"") : std::string(1, ch);
+  return out + "\"";
+}
+
 }  // namespace
 
+std::string extremes_csv(const std::vector<ExtremesRow>& rows, const std::string& command) {
+  std::ostringstream csv;
+  csv << "# generated by `" << command << "`; do not edit by hand\n"
+      << "spec,law,where,value,estimate,evaluations,converged,reference,reference_error,reference_rule,"
+         "second_reference,second_reference_error,verdict\n";
+  for (const auto& r : rows)
+    for (const ExtremesCase& c : r.all) {
+      const bool judged = c.finite && c.converged && c.law != Law::f;
+      const bool second = c.dishonest || c.references_disagree;
+      csv << csv_field(c.spec) << "," << to_string(c.law) << "," << csv_field(c.where) << "," << number(c.engine.value, 15) << "," << number(c.engine.error, 3) << ","
+          << c.engine.evaluations << "," << (c.converged ? 1 : 0) << ","
+          << (judged ? number(c.reference, 15) + "," + number(c.reference_error, 3) + "," + c.reference_rule : ",,")
+          << "," << (second ? number(c.second_reference, 15) + "," + number(c.second_reference_error, 3) : ",")
+          << "," << (c.law == Law::f ? (c.finite ? "finite" : "non-finite") : verdict(c)) << "\n";
+    }
+  return csv.str();
+}
+
 std::string extremes_markdown(const std::vector<ExtremesRow>& rows, const ExtremesOptions& options,
-                              const std::string& command, double seconds) {
+                              const std::string& command, double seconds, const std::string& csv_file) {
   std::ostringstream md;
   md << "## Extremes grid: every model at its extremes\n\n"
      << "Generated by `" << command << "` (do not edit by hand); the run took " << number(seconds)
-     << " s of wall time on " << tbb_threads() << " threads.\n\n"
+     << " s of wall time on " << tbb_threads() << " threads"
+     << (csv_file.empty() ? std::string(".") : "; every case, judged or not, is in [" + csv_file + "](" + csv_file + ").")
+     << "\n\n"
      << (options.defaults_only || options.quick
              ? "Every registered model at its defaults only (this run leaves out the parameters' ends), with "
                "anisotropic radii and mixtures; "
@@ -311,38 +447,65 @@ std::string extremes_markdown(const std::vector<ExtremesRow>& rows, const Extrem
         "φ ∈ {0°, 90°, 180°} (h: j only; a: i·n ≥ 0; repeats that an isotropic model cannot tell apart are run "
         "once). The engine runs at an absolute tolerance of "
      << number(options.engine_tolerance)
-     << ". Each converged result is judged against the independent reference (reference/: Boost "
-        "gauss_kronrod<61> nested on the lune, relative 1e-10, break points at the model's peaks, written apart "
-        "from integrate/): *dishonest* when |engine − reference| exceeds the engine's estimate plus the "
-        "reference's error. When it does, a second reference (gauss_kronrod<31>, the nesting swapped) is "
-        "computed; if the engine agrees with that one, the case counts as *references disagree* instead, and is "
-        "listed. A case whose reference ran out of its budget of "
-     << number(double(kExtremesReferenceBudget)) << " evaluations, or whose error exceeds the engine's tolerance, is "
-        "*reference unresolved*: not judged, counted and listed. f is the formula itself (error 0): only its "
-        "finiteness is judged. Measured models (merl, tabulated) need a data file and "
-        "are not in this grid.\n\n"
+     << ". Each converged result is judged against an independent reference (reference/, written apart from "
+        "integrate/: nested on the lune, relative 1e-10, break points at the model's peaks and hints), the first of "
+        "three that is resolved: Boost gauss_kronrod<61> within "
+     << number(double(kExtremesReferenceBudget))
+     << " evaluations; gauss_kronrod<31> with the nesting swapped, within as many; Boost's tanh_sinh at both "
+        "levels, whose nodes crowd towards the horizon and the lune's tips, within "
+     << number(double(kExtremesTanhSinhBudget))
+     << ". A reference is resolved when its stated error is within the engine's tolerance. *Dishonest*: "
+        "|engine − reference| exceeds the engine's estimate plus the reference's error, and no other resolved "
+        "reference agrees with the engine; where one does, the case counts as *references disagree* instead, and "
+        "is listed. Where no reference is resolved, two whose own bounds still exclude the engine's value prove "
+        "it dishonest all the same (an unresolved bound alone can be wrong); one alone makes the case *references "
+        "disagree* where another agrees with the engine and excludes it; otherwise the case is *reference "
+        "unresolved*: not judged, counted and listed. f is the formula itself (error 0): only its finiteness is judged. Measured models (merl, "
+        "tabulated) need a data file and are not in this grid.\n\n"
      << "| model | specs | cases | non-finite | not converged | dishonest | references disagree | reference unresolved | "
-        "seconds (summed over cases) |\n"
-     << "|---|---|---|---|---|---|---|---|---|\n";
+        "judged by a fallback | seconds (summed over cases) |\n"
+     << "|---|---|---|---|---|---|---|---|---|---|\n";
   ExtremesRow total;
   total.model = "**total**";
+  int judged_laws = 0;
   for (const auto& r : rows) {
     md << "| " << r.model << " | " << r.specs << " | " << r.cases << " | " << r.non_finite << " | "
        << r.not_converged << " | " << r.dishonest << " | " << r.references_disagree << " | " << r.unresolved << " | "
-       << number(r.seconds) << " |\n";
+       << r.judged_by_fallback << " | " << number(r.seconds) << " |\n";
     total.specs += r.specs, total.cases += r.cases, total.non_finite += r.non_finite;
     total.not_converged += r.not_converged, total.dishonest += r.dishonest;
     total.references_disagree += r.references_disagree, total.unresolved += r.unresolved;
+    total.judged_by_fallback += r.judged_by_fallback;
     total.seconds += r.seconds;
+    for (const ExtremesCase& c : r.all) judged_laws += c.law != Law::f;
   }
+  const double unjudged = judged_laws ? double(total.unresolved) / judged_laws : 0.0;
   md << "| " << total.model << " | " << total.specs << " | " << total.cases << " | " << total.non_finite << " | "
      << total.not_converged << " | " << total.dishonest << " | " << total.references_disagree << " | "
-     << total.unresolved << " | " << number(total.seconds) << " |\n\n"
+     << total.unresolved << " | " << total.judged_by_fallback << " | " << number(total.seconds) << " |\n\n"
      << "- 0 non-finite results: **" << (total.non_finite == 0 ? "met" : "missed") << "** (" << total.non_finite
      << " of " << total.cases << ").\n"
      << "- 0 dishonest results: **" << (total.dishonest == 0 ? "met" : "missed") << "** (" << total.dishonest
-     << " of " << total.cases << "; " << total.references_disagree << " more where the references disagree, " << total.unresolved << " not judged: reference unresolved).\n";
-  flagged_table(md, rows);
+     << " of " << total.cases << "; " << total.references_disagree << " more where the references disagree).\n"
+     << "- Unjudged (reference unresolved) ≤ 1% of the cases of g, h and a: **" << (unjudged <= 0.01 ? "met" : "missed")
+     << "** (" << total.unresolved << " of " << judged_laws << ", " << number(100 * unjudged, 3) << "%).\n"
+     << "- Not converged (the engine says so; not judged): " << total.not_converged << " of " << judged_laws << ".\n";
+  auto by_excess = [](const ExtremesCase& a, const ExtremesCase& b) {
+    auto excess = [](const ExtremesCase& c) { return std::abs(c.engine.value - c.reference) / (c.engine.error + c.reference_error); };
+    return excess(a) > excess(b);
+  };
+  auto by_estimate = [](const ExtremesCase& a, const ExtremesCase& b) { return a.engine.error > b.engine.error; };
+  auto by_reference_error = [](const ExtremesCase& a, const ExtremesCase& b) {
+    return a.reference_error > b.reference_error;
+  };
+  flagged_kind(md, rows, "non-finite", "Non-finite results", by_estimate);
+  flagged_kind(md, rows, "dishonest", "Dishonest results", by_excess);
+  flagged_kind(md, rows, "references disagree", "Where the references disagree", by_excess);
+  flagged_kind(md, rows, "not converged", "Not converged, largest estimates first", by_estimate);
+  where_counts(md, rows, "not converged");
+  flagged_kind(md, rows, "reference unresolved", "Reference unresolved, largest reference errors first",
+               by_reference_error);
+  where_counts(md, rows, "reference unresolved");
   refused_list(md, rows);
   return md.str();
 }

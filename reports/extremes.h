@@ -4,8 +4,10 @@
 // at a fixed absolute tolerance judged against the independent reference (reference/, Boost
 // quadrature written apart from integrate/). Each result is finite or not; converged or not; and
 // when converged, honest (|engine − reference| ≤ engine estimate + reference error) or dishonest.
-// Where the engine disagrees with the reference, a second, differently built reference decides:
-// if that one agrees with the engine the case counts as "references disagree", listed, not dropped.
+// The references are tried in order, gauss_kronrod<61>, gauss_kronrod<31> with the nesting
+// swapped, Boost's tanh_sinh (reference/), and the first resolved one judges. Where the engine
+// disagrees with it, another resolved one that agrees with the engine makes the case count as
+// "references disagree", listed, not dropped.
 #pragma once
 
 #include <cstddef>
@@ -47,6 +49,9 @@ inline constexpr double kExtremesExponentCap = 1000.0;
 /// Evaluations of f the reference may spend on one case (about a second) before the case is
 /// reported as unresolved.
 inline constexpr long long kExtremesReferenceBudget = 5'000'000;
+/// The tanh_sinh reference's budget where the first is unresolved: its nested levels cost more
+/// per case (a few hundred nodes per panel and level), and it runs on a few percent of the cases.
+inline constexpr long long kExtremesTanhSinhBudget = 20'000'000;
 
 struct ExtremesCase {
   std::string spec;
@@ -55,7 +60,9 @@ struct ExtremesCase {
   std::string where;  ///< "i·n=..., j·n=..., phi=..."
   Estimate engine;
   double reference = 0.0, reference_error = 0.0;
-  double second_reference = 0.0, second_reference_error = 0.0;  ///< computed only when the first disagrees
+  /// Which reference judged: "gauss_kronrod<61>", "gauss_kronrod<31>, swapped" or "tanh_sinh".
+  std::string reference_rule;
+  double second_reference = 0.0, second_reference_error = 0.0;  ///< another reference, where the engine disagrees with the first
   bool finite = true, converged = true, dishonest = false, references_disagree = false;
   /// The reference ran out of its budget or its error exceeds the engine's tolerance: this case
   /// is not judged (counted and listed, not dropped).
@@ -67,8 +74,10 @@ struct ExtremesRow {
   int specs = 0;
   std::vector<std::string> refused;  ///< specs the parser refused (e.g. kd + ks > 1), with its message
   int cases = 0, non_finite = 0, not_converged = 0, dishonest = 0, references_disagree = 0, unresolved = 0;
+  int judged_by_fallback = 0;       ///< judged cases whose first reference was unresolved
   double seconds = 0.0;             ///< wall time of the model's cases
   std::vector<ExtremesCase> flagged;  ///< every non-finite, not converged, dishonest or doubtful case
+  std::vector<ExtremesCase> all;      ///< every case (for the CSV)
 };
 
 /// Runs the grid (cases in parallel; rows in catalogue order).
@@ -80,9 +89,16 @@ std::vector<ExtremesRow> extremes_report(const ExtremesOptions& options);
 ExtremesCase judge_case(const Model& model, Law law, const Vec3& i, const Vec3& j, double engine_tolerance,
                         long long engine_budget = CubatureOptions{}.max_evaluations);
 
-/// The section of docs/reliability.md: the method, the per-model table, the targets met or
-/// missed and every flagged case; `command` is the stamp, `seconds` the run's wall time.
+/// docs/reliability-extremes.md: the method, the per-model table, the targets met or
+/// missed, every dishonest case and where the references disagree, and the worst of the other
+/// flagged cases (all of them are in the CSV named `csv_file`, when given); `command` is the
+/// stamp, `seconds` the run's wall time.
 std::string extremes_markdown(const std::vector<ExtremesRow>& rows, const ExtremesOptions& options,
-                              const std::string& command, double seconds);
+                              const std::string& command, double seconds, const std::string& csv_file = "");
+
+/// Every case of the grid, one CSV row each (judged or not; `where` gives the cosines and the
+/// azimuth the directions are made from, as add_jobs in extremes.cpp makes them), stamped with
+/// `command` on its first line.
+std::string extremes_csv(const std::vector<ExtremesRow>& rows, const std::string& command);
 
 }  // namespace ganzfeld

@@ -84,11 +84,7 @@ Estimate integral(Base base, double alpha, double mu, ggx::G2Form g2, const Cuba
   switch (base) {
     case Base::fc: return albedo(Ggx({alpha, alpha}, 0.0, g2), i, c);
     case Base::e: return albedo(Ggx({alpha, alpha}, 1.0, g2), i, c);
-    case Base::charlie: {
-      CubatureOptions tighter = c;  // see kCharlieTolerance
-      tighter.abs_tol *= kCharlieTolerance;
-      return albedo(Charlie(alpha), i, tighter);
-    }
+    case Base::charlie: return albedo(Charlie(alpha), i, c);
     case Base::e_avg: return double_diffuse(Ggx({alpha, alpha}, 1.0, g2), c);
   }
   return {};
@@ -185,7 +181,7 @@ std::pair<double, double> combine(const ChannelRecipe& r, const std::map<Base, s
   for (const auto& [base, sign] : r.terms) {
     const Estimate& e = estimates.at(base)[base == Base::e_avg ? m_avg : m];
     value += sign * e.value;
-    error += kEstimateMargin * e.error;
+    error += e.error;
     converged = converged && e.converged;
   }
   return {value, error};

@@ -35,18 +35,11 @@ enum class DfgLayout { filament, ue4 };
 const char* to_string(DfgLayout layout);  ///< "filament" or "ue4"
 DfgLayout parse_dfg_layout(const std::string& text);
 
-/// The cubature's tolerance per integral: with kEstimateMargin, float rounding (≤ 6e-8 for
-/// values ≤ 1) and a difference of two integrals (ue4's scale) every texel's bound stays below 1e-6.
+/// The cubature's tolerance per integral: with float rounding (≤ 6e-8 for values ≤ 1) and a
+/// difference of two integrals (ue4's scale) every texel's bound stays below 1e-6. Each texel's
+/// bound is the cubature's own error estimate plus that rounding, checked against the
+/// independent rule of models/ggx_energy.h in docs/realtime.md.
 inline constexpr double kPresetTolerance = 1e-8;
-/// Each texel's bound is this times the cubature's error estimate (plus rounding): compared with
-/// the independent rule of models/ggx_energy.h (docs/realtime.md), the estimate was exceeded by up
-/// to 10x on the charlie channel at tolerance 1e-7 and 5x at 1e-8 (smooth integrands on which
-/// the Gauss and Kronrod rules of a coarse panel agree by chance).
-inline constexpr double kEstimateMargin = 10.0;
-/// The charlie channel's integrals run at this fraction of the tolerance: even with the margin
-/// its estimate was exceeded (16x at alpha = 0.48, mu = 0.49, tolerance 1e-8; docs/realtime.md),
-/// so its true error is pushed below the float rounding of its values instead.
-inline constexpr double kCharlieTolerance = 0.01;
 /// The lookup's validation (ParamTable::lookup_error) runs the cubature at this multiple of the
 /// bake's tolerance: it measures interpolation between samples, orders of magnitude above it.
 inline constexpr double kValidationToleranceRatio = 100.0;

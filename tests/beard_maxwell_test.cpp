@@ -237,11 +237,17 @@ TEST(BeardMaxwell, NormalIncidenceAlbedoMatchesOneDimensionalQuadrature) {
                       ",m=" + format_number(c.slope) + ",tau=" + format_number(c.tau_deg) +
                       ",omega=" + format_number(c.omega_deg) + ",rho_d=0,rho_v=0");
     const double B = c.B, slope = c.slope, tau = c.tau_deg * pi / 180, omega = c.omega_deg * pi / 180;
+    // f's 1/(mu_i mu_j) is floored at kGrazingCosFloor: (k·n) f ramps to 0 across k·n = cos 2 theta_h
+    // < kGrazingCosFloor, at the end of the interval (a break there).
     const auto integrand = [&](double th) {
+      const double ramp = std::min(1.0, std::cos(2 * th) / kGrazingCosFloor);
       return B * m->fresnel_ratio(std::cos(th)) * beckmann(th, slope) * beard_maxwell_so(th, th, tau, omega) *
-             std::cos(th) * 2 * pi * std::sin(th);
+             std::cos(th) * 2 * pi * std::sin(th) * ramp;
     };
-    const double expected = GK::integrate(integrand, 0.0, pi / 4, 20, 1e-13);
+    const double ramp_start = 0.5 * std::acos(kGrazingCosFloor);
+    // The ramp holds ~1e-8 of the albedo, linear in cos 2 theta_h: to 1e-6 of itself.
+    const double expected =
+        GK::integrate(integrand, 0.0, ramp_start, 20, 1e-13) + GK::integrate(integrand, ramp_start, pi / 4, 5, 1e-6);
     const Estimate a = albedo(*m, Vec3{0, 0, 1}, engine());
     ASSERT_TRUE(a.converged);
     EXPECT_NEAR(a.value, expected, kLawTol) << m->spec();
@@ -253,13 +259,20 @@ TEST(BeardMaxwell, NormalIncidenceAlbedoMatchesOneDimensionalQuadrature) {
 template <class F, class ThetaMax>
 double brute_force(const F& F_, const ThetaMax& theta_max, std::vector<double> phi_cuts, double theta_cut) {
   std::sort(phi_cuts.begin(), phi_cuts.end());
+  // f's cosines are floored at kGrazingCosFloor: (k·n) f ramps to 0 across k·n < kGrazingCosFloor.
+  const double floor_cut = std::acos(kGrazingCosFloor);
   const auto outer = [&](double phi) {
     const double top = theta_max(phi);
     const auto inner = [&](double theta) { return F_(direction(theta, phi)) * std::sin(theta); };
-    if (theta_cut > 0 && theta_cut < top)
-      return GK::integrate(inner, 0.0, theta_cut, kBruteDepth, kBruteRel) +
-             GK::integrate(inner, theta_cut, top, kBruteDepth, kBruteRel);
-    return GK::integrate(inner, 0.0, top, kBruteDepth, kBruteRel);
+    double total = 0.0, from = 0.0;
+    if (theta_cut > 0 && theta_cut < std::min(top, floor_cut)) {
+      total += GK::integrate(inner, 0.0, theta_cut, kBruteDepth, kBruteRel);
+      from = theta_cut;
+    }
+    if (top <= floor_cut) return total + GK::integrate(inner, from, top, kBruteDepth, kBruteRel);
+    // The ramp holds ~1e-6 of the integral, linear in k·n: to 1e-6 of itself.
+    return total + GK::integrate(inner, from, floor_cut, kBruteDepth, kBruteRel) +
+           GK::integrate(inner, floor_cut, top, 5, 1e-6);
   };
   double total = 0.0;
   for (std::size_t k = 0; k + 1 < phi_cuts.size(); ++k)
@@ -380,10 +393,13 @@ TEST(BeardMaxwell, MassHintsSitAtTheMirrorAndTheSource) {
   ASSERT_EQ(h.peaks.size(), 2u);  // the retro kink of SO: rho_fs(25.8 deg) is not negligible
   EXPECT_EQ(h.peaks[1].direction, i);
   EXPECT_NEAR(h.peaks[1].width, 15 * pi / 180, 1e-15);
-  EXPECT_EQ(h.horizon_layer, 0.0);
+  // The first surface's floored 1/(mu mu_fixed) ramps across k·n < kGrazingCosFloor: kGrazingLayer,
+  // the thinnest layer, whatever the fixed direction; without a first surface, rho_V's layer.
+  EXPECT_EQ(h.horizon_layer, kGrazingLayer);
   const Vec3 grazing = direction_from_cos(0.05, 0.0);
-  EXPECT_EQ(m->mass_hints(grazing, Varying::incident).horizon_layer, 0.05);
-  EXPECT_EQ(bm("rho_v=0")->mass_hints(grazing, Varying::incident).horizon_layer, 0.0);
+  EXPECT_EQ(m->mass_hints(grazing, Varying::incident).horizon_layer, kGrazingLayer);
+  EXPECT_EQ(bm("b=0,rho_v=0.01")->mass_hints(grazing, Varying::incident).horizon_layer, 0.05);
+  EXPECT_EQ(bm("b=0,rho_v=0")->mass_hints(grazing, Varying::incident).horizon_layer, 0.0);
 }
 
 // --- the first-surface table ---------------------------------------------------------------------

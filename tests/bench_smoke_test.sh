@@ -51,6 +51,15 @@ set +e; "$G" bench shaders --quick --platform moon 2>"$tmp/err"; code=$?; set -e
 [ "$code" -eq 2 ] && [ "$(wc -l <"$tmp/err")" -eq 1 ]
 set +e; "$G" bench render --markdown docs/x.md 2>"$tmp/err"; code=$?; set -e
 [ "$code" -eq 2 ] && [ "$(wc -l <"$tmp/err")" -eq 1 ]
-set +e; "$G" bench nonsense 2>"$tmp/err"; code=$?; set -e
-[ "$code" -eq 2 ] && [ "$(wc -l <"$tmp/err")" -eq 1 ]
+# Genz's families (bench/genz_bench.h): docs/reliability-genz.md with a verdict per target.
+"$G" bench genz --quick --markdown - >"$tmp/genz.md"
+grep -q "Dishonest runs" "$tmp/genz.md"
+[ "$(grep -oE '\*\*(met|missed)\*\*' "$tmp/genz.md" | wc -l)" -ge 4 ]  # two verdicts a line
+# Bad input: one line, exit code 2 (a tolerance <= 0, NaN or below what doubles resolve; a budget
+# below one panel; an unknown benchmark).
+for bad in "genz --tolerances 0" "genz --tolerances -1e-6" "genz --tolerances nan" "genz --tolerances 1e-17" \
+           "genz --budget 100" "genz --markdown" "genz --markdown x.md" "nonsense"; do
+  set +e; "$G" bench $bad 2>"$tmp/err" >/dev/null; code=$?; set -e
+  [ "$code" -eq 2 ] && [ "$(wc -l <"$tmp/err")" -eq 1 ] || { echo "bench $bad: exit $code: $(cat "$tmp/err")"; exit 1; }
+done
 echo "bench smoke: 1 passed, 0 failed"

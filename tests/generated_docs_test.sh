@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Every generated doc names the command that regenerates it, and that command exists: a
 # `ganzfeld SUBCOMMAND` whose --help lists each flag the doc quotes, or a script of the
-# repository. A doc assembled from generated sections (docs/reliability.md, docs/three.md) names
+# repository. A doc assembled from generated sections (docs/reliability*.md, docs/three.md) names
 # one per section. Regenerating takes from seconds to hours, so only the quick ones are also
 # compared with what their command writes now: docs/errata.md (verify_test),
 # docs/plausibility.md (plausibility_test), docs/model-parameters.md (cli_test).
@@ -13,7 +13,8 @@ python3 - "$G" <<'EOF'
 import os, re, subprocess, sys
 
 ganzfeld = sys.argv[1]
-DOCS = ["errata.md", "fetch-budget.md", "model-parameters.md", "performance.md", "plausibility.md", "realtime.md", "reliability.md",
+DOCS = ["errata.md", "fetch-budget.md", "model-parameters.md", "performance.md", "plausibility.md", "realtime.md",
+        "reliability.md", "reliability-extremes.md", "reliability-genz.md",
         "serve-load.md", "three.md", "tradeoff.md"]
 STAMP = re.compile(r"[Gg]enerated (?:from [^`]*? )?by `?((?:ganzfeld|scripts/|tests/)[^`;(]*?)`?\s*(?:[;(]|on |$)",
                    re.MULTILINE)

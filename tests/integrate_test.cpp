@@ -16,6 +16,7 @@
 #include "integrate/laws.h"
 #include "models/kp_lobes.h"
 #include "models/spec.h"
+#include "util/error.h"
 
 namespace ganzfeld {
 namespace {
@@ -347,6 +348,114 @@ TEST(LawIntegrals, NonFiniteRegionsAreReportedNotConverged) {
     // Given up at the resolution limit of doubles, not by spending the budget.
     EXPECT_LT(e.evaluations, o.max_evaluations / 10);
   }
+}
+
+// ---------------------------------------------------------------------------------------------
+// The estimate without hints: integrands from Genz's test families (bench/genz_bench.h) on the
+// box's ends alone, each a case the raw |K - G| estimate (before null rules, halves and sides)
+// called converged while off by more than it said (listed with that ratio).
+
+/// Relative tolerances every pinned case is run at.
+const std::vector<double> kRelativeTolerances{1e-3, 1e-6, 1e-9, 1e-12};
+/// Rounding allowed on top of the estimate: 50 ulps of the integral (the engine's own floor).
+constexpr double kRoundingUlps = 50.0;
+
+/// ∫_0^1 of one factor of Genz's C0, Gaussian and discontinuous integrands.
+double c0_factor(double a, double u) { return (-std::expm1(-a * u) - std::expm1(-a * (1.0 - u))) / a; }
+double gaussian_factor(double a, double u) {
+  return std::sqrt(pi) / (2.0 * a) * (std::erf(a * (1.0 - u)) + std::erf(a * u));
+}
+double step_factor(double a, double u) { return std::expm1(a * u) / a; }
+
+template <int D, class F>
+void expect_honest_without_hints(F f, double exact, const std::string& label) {
+  for (double tolerance : kRelativeTolerances) {
+    CubatureOptions o = options(tolerance * std::abs(exact));
+    o.max_evaluations = 5'000'000;
+    std::array<std::vector<double>, D> box;
+    box.fill({0.0, 1.0});
+    Estimate e;
+    if constexpr (D == 1) e = adaptive_cubature<1>(panel_1d(f), box, o);
+    else e = adaptive_cubature<2>(panel_2d(f), box, o);
+    EXPECT_LE(std::abs(e.value - exact), e.error + kRoundingUlps * std::numeric_limits<double>::epsilon() * std::abs(exact))
+        << label << " at relative tolerance " << tolerance << ": " << e.value << " ± " << e.error << ", exact " << exact
+        << (e.converged ? "" : " (not converged)");
+  }
+}
+
+TEST(EstimateWithoutHints, NullRulesBoundKinksAndJumpsInOnePanel) {
+  // One panel, no bisection: wherever a kink or a jump lies between its outermost nodes, the
+  // estimate bounds K15's error (raw |K - G| vanishes for some positions: 10^3x and more).
+  CubatureOptions single = options(1e-300);
+  single.max_evaluations = kRuleNodes;
+  single.bisect_initial_panels = false;
+  constexpr int kPositions = 4000;
+  const double outermost = 0.99145537112081263920685469752598;  // the K15 node next to ±1
+  const std::array<std::vector<double>, 1> panel{std::vector<double>{-1.0, 1.0}};
+  for (int k = 1; k < kPositions; ++k) {
+    const double u = -outermost + 2.0 * outermost * k / kPositions;
+    const Estimate kink = adaptive_cubature<1>(panel_1d([u](double x) { return std::abs(x - u); }), panel, single);
+    const Estimate jump = adaptive_cubature<1>(panel_1d([u](double x) { return x > u ? 1.0 : 0.0; }), panel, single);
+    const double kink_exact = 0.5 * ((1 - u) * (1 - u) + (1 + u) * (1 + u)), jump_exact = 1.0 - u;
+    ASSERT_LE(std::abs(kink.value - kink_exact), kink.error) << "kink at " << u;
+    ASSERT_LE(std::abs(jump.value - jump_exact), jump.error) << "jump at " << u;
+  }
+}
+
+TEST(EstimateWithoutHints, GaussianPeakBetweenTheNodesOfTheFirstPanel) {
+  // Genz's Gaussian in 1-D at his difficulty (a = 100): 0.0177 missed, 1.1e-9 estimated (1.6e7x).
+  const double a = 100.0, u = 0.33981333708360878;
+  expect_honest_without_hints<1>([=](double x) { return std::exp(-a * a * (x - u) * (x - u)); }, gaussian_factor(a, u),
+                                 "gaussian");
+}
+
+TEST(EstimateWithoutHints, KinkInTheGapNextToACut) {
+  // Genz's C0 in 1-D (a = 150): the kink lies between a cut and its halves' outermost nodes
+  // (161x at 1e-12).
+  const double a = 150.0, u = 0.8924552022496044;
+  expect_honest_without_hints<1>([=](double x) { return std::exp(-a * std::abs(x - u)); }, c0_factor(a, u), "c0 1-D");
+}
+
+TEST(EstimateWithoutHints, KinksIn2D) {
+  // Genz's C0 in 2-D: 19.5x at 1e-3.
+  const double a0 = 18.694987033009635, a1 = 18.805012966990361, u0 = 0.95491238984623206, u1 = 0.18433001253834477;
+  expect_honest_without_hints<2>(
+      [=](double x, double y) { return std::exp(-a0 * std::abs(x - u0) - a1 * std::abs(y - u1)); },
+      c0_factor(a0, u0) * c0_factor(a1, u1), "c0 2-D");
+}
+
+TEST(EstimateWithoutHints, JumpSeenByTheNodes) {
+  // Genz's discontinuous family in 1-D (a = 100): 1e6x at 1e-3.
+  const double a = 100.0, u = 0.22070882066469488;
+  expect_honest_without_hints<1>([=](double x) { return x > u ? 0.0 : std::exp(a * x); }, step_factor(a, u),
+                                 "discontinuous");
+}
+
+TEST(EstimateWithoutHints, ProductPeakIn2D) {
+  // Genz's product peak in 2-D: 35x at 1e-3.
+  const double a0 = 44.519019105311337, a1 = 105.48098089468867, u0 = 0.34575263373924253, u1 = 0.5660047561260122;
+  auto factor = [](double a, double u) { return a * (std::atan(a * (1.0 - u)) + std::atan(a * u)); };
+  expect_honest_without_hints<2>(
+      [=](double x, double y) { return 1.0 / ((1.0 / (a0 * a0) + (x - u0) * (x - u0)) * (1.0 / (a1 * a1) + (y - u1) * (y - u1))); },
+      factor(a0, u0) * factor(a1, u1), "product peak");
+}
+
+TEST(EstimateWithoutHints, BadToleranceOrBudgetIsRefused) {
+  const std::vector<double> unit{0.0, 1.0};
+  const auto one = panel_1d([](double x) { return x; });
+  const auto two = panel_2d([](double x, double y) { return x * y; });
+  for (double tol : {0.0, -1e-9, kNaN, kInf, 1e-320}) {
+    CubatureOptions o = options(tol);
+    EXPECT_THROW(adaptive_cubature<1>(one, {unit}, o), InputError) << tol;
+    EXPECT_THROW(adaptive_cubature<2>(two, {unit, unit}, o), InputError) << tol;
+  }
+  CubatureOptions small = options(1e-9);
+  small.max_evaluations = kRuleNodes - 1;
+  EXPECT_THROW(adaptive_cubature<1>(one, {unit}, small), InputError);
+  small.max_evaluations = kRuleNodes * kRuleNodes - 1;
+  EXPECT_THROW(adaptive_cubature<2>(two, {unit, unit}, small), InputError);
+  small.max_evaluations = kRuleNodes;  // one panel is enough in 1-D
+  EXPECT_NO_THROW(adaptive_cubature<1>(one, {unit}, small));
 }
 
 // Same input, same bits: sequential, one thread and two threads.

@@ -167,8 +167,12 @@ TEST(Rasterizer, WhiteHvdEmpiricalSphereIsInvisibleInGanzfeld) {
   // Node 1 sits at j·n = 6.2e-5 (89.996°), where the specular lump is an arc 1e-4 by 1e-8 rad:
   // the engine may report it not converged within its budget (it used to return 0.96 ± 1e-8
   // there, before horizon grading; its estimate is not honest yet: 3.7e-8 off against 1.2e-8).
-  // Every other node converges and holds h = 1 within its stored error.
-  EXPECT_LE(h->unconverged, 1);
+  // Every other node converges and holds h = 1 within its stored error. With the null-rule estimate
+  // (integrate/cubature.h) the next node towards the horizon may be declined as well: an honest
+  // "not converged" whose achieved error is stored, never one above j·n = 1e-3.
+  EXPECT_LE(h->unconverged, 2);
+  for (std::size_t k = 0; k < h->value.size(); ++k)
+    if (h->error[k] > 2 * options.tolerance) EXPECT_LT(h->axes[0].node(k), 1e-3) << "node " << k << " not converged";
   for (std::size_t k = 2; k < h->value.size(); ++k)
     EXPECT_LE(std::abs(h->value[k] - 1.0), h->error[k]) << "node " << k << ", j·n = " << h->axes[0].node(k);
   const double first_node = h->axes[0].node(1);

@@ -51,7 +51,7 @@ class Estimate(NamedTuple):
     """Values of a law with what the cubature says about them, each shaped like the directions.
 
     `error` is the engine's estimate of |value - law|, meant to bound it (docs/performance.md and
-    docs/reliability.md measure how often it does); `converged` is False where the tolerance was
+    docs/reliability-genz.md measure how often it does); `converged` is False where the tolerance was
     not met within the evaluation budget (the value and its larger error are still returned).
     """
 
