@@ -171,8 +171,11 @@ TEST(Rasterizer, WhiteHvdEmpiricalSphereIsInvisibleInGanzfeld) {
   // (integrate/cubature.h) the next node towards the horizon may be declined as well: an honest
   // "not converged" whose achieved error is stored, never one above j·n = 1e-3.
   EXPECT_LE(h->unconverged, 2);
-  for (std::size_t k = 0; k < h->value.size(); ++k)
-    if (h->error[k] > 2 * options.tolerance) EXPECT_LT(h->axes[0].node(k), 1e-3) << "node " << k << " not converged";
+  for (std::size_t k = 0; k < h->value.size(); ++k) {
+    if (h->error[k] > 2 * options.tolerance) {
+      EXPECT_LT(h->axes[0].node(k), 1e-3) << "node " << k << " not converged";
+    }
+  }
   for (std::size_t k = 2; k < h->value.size(); ++k)
     EXPECT_LE(std::abs(h->value[k] - 1.0), h->error[k]) << "node " << k << ", j·n = " << h->axes[0].node(k);
   const double first_node = h->axes[0].node(1);
