@@ -31,7 +31,9 @@ LobeComponents lobe_components(PeakKind peak, double cos_theta_i, double cos_the
   const double ie1 = -s * si * cj * cp + ci * sj;
   const double ie2 = si * sp;
   const double beta = (ie1 == 0.0 && ie2 == 0.0) ? 0.0 : std::atan2(ie2, ie1);
-  return {std::atan2(sj, cj), std::atan2(std::hypot(ie1, ie2), ip), beta, ip, ie1, ie2, cj, sj};
+  // |(i·e1, i·e2)| as the exported GLSL's length() takes it (export/glsl.cpp): the components are at
+  // most 1, so the squares cannot overflow, and hypot's care would only cost time per lookup.
+  return {std::atan2(sj, cj), std::atan2(std::sqrt(ie1 * ie1 + ie2 * ie2), ip), beta, ip, ie1, ie2, cj, sj};
 }
 
 namespace {
