@@ -34,8 +34,9 @@ namespace ganzfeld::cli {
 namespace {
 
 struct ExportArgs {
-  std::string table, output, scene, out_dir, cache, texture, model, law;  ///< texture "": ktx2 (header for version 3)
+  std::string table, output, scene, out_dir, texture, model, law;  ///< texture "": ktx2 (header for version 3)
   TableOptionArgs tables;  // with --scene: the same table options as `bake scene` and `render`
+  CacheArgs cache;         // with --scene
   bool json = false, quiet = false;
 };
 
@@ -114,8 +115,7 @@ int export_scene(const ExportArgs& args) {
   const scene::TableOptions options = args.tables.options(scene::TableOptions::scene_defaults());
   const Scene scene = load_scene(args.scene);
   exporting::check_scene_exportable(scene);  // before any bake
-  const std::string cache = args.cache.empty() ? std::string() : prepare_directory("--cache", args.cache);
-  const scene::ShadingPlan plan = scene::plan_shading(scene, options, table_store(cache, args.quiet || args.json));
+  const scene::ShadingPlan plan = scene::plan_shading(scene, options, args.cache.store(args.quiet || args.json));
   warn_unconverged(plan);
   const std::string glsl = exporting::glsl_scene_shader(scene, plan, args.scene);  // refuses before any file is written
 
@@ -176,7 +176,7 @@ void add_export_glsl_command(CLI::App& app, Action& action) {
   cmd->add_option("--law", args->law, "the law the shader expects (g, h, a): a table of another law is refused");
   cmd->add_option("--scene", args->scene, "export the reference shader and every table of SCENE.json instead");
   cmd->add_option("--out", args->out_dir, "with --scene: the output directory (created if its parent exists)");
-  cmd->add_option("--cache", args->cache, "with --scene: reuse/store the scene's tables in DIR (as `render --cache`)");
+  args->cache.add_to(*cmd, "with --scene: ");
   args->tables.add_to(*cmd, scene::TableOptions::scene_defaults());  // with --scene: --res-g, --res-h, --tol, --encoding, --max-evals
   cmd->add_flag("--quiet", args->quiet, "no progress and no summary line");
   add_json_flag(*cmd, args->json);

@@ -153,6 +153,13 @@ void check_fetch_budget(long long fetches) {
                       " is not allowed; expected an integer >= 1 (texture fetches per lookup)"});
 }
 
+InputError needs_target(const std::string& parameter) {
+  const std::string why = parameter == "max_bytes" ? "it caps the value bytes of that search's tables"
+                          : parameter == "fetches" ? "it is the fetch budget of that search"
+                                                   : "it is what that search keeps when it misses";
+  return InputError({Named{parameter}, " needs ", Named{"max_error"}, " (" + why + ")"});
+}
+
 namespace {
 
 /// What one search found: the table that met E, or the best error it measured, that table's size
