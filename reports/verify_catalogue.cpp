@@ -46,7 +46,7 @@ CheckResult as_pdf_check() {
   std::string models;
   for (const Exponents& e : cases) {
     const AshikhminShirley m(0.5, 0.05, e.nu, e.nv);
-    models += (models.empty() ? "" : "; ") + m.spec();
+    append_model(models, m.spec());
     jobs.push_back([e] {
       const AshikhminShirley model(0.5, 0.05, e.nu, e.nv);
       const double narrow = 1.0 / std::sqrt(std::max(e.nu, e.nv) + 1.0), wide = 1.0 / std::sqrt(std::min(e.nu, e.nv) + 1.0);
@@ -68,7 +68,7 @@ CheckResult as_diffuse_check() {
   const std::vector<double> rs_values{0.0, 0.05, 0.5};
   std::string models;
   for (double rs : rs_values) {
-    models += (models.empty() ? "" : "; ") + AshikhminShirley(1.0, rs, 10.0, 10.0).spec();
+    append_model(models, AshikhminShirley(1.0, rs, 10.0, 10.0).spec());
     for (double mu : {1.0, 0.9, 0.5, 0.1, 1e-3, 0.0})
       jobs.push_back([rs, mu] {
         const AshikhminShirley model(1.0, rs, 10.0, 10.0);
@@ -90,7 +90,7 @@ CheckResult schlick_z_check() {
   const std::vector<double> roughness{1.0, 0.5, 0.1, 0.01, 1e-3};
   std::string models;
   for (double r : roughness) {
-    models += (models.empty() ? "" : "; ") + spec_text({"schlick", {{"r", r}}});
+    append_model(models, spec_text({"schlick", {{"r", r}}}));
     jobs.push_back([r] {
       const Estimate e = integrate_over_lune(kNormal, [&](const Vec3& h) { return schlick::zenith(h.z, r) * h.z; },
                                              {std::sqrt(r) / 4});
@@ -109,7 +109,7 @@ CheckResult schlick_a_check() {
   constexpr double kRoughness = 0.1;
   std::string models;
   for (double p : isotropy) {
-    models += (models.empty() ? "" : "; ") + spec_text({"schlick", {{"r", kRoughness}, {"p", p}}});
+    append_model(models, spec_text({"schlick", {{"r", kRoughness}, {"p", p}}}));
     jobs.push_back([p] {
       const auto D = [&](const Vec3& h) {
         const double s = std::hypot(h.x, h.y), w = s > 0.0 ? h.x / s : 1.0;
@@ -119,16 +119,17 @@ CheckResult schlick_a_check() {
       return Sample{pi, pi * schlick::azimuth_mean(p), e.value, e.error, e.converged, 1};
     });
   }
-  CheckResult c = check_meta("schlick.a.norm", std::string(kSchlick) + ", the anisotropic distribution Z(t) A(w)", models,
-                             "integral integral Z(t) A(w) cos alpha sin alpha d alpha d phi = pi with A(w) = "
-                             "sqrt(p/(p^2 - p^2 w^2 + w^2)), w = cos phi (the normalization of a slope distribution)");
-  c.corrected = "the integral is pi a(p), a(p) = (2/pi) sqrt(p) K(sqrt(1 - p^2)) the mean of A over phi (K the complete "
-                "elliptic integral of the first kind); the model uses A/a(p)";
-  c.explanation = "Z carries the whole normalization; A multiplies it by its mean over the azimuth, "
-                  "(1/(2 pi)) integral_0^(2 pi) sqrt(p)/sqrt(cos^2 phi + p^2 sin^2 phi) d phi = (2/pi) sqrt(p) "
-                  "K(sqrt(1 - p^2)), which is 1 only at p = 1 (0.971 at p = 0.5, 0.744 at 0.1, 0.381 at 0.01): "
-                  "the printed anisotropic distribution loses that fraction of its energy";
-  return run_check(std::move(c), jobs);
+  return run_check(
+      check_meta("schlick.a.norm", std::string(kSchlick) + ", the anisotropic distribution Z(t) A(w)", models,
+                 "integral integral Z(t) A(w) cos alpha sin alpha d alpha d phi = pi with A(w) = "
+                 "sqrt(p/(p^2 - p^2 w^2 + w^2)), w = cos phi (the normalization of a slope distribution)",
+                 "the integral is pi a(p), a(p) = (2/pi) sqrt(p) K(sqrt(1 - p^2)) the mean of A over phi (K the "
+                 "complete elliptic integral of the first kind); the model uses A/a(p)",
+                 "Z carries the whole normalization; A multiplies it by its mean over the azimuth, "
+                 "(1/(2 pi)) integral_0^(2 pi) sqrt(p)/sqrt(cos^2 phi + p^2 sin^2 phi) d phi = (2/pi) sqrt(p) "
+                 "K(sqrt(1 - p^2)), which is 1 only at p = 1 (0.971 at p = 0.5, 0.744 at 0.1, 0.381 at 0.01): "
+                 "the printed anisotropic distribution loses that fraction of its energy"),
+      jobs);
 }
 
 CheckResult kajiya_cylinder_check() {

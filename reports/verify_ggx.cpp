@@ -113,7 +113,7 @@ CheckResult charlie_norm_check() {
   const std::vector<double> alphas{1.0, 0.5, 0.1, 0.01};
   std::string models;
   for (double a : alphas) {
-    models += (models.empty() ? "charlie:alpha=" : "; charlie:alpha=") + format_number(a);
+    append_model(models, "charlie:alpha=" + format_number(a));
     jobs.push_back([a] {
       const Charlie charlie(a);
       // Its mass lies within ~sqrt(alpha) of the horizon (sin^(1/alpha) ~ exp(-cos^2/(2 alpha))).

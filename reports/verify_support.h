@@ -26,8 +26,13 @@ using Job = std::function<Sample()>;
 /// Cubature options of every reference (kReferenceTolerance).
 CubatureOptions reference_options();
 
-/// A check's identity: id, source (paper and equation), the models it ran on, the claim as printed.
-CheckResult check_meta(std::string id, std::string source, std::string models, std::string printed);
+/// Appends `spec` to the list of models a check ran on ("; "-separated).
+void append_model(std::string& models, const std::string& spec);
+
+/// A check's identity: id, source (paper and equation), the models it ran on, the claim as printed,
+/// and for an erratum our corrected form and how it was derived.
+CheckResult check_meta(std::string id, std::string source, std::string models, std::string printed,
+                       std::string corrected = "", std::string explanation = "");
 
 /// ∫ F(m) dm over the lune {m·n > 0, m·pole > 0}, with cut lines at angular distances `scales`
 /// (and their multiples 4^k up to 1) from the normal n, and from the horizon when `at_horizon`.
