@@ -50,6 +50,20 @@ std::optional<exporting::TextureFormat> texture_format(const std::string& text) 
   }
 }
 
+/// Writes a table's snippet to -o and says so: with --json `doc` and the texture's path ("texture",
+/// null when none was written), else "wrote FILE.glsl [and TEXTURE]".
+int write_snippet(const ExportArgs& args, const std::string& glsl, nlohmann::ordered_json doc,
+                  const std::string& texture_path) {
+  write_text_atomically(args.output, glsl, "shader");
+  if (args.json) {
+    doc["texture"] = texture_path.empty() ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(texture_path);
+    std::cout << doc.dump(2) << "\n";
+  } else if (!args.quiet) {
+    std::cout << "wrote " << args.output << (texture_path.empty() ? "" : " and " + texture_path) << "\n";
+  }
+  return 0;
+}
+
 /// A parameter table (format version 3): its GLSL lookup and, by default, its C header.
 int export_param_table(const ExportArgs& args) {
   if (!args.model.empty() || !args.law.empty())
@@ -64,16 +78,13 @@ int export_param_table(const ExportArgs& args) {
     header_path = std::filesystem::path(args.output).replace_extension(".h").string();
     write_text_atomically(header_path, exporting::param_c_header(table, name), "texture");
   }
-  write_text_atomically(args.output, glsl, "shader");
-  if (args.json) {
-    nlohmann::ordered_json doc{{"glsl", args.output}, {"function", name}, {"sampler", "sampler2D"},
-                               {"model", table.model}, {"preset", table.preset}};
-    doc["texture"] = header_path.empty() ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(header_path);
-    std::cout << doc.dump(2) << "\n";
-  } else if (!args.quiet) {
-    std::cout << "wrote " << args.output << (header_path.empty() ? "" : " and " + header_path) << "\n";
-  }
-  return 0;
+  return write_snippet(args, glsl,
+                       {{"glsl", args.output},
+                        {"function", name},
+                        {"sampler", "sampler2D"},
+                        {"model", table.model},
+                        {"preset", table.preset}},
+                       header_path);
 }
 
 int export_table(const ExportArgs& args) {
@@ -94,19 +105,13 @@ int export_table(const ExportArgs& args) {
     texture_path = std::filesystem::path(args.output).replace_extension(exporting::texture_extension(*format)).string();
     exporting::write_texture(table, *format, texture_path, exporting::glsl_function_name(table.model, table.law));
   }
-  write_text_atomically(args.output, glsl, "shader");
-  if (args.json) {
-    nlohmann::ordered_json doc{{"glsl", args.output},
-                               {"function", exporting::glsl_function_name(table.model, table.law)},
-                               {"sampler", exporting::glsl_sampler_type(table.law)},
-                               {"model", table.model},
-                               {"law", to_string(table.law)}};
-    doc["texture"] = texture_path.empty() ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(texture_path);
-    std::cout << doc.dump(2) << "\n";
-  } else if (!args.quiet) {
-    std::cout << "wrote " << args.output << (texture_path.empty() ? "" : " and " + texture_path) << "\n";
-  }
-  return 0;
+  return write_snippet(args, glsl,
+                       {{"glsl", args.output},
+                        {"function", exporting::glsl_function_name(table.model, table.law)},
+                        {"sampler", exporting::glsl_sampler_type(table.law)},
+                        {"model", table.model},
+                        {"law", to_string(table.law)}},
+                       texture_path);
 }
 
 int export_scene(const ExportArgs& args) {
