@@ -585,7 +585,12 @@ std::string number(double x, int digits = 3) { return significant(x, digits); }
 
 }  // namespace
 
-std::string percent(int part, int whole) { return whole ? significant(100.0 * part / whole, 2) + "%" : std::string("—"); }
+std::string percent(int part, int whole) {
+  if (!whole) return "—";
+  const double p = 100.0 * part / whole;
+  // Two significant digits below 10%, whole percents above (100% stays "100%", not "1e+02%").
+  return (p < 10.0 ? significant(p, 2) : std::to_string(std::lround(p))) + "%";
+}
 
 namespace {
 

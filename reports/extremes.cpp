@@ -152,20 +152,26 @@ ExtremesCase judge_case(const Model& model, Law law, const Vec3& i, const Vec3& 
   std::size_t judging = 0;
   while (judging < kOrder.size() && !resolved(get(judging))) ++judging;
   const bool none_resolved = judging == kOrder.size();
+  bool lone_refuter = false;
   if (none_resolved) {
-    // None resolves the tolerance; one whose own bound still excludes the engine's value proves it
-    // dishonest all the same (an unresolved reference can refute, not confirm), unless another
-    // agrees with the engine and its bound excludes the refuting value: an unresolved bound can be
-    // wrong (tanh_sinh's across a kink inside its panel, schlick-phong's a at i·n = 0.3: 4.7e-7 off
-    // with 1.7e-8 stated, where both Gauss–Kronrod references agree with the engine), and two
-    // references that exclude each other make the case "references disagree". One merely too
-    // loose to exclude the engine saves nothing (tests/extremes_test.cpp).
+    // None resolves the tolerance. An unresolved bound can be wrong: tanh_sinh's across a kink
+    // inside its panel (schlick-phong's a at i·n = 0.3: 4.7e-7 off with 1.7e-8 stated, where both
+    // Gauss–Kronrod references agree with the engine) or at a lune's tip where a grazing lobe sits
+    // (hvd-empirical's g at i·n = 0, θ_o = 89.99°, φ = 90°: 0.16 off with 0.08 stated, where g = h/2
+    // by the mirror symmetry of an isotropic model agrees with the engine). So an unresolved
+    // reference refutes the engine only with a second one that excludes the engine's value too
+    // (the closer bound judges). A lone refuter makes the case "references disagree" where another
+    // agrees with the engine and excludes it, and leaves it unresolved otherwise
+    // (tests/extremes_test.cpp).
     std::optional<std::size_t> refuting;
+    int refuters = 0;
     for (std::size_t k = 0; k < kOrder.size(); ++k)
       if (get(k).resolved && std::isfinite(get(k).value) &&
-          !honest(c.engine.value, c.engine.error, get(k).value, get(k).total_error()) &&
-          (!refuting || get(k).total_error() < get(*refuting).total_error()))
-        refuting = k;
+          !honest(c.engine.value, c.engine.error, get(k).value, get(k).total_error())) {
+        ++refuters;
+        if (!refuting || get(k).total_error() < get(*refuting).total_error()) refuting = k;
+      }
+    lone_refuter = refuters == 1;
     c.reference_unresolved = !refuting;
     judging = refuting.value_or(0);
   }
@@ -190,6 +196,10 @@ ExtremesCase judge_case(const Model& model, Law law, const Vec3& i, const Vec3& 
       c.references_disagree = true;
       break;
     }
+  }
+  if (c.dishonest && lone_refuter) {
+    c.dishonest = false;
+    c.reference_unresolved = true;
   }
   return c;
 }
@@ -444,9 +454,10 @@ std::string extremes_markdown(const std::vector<ExtremesRow>& rows, const Extrem
      << ". A reference is resolved when its stated error is within the engine's tolerance. *Dishonest*: "
         "|engine − reference| exceeds the engine's estimate plus the reference's error, and no other resolved "
         "reference agrees with the engine; where one does, the case counts as *references disagree* instead, and "
-        "is listed. Where no reference is resolved, one whose own bound still excludes the engine's value proves "
-        "it dishonest all the same; otherwise the case is *reference unresolved*: not judged, counted and "
-        "listed. f is the formula itself (error 0): only its finiteness is judged. Measured models (merl, "
+        "is listed. Where no reference is resolved, two whose own bounds still exclude the engine's value prove "
+        "it dishonest all the same (an unresolved bound alone can be wrong); one alone makes the case *references "
+        "disagree* where another agrees with the engine and excludes it; otherwise the case is *reference "
+        "unresolved*: not judged, counted and listed. f is the formula itself (error 0): only its finiteness is judged. Measured models (merl, "
         "tabulated) need a data file and are not in this grid.\n\n"
      << "| model | specs | cases | non-finite | not converged | dishonest | references disagree | reference unresolved | "
         "judged by a fallback | seconds (summed over cases) |\n"

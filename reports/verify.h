@@ -17,6 +17,9 @@ inline constexpr double kAgreement = 1e-9;
 /// Cubature tolerance for the references: two orders below kAgreement so that a disagreement
 /// is the formula's, not the integrator's.
 inline constexpr double kReferenceTolerance = 1e-11;
+/// A reference that stops short of kReferenceTolerance (its budget spent) still classifies a form
+/// while its stated error is below this: a disagreement beyond kAgreement cannot then be its own.
+inline constexpr double kReferenceResolution = kAgreement / 10;
 
 struct CheckResult {
   std::string id;
