@@ -437,6 +437,14 @@ Estimate integrate_over_lune(const Vec3& pole, const std::function<double(const 
                               options);
 }
 
+Job hemisphere_job(std::function<double(const Vec3&)> F, std::vector<double> scales, double printed, double corrected,
+                   bool at_horizon) {
+  return [F = std::move(F), scales = std::move(scales), printed, corrected, at_horizon] {
+    const Estimate e = integrate_over_lune(Vec3{0.0, 0.0, 1.0}, F, scales, at_horizon);
+    return Sample{printed, corrected, e.value, e.error, e.converged, 1};
+  };
+}
+
 CheckResult run_check(CheckResult check, const std::vector<Job>& jobs) {
   std::vector<Sample> samples(jobs.size());
   tbb::parallel_for(std::size_t{0}, jobs.size(), [&](std::size_t k) { samples[k] = jobs[k](); });

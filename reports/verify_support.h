@@ -40,6 +40,11 @@ Estimate integrate_over_lune(const Vec3& pole, const std::function<double(const 
                              const std::vector<double>& scales, bool at_horizon = false,
                              CubatureOptions options = reference_options());
 
+/// A job comparing `printed` (and `corrected`) with ∫ F(m) dm over the hemisphere m·n > 0 (the lune
+/// with pole n, cut as integrate_over_lune): the normalization of a distribution or a density.
+Job hemisphere_job(std::function<double(const Vec3&)> F, std::vector<double> scales, double printed,
+                   double corrected = kNaN, bool at_horizon = false);
+
 /// Runs the jobs in parallel (results are reduced in order: deterministic) and fills the
 /// check's errors, status and reference statistics.
 CheckResult run_check(CheckResult check, const std::vector<Job>& jobs);
