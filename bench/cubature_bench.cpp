@@ -376,11 +376,7 @@ const std::vector<std::string>& cubature_competitors() {
 }
 
 CubatureBenchOptions quick_options() {
-  CubatureBenchOptions o;
-  o.cases_per_family = 4;
-  o.tolerances = {1e-6, 1e-10};
-  o.competitor_cap = 200'000;
-  return o;
+  return {.cases_per_family = 4, .tolerances = {1e-6, 1e-10}, .competitor_cap = 200'000};
 }
 
 namespace {

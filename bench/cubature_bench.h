@@ -59,7 +59,7 @@ struct CubatureBenchOptions {
   unsigned seed = 20190117;
   /// Only these competitors (names as in the tables: ours, ours_no_hints, oracle, mc, ...); empty:
   /// all. Ratios need ours; the references are computed either way.
-  std::vector<std::string> competitors;
+  std::vector<std::string> competitors{};
   bool runs(const std::string& competitor) const;
 };
 /// The competitors' names, as --competitors takes them.

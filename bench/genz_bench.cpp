@@ -155,13 +155,7 @@ std::vector<SingularLine> singular_lines(const GenzInstance& in) {
 
 double min_relative_tolerance() { return kRoundingUlps * std::numeric_limits<double>::epsilon(); }
 
-GenzOptions quick_genz_options() {
-  GenzOptions o;
-  o.instances = 3;
-  o.tolerances = {1e-4, 1e-10};
-  o.budget = 200'000;
-  return o;
-}
+GenzOptions quick_genz_options() { return {.instances = 3, .tolerances = {1e-4, 1e-10}, .budget = 200'000}; }
 
 void check_genz_options(const GenzOptions& options) {
   if (options.instances < 1)

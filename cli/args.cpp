@@ -107,6 +107,14 @@ void add_json_flag(CLI::App& cmd, bool& json, const std::string& shape) {
   cmd.add_flag("--json", json, "print one JSON document" + (shape.empty() ? "" : ": " + shape));
 }
 
+void add_model_option(CLI::App& cmd, std::string& spec) {
+  cmd.add_option("--model", spec, "model spec, e.g. specular:alpha=8 (see `ganzfeld models`)")->required();
+}
+
+void add_table_argument(CLI::App& cmd, std::string& path) {
+  cmd.add_option("FILE", path, "table written by `ganzfeld bake`")->required();
+}
+
 void validate_tolerance(double tol) { check_tolerance("tol", tol); }
 
 
@@ -210,6 +218,13 @@ std::vector<int> resolution_for(const std::string& parameter, const std::string&
 }
 }  // namespace
 
+void TableOptionArgs::check_target_parts() const {
+  if (max_error) return;
+  if (max_bytes) throw tables::needs_target("max_bytes");
+  if (fetches) throw tables::needs_target("fetches");
+  if (best_effort) throw tables::needs_target("best_effort");
+}
+
 scene::TableOptions TableOptionArgs::options(const scene::TableOptions& defaults) const {
   scene::TableOptions out = defaults;
   if (!res_g.empty()) out.resolution_g = resolution_for("res_g", res_g, Law::g);
@@ -219,14 +234,9 @@ scene::TableOptions TableOptionArgs::options(const scene::TableOptions& defaults
   if (!encoding.empty()) out.encoding = tables::parse_encoding(encoding);
   if (max_evaluations) out.max_evaluations = *max_evaluations;
   check_max_evaluations(out.max_evaluations);
-  const Named target{"max_error"};
-  if (max_bytes && !max_error)
-    throw InputError({Named{"max_bytes"}, " needs ", target, " (it caps the table ", target, " sizes)"});
+  check_target_parts();
   if (fetches) tables::check_fetch_budget(*fetches);
-  if (fetches && !max_error)
-    throw InputError({Named{"fetches"}, " needs ", target, " (it is the fetch budget of that search)"});
-  if (best_effort && !max_error)
-    throw InputError({Named{"best_effort"}, " needs ", target, " (it is what that search keeps when it misses)"});
+  const Named target{"max_error"};
   const bool fixed = !res_g.empty() || !res_h.empty() || tol;
   if (max_error) {
     if (fixed)
@@ -255,6 +265,17 @@ scene::TableStore table_store(const std::string& cache_dir, bool quiet, bool for
     attach_progress(tables::common(request.options), quiet, request.law, request.spec);
   };
   return store;
+}
+
+void CacheArgs::add_to(CLI::App& app, const std::string& when) {
+  const std::string help =
+      "reuse tables from DIR and store new ones there (created if its parent exists); the files of `ganzfeld bake "
+      "scene SCENE --out DIR`. Default: bake in memory";
+  app.add_option("--cache", dir, when + help);
+}
+
+scene::TableStore CacheArgs::store(bool quiet) const {
+  return table_store(dir.empty() ? std::string() : prepare_directory("--cache", dir), quiet);
 }
 
 nlohmann::ordered_json tables_json(const scene::ShadingPlan& plan) {

@@ -44,6 +44,10 @@ struct ParameterArgs {
 
 /// --json: "print one JSON document", with its shape when given.
 void add_json_flag(CLI::App& cmd, bool& json, const std::string& shape = "");
+/// --model SPEC, required: the model of a command about one model (eval, figure, tradeoff).
+void add_model_option(CLI::App& cmd, std::string& spec);
+/// FILE, required: a table written by `ganzfeld bake` (info, sample).
+void add_table_argument(CLI::App& cmd, std::string& path);
 
 /// Parses "X,Y,Z" into a normalized vector; throws InputError naming the flag and the value.
 Vec3 parse_vector(const std::string& flag, const std::string& text);
@@ -87,12 +91,24 @@ struct TableOptionArgs {
   /// spells it as a flag, a library file as its key); unset flags take `defaults`. Defaults that
   /// bake to an error (scene_defaults) give way to a fixed resolution when res_g, res_h or tol is given.
   scene::TableOptions options(const scene::TableOptions& defaults) const;
+  /// Refuses --max-bytes, --fetches and --best-effort without --max-error (tables::needs_target).
+  void check_target_parts() const;
 };
 
 /// Where a command's scene tables come from: the cache directory `cache_dir` (already prepared)
 /// or memory when it is empty; progress bars unless `quiet`, each file stamped with the bake
 /// command that reproduces it.
 scene::TableStore table_store(const std::string& cache_dir, bool quiet, bool force = false);
+
+/// --cache DIR of the commands that bake a scene's tables for their own use (render, figure,
+/// export-glsl --scene): the files `bake scene SCENE --out DIR` makes; memory when not given.
+struct CacheArgs {
+  std::string dir;
+  /// Registers --cache; `when` opens its help, e.g. "with --scene: ".
+  void add_to(CLI::App& app, const std::string& when = "");
+  /// table_store of the directory, prepared (prepare_directory), or of memory.
+  scene::TableStore store(bool quiet) const;
+};
 
 /// shapes::table_json of every table of the plan.
 nlohmann::ordered_json tables_json(const scene::ShadingPlan& plan);

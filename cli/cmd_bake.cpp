@@ -167,6 +167,7 @@ int bake_one(const BakeArgs& args) {
   // Everything is checked before the (possibly long) bake.
   if (args.model.empty()) throw InputError("bake model needs the model spec, e.g. bake model specular:alpha=8");
   if (args.law.empty()) throw InputError("bake model needs --law g|h|a");
+  args.table.check_target_parts();
   if (args.res.empty() && !args.table.max_error)
     throw InputError("bake model needs --res N[xN[xN]] (a fixed grid) or --max-error E (an error target)");
   if (args.output.empty()) throw InputError("bake model needs -o FILE.exr");
@@ -347,8 +348,6 @@ void add_model_job(CLI::App& bake, Action& action, const std::shared_ptr<BakeArg
   grid.push_back(added.tol);
   for (CLI::Option* target : {added.max_error, added.max_bytes, added.fetches})
     for (CLI::Option* fixed : grid) target->excludes(fixed);
-  added.max_bytes->needs(added.max_error);
-  added.fetches->needs(added.max_error);
   add_quiet_flag(*cmd, *args);
   add_json_flag(*cmd, args->json, "{\"tables\": [{path, model, law, status}]}");
   cmd->callback([&action, args] { action = [args] { return bake_one(*args); }; });

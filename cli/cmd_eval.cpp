@@ -24,7 +24,7 @@ struct EvalArgs {
 void add_eval_command(CLI::App& app, Action& action) {
   auto* cmd = app.add_subcommand("eval", "one value of a law (f, g, h, a, r) with its error estimate");
   auto args = std::make_shared<EvalArgs>();
-  cmd->add_option("--model", args->model, "model spec, e.g. specular:alpha=8 (see `ganzfeld models`)")->required();
+  add_model_option(*cmd, args->model);
   cmd->add_option("--law", args->law, "f (BRDF), g (vignetting), h (darkening), a (albedo), r (double-diffuse)")->required();
   args->directions.add_to(*cmd);
   args->parameter.add_to(*cmd);

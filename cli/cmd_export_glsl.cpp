@@ -34,8 +34,9 @@ namespace ganzfeld::cli {
 namespace {
 
 struct ExportArgs {
-  std::string table, output, scene, out_dir, cache, texture, model, law;  ///< texture "": ktx2 (header for version 3)
+  std::string table, output, scene, out_dir, texture, model, law;  ///< texture "": ktx2 (header for version 3)
   TableOptionArgs tables;  // with --scene: the same table options as `bake scene` and `render`
+  CacheArgs cache;         // with --scene
   bool json = false, quiet = false;
 };
 
@@ -47,6 +48,20 @@ std::optional<exporting::TextureFormat> texture_format(const std::string& text) 
   } catch (const InputError&) {
     throw InputError("unknown --texture '" + text + "'; allowed: ktx2, header, none");
   }
+}
+
+/// Writes a table's snippet to -o and says so: with --json `doc` and the texture's path ("texture",
+/// null when none was written), else "wrote FILE.glsl [and TEXTURE]".
+int write_snippet(const ExportArgs& args, const std::string& glsl, nlohmann::ordered_json doc,
+                  const std::string& texture_path) {
+  write_text_atomically(args.output, glsl, "shader");
+  if (args.json) {
+    doc["texture"] = texture_path.empty() ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(texture_path);
+    std::cout << doc.dump(2) << "\n";
+  } else if (!args.quiet) {
+    std::cout << "wrote " << args.output << (texture_path.empty() ? "" : " and " + texture_path) << "\n";
+  }
+  return 0;
 }
 
 /// A parameter table (format version 3): its GLSL lookup and, by default, its C header.
@@ -63,16 +78,13 @@ int export_param_table(const ExportArgs& args) {
     header_path = std::filesystem::path(args.output).replace_extension(".h").string();
     write_text_atomically(header_path, exporting::param_c_header(table, name), "texture");
   }
-  write_text_atomically(args.output, glsl, "shader");
-  if (args.json) {
-    nlohmann::ordered_json doc{{"glsl", args.output}, {"function", name}, {"sampler", "sampler2D"},
-                               {"model", table.model}, {"preset", table.preset}};
-    doc["texture"] = header_path.empty() ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(header_path);
-    std::cout << doc.dump(2) << "\n";
-  } else if (!args.quiet) {
-    std::cout << "wrote " << args.output << (header_path.empty() ? "" : " and " + header_path) << "\n";
-  }
-  return 0;
+  return write_snippet(args, glsl,
+                       {{"glsl", args.output},
+                        {"function", name},
+                        {"sampler", "sampler2D"},
+                        {"model", table.model},
+                        {"preset", table.preset}},
+                       header_path);
 }
 
 int export_table(const ExportArgs& args) {
@@ -93,19 +105,13 @@ int export_table(const ExportArgs& args) {
     texture_path = std::filesystem::path(args.output).replace_extension(exporting::texture_extension(*format)).string();
     exporting::write_texture(table, *format, texture_path, exporting::glsl_function_name(table.model, table.law));
   }
-  write_text_atomically(args.output, glsl, "shader");
-  if (args.json) {
-    nlohmann::ordered_json doc{{"glsl", args.output},
-                               {"function", exporting::glsl_function_name(table.model, table.law)},
-                               {"sampler", exporting::glsl_sampler_type(table.law)},
-                               {"model", table.model},
-                               {"law", to_string(table.law)}};
-    doc["texture"] = texture_path.empty() ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(texture_path);
-    std::cout << doc.dump(2) << "\n";
-  } else if (!args.quiet) {
-    std::cout << "wrote " << args.output << (texture_path.empty() ? "" : " and " + texture_path) << "\n";
-  }
-  return 0;
+  return write_snippet(args, glsl,
+                       {{"glsl", args.output},
+                        {"function", exporting::glsl_function_name(table.model, table.law)},
+                        {"sampler", exporting::glsl_sampler_type(table.law)},
+                        {"model", table.model},
+                        {"law", to_string(table.law)}},
+                       texture_path);
 }
 
 int export_scene(const ExportArgs& args) {
@@ -114,8 +120,7 @@ int export_scene(const ExportArgs& args) {
   const scene::TableOptions options = args.tables.options(scene::TableOptions::scene_defaults());
   const Scene scene = load_scene(args.scene);
   exporting::check_scene_exportable(scene);  // before any bake
-  const std::string cache = args.cache.empty() ? std::string() : prepare_directory("--cache", args.cache);
-  const scene::ShadingPlan plan = scene::plan_shading(scene, options, table_store(cache, args.quiet || args.json));
+  const scene::ShadingPlan plan = scene::plan_shading(scene, options, args.cache.store(args.quiet || args.json));
   warn_unconverged(plan);
   const std::string glsl = exporting::glsl_scene_shader(scene, plan, args.scene);  // refuses before any file is written
 
@@ -176,7 +181,7 @@ void add_export_glsl_command(CLI::App& app, Action& action) {
   cmd->add_option("--law", args->law, "the law the shader expects (g, h, a): a table of another law is refused");
   cmd->add_option("--scene", args->scene, "export the reference shader and every table of SCENE.json instead");
   cmd->add_option("--out", args->out_dir, "with --scene: the output directory (created if its parent exists)");
-  cmd->add_option("--cache", args->cache, "with --scene: reuse/store the scene's tables in DIR (as `render --cache`)");
+  args->cache.add_to(*cmd, "with --scene: ");
   args->tables.add_to(*cmd, scene::TableOptions::scene_defaults());  // with --scene: --res-g, --res-h, --tol, --encoding, --max-evals
   cmd->add_flag("--quiet", args->quiet, "no progress and no summary line");
   add_json_flag(*cmd, args->json);

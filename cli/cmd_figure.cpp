@@ -20,7 +20,8 @@ namespace ganzfeld::cli {
 
 namespace {
 struct FigureArgs {
-  std::string model, compare, output, cache;
+  std::string model, compare, output;
+  CacheArgs cache;
   int size = raster::FigureOptions{}.size;
   TableOptionArgs tables;
   bool json = false, quiet = false, disk = false;
@@ -51,13 +52,13 @@ void add_figure_command(CLI::App& app, Action& action) {
   auto* cmd = app.add_subcommand(
       "figure", "the Koenderink-Pont 2x2 panel: indicatrix, collimated, hemispherical and Ganzfeld sphere");
   auto args = std::make_shared<FigureArgs>();
-  cmd->add_option("--model", args->model, "model spec, e.g. specular:alpha=8 (see `ganzfeld models`)")->required();
+  add_model_option(*cmd, args->model);
   cmd->add_option("-o,--output", args->output, "the panel, PANEL.png (sRGB) or PANEL.exr (linear); written atomically")
       ->required();
   cmd->add_option("--compare", args->compare, "a second model spec, drawn as a second panel on the right");
   cmd->add_option("--size", args->size, "pixels per quadrant side, 16..4096 (default 256)");
   args->tables.add_to(*cmd, raster::FigureOptions{}.tables);  // the small tables of g and h
-  cmd->add_option("--cache", args->cache, "reuse the tables from DIR and store new ones there (as `render --cache`)");
+  args->cache.add_to(*cmd);
   cmd->add_flag("--disk", args->disk,
                 "the halfway-vector disk view instead: --model as the data (red), --compare as its fit (blue)");
   cmd->add_option("--theta-o", args->theta_o, "--disk: outgoing angles in degrees (default 0,15,30,45,60,75)")
@@ -76,8 +77,7 @@ void add_figure_command(CLI::App& app, Action& action) {
       raster::image_format(args->output);
       check_writable(args->output);
       options.size = args->size;
-      const std::string cache = args->cache.empty() ? std::string() : prepare_directory("--cache", args->cache);
-      options.store = table_store(cache, args->quiet || args->json);
+      options.store = args->cache.store(args->quiet || args->json);
       std::vector<raster::Image> panels{raster::koenderink_pont_panel(args->model, options)};
       if (!args->compare.empty()) panels.push_back(raster::koenderink_pont_panel(args->compare, options));
       const raster::Image image = panels.size() == 1 ? panels.front() : raster::side_by_side(panels);

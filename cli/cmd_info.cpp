@@ -71,7 +71,7 @@ int param_info(const std::string& path, bool json) {
 void add_info_command(CLI::App& app, Action& action) {
   auto* cmd = app.add_subcommand("info", "metadata of a baked table (refuses files that are not valid tables)");
   auto args = std::make_shared<InfoArgs>();
-  cmd->add_option("FILE", args->path, "table written by `ganzfeld bake`")->required();
+  add_table_argument(*cmd, args->path);
   add_json_flag(*cmd, args->json);
   cmd->callback([&action, args] {
     action = [args] {

@@ -31,7 +31,8 @@ namespace {
 constexpr double kDirectTol = 1e-6;
 
 struct RenderArgs {
-  std::string scene, output, cache;
+  std::string scene, output;
+  CacheArgs cache;
   TableOptionArgs table;  // the same table options as `bake scene`, hence the same cache entries
   bool direct = false, json = false, quiet = false;
 };
@@ -45,10 +46,9 @@ int run_render(const RenderArgs& args) {
   check_writable(args.output);
   const Scene scene = load_scene(args.scene);
   raster::validate_camera(scene.camera);
-  const std::string cache = args.cache.empty() ? std::string() : prepare_directory("--cache", args.cache);
 
   const scene::ShadingPlan plan =
-      scene::plan_shading(scene, options, table_store(cache, args.quiet || args.json), args.direct);
+      scene::plan_shading(scene, options, args.cache.store(args.quiet || args.json), args.direct);
   warn_unconverged(plan);
   const double direct_tol = args.direct ? options.tolerance : kDirectTol;
   const raster::Image image = raster::render(raster::render_scene(scene, plan, direct_tol));
@@ -85,9 +85,7 @@ void add_render_command(CLI::App& app, Action& action) {
                 "shade g and h by cubature per pixel (the slow reference) instead of tables; Lambert lobes use their "
                 "closed forms either way");
   args->table.add_to(*cmd, scene::TableOptions::scene_defaults());  // with --direct, --tol is per pixel (default 1e-6)
-  cmd->add_option("--cache", args->cache,
-                  "reuse tables from DIR and store new ones there (created if its parent exists); the files of "
-                  "`ganzfeld bake scene SCENE --out DIR`. Default: bake in memory");
+  args->cache.add_to(*cmd);
   cmd->add_flag("--quiet", args->quiet, "no progress and no summary line");
   add_json_flag(*cmd, args->json);
   cmd->callback([&action, args] { action = [args] { return run_render(*args); }; });

@@ -71,7 +71,7 @@ void add_sample_command(CLI::App& app, Action& action) {
   auto* cmd = app.add_subcommand(
       "sample", "look a table up at directions (the table's interpolation in index space, clamped at the axis ends)");
   auto args = std::make_shared<SampleArgs>();
-  cmd->add_option("FILE", args->path, "table written by `ganzfeld bake`")->required();
+  add_table_argument(*cmd, args->path);
   args->directions.add_to(*cmd);
   args->parameter.add_to(*cmd);
   cmd->add_option("--mu", args->mu, "parameter tables: cos theta_i in [0, 1] (instead of --theta-i)");

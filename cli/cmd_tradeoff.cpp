@@ -195,7 +195,7 @@ void add_tradeoff_command(CLI::App& app, Action& action) {
   auto* cmd = app.add_subcommand(
       "tradeoff", "measure table error, bytes, bake and lookup time over resolutions x mappings x encodings x tolerances");
   auto args = std::make_shared<TradeoffArgs>();
-  cmd->add_option("--model", args->model, "model spec, e.g. specular:alpha=8 (see `ganzfeld models`)")->required();
+  add_model_option(*cmd, args->model);
   cmd->add_option("--law", args->law, "g (vignetting), h (darkening) or a (albedo)")->required();
   add_json_flag(*cmd, args->json);
   cmd->add_option("--plot", args->plot, "write a PNG: max error vs bytes and vs bake time");

@@ -1,10 +1,12 @@
 #include "gl/context.h"
 
+#include <array>
 #include <cstdlib>
 #include <cstring>
 #include <vector>
 
 #include "util/error.h"
+#include "util/names.h"
 
 #if defined(__SANITIZE_ADDRESS__)
 #define GANZFELD_LEAK_CHECKED 1
@@ -19,21 +21,14 @@
 
 namespace ganzfeld::gl {
 
-const char* to_string(Platform platform) {
-  switch (platform) {
-    case Platform::automatic: return "auto";
-    case Platform::device: return "device";
-    case Platform::surfaceless: return "surfaceless";
-  }
-  return "auto";
-}
+namespace {
+constexpr std::array<util::EnumName<Platform>, 3> kPlatformNames{
+    {{Platform::automatic, "auto"}, {Platform::device, "device"}, {Platform::surfaceless, "surfaceless"}}};
+}  // namespace
 
-Platform parse_platform(const std::string& text) {
-  if (text == "auto") return Platform::automatic;
-  if (text == "device") return Platform::device;
-  if (text == "surfaceless") return Platform::surfaceless;
-  throw InputError("unknown EGL platform '" + text + "'; allowed: auto, device, surfaceless");
-}
+const char* to_string(Platform platform) { return util::name_of(kPlatformNames, platform); }
+
+Platform parse_platform(const std::string& text) { return util::parse_name(kPlatformNames, "EGL platform", text); }
 
 #ifdef GANZFELD_LEAK_CHECKED
 LeakCheckPause::LeakCheckPause() { __lsan_disable(); }

@@ -22,21 +22,8 @@ void main() {
 )";
 }
 
-Program::~Program() {
-  if (id_ != 0) glDeleteProgram(id_);
-}
-Program& Program::operator=(Program&& other) noexcept {
-  std::swap(id_, other.id_);
-  return *this;
-}
-
-Texture::~Texture() {
-  if (id_ != 0) glDeleteTextures(1, &id_);
-}
-Texture& Texture::operator=(Texture&& other) noexcept {
-  std::swap(id_, other.id_);
-  return *this;
-}
+void delete_program(GLuint id) { glDeleteProgram(id); }
+void delete_texture(GLuint id) { glDeleteTextures(1, &id); }
 
 namespace {
 GLuint compile(GLenum stage, const std::string& source, std::string& log) {

@@ -7,6 +7,7 @@
 
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "export/texture_file.h"
@@ -23,39 +24,43 @@ const char* glsl_version(Api api);
 /// cover the viewport; no vertex buffer).
 std::string fullscreen_vertex_shader(Api api);
 
-/// A linked program (0 while empty).
-class Program {
+/// A GL object's name, owned: `Delete` deletes it when the owner goes (0 while empty); moved,
+/// never copied.
+template <void (*Delete)(GLuint)>
+class Owned {
  public:
-  Program() = default;
-  explicit Program(GLuint id) : id_(id) {}
-  ~Program();
-  Program(Program&& other) noexcept : id_(other.id_) { other.id_ = 0; }
-  Program& operator=(Program&& other) noexcept;
+  Owned() = default;
+  explicit Owned(GLuint id) : id_(id) {}
+  ~Owned() {
+    if (id_ != 0) Delete(id_);
+  }
+  Owned(Owned&& other) noexcept : id_(other.id_) { other.id_ = 0; }
+  Owned& operator=(Owned&& other) noexcept {
+    std::swap(id_, other.id_);
+    return *this;
+  }
   GLuint id() const { return id_; }
   explicit operator bool() const { return id_ != 0; }
-  /// glGetUniformLocation (-1 when the program has no such active uniform).
-  GLint uniform(const char* name) const { return glGetUniformLocation(id_, name); }
 
  private:
   GLuint id_ = 0;
+};
+void delete_program(GLuint id);
+void delete_texture(GLuint id);
+
+/// A linked program (0 while empty).
+class Program : public Owned<delete_program> {
+ public:
+  using Owned::Owned;
+  /// glGetUniformLocation (-1 when the program has no such active uniform).
+  GLint uniform(const char* name) const { return glGetUniformLocation(id(), name); }
 };
 
 /// Compiles and links; an empty program and the compiler's or linker's log on failure.
 Program link_program(const std::string& vertex, const std::string& fragment, std::string& log);
 
 /// A texture (0 while empty).
-class Texture {
- public:
-  Texture() = default;
-  explicit Texture(GLuint id) : id_(id) {}
-  ~Texture();
-  Texture(Texture&& other) noexcept : id_(other.id_) { other.id_ = 0; }
-  Texture& operator=(Texture&& other) noexcept;
-  GLuint id() const { return id_; }
-
- private:
-  GLuint id_ = 0;
-};
+using Texture = Owned<delete_texture>;
 
 /// The texture of a table file's texels (export/texture_file.h: read_ktx2 or parse_ktx2) on
 /// texture unit `unit`, as docs/shaders.md says to upload it: R32F, R16F, or the 16-bit codes of

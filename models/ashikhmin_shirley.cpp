@@ -119,13 +119,7 @@ std::optional<IncidentSample> AshikhminShirley::sample_incident(const Vec3& j, c
 }
 
 double AshikhminShirley::pdf_incident(const Vec3& j, const Vec3& i) const {
-  if (!(j.z > 0.0) || !(i.z > 0.0)) return 0.0;
-  const double p_d = probability_diffuse();
-  double lobe = 0.0;
-  const Vec3 sum = i + j;
-  const double len = glm::length(sum);
-  if (p_d < 1.0 && len > 0.0) lobe = halfway_pdf(sum / len) / (2.0 * len);  // p_h/(4 j·h), j·h = |i + j|/2
-  return p_d * i.z / pi + (1.0 - p_d) * lobe;
+  return pdf_cosine_or_halfway(j, i, probability_diffuse(), [this](const Vec3& h) { return halfway_pdf(h); });
 }
 
 MassHints AshikhminShirley::mass_hints(const Vec3& fixed, Varying) const {

@@ -317,10 +317,7 @@ std::optional<IncidentSample> Ward::sample_incident(const Vec3& j, const std::ar
     const Vec3 h{sin_d * c, sin_d * s, cos_d};
     i = 2.0 * glm::dot(j, h) * h - j;
   }
-  if (!(i.z > 0.0)) return std::nullopt;
-  const double pdf = pdf_incident(j, i);
-  if (!(pdf > 0.0)) return std::nullopt;
-  return IncidentSample{glm::normalize(i), pdf};
+  return drawn_sample(*this, j, i);
 }
 
 double Ward::pdf_incident(const Vec3& j, const Vec3& i) const {
@@ -561,6 +558,23 @@ namespace {
 
 const char* kWalker = "Walker 1999, MSc thesis (U. Oregon), ch. III";
 
+/// The registry entry of a Phong-type model M(kd, ks, n, extra...): kd and ks with kd + ks <= 1,
+/// the exponent n (n_param, `n_meaning`).
+template <class M, class... Extra>
+ModelInfo phong_type_info(const char* name, std::string summary, std::string source, const char* n_meaning,
+                          Traits traits, Extra... extra) {
+  return {name,
+          std::move(summary),
+          std::move(source),
+          {kd_param(0.5), ks_param(0.5), n_param(20.0, n_meaning)},
+          traits,
+          {},
+          [name, extra...](const ParamValues& p) -> ModelPtr {
+            require_sum_at_most_one(name, "kd", p.at("kd"), "ks", p.at("ks"));
+            return std::make_shared<M>(p.at("kd"), p.at("ks"), p.at("n"), extra...);
+          }};
+}
+
 ModelInfo cook_torrance_info(FacetDistribution d) {
   const bool beckmann = d == FacetDistribution::beckmann;
   return {beckmann ? "cook-torrance" : "cook-torrance-gaussian",
@@ -584,45 +598,25 @@ ModelInfo cook_torrance_info(FacetDistribution d) {
 }  // namespace
 
 void register_classic_models(std::vector<ModelInfo>& c) {
-  c.push_back({"phong", "original Phong as a BRDF, f = kd/pi + ks cos^n(psi)/(i.n) (not reciprocal)",
-               std::string("Phong 1975, CACM 18(6); ") + kWalker + ", Phong (eq. III.6)",
-               {kd_param(0.5), ks_param(0.5), n_param(20.0, "specular exponent")},
-               {true, false, EnergyClass::not_plausible},
-               {},
-               [](const ParamValues& p) -> ModelPtr {
-                 require_sum_at_most_one("phong", "kd", p.at("kd"), "ks", p.at("ks"));
-                 return std::make_shared<Phong>(p.at("kd"), p.at("ks"), p.at("n"));
-               }});
-  c.push_back({"schlick-phong",
-               "original Phong with Schlick's rational lobe, f = kd/pi + ks t/(n - n t + t)/(i.n), t = max(0, cos psi)",
-               std::string("Schlick 1994, Computer Graphics Forum 13(3) (rational approximation); ") + kWalker +
-                   ", Phong (Figs. 17, 19)",
-               {kd_param(0.5), ks_param(0.5), n_param(20.0, "exponent the rational lobe approximates")},
-               {true, false, EnergyClass::not_plausible},
-               {},
-               [](const ParamValues& p) -> ModelPtr {
-                 require_sum_at_most_one("schlick-phong", "kd", p.at("kd"), "ks", p.at("ks"));
-                 return std::make_shared<Phong>(p.at("kd"), p.at("ks"), p.at("n"), PhongLobe::schlick_rational);
-               }});
-  c.push_back({"phong-lewis", "Lewis's normalized Phong, f = kd/pi + ks (n+2)/(2 pi) cos^n(psi)",
-               std::string("Lewis 1994, Computer Graphics Forum 13(2); ") + kWalker + ", Phong",
-               {kd_param(0.5), ks_param(0.5), n_param(20.0, "specular exponent")},
-               {true, true, EnergyClass::plausible},
-               {},
-               [](const ParamValues& p) -> ModelPtr {
-                 require_sum_at_most_one("phong-lewis", "kd", p.at("kd"), "ks", p.at("ks"));
-                 return std::make_shared<PhongLewis>(p.at("kd"), p.at("ks"), p.at("n"));
-               }});
-  c.push_back({"blinn-phong",
-               "halfway-vector Phong, f = kd/pi + ks C(n) (h.n)^n, C(n): unit albedo at normal incidence",
-               std::string("Blinn 1977, SIGGRAPH '77; ") + kWalker + ", Phong (halfway variant)",
-               {kd_param(0.5), ks_param(0.5), n_param(20.0, "exponent of h.n")},
-               {true, true, EnergyClass::plausible},
-               {},
-               [](const ParamValues& p) -> ModelPtr {
-                 require_sum_at_most_one("blinn-phong", "kd", p.at("kd"), "ks", p.at("ks"));
-                 return std::make_shared<BlinnPhong>(p.at("kd"), p.at("ks"), p.at("n"));
-               }});
+  c.push_back(phong_type_info<Phong>("phong",
+                                     "original Phong as a BRDF, f = kd/pi + ks cos^n(psi)/(i.n) (not reciprocal)",
+                                     std::string("Phong 1975, CACM 18(6); ") + kWalker + ", Phong (eq. III.6)",
+                                     "specular exponent", {true, false, EnergyClass::not_plausible}));
+  c.push_back(phong_type_info<Phong>(
+      "schlick-phong",
+      "original Phong with Schlick's rational lobe, f = kd/pi + ks t/(n - n t + t)/(i.n), t = max(0, cos psi)",
+      std::string("Schlick 1994, Computer Graphics Forum 13(3) (rational approximation); ") + kWalker +
+          ", Phong (Figs. 17, 19)",
+      "exponent the rational lobe approximates", {true, false, EnergyClass::not_plausible},
+      PhongLobe::schlick_rational));
+  c.push_back(
+      phong_type_info<PhongLewis>("phong-lewis", "Lewis's normalized Phong, f = kd/pi + ks (n+2)/(2 pi) cos^n(psi)",
+                                  std::string("Lewis 1994, Computer Graphics Forum 13(2); ") + kWalker + ", Phong",
+                                  "specular exponent", {true, true, EnergyClass::plausible}));
+  c.push_back(phong_type_info<BlinnPhong>(
+      "blinn-phong", "halfway-vector Phong, f = kd/pi + ks C(n) (h.n)^n, C(n): unit albedo at normal incidence",
+      std::string("Blinn 1977, SIGGRAPH '77; ") + kWalker + ", Phong (halfway variant)", "exponent of h.n",
+      {true, true, EnergyClass::plausible}));
   c.push_back(cook_torrance_info(FacetDistribution::beckmann));
   c.push_back(cook_torrance_info(FacetDistribution::gaussian));
   c.push_back({"ward",

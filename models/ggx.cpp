@@ -170,11 +170,7 @@ MassHints Ggx::mass_hints(const Vec3& fixed, Varying) const {
 std::optional<IncidentSample> Ggx::sample_incident(const Vec3& j, const std::array<double, 3>& u) const {
   if (!(j.z > 0.0)) return std::nullopt;
   const Vec3 m = ggx::sample_visible_normal(j, alpha_, u[0], u[1]);
-  const Vec3 i = 2.0 * glm::dot(j, m) * m - j;  // the mirror reflection of j about m
-  if (!(i.z > 0.0)) return std::nullopt;
-  const double pdf = pdf_incident(j, i);
-  if (!(pdf > 0.0)) return std::nullopt;
-  return IncidentSample{glm::normalize(i), pdf};
+  return drawn_sample(*this, j, 2.0 * glm::dot(j, m) * m - j);  // the mirror reflection of j about m
 }
 
 double Ggx::pdf_incident(const Vec3& j, const Vec3& i) const {

@@ -1,9 +1,10 @@
-// The incident-direction draw that Ashikhmin–Shirley (models/ashikhmin_shirley.h) and Schlick 1994
-// (models/schlick.h) share: a mixture of a cosine-weighted draw and the reflection of j about a
-// halfway vector drawn by the model's own formulas.
+// The incident-direction draw, and its density, that Ashikhmin–Shirley (models/ashikhmin_shirley.h)
+// and Schlick 1994 (models/schlick.h) share: a mixture of a cosine-weighted draw and the reflection
+// of j about a halfway vector drawn by the model's own formulas.
 #pragma once
 
 #include <array>
+#include <numbers>
 #include <optional>
 
 #include "models/model.h"
@@ -33,6 +34,18 @@ std::optional<IncidentSample> sample_cosine_or_halfway(const Model& model, const
   const double pdf = model.pdf_incident(j, i);
   if (!(pdf > 0.0)) return std::nullopt;
   return IncidentSample{i, pdf};
+}
+
+/// The density per steradian of that draw at i: p_cosine (i·n)/pi + (1 - p_cosine) p_h(h)/(4 j·h)
+/// with h = (i + j)/|i + j|, j·h = |i + j|/2, and p_h the density of the model's halfway draw;
+/// 0 where i·n <= 0 or j·n <= 0.
+template <class HalfwayPdf>
+double pdf_cosine_or_halfway(const Vec3& j, const Vec3& i, double p_cosine, const HalfwayPdf& halfway_pdf) {
+  if (!(j.z > 0.0) || !(i.z > 0.0)) return 0.0;
+  const Vec3 sum = i + j;
+  const double len = glm::length(sum);
+  const double lobe = p_cosine < 1.0 && len > 0.0 ? halfway_pdf(sum / len) / (2.0 * len) : 0.0;
+  return p_cosine * i.z / std::numbers::pi + (1.0 - p_cosine) * lobe;
 }
 
 }  // namespace ganzfeld

@@ -26,6 +26,13 @@ std::optional<IncidentSample> Model::sample_incident(const Vec3& j, const std::a
   return IncidentSample{i, i.z * std::numbers::inv_pi};
 }
 
+std::optional<IncidentSample> drawn_sample(const Model& model, const Vec3& j, const Vec3& i) {
+  if (!(i.z > 0.0)) return std::nullopt;
+  const double pdf = model.pdf_incident(j, i);
+  if (!(pdf > 0.0)) return std::nullopt;
+  return IncidentSample{glm::normalize(i), pdf};
+}
+
 bool has_mirror_delta(const Model& model) noexcept {
   constexpr int kSteps = 64;
   for (int k = 1; k <= kSteps; ++k)

@@ -102,6 +102,11 @@ class Model {
   virtual std::optional<GlslF> glsl_mirror_reflectance() const { return std::nullopt; }
 };
 
+/// The sample of a direction i drawn for j (not necessarily of unit length): nothing where i lies
+/// on or below the horizon or where model.pdf_incident(j, i), taken at i as drawn, is 0; else i
+/// made unit with that density.
+std::optional<IncidentSample> drawn_sample(const Model& model, const Vec3& j, const Vec3& i);
+
 /// Whether the model has a mirror delta (Model::mirror_reflectance > 0) at some incidence: the
 /// cosines k/64, k = 1..64, are tried.
 bool has_mirror_delta(const Model& model) noexcept;

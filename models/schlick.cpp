@@ -157,12 +157,7 @@ std::optional<IncidentSample> Schlick::sample_incident(const Vec3& j, const std:
 }
 
 double Schlick::pdf_incident(const Vec3& j, const Vec3& i) const {
-  if (!(j.z > 0.0) || !(i.z > 0.0)) return 0.0;
-  const double p_c = probability_cosine(j.z);
-  const Vec3 sum = i + j;
-  const double len = glm::length(sum);
-  const double lobe = len > 0.0 ? halfway_pdf(sum / len) / (2.0 * len) : 0.0;  // p_h/(4 j·h)
-  return p_c * i.z / pi + (1.0 - p_c) * lobe;
+  return pdf_cosine_or_halfway(j, i, probability_cosine(j.z), [this](const Vec3& h) { return halfway_pdf(h); });
 }
 
 MassHints Schlick::mass_hints(const Vec3& fixed, Varying) const {

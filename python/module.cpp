@@ -236,7 +236,8 @@ tables::BakeRequest bake_request(const Model& model, Law law, const BakeArgument
   if (!a.res && !a.max_error) throw InputError("bake needs res= (node counts) or max_error= (a lookup error)");
   if (a.res && a.max_error)
     throw InputError("res= and max_error= are mutually exclusive: max_error= chooses the resolution itself");
-  if (a.max_bytes && !a.max_error) throw InputError("max_bytes= needs max_error= (it caps the table max_error= sizes)");
+  if (a.max_bytes && !a.max_error)  // spelled as this module spells keywords: max_bytes=
+    throw InputError(tables::needs_target("max_bytes").worded([](const Named& n) { return n.parameter + "="; }));
   check_tolerance("tol", a.tol);
   check_max_evaluations("max_evals", a.max_evaluations);
   const tables::Encoding encoding = tables::parse_encoding(a.encoding);

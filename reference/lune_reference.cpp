@@ -124,19 +124,27 @@ double tanh_sinh_panels(F&& f, const std::vector<double>& cut, const Options& op
   return sum;
 }
 
-/// Nested: outer over `outer_cut`, inner over `inner_cut`; point(outer, inner) is the integrand.
-/// Each inner integral may err by tolerance × (the whole integral's L1 norm) / (the outer span):
-/// summed by the outer rule, that is the tolerance relative to the whole. The L1 norm comes from a
+/// The absolute error each inner integral of a nested one may have (0: none, without
+/// Options::global_tolerance): tolerance × (the whole integral's L1 norm) / (the outer span),
+/// which summed by the outer rule is the tolerance relative to the whole. The L1 norm comes from a
 /// cheap gauss_kronrod<15> pass, unrefined at both levels (it only scales the inner stopping rule;
 /// the errors reported are Boost's own estimates either way).
+template <class F>
+double inner_tolerance(F& point, const std::vector<double>& outer_cut, const std::vector<double>& inner_cut,
+                       const Options& options) {
+  const double l1 =
+      rough_l1<15>([&](double x) { return rough_l1<15>([&](double y) { return point(x, y); }, inner_cut); }, outer_cut);
+  return options.global_tolerance ? options.tolerance * l1 / (outer_cut.back() - outer_cut.front()) : 0.0;
+}
+
+/// Nested: outer over `outer_cut`, inner over `inner_cut`; point(outer, inner) is the integrand,
+/// each inner integral to inner_tolerance.
 template <unsigned Points, class F>
 Value nested(F&& point, const std::vector<double>& outer_cut, const std::vector<double>& inner_cut,
              const Options& options) {
   Value out;
   const double span = outer_cut.back() - outer_cut.front();
-  const double l1 = rough_l1<15>(
-      [&](double x) { return rough_l1<15>([&](double y) { return point(x, y); }, inner_cut); }, outer_cut);
-  const double inner_absolute = options.global_tolerance ? options.tolerance * l1 / span : 0.0;
+  const double inner_absolute = inner_tolerance(point, outer_cut, inner_cut, options);
   double worst_inner = 0.0;
   auto inner = [&](double x) {
     double error = 0.0;
@@ -157,10 +165,7 @@ template <class F>
 Value nested_tanh_sinh(F&& point, const std::vector<double>& outer_cut, const std::vector<double>& inner_cut,
                        const Options& options) {
   Value out;
-  const double span = outer_cut.back() - outer_cut.front();
-  const double l1 = rough_l1<15>(
-      [&](double x) { return rough_l1<15>([&](double y) { return point(x, y); }, inner_cut); }, outer_cut);
-  const double inner_absolute = options.global_tolerance ? options.tolerance * l1 / span : 0.0;
+  const double inner_absolute = inner_tolerance(point, outer_cut, inner_cut, options);
   std::vector<std::pair<double, double>> inner_errors;  // (outer node, inner error there)
   auto inner = [&](double x) {
     double error = 0.0;

@@ -18,6 +18,7 @@
 #include "models/spec.h"
 #include "reference/lune_reference.h"
 #include "util/error.h"
+#include "util/names.h"
 #include "util/timing.h"
 
 namespace ganzfeld {
@@ -99,14 +100,10 @@ bool honest(double value, double error, double reference, double reference_error
 
 enum class ReferenceRule { gauss_kronrod_61, gauss_kronrod_31_swapped, tanh_sinh };
 
-const char* rule_name(ReferenceRule rule) {
-  switch (rule) {
-    case ReferenceRule::gauss_kronrod_61: return "gauss_kronrod<61>";
-    case ReferenceRule::gauss_kronrod_31_swapped: return "gauss_kronrod<31>, swapped";
-    case ReferenceRule::tanh_sinh: return "tanh_sinh";
-  }
-  return "?";
-}
+constexpr std::array<util::EnumName<ReferenceRule>, 3> kRuleNames{
+    {{ReferenceRule::gauss_kronrod_61, "gauss_kronrod<61>"},
+     {ReferenceRule::gauss_kronrod_31_swapped, "gauss_kronrod<31>, swapped"},
+     {ReferenceRule::tanh_sinh, "tanh_sinh"}}};
 
 reference::Value reference_law(const Model& model, Law law, const Vec3& i, const Vec3& j, ReferenceRule rule) {
   reference::Options options;
@@ -181,7 +178,7 @@ ExtremesCase judge_case(const Model& model, Law law, const Vec3& i, const Vec3& 
   const reference::Value& ref = get(judging);
   c.reference = ref.value;
   c.reference_error = ref.total_error();
-  c.reference_rule = rule_name(kOrder[judging]);
+  c.reference_rule = util::name_of(kRuleNames, kOrder[judging]);
   if (c.reference_unresolved || honest(c.engine.value, c.engine.error, c.reference, c.reference_error)) return c;
   // The engine disagrees with the judging reference: another resolved reference (any finite one,
   // when none resolved) that agrees with it makes the case "references disagree"; none makes it

@@ -38,17 +38,11 @@ Sample from_estimate(double printed, double corrected, const Estimate& e) {
   return {printed, corrected, e.value, e.error, e.converged, 1};
 }
 
-
-CheckResult meta(std::string id, std::string where, std::string models, std::string printed,
+/// check_meta of a claim printed in K&P at `where`.
+CheckResult meta(std::string id, const std::string& where, std::string models, std::string printed,
                  std::string corrected = "", std::string explanation = "") {
-  CheckResult c;
-  c.id = std::move(id);
-  c.source = std::string(kSrc) + ", " + where;
-  c.models = std::move(models);
-  c.printed = std::move(printed);
-  c.corrected = std::move(corrected);
-  c.explanation = std::move(explanation);
-  return c;
+  return check_meta(std::move(id), std::string(kSrc) + ", " + where, std::move(models), std::move(printed),
+                    std::move(corrected), std::move(explanation));
 }
 
 using PairForm = std::function<double(const Vec3& i, const Vec3& j)>;
@@ -355,7 +349,7 @@ CheckResult mixture_check() {
   std::vector<Job> jobs;
   std::string models;
   for (const auto& spec : kMixtureSpecs) {
-    models += (models.empty() ? "" : "; ") + spec;
+    append_model(models, spec);
     jobs.push_back([spec] {
       const ModelPtr m = parse_model(spec);
       std::mt19937_64 rng(20190117);  // fixed seed: a reproducible report
@@ -409,12 +403,17 @@ CubatureOptions reference_options() {
   return o;
 }
 
-CheckResult check_meta(std::string id, std::string source, std::string models, std::string printed) {
+void append_model(std::string& models, const std::string& spec) { models += (models.empty() ? "" : "; ") + spec; }
+
+CheckResult check_meta(std::string id, std::string source, std::string models, std::string printed,
+                       std::string corrected, std::string explanation) {
   CheckResult c;
   c.id = std::move(id);
   c.source = std::move(source);
   c.models = std::move(models);
   c.printed = std::move(printed);
+  c.corrected = std::move(corrected);
+  c.explanation = std::move(explanation);
   return c;
 }
 
@@ -436,6 +435,14 @@ Estimate integrate_over_lune(const Vec3& pole, const std::function<double(const 
   const double gap = 1e-3 * scales.front();
   return adaptive_cubature<2>(integrand, {tidy_cuts(t_lines, -pi / 2, pi / 2, gap), tidy_cuts(phi_lines, fr.phi_lo, pi / 2, gap)},
                               options);
+}
+
+Job hemisphere_job(std::function<double(const Vec3&)> F, std::vector<double> scales, double printed, double corrected,
+                   bool at_horizon) {
+  return [F = std::move(F), scales = std::move(scales), printed, corrected, at_horizon] {
+    const Estimate e = integrate_over_lune(Vec3{0.0, 0.0, 1.0}, F, scales, at_horizon);
+    return Sample{printed, corrected, e.value, e.error, e.converged, 1};
+  };
 }
 
 CheckResult run_check(CheckResult check, const std::vector<Job>& jobs) {

@@ -34,7 +34,6 @@ using namespace verify_support;
 
 const char* kAshikhminShirley = "Ashikhmin & Shirley 2000, An Anisotropic Phong BRDF Model, JGT 5(2)";
 const char* kSchlick = "Schlick 1994, An Inexpensive BRDF Model for Physically-based Rendering, CGF 13(3)";
-const Vec3 kNormal{0.0, 0.0, 1.0};
 
 struct Exponents {
   double nu, nv;
@@ -45,15 +44,12 @@ CheckResult as_pdf_check() {
   std::vector<Job> jobs;
   std::string models;
   for (const Exponents& e : cases) {
-    const AshikhminShirley m(0.5, 0.05, e.nu, e.nv);
-    models += (models.empty() ? "" : "; ") + m.spec();
-    jobs.push_back([e] {
-      const AshikhminShirley model(0.5, 0.05, e.nu, e.nv);
-      const double narrow = 1.0 / std::sqrt(std::max(e.nu, e.nv) + 1.0), wide = 1.0 / std::sqrt(std::min(e.nu, e.nv) + 1.0);
-      const Estimate est = integrate_over_lune(kNormal, [&](const Vec3& h) { return model.halfway_pdf(h); },
-                                               {narrow / 4, wide / 4});
-      return Sample{1.0, kNaN, est.value, est.error, est.converged, 1};
-    });
+    const AshikhminShirley model(0.5, 0.05, e.nu, e.nv);
+    append_model(models, model.spec());
+    const double narrow = 1.0 / std::sqrt(std::max(e.nu, e.nv) + 1.0);
+    const double wide = 1.0 / std::sqrt(std::min(e.nu, e.nv) + 1.0);
+    jobs.push_back(hemisphere_job([model](const Vec3& h) { return model.halfway_pdf(h); }, {narrow / 4, wide / 4},
+                                  1.0));
   }
   return run_check(check_meta("ashikhmin-shirley.pdf", std::string(kAshikhminShirley) + ", Monte Carlo sampling", models,
                               "the halfway vectors drawn by phi = atan(sqrt((n_u+1)/(n_v+1)) tan(pi xi_1/2)), "
@@ -68,15 +64,14 @@ CheckResult as_diffuse_check() {
   const std::vector<double> rs_values{0.0, 0.05, 0.5};
   std::string models;
   for (double rs : rs_values) {
-    models += (models.empty() ? "" : "; ") + AshikhminShirley(1.0, rs, 10.0, 10.0).spec();
-    for (double mu : {1.0, 0.9, 0.5, 0.1, 1e-3, 0.0})
-      jobs.push_back([rs, mu] {
-        const AshikhminShirley model(1.0, rs, 10.0, 10.0);
-        const Vec3 i = direction_from_cos(mu);
-        const Estimate e = integrate_over_lune(kNormal, [&](const Vec3& k) { return model.diffuse(i, k) * k.z; }, {1.0});
-        const double x = 1.0 - 0.5 * mu;
-        return Sample{(1.0 - rs) * (1.0 - x * x * x * x * x), kNaN, e.value, e.error, e.converged, 1};
-      });
+    const AshikhminShirley model(1.0, rs, 10.0, 10.0);
+    append_model(models, model.spec());
+    for (double mu : {1.0, 0.9, 0.5, 0.1, 1e-3, 0.0}) {
+      const Vec3 i = direction_from_cos(mu);
+      const double x = 1.0 - 0.5 * mu;
+      jobs.push_back(hemisphere_job([model, i](const Vec3& k) { return model.diffuse(i, k) * k.z; }, {1.0},
+                                    (1.0 - rs) * (1.0 - x * x * x * x * x)));
+    }
   }
   return run_check(check_meta("ashikhmin-shirley.diffuse", std::string(kAshikhminShirley) + ", the diffuse term", models,
                               "rho_d = 28 R_d/(23 pi) (1 - R_s)(1 - (1 - i.n/2)^5)(1 - (1 - j.n/2)^5) reflects "
@@ -90,12 +85,9 @@ CheckResult schlick_z_check() {
   const std::vector<double> roughness{1.0, 0.5, 0.1, 0.01, 1e-3};
   std::string models;
   for (double r : roughness) {
-    models += (models.empty() ? "" : "; ") + spec_text({"schlick", {{"r", r}}});
-    jobs.push_back([r] {
-      const Estimate e = integrate_over_lune(kNormal, [&](const Vec3& h) { return schlick::zenith(h.z, r) * h.z; },
-                                             {std::sqrt(r) / 4});
-      return Sample{pi, kNaN, e.value, e.error, e.converged, 1};
-    });
+    append_model(models, spec_text({"schlick", {{"r", r}}}));
+    jobs.push_back(
+        hemisphere_job([r](const Vec3& h) { return schlick::zenith(h.z, r) * h.z; }, {std::sqrt(r) / 4}, pi));
   }
   return run_check(check_meta("schlick.z.norm", std::string(kSchlick) + ", the normalization of D and Z(t)", models,
                               "a slope distribution satisfies integral integral D(alpha, phi) cos alpha sin alpha "
@@ -109,26 +101,25 @@ CheckResult schlick_a_check() {
   constexpr double kRoughness = 0.1;
   std::string models;
   for (double p : isotropy) {
-    models += (models.empty() ? "" : "; ") + spec_text({"schlick", {{"r", kRoughness}, {"p", p}}});
-    jobs.push_back([p] {
-      const auto D = [&](const Vec3& h) {
-        const double s = std::hypot(h.x, h.y), w = s > 0.0 ? h.x / s : 1.0;
-        return schlick::zenith(h.z, kRoughness) * schlick::azimuth(w, p) * h.z;
-      };
-      const Estimate e = integrate_over_lune(kNormal, D, {std::min(p, std::sqrt(kRoughness)) / 4, std::sqrt(kRoughness) / 4});
-      return Sample{pi, pi * schlick::azimuth_mean(p), e.value, e.error, e.converged, 1};
-    });
+    append_model(models, spec_text({"schlick", {{"r", kRoughness}, {"p", p}}}));
+    const auto D = [p](const Vec3& h) {
+      const double s = std::hypot(h.x, h.y), w = s > 0.0 ? h.x / s : 1.0;
+      return schlick::zenith(h.z, kRoughness) * schlick::azimuth(w, p) * h.z;
+    };
+    jobs.push_back(hemisphere_job(D, {std::min(p, std::sqrt(kRoughness)) / 4, std::sqrt(kRoughness) / 4}, pi,
+                                  pi * schlick::azimuth_mean(p)));
   }
-  CheckResult c = check_meta("schlick.a.norm", std::string(kSchlick) + ", the anisotropic distribution Z(t) A(w)", models,
-                             "integral integral Z(t) A(w) cos alpha sin alpha d alpha d phi = pi with A(w) = "
-                             "sqrt(p/(p^2 - p^2 w^2 + w^2)), w = cos phi (the normalization of a slope distribution)");
-  c.corrected = "the integral is pi a(p), a(p) = (2/pi) sqrt(p) K(sqrt(1 - p^2)) the mean of A over phi (K the complete "
-                "elliptic integral of the first kind); the model uses A/a(p)";
-  c.explanation = "Z carries the whole normalization; A multiplies it by its mean over the azimuth, "
-                  "(1/(2 pi)) integral_0^(2 pi) sqrt(p)/sqrt(cos^2 phi + p^2 sin^2 phi) d phi = (2/pi) sqrt(p) "
-                  "K(sqrt(1 - p^2)), which is 1 only at p = 1 (0.971 at p = 0.5, 0.744 at 0.1, 0.381 at 0.01): "
-                  "the printed anisotropic distribution loses that fraction of its energy";
-  return run_check(std::move(c), jobs);
+  return run_check(
+      check_meta("schlick.a.norm", std::string(kSchlick) + ", the anisotropic distribution Z(t) A(w)", models,
+                 "integral integral Z(t) A(w) cos alpha sin alpha d alpha d phi = pi with A(w) = "
+                 "sqrt(p/(p^2 - p^2 w^2 + w^2)), w = cos phi (the normalization of a slope distribution)",
+                 "the integral is pi a(p), a(p) = (2/pi) sqrt(p) K(sqrt(1 - p^2)) the mean of A over phi (K the "
+                 "complete elliptic integral of the first kind); the model uses A/a(p)",
+                 "Z carries the whole normalization; A multiplies it by its mean over the azimuth, "
+                 "(1/(2 pi)) integral_0^(2 pi) sqrt(p)/sqrt(cos^2 phi + p^2 sin^2 phi) d phi = (2/pi) sqrt(p) "
+                 "K(sqrt(1 - p^2)), which is 1 only at p = 1 (0.971 at p = 0.5, 0.744 at 0.1, 0.381 at 0.01): "
+                 "the printed anisotropic distribution loses that fraction of its energy"),
+      jobs);
 }
 
 CheckResult kajiya_cylinder_check() {

@@ -45,11 +45,8 @@ std::string alpha_list(const std::vector<AlphaCase>& cases) {
 CheckResult norm_check() {
   std::vector<Job> jobs;
   for (const auto& c : kAlphas)
-    jobs.push_back([c] {
-      const Estimate e = integrate_over_lune(Vec3{0.0, 0.0, 1.0}, [&](const Vec3& m) { return ggx::D(m, c.alpha) * m.z; },
-                                        {std::min(c.alpha.x, c.alpha.y) / 4, std::max(c.alpha.x, c.alpha.y) / 4});
-      return Sample{1.0, kNaN, e.value, e.error, e.converged, 1};
-    });
+    jobs.push_back(hemisphere_job([c](const Vec3& m) { return ggx::D(m, c.alpha) * m.z; },
+                                  {std::min(c.alpha.x, c.alpha.y) / 4, std::max(c.alpha.x, c.alpha.y) / 4}, 1.0));
   return run_check(check_meta("ggx.norm", "Walter et al. 2007, eq. 33; Heitz 2014, anisotropic GGX", alpha_list(kAlphas),
                         "the GGX distribution D = 1/(pi alpha_x alpha_y (m_x^2/alpha_x^2 + m_y^2/alpha_y^2 + m_z^2)^2) "
                         "is normalized, integral of D(m)(m.n) dm = 1"),
@@ -113,14 +110,11 @@ CheckResult charlie_norm_check() {
   const std::vector<double> alphas{1.0, 0.5, 0.1, 0.01};
   std::string models;
   for (double a : alphas) {
-    models += (models.empty() ? "charlie:alpha=" : "; charlie:alpha=") + format_number(a);
-    jobs.push_back([a] {
-      const Charlie charlie(a);
-      // Its mass lies within ~sqrt(alpha) of the horizon (sin^(1/alpha) ~ exp(-cos^2/(2 alpha))).
-      const Estimate e = integrate_over_lune(Vec3{0.0, 0.0, 1.0}, [&](const Vec3& m) { return charlie.D(1.0 - m.z * m.z) * m.z; },
-                                        {std::sqrt(a) / 4}, true);
-      return Sample{1.0, kNaN, e.value, e.error, e.converged, 1};
-    });
+    append_model(models, "charlie:alpha=" + format_number(a));
+    // Its mass lies within ~sqrt(alpha) of the horizon (sin^(1/alpha) ~ exp(-cos^2/(2 alpha))).
+    const Charlie charlie(a);
+    jobs.push_back(hemisphere_job([charlie](const Vec3& m) { return charlie.D(1.0 - m.z * m.z) * m.z; },
+                                  {std::sqrt(a) / 4}, 1.0, kNaN, true));
   }
   return run_check(check_meta("charlie.norm", "Estevez & Kulla 2017, Production Friendly Microfacet Sheen BRDF", models,
                         "the sheen distribution D = (2 + 1/alpha) sin^(1/alpha)(theta)/(2 pi) is normalized, "

@@ -31,13 +31,9 @@ const char* kSrc = "Edwards et al., The Halfway Vector Disk for BRDF Modeling";
 /// Outgoing polar angles (degrees): normal to 89°, where R_s = 1 − sin θ_o = 1.5e-4.
 const std::vector<double> kThetaO{0.0, 10.0, 30.0, 45.0, 60.0, 75.0, 85.0, 89.0};
 
-CheckResult meta(std::string id, std::string where, std::string models, std::string printed) {
-  CheckResult c;
-  c.id = std::move(id);
-  c.source = std::string(kSrc) + ", " + where;
-  c.models = std::move(models);
-  c.printed = std::move(printed);
-  return c;
+/// check_meta of a claim printed in Edwards et al. at `where`.
+CheckResult meta(std::string id, const std::string& where, std::string models, std::string printed) {
+  return check_meta(std::move(id), std::string(kSrc) + ", " + where, std::move(models), std::move(printed));
 }
 
 std::string sci(double x) {
@@ -165,7 +161,7 @@ CheckResult energy_scaling_check() {
   std::vector<Job> jobs;
   std::string models;
   for (const auto& spec : specs) {
-    models += (models.empty() ? "" : "; ") + spec;
+    append_model(models, spec);
     for (double theta : kThetaO)
       for (double phi : {0.0, 60.0}) {
         jobs.push_back([=] {

@@ -26,14 +26,24 @@ using Job = std::function<Sample()>;
 /// Cubature options of every reference (kReferenceTolerance).
 CubatureOptions reference_options();
 
-/// A check's identity: id, source (paper and equation), the models it ran on, the claim as printed.
-CheckResult check_meta(std::string id, std::string source, std::string models, std::string printed);
+/// Appends `spec` to the list of models a check ran on ("; "-separated).
+void append_model(std::string& models, const std::string& spec);
+
+/// A check's identity: id, source (paper and equation), the models it ran on, the claim as printed,
+/// and for an erratum our corrected form and how it was derived.
+CheckResult check_meta(std::string id, std::string source, std::string models, std::string printed,
+                       std::string corrected = "", std::string explanation = "");
 
 /// ∫ F(m) dm over the lune {m·n > 0, m·pole > 0}, with cut lines at angular distances `scales`
 /// (and their multiples 4^k up to 1) from the normal n, and from the horizon when `at_horizon`.
 Estimate integrate_over_lune(const Vec3& pole, const std::function<double(const Vec3&)>& F,
                              const std::vector<double>& scales, bool at_horizon = false,
                              CubatureOptions options = reference_options());
+
+/// A job comparing `printed` (and `corrected`) with ∫ F(m) dm over the hemisphere m·n > 0 (the lune
+/// with pole n, cut as integrate_over_lune): the normalization of a distribution or a density.
+Job hemisphere_job(std::function<double(const Vec3&)> F, std::vector<double> scales, double printed,
+                   double corrected = kNaN, bool at_horizon = false);
 
 /// Runs the jobs in parallel (results are reduced in order: deterministic) and fills the
 /// check's errors, status and reference statistics.

@@ -15,6 +15,7 @@
 #include "models/registry.h"
 #include "models/spec.h"
 #include "tables/cache.h"
+#include "tables/to_error.h"
 #include "util/error.h"
 
 namespace ganzfeld::serve {
@@ -267,7 +268,7 @@ TableQuery parse_table(const Query& query, const Limits& limits, TableEndpoint e
   }
   if (const auto fetches = number(query, "fetches")) {  // as `bake model --fetches N`: the lookup's fetch budget
     tables::TargetBake* bake = std::get_if<tables::TargetBake>(&q.options);
-    if (!bake) throw bad("fetches needs max_error (it is the fetch budget of that search)");
+    if (!bake) throw bad(tables::needs_target("fetches").what());
     if (*fetches != std::floor(*fetches) || *fetches < 1 || *fetches > 1e6)
       throw bad("fetches=" + format_number(*fetches) + " is not allowed; expected an integer >= 1");
     bake->target.max_fetches = static_cast<int>(*fetches);

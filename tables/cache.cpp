@@ -104,19 +104,11 @@ std::string cache_file_name(const TableKey& key) {
 }
 
 bool same_key(const TableKey& a, const TableKey& b) noexcept {
-  if (a.model != b.model || a.content != b.content || a.law != b.law || a.tolerance != b.tolerance ||
-      a.encoding != b.encoding || a.format_version != b.format_version || a.axes.size() != b.axes.size() ||
-      a.interpolation != b.interpolation || a.frame != b.frame || a.peak != b.peak ||
-      a.target_error != b.target_error || a.target_bytes != b.target_bytes || a.target_fetches != b.target_fetches ||
-      a.filter != b.filter)
-    return false;
-  for (std::size_t d = 0; d < a.axes.size(); ++d) {
-    const Axis &x = a.axes[d], &y = b.axes[d];
-    if (x.name != y.name || x.min != y.min || x.max != y.max || x.count != y.count || x.mapping != y.mapping ||
-        x.width != y.width)
-      return false;
-  }
-  return true;
+  return a.model == b.model && a.content == b.content && a.law == b.law && a.tolerance == b.tolerance &&
+         a.encoding == b.encoding && a.format_version == b.format_version && a.axes == b.axes &&
+         a.interpolation == b.interpolation && a.frame == b.frame && a.peak == b.peak &&
+         a.target_error == b.target_error && a.target_bytes == b.target_bytes &&
+         a.target_fetches == b.target_fetches && a.filter == b.filter;
 }
 
 bool same_model(const Table& table, const Model& model) {

@@ -24,6 +24,22 @@ Sample blend(const Lookup& lookup, const Lookup::Site& site, WeightRounding roun
       rounding);
   return out;
 }
+
+/// Moves the weight of Catmull–Rom's tap `missing` (0 or 3), a node beyond the axis' end, onto
+/// the taps that stand in for it, counted inwards from it: on an even axis its mirror image about
+/// the first (the second), else the quadratic extrapolation 3 p[first] - 3 p[second] + p[third].
+void fold_missing_tap(double (&w)[4], int missing, bool even) noexcept {
+  const int inward = missing == 0 ? 1 : -1;
+  const int first = missing + inward, second = first + inward, third = second + inward;
+  if (even) {
+    w[second] += w[missing];
+  } else {
+    w[first] += 3.0 * w[missing];
+    w[second] -= 3.0 * w[missing];
+    w[third] += w[missing];
+  }
+  w[missing] = 0.0;
+}
 }  // namespace
 
 AxisTaps catmull_rom_taps(const Axis& axis, int k, double t, WeightRounding rounding) noexcept {
@@ -36,26 +52,8 @@ AxisTaps catmull_rom_taps(int count, bool even, int k, double t, WeightRounding 
   const double t2 = t * t, t3 = t2 * t;
   double w[4] = {0.5 * (-t3 + 2.0 * t2 - t), 0.5 * (3.0 * t3 - 5.0 * t2 + 2.0), 0.5 * (-3.0 * t3 + 4.0 * t2 + t),
                  0.5 * (t3 - t2)};
-  if (k == 0) {  // node -1 is missing: p[1] (even) or 3 p[0] - 3 p[1] + p[2]
-    if (even) {
-      w[2] += w[0];
-    } else {
-      w[1] += 3.0 * w[0];
-      w[2] -= 3.0 * w[0];
-      w[3] += w[0];
-    }
-    w[0] = 0.0;
-  }
-  if (k == n - 2) {  // node n is missing: p[n-2] (even) or 3 p[n-1] - 3 p[n-2] + p[n-3]
-    if (even) {
-      w[1] += w[3];
-    } else {
-      w[2] += 3.0 * w[3];
-      w[1] -= 3.0 * w[3];
-      w[0] += w[3];
-    }
-    w[3] = 0.0;
-  }
+  if (k == 0) fold_missing_tap(w, 0, even);      // node -1: p[1] (even) or 3 p[0] - 3 p[1] + p[2]
+  if (k == n - 2) fold_missing_tap(w, 3, even);  // node n: p[n-2] (even) or 3 p[n-1] - 3 p[n-2] + p[n-3]
   if (rounding != WeightRounding::exact) {  // nodes k, k+1: one linear fetch at fraction w2/(w1 + w2)
     const double middle = w[1] + w[2];
     const double f = filter_weight(w[2] / middle, rounding);
@@ -72,21 +70,11 @@ AxisTaps catmull_rom_taps(int count, bool even, int k, double t, WeightRounding 
 }
 
 bool same_lookup(const Table& a, const Table& b) noexcept {
-  if (a.law != b.law || a.frame != b.frame || a.interpolation != b.interpolation || a.axes.size() != b.axes.size())
-    return false;
+  if (a.law != b.law || a.frame != b.frame || a.interpolation != b.interpolation || a.axes != b.axes) return false;
   if (a.frame != Frame::cosines && a.peak != b.peak) return false;
   if (a.frame == Frame::warped) {  // the offset axis and the envelope follow each table's own warp
     const Warp &p = a.warp, &q = b.warp;
-    if (p.mix != q.mix || p.envelope != q.envelope || p.beta_whitening != q.beta_whitening || p.samples.size() != q.samples.size()) return false;
-    for (std::size_t k = 0; k < p.samples.size(); ++k)
-      if (p.samples[k].shift != q.samples[k].shift || p.samples[k].along != q.samples[k].along ||
-          p.samples[k].across != q.samples[k].across)
-        return false;
-  }
-  for (std::size_t d = 0; d < a.axes.size(); ++d) {
-    const Axis &p = a.axes[d], &q = b.axes[d];
-    if (p.name != q.name || p.min != q.min || p.max != q.max || p.count != q.count || p.mapping != q.mapping ||
-        p.width != q.width)
+    if (p.mix != q.mix || p.envelope != q.envelope || p.beta_whitening != q.beta_whitening || p.samples != q.samples)
       return false;
   }
   return true;

@@ -257,6 +257,12 @@ std::uint64_t entry_count(std::span<const Axis> axes) noexcept {
   return n;
 }
 
+std::vector<std::size_t> axis_strides(std::span<const Axis> axes) {
+  std::vector<std::size_t> stride(axes.size(), 1);
+  for (std::size_t d = axes.size(); d-- > 1;) stride[d - 1] = stride[d] * axes[d].count;
+  return stride;
+}
+
 namespace {
 
 /// The model spec is opaque to a table (read_table never parses it), but it must be something a

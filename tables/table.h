@@ -130,6 +130,8 @@ struct Axis {
   double index_coordinate(double x) const noexcept;
   /// x of node k, exact at both ends.
   double node(int k) const noexcept;
+
+  bool operator==(const Axis&) const = default;  ///< every field: the same nodes
 };
 
 /// An axis' index coordinate u(x) with the constants of its mapping computed once: the
@@ -233,6 +235,7 @@ inline constexpr double kLookupMargin = 1.5;
 /// do not name it).
 struct WarpSample {
   double shift = 0.0, along = 1.0, across = 1.0;
+  bool operator==(const WarpSample&) const = default;
 };
 struct Warp {
   std::vector<WarpSample> samples;  ///< >= 2
@@ -309,6 +312,9 @@ std::string values_digest(const Table& table);
 
 /// Product of the counts; 0 for no axes.
 std::uint64_t entry_count(std::span<const Axis> axes) noexcept;
+/// Per axis, the step of the entry index between neighbouring nodes along it (Table::axes: the
+/// last axis varies fastest, stride 1; each earlier one the product of the later counts).
+std::vector<std::size_t> axis_strides(std::span<const Axis> axes);
 
 /// Checks the metadata of a table against its format version (the model spec one printable
 /// line, the content digest empty or well-formed, axes of the law and frame, counts, finite

@@ -36,8 +36,7 @@ double order(Interpolation interpolation) { return interpolation == Interpolatio
 std::vector<double> axis_error_estimates(const Table& table, Interpolation interpolation) {
   const std::size_t dims = table.axes.size();
   std::vector<double> out(dims, 0.0);
-  std::vector<std::size_t> stride(dims, 1);
-  for (std::size_t d = dims - 1; d-- > 0;) stride[d] = stride[d + 1] * table.axes[d + 1].count;
+  const std::vector<std::size_t> stride = axis_strides(table.axes);
   const std::size_t n = table.entries();
   const bool cubic = interpolation == Interpolation::catmull_rom;
   for (std::size_t d = 0; d < dims; ++d) {
@@ -69,8 +68,7 @@ std::vector<double> axis_error_estimates(const Table& table, Interpolation inter
 /// over the axes. Unlike interpolation's h^2, it falls only as h.
 double weight_rounding_reach(const Table& table) {
   const std::size_t dims = table.axes.size();
-  std::vector<std::size_t> stride(dims, 1);
-  for (std::size_t d = dims - 1; d-- > 0;) stride[d] = stride[d + 1] * table.axes[d + 1].count;
+  const std::vector<std::size_t> stride = axis_strides(table.axes);
   double reach = 0.0;
   for (std::size_t d = 0; d < dims; ++d) {
     double step = 0.0;
@@ -153,6 +151,13 @@ void check_fetch_budget(long long fetches) {
   if (fetches < 1)
     throw InputError({Named{"fetches", std::to_string(fetches)},
                       " is not allowed; expected an integer >= 1 (texture fetches per lookup)"});
+}
+
+InputError needs_target(const std::string& parameter) {
+  const std::string why = parameter == "max_bytes" ? "it caps the value bytes of that search's tables"
+                          : parameter == "fetches" ? "it is the fetch budget of that search"
+                                                   : "it is what that search keeps when it misses";
+  return InputError({Named{parameter}, " needs ", Named{"max_error"}, " (" + why + ")"});
 }
 
 namespace {

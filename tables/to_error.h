@@ -33,6 +33,7 @@
 #include "models/model.h"
 #include "tables/bake.h"
 #include "tables/table.h"
+#include "util/error.h"
 
 namespace ganzfeld::tables {
 
@@ -59,6 +60,10 @@ double min_max_error(Encoding encoding) noexcept;
 void check_error_target(double max_error, std::uint64_t max_bytes, Law law, Encoding encoding);
 /// Refuses a fetch budget below 1 ("--fetches N is not allowed; expected an integer >= 1").
 void check_fetch_budget(long long fetches);
+/// The refusal of `parameter`, a part of an error target (max_bytes, fetches or best_effort),
+/// given without max_error, in one wording for every front end: "fetches needs max_error (it is
+/// the fetch budget of that search)".
+InputError needs_target(const std::string& parameter);
 
 /// The table of law `law` of `model` with lookup_error <= request.target.lookup_error and
 /// value_bytes <= request.target.max_bytes (0: kDefaultMaxValueBytes), within its fetch budget,

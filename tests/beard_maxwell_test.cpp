@@ -345,17 +345,9 @@ TEST(BeardMaxwell, NotPlausibleTheFirstSurfaceAlbedoGrowsAtGrazingIncidence) {
 // --- the Model contract ------------------------------------------------------------------------------
 TEST(BeardMaxwell, FiniteNonNegativeAndZeroBelowTheHorizon) {
   const auto dirs = test_directions();
-  const Vec3 below{0.6, 0, -0.8}, up{0, 0, 1};
   for (const std::string& p : kMaterials) {
     const auto m = bm(p);
-    for (const Vec3& i : dirs)
-      for (const Vec3& j : dirs) {
-        const double f = m->f(i, j);
-        ASSERT_TRUE(std::isfinite(f)) << p << " i.z=" << i.z << " j.z=" << j.z;
-        ASSERT_GE(f, 0.0) << p;
-      }
-    EXPECT_EQ(m->f(below, up), 0.0);
-    EXPECT_EQ(m->f(up, below), 0.0);
+    testing_support::expect_finite_non_negative(*m, dirs, p);
     // opposite directions on the horizon: no facet (i + j = 0), only the floored volumetric term
     const Vec3 e = direction_from_cos(0.0, 0.0), w = direction_from_cos(0.0, pi);
     EXPECT_EQ(m->first_surface(e, w), 0.0);

@@ -33,11 +33,7 @@ using std::numbers::pi;
 /// 1-D adaptive Gauss–Kronrod (61 points, tolerance 1e-12 requested) of a smooth or |g| <= 0.99
 /// peaked phase function: the normalization integrals are good to ~1e-12; allow 1e-9.
 constexpr double kPhaseIntegralTol = 1e-9;
-/// Absolute tolerance asked of the engine's cubature for albedos; its error estimate is the raw
-/// Kronrod–Gauss difference (integrate/cubature.h), a pessimistic bound.
-constexpr double kCubatureTol = 1e-6;
-/// Slack on albedo comparisons: ten times the requested cubature tolerance.
-constexpr double kAlbedoTol = 10 * kCubatureTol;
+using testing_support::kAlbedoTol;
 /// Relative rounding of a closed-form evaluation chain (a dozen operations, one expm1, one pow).
 constexpr double kFormulaRel = 1e-13;
 /// Rotating i and j about n changes the inputs by ~1 ulp; the sharpest HG lobe (g = 0.99,
@@ -50,7 +46,8 @@ constexpr double kValueFloor = 1e-12;
 /// below, the relative difference from x is <= 1e-5; allow 2e-5.
 constexpr double kThinLayerRel = 2e-5;
 
-CubatureOptions options() { return testing_support::cubature_options(kCubatureTol); }
+CubatureOptions options() { return testing_support::cubature_options(testing_support::kAlbedoCubatureTol); }
+using testing_support::albedo_at;
 using testing_support::kIncidenceCosines;
 
 // --- the registry path -------------------------------------------------------------------------
@@ -294,17 +291,9 @@ TEST(BlinnDusty, ThickThinAndEmptyLayers) {
 
 TEST(BlinnDusty, FiniteNonNegativeZeroBelowAndTheHorizonLimit) {
   const auto dirs = test_directions();
-  const Vec3 below{0.6, 0, -0.8}, up{0, 0, 1};
   for (const auto& p : kMaterials) {
     const ModelPtr m = make(p);
-    for (const Vec3& i : dirs)
-      for (const Vec3& j : dirs) {
-        const double f = m->f(i, j);
-        ASSERT_TRUE(std::isfinite(f)) << describe(p);
-        ASSERT_GE(f, 0.0) << describe(p);
-      }
-    EXPECT_EQ(m->f(below, up), 0.0);
-    EXPECT_EQ(m->f(up, below), 0.0);
+    testing_support::expect_finite_non_negative(*m, dirs, describe(p));
     // one direction on the horizon: 1 - exp(-inf) = 1, f = w Phi/(4pi mu_other), the formula's limit
     const auto b = std::dynamic_pointer_cast<const BlinnDusty>(m);
     const Vec3 h{1, 0, 0};
@@ -335,12 +324,6 @@ TEST(BlinnDusty, ReciprocalBitExactAndIsotropic) {
 }
 
 // --- energy by the engine ----------------------------------------------------------------------
-/// Albedo a(i) by the engine's cubature for i at the given cosine; must converge.
-double albedo_at(const Model& m, double cos_i, double phi = 0.3) {
-  const Estimate e = albedo(m, direction_from_cos(cos_i, phi), options());
-  EXPECT_TRUE(e.converged) << m.spec() << " cos_i=" << cos_i;
-  return e.value;
-}
 
 TEST(BlinnDusty, AlbedoIsBelowTheSingleScatteringBound) {
   // Of the beam, 1 - exp(-tau/mu_i) is intercepted, w of that re-emitted, and only part of it

@@ -30,21 +30,20 @@ namespace ganzfeld {
 namespace {
 
 using std::numbers::pi;
+using testing_support::direction_deg;
 using testing_support::expect_input_error;
+using testing_support::kHandRelative;
 
-/// f against the mpmath values: a few ulps of each of ~30 operations.
-constexpr double kHandRelative = 1e-13;
 /// Cubature tolerance of the energy checks and the slack they are compared with (ten times it).
 constexpr double kCubatureTol = 1e-8;
 constexpr double kEnergySlack = 10 * kCubatureTol;
 /// A model declared anisotropic or non-reciprocal must show at least this relative change.
 constexpr double kEvidence = 0.1;
 
-Vec3 dir(double theta_deg, double phi_deg) { return direction(theta_deg * pi / 180, phi_deg * pi / 180); }
-
 // The pairs of the mpmath values: computed at 30 digits from the headers' formulas written with
 // angles (the azimuth of h by atan2, the angles to the fibre axis by acos), not with the code.
-const Vec3 kI1 = dir(40, 20), kJ1 = dir(55, 215), kI2 = dir(30, 0), kJ2 = dir(35, 170);
+const Vec3 kI1 = direction_deg(40, 20), kJ1 = direction_deg(55, 215), kI2 = direction_deg(30, 0),
+           kJ2 = direction_deg(35, 170);
 
 TEST(CatalogueModels, ValuesAgainstAnIndependentEvaluation) {
   const struct {
@@ -78,7 +77,7 @@ TEST(CatalogueModels, ParametersAreValidated) {
 std::vector<Vec3> test_directions() {
   std::vector<Vec3> dirs;
   for (double t : {0.0, 1e-7, 20.0, 45.0, 70.0, 89.0, 89.999, 90.0})
-    for (double p : {0.0, 33.0, 90.0, 160.0, 181.0, 270.0}) dirs.push_back(dir(t, p));
+    for (double p : {0.0, 33.0, 90.0, 160.0, 181.0, 270.0}) dirs.push_back(direction_deg(t, p));
   std::mt19937_64 rng(3);
   std::uniform_real_distribution<double> u(0.0, 1.0);
   for (int k = 0; k < 200; ++k) dirs.push_back(sample_cosine(u(rng), u(rng)));
@@ -168,7 +167,7 @@ TEST(AshikhminShirley, HalfwayDrawsHaveThePrintedDensity) {
   std::mt19937_64 rng(17);
   std::uniform_real_distribution<double> u(0.0, 1.0);
   for (double theta : {0.0, 40.0, 80.0}) {
-    const Vec3 j = dir(theta, 70.0);
+    const Vec3 j = direction_deg(theta, 70.0);
     int drawn = 0;
     for (int s = 0; s < 5000; ++s) {
       const auto draw = m->sample_incident(j, {u(rng), u(rng), u(rng)});
@@ -229,7 +228,7 @@ TEST(Schlick, InterreflectionTermIsNotPlausible) {
 TEST(Kajiya, HighlightIsTheConeOfMirrorDirectionsAboutTheFibres) {
   const ModelPtr m = parse_model("kajiya:kd=0,ks=1,n=1000");
   // j on the cone k.x = -i.x: the highlight's maximum, ks/(i.n), at every point of the cone.
-  const Vec3 i = dir(50, 30);
+  const Vec3 i = direction_deg(50, 30);
   const double s = std::hypot(i.y, i.z);
   for (double beta : {0.3, 1.0, 2.0, 2.8}) {
     const Vec3 j{-i.x, s * std::cos(beta), s * std::sin(beta)};
@@ -240,7 +239,7 @@ TEST(Kajiya, HighlightIsTheConeOfMirrorDirectionsAboutTheFibres) {
   EXPECT_LT(m->f(i, glm::normalize(off)), 0.1 / i.z);
   // The diffuse term follows the width of the fibres seen from i: sin(t, i)/pi/(i.n).
   const ModelPtr d = parse_model("kajiya:kd=1,ks=0");
-  EXPECT_NEAR(d->f(i, dir(10, 0)), std::hypot(i.y, i.z) / pi / i.z, 1e-15);
+  EXPECT_NEAR(d->f(i, direction_deg(10, 0)), std::hypot(i.y, i.z) / pi / i.z, 1e-15);
 }
 
 // Whether its laws come from cubature or from tables (summed with other lobes' tables in a prepared
@@ -248,7 +247,7 @@ TEST(Kajiya, HighlightIsTheConeOfMirrorDirectionsAboutTheFibres) {
 TEST(HeTorranceMirrorDelta, RenderAddsItUnderExtendedSources) {
   const ModelPtr m = parse_model("he-torrance:sigma0=0.02");
   const auto& ht = dynamic_cast<const HeTorrance&>(*m);
-  const Vec3 n{0, 0, 1}, t{1, 0, 0}, j = dir(50, 0);
+  const Vec3 n{0, 0, 1}, t{1, 0, 0}, j = direction_deg(50, 0);
   const double rho = ht.specular_reflectance(j.z);
   ASSERT_GT(rho, 0.01);
   EXPECT_TRUE(has_mirror_delta(*m));
@@ -269,9 +268,9 @@ TEST(HeTorranceMirrorDelta, RenderAddsItUnderExtendedSources) {
     // A sky whose pole sees mirror(j) = (-sin 50, 0, cos 50), and one that does not.
     Light sky;
     sky.type = Light::Type::hemispherical;
-    sky.direction = dir(40, 180);
+    sky.direction = direction_deg(40, 180);
     EXPECT_NEAR(raster::shade(material, {sky}, n, j, t)[0], lobe.laws->g(sky.direction, j) + rho, 1e-12);
-    sky.direction = dir(60, 0);
+    sky.direction = direction_deg(60, 0);
     ASSERT_LT(glm::dot(mirror(j), sky.direction), 0.0);
     EXPECT_NEAR(raster::shade(material, {sky}, n, j, t)[0], lobe.laws->g(sky.direction, j), 1e-12);
   }

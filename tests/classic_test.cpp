@@ -26,11 +26,7 @@ namespace {
 using std::numbers::pi;
 
 // --- tolerances --------------------------------------------------------------------------------
-/// Absolute tolerance asked of the cubature for albedos; its estimate is the raw Kronrod–Gauss
-/// difference (integrate/cubature.h), a pessimistic bound, so results are within it.
-constexpr double kCubatureTol = 1e-6;
-/// Slack on albedo comparisons: ten times the requested cubature tolerance.
-constexpr double kAlbedoTol = 10 * kCubatureTol;
+using testing_support::kAlbedoTol;
 /// Reciprocity of formulas that are symmetric expressions but evaluate i·h vs j·h (Cook–Torrance
 /// Fresnel argument): a few ulps of relative rounding.
 constexpr double kSymmetricRel = 1e-12;
@@ -53,15 +49,9 @@ constexpr double kWardDeficitPerAlpha2 = 5.0;
 /// Facet-distribution normalization by 1-D Gauss–Kronrod (tolerance 1e-12 requested).
 constexpr double kNormalizationTol = 1e-9;
 
-CubatureOptions options() { return testing_support::cubature_options(kCubatureTol); }
+using testing_support::albedo_at;
 using testing_support::kIncidenceCosines;
 
-/// Albedo a(i) for i at the given cosine; must converge.
-double albedo_at(const Model& m, double cos_i, double phi = 0.3) {
-  const Estimate e = albedo(m, direction_from_cos(cos_i, phi), options());
-  EXPECT_TRUE(e.converged) << m.spec() << " cos_i=" << cos_i;
-  return e.value;
-}
 double max_albedo(const Model& m) {
   double mx = 0.0;
   for (double c : kIncidenceCosines) mx = std::max(mx, albedo_at(m, c));
@@ -127,18 +117,7 @@ TEST(ClassicModels, EveryModelIsRegisteredWithADocumentedParameterTable) {
 // --- plausibility of the numbers -----------------------------------------------------------------
 TEST(ClassicModels, FiniteNonNegativeAndZeroBelowTheHorizon) {
   const auto dirs = test_directions();
-  const Vec3 below{0.6, 0, -0.8}, up{0, 0, 1};
-  for (const auto& spec : kSpecs) {
-    const ModelPtr m = parse_model(spec);
-    for (const Vec3& i : dirs)
-      for (const Vec3& j : dirs) {
-        const double f = m->f(i, j);
-        ASSERT_TRUE(std::isfinite(f)) << spec << " i=" << i.z << " j=" << j.z;
-        ASSERT_GE(f, 0.0) << spec << " i=" << i.z << " j=" << j.z;
-      }
-    EXPECT_EQ(m->f(below, up), 0.0) << spec;
-    EXPECT_EQ(m->f(up, below), 0.0) << spec;
-  }
+  for (const auto& spec : kSpecs) testing_support::expect_finite_non_negative(*parse_model(spec), dirs, spec);
 }
 
 /// The largest relative difference between f(i, j) and `other(i, j)` over pairs of test

@@ -169,7 +169,7 @@ expect_bad "not expected: 9x9x5 --res-g" bake model specular:alpha=8 --law g --r
 expect_bad "not expected: 0/2 --shard" bake model specular:alpha=8 --law g --res 9 --shard 0/2 -o "$tmp/bad.exr"
 expect_bad "--frame excludes --max-error" bake model specular:alpha=8 --law g --max-error 1e-3 --frame lobe -o "$tmp/bad.exr"
 expect_bad "--tol excludes --max-error" bake model specular:alpha=8 --law g --max-error 1e-3 --tol 1e-6 -o "$tmp/bad.exr"
-expect_bad "--max-bytes requires --max-error" bake model specular:alpha=8 --law h --max-bytes 1000 -o "$tmp/bad.exr"
+expect_bad "--max-bytes needs --max-error" bake model specular:alpha=8 --law h --max-bytes 1000 -o "$tmp/bad.exr"
 expect_bad "not expected: 2 --max-bytes" bake preset dfg --model ggx --res 8 --max-bytes 2 -o "$tmp/bad.exr"
 expect_bad "not expected: 9 --res" bake scene "$scene" --out "$tmp/cache" --res 9
 expect_bad "bake needs a job" bake

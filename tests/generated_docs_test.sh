@@ -13,7 +13,8 @@ python3 - "$G" <<'EOF'
 import os, re, subprocess, sys
 
 ganzfeld = sys.argv[1]
-DOCS = ["errata.md", "fetch-budget.md", "model-parameters.md", "performance.md", "plausibility.md", "realtime.md",
+DOCS = ["code-health.md", "errata.md", "fetch-budget.md", "model-parameters.md", "performance.md", "plausibility.md",
+        "realtime.md",
         "reliability.md", "reliability-extremes.md", "reliability-genz.md",
         "serve-load.md", "three.md", "tradeoff.md"]
 STAMP = re.compile(r"[Gg]enerated (?:from [^`]*? )?by `?((?:ganzfeld|scripts/|tests/)[^`;(]*?)`?\s*(?:[;(]|on |$)",

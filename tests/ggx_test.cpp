@@ -22,12 +22,11 @@ namespace ganzfeld {
 namespace {
 
 using std::numbers::pi;
+using testing_support::direction_deg;
 using testing_support::expect_input_error;
+using testing_support::kHandRelative;  // the hand values: Walter eq. 33-34 and Heitz eq. 85-86 with angles
 
 // --- tolerances --------------------------------------------------------------------------------
-/// Hand-computed values (mpmath, 30 digits, from the angle forms of Walter eq. 33-34 and Heitz
-/// eq. 85-86 rather than our vector forms) against ~30 double operations: a few ulps each.
-constexpr double kHandRelative = 1e-13;
 /// Cubature tolerance for albedos; its estimate bounds the error (integrate/cubature.h).
 constexpr double kCubatureTol = 1e-8;
 /// Sample weights f (i·n)/pdf against F G2/G1(j): the halfway vector of the draw and the one
@@ -36,8 +35,6 @@ constexpr double kWeightRelative = 1e-9;
 /// The density of visible normals integrates to 1 (Heitz 2018, section 2), to the cubature's
 /// tolerance.
 constexpr double kDensityTol = 1e-9;
-
-Vec3 from_angles(double theta_deg, double phi_deg) { return direction(theta_deg * pi / 180.0, phi_deg * pi / 180.0); }
 
 /// Grazing, normal, near-mirror and random directions of the upper hemisphere.
 std::vector<Vec3> test_directions() {
@@ -60,7 +57,6 @@ TEST(Microfacet, FiniteNonNegativeAndReciprocalToTheBit) {
     const ModelPtr m = parse_model(spec);
     // Reciprocal to the bit: symmetric expressions, and Fresnel's i·h computed as |i + j|/2.
     testing_support::expect_finite_non_negative_reciprocal(*m, dirs, spec);
-    EXPECT_EQ(m->f({0.6, 0.0, -0.8}, {0.0, 0.0, 1.0}), 0.0) << spec << ": below the horizon";
   }
 }
 
@@ -130,8 +126,8 @@ TEST(Microfacet, AnisotropicDependsOnTheAzimuth) {
   const ModelPtr m = parse_model("ggx:alpha_x=0.05,alpha_y=0.5");
   EXPECT_FALSE(m->traits().isotropic);
   // The same pair of directions, rotated by 90 degrees about n: the highlight is wider along y.
-  const double along_x = m->f(from_angles(40, 0), from_angles(50, 180));
-  const double along_y = m->f(from_angles(40, 90), from_angles(50, 270));
+  const double along_x = m->f(direction_deg(40, 0), direction_deg(50, 180));
+  const double along_y = m->f(direction_deg(40, 90), direction_deg(50, 270));
   EXPECT_GT(std::abs(along_x - along_y), 0.1 * std::max(along_x, along_y));
 }
 
@@ -166,7 +162,7 @@ TEST(Microfacet, TinyAlphaConvergesWithinBudget) {
   // The mirror limit: the lobe is 0.1 degrees wide; the mass hints put cut lines there.
   const ModelPtr m = parse_model("ggx:alpha=0.001");
   CubatureOptions o = testing_support::cubature_options(1e-9, 1'000'000);
-  const Estimate a = albedo(*m, from_angles(60, 0), o);
+  const Estimate a = albedo(*m, direction_deg(60, 0), o);
   EXPECT_TRUE(a.converged);
   EXPECT_NEAR(a.value, 0.99999749309950543, a.error);  // mpmath in halfway-vector coordinates
   EXPECT_LT(a.evaluations, 200'000);
@@ -175,7 +171,7 @@ TEST(Microfacet, TinyAlphaConvergesWithinBudget) {
 TEST(Microfacet, VisibleNormalDensityIntegratesToOne) {
   for (const ggx::Alpha a : {ggx::Alpha{0.3, 0.3}, ggx::Alpha{0.02, 0.02}, ggx::Alpha{0.05, 0.6}})
     for (double theta : {0.0, 45.0, 80.0, 89.0}) {
-      const Vec3 w = from_angles(theta, 30);
+      const Vec3 w = direction_deg(theta, 30);
       // ∫ D_visible(w, m) dm over the lune {m·n > 0, m·w > 0} (it vanishes elsewhere).
       const Lune fr = lune(w, Vec3{1.0, 0.0, 0.0});
       std::vector<double> lines{-pi / 2, pi / 2};
@@ -202,7 +198,7 @@ TEST(Microfacet, SampleWeightIsFresnelTimesG2OverG1) {
     const ModelPtr m = parse_model(spec);
     const auto& ggx_model = dynamic_cast<const Ggx&>(*m);
     for (double theta : {0.0, 50.0, 85.0}) {
-      const Vec3 j = from_angles(theta, 20);
+      const Vec3 j = direction_deg(theta, 20);
       const double g1_j = ggx::G1(j, ggx_model.alpha());
       for (int s = 0; s < 2000; ++s) {
         const auto draw = m->sample_incident(j, {uniform(rng), uniform(rng), uniform(rng)});

@@ -23,6 +23,20 @@ compile() {
   if "$V" "$name" >"$tmp/validator.log" 2>&1; then ok; else fail "glslangValidator $name: $(cat "$tmp/validator.log")"; fi
 }
 
+# compile_table SNIPPET FUNCTION LAW: a table's snippet in both versions, with texelFetch and with
+# hardware filtering, calling FUNCTION at one point (g: tab, i, j, n; h and a: tab, direction, n)
+compile_table() {
+  local snippet="$1" function="$2" law="$3" call sampler version defines
+  if [ "$law" = g ]; then
+    call="$function(tab, vec3(0.3, 0.0, 0.9), vec3(-0.2, 0.1, 0.9), vec3(0.0, 0.0, 1.0))" sampler=sampler3D
+  else
+    call="$function(tab, vec3(0.3, 0.0, 0.9), vec3(0.0, 0.0, 1.0))" sampler=sampler2D
+  fi
+  for version in "430 core" "300 es"; do
+    for defines in "" GANZFELD_HARDWARE_FILTER; do compile "$snippet" "$version" "$defines" "$call" "$sampler"; done
+  done
+}
+
 # --- one table of each law, float and half
 "$G" bake --model specular:alpha=8 --law g --res 9x9x5 --tol 1e-6 -o "$tmp/g.exr" --quiet >/dev/null || fail "bake g"
 "$G" bake --model asperity:alpha=4 --law h --res 17 --tol 1e-6 --encoding half -o "$tmp/h.exr" --quiet >/dev/null || fail "bake h"
@@ -37,13 +51,9 @@ grep -q "static const uint16_t gz_asperity_alpha_4_h_texels\[17\]" "$tmp/h.h" &&
 [ ! -e "$tmp/a.ktx2" ] && [ ! -e "$tmp/a.h" ] && ok || fail "--texture none wrote a texture"
 grep -q "made by: ganzfeld bake --model minnaert:xi=0.5 --law a" "$tmp/a.glsl" && ok || fail "command not in the GLSL comment"
 
-for version in "430 core" "300 es"; do
-  for defines in "" GANZFELD_HARDWARE_FILTER; do
-    compile "$tmp/g.glsl" "$version" "$defines" "gz_specular_alpha_8_g(tab, vec3(0.3, 0.0, 0.9), vec3(-0.2, 0.1, 0.9), vec3(0.0, 0.0, 1.0))" sampler3D
-    compile "$tmp/h.glsl" "$version" "$defines" "gz_asperity_alpha_4_h(tab, vec3(0.3, 0.0, 0.9), vec3(0.0, 0.0, 1.0))" sampler2D
-    compile "$tmp/a.glsl" "$version" "$defines" "gz_minnaert_xi_0_5_a(tab, vec3(0.3, 0.0, 0.9), vec3(0.0, 0.0, 1.0))" sampler2D
-  done
-done
+compile_table "$tmp/g.glsl" gz_specular_alpha_8_g g
+compile_table "$tmp/h.glsl" gz_asperity_alpha_4_h h
+compile_table "$tmp/a.glsl" gz_minnaert_xi_0_5_a a
 # Format version 2 (bake --max-error): lobe frame (sinh mappings) and Catmull–Rom, g and h.
 "$G" bake --model specular:alpha=100 --law g --max-error 1e-2 -o "$tmp/g2.exr" --quiet >/dev/null || fail "bake g v2"
 "$G" bake --model specular:alpha=100 --law h --max-error 1e-4 -o "$tmp/h2.exr" --quiet >/dev/null || fail "bake h v2"
@@ -51,12 +61,8 @@ done
 "$G" export-glsl "$tmp/h2.exr" -o "$tmp/h2.glsl" --quiet && ok || fail "export h v2"
 grep -q "gz_lobe_coordinates(i, j, n, -1.0)" "$tmp/g2.glsl" && grep -q "gz_lookup3_catmull_rom" "$tmp/g2.glsl" \
   && ok || fail "v2 g snippet without the lobe frame or Catmull–Rom"
-for version in "430 core" "300 es"; do
-  for defines in "" GANZFELD_HARDWARE_FILTER; do
-    compile "$tmp/g2.glsl" "$version" "$defines" "gz_specular_alpha_100_g(tab, vec3(0.3, 0.0, 0.9), vec3(-0.2, 0.1, 0.9), vec3(0.0, 0.0, 1.0))" sampler3D
-    compile "$tmp/h2.glsl" "$version" "$defines" "gz_specular_alpha_100_h(tab, vec3(0.3, 0.0, 0.9), vec3(0.0, 0.0, 1.0))" sampler2D
-  done
-done
+compile_table "$tmp/g2.glsl" gz_specular_alpha_100_g g
+compile_table "$tmp/h2.glsl" gz_specular_alpha_100_h h
 # Format version 4: the warped frame read with one hardware-filtered fetch (g), and a filtered h.
 "$G" bake --model specular:alpha=100 --law g --res 9x17x7 --tol 1e-5 --frame warped --filter hardware -o "$tmp/g4.exr" \
   --quiet >/dev/null || fail "bake g v4"
@@ -70,12 +76,8 @@ grep -q "gz_lookup3_filtered" "$tmp/g4.glsl" && grep -q "gz_warped_offset" "$tmp
   && grep -q "// lookup: 1 texture fetch, hardware filtering" "$tmp/g4.glsl" && ok || fail "v4 g snippet: warp or filter missing"
 grep -q "// lookup: 8 texture fetches (texelFetch" "$tmp/g4x.glsl" && ! grep -q "gz_warp_envelope(cs_j" "$tmp/g4x.glsl" \
   && ok || fail "v4 ggx snippet: lookup line or an envelope it should not have"
-for version in "430 core" "300 es"; do
-  for defines in "" GANZFELD_HARDWARE_FILTER; do
-    compile "$tmp/g4.glsl" "$version" "$defines" "gz_specular_alpha_100_g(tab, vec3(0.3, 0.0, 0.9), vec3(-0.2, 0.1, 0.9), vec3(0.0, 0.0, 1.0))" sampler3D
-    compile "$tmp/g4x.glsl" "$version" "$defines" "gz_ggx_alpha_0_09_f0_1_g2_height_correlated_g(tab, vec3(0.3, 0.0, 0.9), vec3(-0.2, 0.1, 0.9), vec3(0.0, 0.0, 1.0))" sampler3D
-  done
-done
+compile_table "$tmp/g4.glsl" gz_specular_alpha_100_g g
+compile_table "$tmp/g4x.glsl" gz_ggx_alpha_0_09_f0_1_g2_height_correlated_g g
 # Two snippets in one shader: the shared helpers are guarded.
 cat "$tmp/g.glsl" "$tmp/h.glsl" >"$tmp/both.glsl"
 compile "$tmp/both.glsl" "430 core" "" "gz_specular_alpha_8_g(tab, vec3(0.0, 0.0, 1.0), vec3(0.0, 0.0, 1.0), vec3(0.0, 0.0, 1.0))" sampler3D

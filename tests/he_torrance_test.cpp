@@ -14,6 +14,8 @@
 #include <boost/math/special_functions/expint.hpp>
 #include <gtest/gtest.h>
 
+#include "tests/test_support.h"
+
 #include "integrate/laws.h"
 #include "models/classic_models.h"
 #include "util/error.h"
@@ -350,16 +352,9 @@ TEST(HeTorrance, GeometricOpticsLimitIsBeckmannMicrofacetWithSmithShadowing) {
 // --- the Model contract --------------------------------------------------------------------------
 TEST(HeTorrance, FiniteNonNegativeZeroBelowTheHorizonAndAOverPiOnIt) {
   const auto dirs = test_directions();
-  const Vec3 below{0.6, 0, -0.8}, up{0, 0, 1};
+  const Vec3 up{0, 0, 1};
   for (const HeTorrance& m : test_models()) {
-    for (const Vec3& i : dirs)
-      for (const Vec3& j : dirs) {
-        const double f = m.f(i, j);
-        ASSERT_TRUE(std::isfinite(f)) << m.spec() << " i.z=" << i.z << " j.z=" << j.z;
-        ASSERT_GE(f, 0.0) << m.spec();
-      }
-    EXPECT_EQ(m.f(below, up), 0.0);
-    EXPECT_EQ(m.f(up, below), 0.0);
+    testing_support::expect_finite_non_negative(m, dirs, m.spec());
     // on the horizon sigma -> 0, so f -> a/pi (eq. 72 alone)
     const Vec3 horizon = direction_from_cos(0.0, 0.0);
     EXPECT_EQ(m.directional_diffuse(horizon, up), 0.0) << m.spec();

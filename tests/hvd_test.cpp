@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include "tests/test_support.h"
+
 #include "integrate/laws.h"
 #include "util/error.h"
 #include "models/hvd.h"
@@ -25,7 +27,7 @@ CubatureOptions options() {
   o.abs_tol = kCubatureTolerance;
   return o;
 }
-Vec3 dir(double theta_deg, double phi_deg = 0.0) { return direction(theta_deg * pi / 180, phi_deg * pi / 180); }
+using testing_support::direction_deg;
 
 TEST(Hvd, RejectsBadParameters) {
   for (const char* bad : {"hvd-empirical:k=1.5", "hvd-empirical:k=-0.1", "hvd-empirical:rs=1.2",
@@ -73,7 +75,7 @@ TEST(Hvd, FiniteAndNonNegativeEverywhere) {
     for (double ti : {0.0, 1e-6, 30.0, 89.0, 89.9999, 90.0})
       for (double tj : {0.0, 1e-6, 30.0, 89.0, 89.9999, 90.0})
         for (double phi : {0.0, 90.0, 180.0}) {
-          const double f = m->f(dir(ti), dir(tj, phi));
+          const double f = m->f(direction_deg(ti), direction_deg(tj, phi));
           EXPECT_TRUE(std::isfinite(f)) << s << " " << ti << " " << tj << " " << phi;
           EXPECT_GE(f, 0.0);
         }
@@ -83,7 +85,7 @@ TEST(Hvd, FiniteAndNonNegativeEverywhere) {
 TEST(Hvd, EmpiricalConservesEnergyUpToGrazing) {
   const ModelPtr m = parse_model("hvd-empirical:cd=1,f0=0.5,k=0.3,ns=100,nr=5");
   for (double theta : {0.0, 30.0, 60.0, 80.0, 89.0}) {
-    const Estimate h = darkening(*m, dir(theta, 60.0), options());
+    const Estimate h = darkening(*m, direction_deg(theta, 60.0), options());
     EXPECT_TRUE(h.converged);
     EXPECT_NEAR(h.value, 1.0, kEnergyTolerance) << theta;
   }
@@ -91,19 +93,19 @@ TEST(Hvd, EmpiricalConservesEnergyUpToGrazing) {
 
 TEST(Hvd, EmpiricalIsNotReciprocal) {
   const ModelPtr m = parse_model("hvd-empirical:cd=1,f0=0.5,k=0.3,ns=20,nr=10");
-  const Estimate a = albedo(*m, dir(0.0), options()), h = darkening(*m, dir(0.0), options());
+  const Estimate a = albedo(*m, direction_deg(0.0), options()), h = darkening(*m, direction_deg(0.0), options());
   EXPECT_GT(std::abs(a.value - h.value), kAlbedoGap);
   // Not a rounding difference: swapping i and j changes f by a large fraction (the verify report
   // measures up to 0.99 of the larger value over 1008 pairs).
-  const Vec3 i = dir(20.0), j = dir(70.0, 180.0);
+  const Vec3 i = direction_deg(20.0), j = direction_deg(70.0, 180.0);
   EXPECT_GT(std::abs(m->f(i, j) - m->f(j, i)), 0.1 * std::max(m->f(i, j), m->f(j, i)));
 }
 
 TEST(Hvd, FitLosesEnergyWhenLumpsLeaveTheDisk) {
   const ModelPtr inside = parse_model("hvd-fit:cd=1,f0=0.2,f90=0.9,k=0.4,n1=20,r1=0.4,n2=5,r2=0.2");
-  EXPECT_NEAR(darkening(*inside, dir(30.0), options()).value, 1.0, kEnergyTolerance);  // 1 - sin 30° = 0.5
+  EXPECT_NEAR(darkening(*inside, direction_deg(30.0), options()).value, 1.0, kEnergyTolerance);  // 1 - sin 30° = 0.5
   const ModelPtr outside = parse_model("hvd-fit:cd=1,f0=0.04,f90=1,k=0.4,n1=20,r1=0.3,n2=5,r2=0.8");
-  EXPECT_LT(darkening(*outside, dir(75.0), options()).value, 1.0 - kAlbedoGap);
+  EXPECT_LT(darkening(*outside, direction_deg(75.0), options()).value, 1.0 - kAlbedoGap);
 }
 
 }  // namespace

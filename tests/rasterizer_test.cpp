@@ -261,8 +261,7 @@ TEST(Rasterizer, TangentFrameIsOrthonormal) {
 double interpolation_bound(const tables::Table& t) {
   constexpr double kSafety = 2.0;
   const std::size_t dims = t.axes.size();
-  std::vector<std::size_t> stride(dims, 1);
-  for (std::size_t d = dims - 1; d-- > 0;) stride[d] = stride[d + 1] * t.axes[d + 1].count;
+  const std::vector<std::size_t> stride = tables::axis_strides(t.axes);
   double total = 0;
   for (std::size_t d = 0; d < dims; ++d) {
     double worst = 0;

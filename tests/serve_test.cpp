@@ -42,6 +42,15 @@ std::pair<int, std::string> refusal(F&& f) {
 std::pair<int, std::string> eval_refusal(const std::string& query) {
   return refusal([&] { parse_eval(parse_query(query), Limits{}); });
 }
+/// Each query of /api/eval is refused with 400 in one line that contains its fragment.
+void expect_eval_refusals(const std::vector<std::pair<std::string, std::string>>& cases) {
+  for (const auto& [query, fragment] : cases) {
+    const auto [status, message] = eval_refusal(query);
+    EXPECT_EQ(status, 400) << query;
+    EXPECT_NE(message.find(fragment), std::string::npos) << query << " -> " << message;
+    EXPECT_EQ(message.find('\n'), std::string::npos) << "one line: " << message;
+  }
+}
 std::pair<int, std::string> table_refusal(const std::string& query) {
   return refusal([&] { parse_table(parse_query(query), Limits{}, TableEndpoint::table); });
 }
@@ -87,12 +96,7 @@ TEST(ServeRequest, EvalRefusalsNameTheBadValue) {
       {"model=merl:file=/etc/passwd&law=h&theta_j=1", "names a data file"},
       {"model=0.5*lambert %2B 0.5*tabulated: file = ../x&law=h&theta_j=1", "names a data file"},
   };
-  for (const auto& [query, fragment] : cases) {
-    const auto [status, message] = eval_refusal(query);
-    EXPECT_EQ(status, 400) << query;
-    EXPECT_NE(message.find(fragment), std::string::npos) << query << " -> " << message;
-    EXPECT_EQ(message.find('\n'), std::string::npos) << "one line: " << message;
-  }
+  expect_eval_refusals(cases);
 }
 
 // Numbers as documented (docs/serve.md): finite decimal numbers only; phi within a turn; the
@@ -114,12 +118,7 @@ TEST(ServeRequest, NumbersAreFiniteDecimalsAndMixturesAreBounded) {
       {"model=lambert&law=g&theta_i=10&theta_j=10&phi=-361", "phi=-361 is out of range"},
       {"model=1.7e308*lambert %2B 1.7e308*lambert&law=h&theta_j=1", "sum to more than the largest number"},
   };
-  for (const auto& [query, fragment] : cases) {
-    const auto [status, message] = eval_refusal(query);
-    EXPECT_EQ(status, 400) << query;
-    EXPECT_NE(message.find(fragment), std::string::npos) << query << " -> " << message;
-    EXPECT_EQ(message.find('\n'), std::string::npos) << "one line: " << message;
-  }
+  expect_eval_refusals(cases);
 }
 
 TEST(ServeRequest, MixturesOfMoreLobesThanTheLimitAre413) {
