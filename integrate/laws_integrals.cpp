@@ -144,8 +144,10 @@ std::array<std::vector<double>, 2> cuts_from_hints(const MassHints& hints, const
       min_scale = std::min(min_scale, w);
     }
   }
-  const double delta = hints.horizon_layer;
-  if (delta > 0.0 && delta < kThinLayer) {
+  std::vector<double> layers{hints.horizon_layer};
+  layers.insert(layers.end(), hints.thicker_layers.begin(), hints.thicker_layers.end());
+  for (double delta : layers) {
+    if (!(delta > 0.0 && delta < kThinLayer)) continue;
     for (double m : kLayerLines) {
       phi_lines.push_back(pi / 2 - m * delta);
       if (fr.phi_lo <= -pi / 2) phi_lines.push_back(-pi / 2 + m * delta);  // the hemisphere: both ends

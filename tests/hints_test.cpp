@@ -12,6 +12,7 @@
 
 #include <gtest/gtest.h>
 
+#include "models/mass_hints.h"
 #include "models/spec.h"
 #include "reports/extremes.h"
 #include "util/error.h"
@@ -115,6 +116,11 @@ TEST_P(EveryModelsHints, AreWellFormed) {
         }
         EXPECT_TRUE(hints.horizon_layer >= 0.0 && hints.horizon_layer < hint_rules::kThinLayer)
             << where << ": layer " << hints.horizon_layer;
+        double thinner = hints.horizon_layer;
+        for (double layer : hints.thicker_layers) {
+          EXPECT_TRUE(layer > thinner && layer < hint_rules::kThinLayer) << where << ": thicker layer " << layer;
+          thinner = layer;
+        }
         EXPECT_EQ(hints.crease_axis.z, 0.0) << where << ": the crease axis must be horizontal";
         for (double longitude : hints.crease_longitudes)
           EXPECT_TRUE(std::abs(longitude) <= pi / 2) << where << ": crease longitude " << longitude;
@@ -150,6 +156,17 @@ TEST_P(EveryModelsHints, MakeTheEngineHonestAgainstTheReference) {
   // A case the engine does not converge on, or the reference cannot resolve, within its budget is
   // not judged (hvd-fit's broad lumps at n1 = 0 on the horizon): counted, not failed.
   std::printf("%s: %d of %zu cases judged\n", GetParam().spec.c_str(), judged, geometries.size());
+}
+
+/// Of several layers the thinnest is graded towards and every one gets its lines; a layer given
+/// twice, or one too thick to matter, adds nothing; a mixture keeps its parts' layers.
+TEST(HintBuilder, KeepsEveryLayer) {
+  const MassHints one = HintBuilder().layer(1e-3).layer(1e-6).layer(1e-3).layer(0.5).layer(1e-2).build();
+  EXPECT_EQ(one.horizon_layer, 1e-6);
+  EXPECT_EQ(one.thicker_layers, (std::vector<double>{1e-3, 1e-2}));
+  const MassHints mixed = HintBuilder().layer(1e-4).merge(one).build();
+  EXPECT_EQ(mixed.horizon_layer, 1e-6);
+  EXPECT_EQ(mixed.thicker_layers, (std::vector<double>{1e-4, 1e-3, 1e-2}));
 }
 
 INSTANTIATE_TEST_SUITE_P(Registry, EveryModelsHints, testing::ValuesIn(every_spec()), test_name);
