@@ -59,11 +59,6 @@ constexpr KnownDishonest kKnownDishonest[] = {
      "3x: the floor's kink curve k·n = kGrazingCosFloor crosses the hemisphere frame's coordinate poles "
      "±y, where the highlight ridge meets the horizon (a 2-D quadrature at 25 digits agrees with the "
      "reference: 1.6599046898)"},
-    {"ggx:alpha=0.001", {Law::h, 1.0, 1e-6, 0.0},
-     "200x: the visibility layer (1e-6) replaces the grazing lobe's (1.4e-3), only the thinnest is kept; "
-     "with the lobe's alone the engine is honest (a 2-D quadrature at 18 digits agrees with the reference: "
-     "0.99978900247)"},
-    {"ggx-ms:alpha=0.001", {Law::h, 1.0, 1e-6, 0.0}, "as ggx:alpha=0.001 (its single-scattering lobe)"},
     {"cook-torrance:m=1", {Law::g, -0.999, 1e-6, pi / 2},
      "the specular mass within ~1e-6 of the thin lune's tip at -j (~1e-10: h = (k + j)/|k + j| turns "
      "up there) is met by none of the engine's 450 nodes, which state 1.8e-18; the two references "
