@@ -274,6 +274,24 @@ TEST(Extremes, MixtureKeepsEveryPartsLayer) {
                             << " ± " << c.reference_error << " (" << c.reference_rule << ")";
 }
 
+/// hvd-fit's lump 1e-7 across (r1 = 1e-6, n1 = 100) with the view 1e-9 above the horizon and the sky
+/// pole on it, 90° away: the lump sits at a pole of the lune's coordinates, where at a distance x
+/// from the pole it spans the longitudes within ~1e-7 / x. The engine converged 0.068 below the
+/// reference (0.182 for 0.250) with 9.9e-9 estimated until the pole got a ladder of longitudes
+/// (integrate/laws_integrals.cpp).
+TEST(Extremes, LobeAtThePoleSpansEveryLongitudeScale) {
+  const ModelPtr model = parse_model("hvd-fit:cd=0.5,f0=0.04,f90=1,k=0,n1=100,r1=1e-6,n2=10,r2=0.5");
+  for (const double cos_i : {0.0, 1e-6}) {
+    const ExtremesCase c = judge_case(*model, Law::g, direction_from_cos(cos_i, 0.0),
+                                      direction_from_cos(1e-9, std::numbers::pi / 2), kEngineTol);
+    EXPECT_TRUE(c.converged && c.finite) << "i·n=" << cos_i;
+    EXPECT_FALSE(c.reference_unresolved) << "i·n=" << cos_i;
+    EXPECT_FALSE(c.dishonest) << "i·n=" << cos_i << ": engine " << c.engine.value << " ± " << c.engine.error
+                              << ", reference " << c.reference << " ± " << c.reference_error << " ("
+                              << c.reference_rule << ")";
+  }
+}
+
 /// Perfect backscatter's h with the view 1e-6 above the horizon: gauss_kronrod<61> ran out of its
 /// budget (the 1/((k + j)·n) layer at the horizon), the swapped gauss_kronrod<31> resolves it.
 TEST(Extremes, AFallbackReferenceJudgesWhereTheFirstRunsOut) {
