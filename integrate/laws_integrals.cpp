@@ -94,8 +94,10 @@ void add_exact_lines(std::vector<double>& cuts, const std::vector<double>& lines
 /// Initial cut lines from the model's mass hints (the rules: models/mass_hints.h): each peak
 /// (clamped into the rectangle) gets lines at its centre and, when sharper than kCentreLineOnly,
 /// at ±kFlankWidths widths, and a ladder outwards, per scale when the lobe is elongated
-/// (Peak::across); a horizon layer of thickness delta gets lines at kLayerLines deltas from the
-/// horizon (phi = pi/2, phi = -pi/2 for the hemisphere, and the caps t = ±pi/2).
+/// (Peak::across); a lobe at a coordinate pole t = ±pi/2 gets ladders of latitudes towards the pole
+/// and of longitudes about its own; each horizon layer of thickness delta (MassHints::horizon_layer
+/// and thicker_layers) gets lines at kLayerLines deltas from the horizon (phi = pi/2, phi = -pi/2
+/// for the hemisphere, and the caps t = ±pi/2).
 /// `first_axis(t, phi)` maps a line at latitude t, placed for longitude phi, to the first
 /// coordinate of the rectangle (t itself on a lune; the clipped crease frame's s).
 template <typename FirstAxis>
