@@ -94,8 +94,10 @@ void add_exact_lines(std::vector<double>& cuts, const std::vector<double>& lines
 /// Initial cut lines from the model's mass hints (the rules: models/mass_hints.h): each peak
 /// (clamped into the rectangle) gets lines at its centre and, when sharper than kCentreLineOnly,
 /// at ±kFlankWidths widths, and a ladder outwards, per scale when the lobe is elongated
-/// (Peak::across); a horizon layer of thickness delta gets lines at kLayerLines deltas from the
-/// horizon (phi = pi/2, phi = -pi/2 for the hemisphere, and the caps t = ±pi/2).
+/// (Peak::across); a lobe at a coordinate pole t = ±pi/2 gets ladders of latitudes towards the pole
+/// and of longitudes about its own; each horizon layer of thickness delta (MassHints::horizon_layer
+/// and thicker_layers) gets lines at kLayerLines deltas from the horizon (phi = pi/2, phi = -pi/2
+/// for the hemisphere, and the caps t = ±pi/2).
 /// `first_axis(t, phi)` maps a line at latitude t, placed for longitude phi, to the first
 /// coordinate of the rectangle (t itself on a lune; the clipped crease frame's s).
 template <typename FirstAxis>
@@ -128,9 +130,19 @@ std::array<std::vector<double>, 2> cuts_from_hints(const MassHints& hints, const
       // all miss it: tests/extremes_test.cpp, SliverOfALobeAtTheTipIsHonest). A geometric ladder of
       // lines towards the pole, w/8, w/64, ... down to kPoleLadderEnd, gives the refinement a panel
       // at every scale there.
-      if (at_pole)
+      if (at_pole) {
         for (double offset = w / kLadderRatio; offset > kPoleLadderEnd; offset /= kLadderRatio)
           pole_ladder.push_back(first_axis((t_d < 0.0 ? -1.0 : 1.0) * (pi / 2 - offset), phi_d));
+        // There a lobe w wide spans the longitudes within w / x of its own at a distance x from
+        // the pole: a sliver of the panels beside it whose width changes with x, which the nodes
+        // of a panel pi/4 wide miss (hvd-fit's lump 1e-7 across at a view 1e-9 above the horizon,
+        // tests/extremes_test.cpp, LobeAtThePoleSpansEveryLongitudeScale). A geometric ladder of
+        // longitudes about the lobe's, down to w, meets the sliver at every x.
+        for (double offset = 1.0 / kLadderRatio; offset > std::max(w, kPoleLadderEnd); offset /= kLadderRatio) {
+          phi_lines.push_back(phi_d - offset);
+          phi_lines.push_back(phi_d + offset);
+        }
+      }
       for (double m : {-kFlankWidths, 0.0, kFlankWidths}) {
         if (m != 0.0 && w >= kCentreLineOnly && !at_pole) continue;
         t_lines.push_back(first_axis(t_d + m * w, phi_d));
@@ -144,8 +156,10 @@ std::array<std::vector<double>, 2> cuts_from_hints(const MassHints& hints, const
       min_scale = std::min(min_scale, w);
     }
   }
-  const double delta = hints.horizon_layer;
-  if (delta > 0.0 && delta < kThinLayer) {
+  std::vector<double> layers{hints.horizon_layer};
+  layers.insert(layers.end(), hints.thicker_layers.begin(), hints.thicker_layers.end());
+  for (double delta : layers) {
+    if (!(delta > 0.0 && delta < kThinLayer)) continue;
     for (double m : kLayerLines) {
       phi_lines.push_back(pi / 2 - m * delta);
       if (fr.phi_lo <= -pi / 2) phi_lines.push_back(-pi / 2 + m * delta);  // the hemisphere: both ends

@@ -12,7 +12,12 @@ HintBuilder& HintBuilder::lobe(const Vec3& direction, double width, double acros
 
 HintBuilder& HintBuilder::layer(double thickness) {
   if (!(thickness > 0.0 && thickness < hint_rules::kThinLayer)) return *this;  // none, or smooth on the grid's scale
+  std::vector<double>& thicker = hints_.thicker_layers;
+  if (thickness == hints_.horizon_layer || std::find(thicker.begin(), thicker.end(), thickness) != thicker.end())
+    return *this;
+  if (hints_.horizon_layer > 0.0) thicker.push_back(std::max(hints_.horizon_layer, thickness));
   hints_.horizon_layer = hints_.horizon_layer > 0.0 ? std::min(hints_.horizon_layer, thickness) : thickness;
+  std::sort(thicker.begin(), thicker.end());
   return *this;
 }
 
@@ -37,6 +42,7 @@ HintBuilder& HintBuilder::creases(const Vec3& axis, std::vector<double> longitud
 HintBuilder& HintBuilder::merge(const MassHints& other) {
   hints_.peaks.insert(hints_.peaks.end(), other.peaks.begin(), other.peaks.end());
   layer(other.horizon_layer);
+  for (double thickness : other.thicker_layers) layer(thickness);
   rough_horizon(other.rough_horizon);
   const Vec3 none{0.0, 0.0, 0.0};
   if (other.crease_axis != none && (hints_.crease_axis == none || hints_.crease_axis == other.crease_axis)) {

@@ -30,8 +30,12 @@ struct MassHints {
   std::vector<Peak> peaks;
   /// Thickness in k·n of a layer of mass hugging the horizon (asperity lobes, the
   /// 1/((i+j)·n) factor of perfect backscatter); 0 when there is none. Of several layers the
-  /// thinnest, the one the grid must resolve.
+  /// thinnest, the one the grid must resolve and grade towards.
   double horizon_layer = 0.0;
+  /// The other layers, each thicker than horizon_layer (ascending): a grazing GGX lobe is a layer
+  /// as thick as its width with a visibility layer as thin as j·n inside it, and a mixture holds
+  /// its lobes' layers side by side. Each gets its lines as horizon_layer does.
+  std::vector<double> thicker_layers{};
   /// The integrand behaves like (k·n)^nu at the horizon with a non-integer nu < 2 (Minnaert's
   /// (k·n)^(1+xi)): a weak singularity at the edge of the domain, which the integrator grades.
   bool rough_horizon = false;
@@ -102,8 +106,8 @@ class HintBuilder {
   /// (its scale at half maximum, about one standard deviation); `across`, when the lobe is
   /// elongated, its scale across the plane of n and the centre (0: as wide across as along).
   HintBuilder& lobe(const Vec3& direction, double width, double across = 0.0);
-  /// A layer of mass hugging the horizon, `thickness` thick in k·n; of several, the thinnest
-  /// counts. A thickness that is not > 0 declares none, and one at least hint_rules::kThinLayer
+  /// A layer of mass hugging the horizon, `thickness` thick in k·n; of several, every one gets
+  /// its lines (MassHints::thicker_layers) and the thinnest its grading. A thickness that is not > 0 declares none, and one at least hint_rules::kThinLayer
   /// neither: such a layer is smooth on the scale of the starting grid.
   HintBuilder& layer(double thickness);
   /// The layer of a lobe of `width` radians whose centre stands `elevation` above the horizon
