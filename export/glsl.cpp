@@ -227,6 +227,12 @@ float gz_warped_offset(vec3 warp, float mixing, vec3 c, float psi) {
   float lobe = d > 0.0 ? 0.5 * (1.0 + q / d) : 0.5;
   return mixing * lobe + (1.0 - mixing) * (1.0 - psi / 3.1415926536);
 }
+// The third axis (tables/frame.h, warped_beta): beta blended with the edge's direction where the
+// lobe is round, atan2(across i.e2, along i.e1), by the table's beta_whitening.
+float gz_warped_beta(vec3 warp, float whitening, vec3 c, float beta) {
+  float whitened = (c.y == 0.0 && c.z == 0.0) ? beta : gz_abs_angle(warp.z * c.z, warp.y * c.y);
+  return (1.0 - whitening) * beta + whitening * whitened;
+}
 // The envelope A(theta_j) = (cos + sqrt(cos^2 + width^2 sin^2)) / 2 the stored g / A is multiplied by.
 float gz_warp_envelope(vec2 cs_j, float width) {
   return 0.5 * (cs_j.x + sqrt(cs_j.x * cs_j.x + width * width * cs_j.y * cs_j.y));
@@ -444,7 +450,11 @@ std::string warped_body(const Table& table, const std::string& warp_name) {
     << "  int k = min(int(floor(t)), " << last - 1 << ");\n"
     << "  vec3 warp = mix(" << warp_name << "[k], " << warp_name << "[k + 1], t - float(k));\n"
     << "  vec3 u = vec3(v, gz_warped_offset(warp, " << literal(table.warp.mix) << ", c, angles.y),\n"
-    << "                " << index_call(table.axes[2], "angles.z") << ");\n"
+    << "                "
+    << index_call(table.axes[2], table.warp.beta_whitening != 0.0
+                                     ? "gz_warped_beta(warp, " + literal(table.warp.beta_whitening) + ", c, angles.z)"
+                                     : std::string("angles.z"))
+    << ");\n"
     << "  return " << (table.warp.envelope > 0.0 ? "gz_warp_envelope(cs_j, " + literal(table.warp.envelope) + ") * " : "")
     << "(" << lookup_call(table, "u") << ");\n";
   return s.str();

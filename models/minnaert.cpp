@@ -19,7 +19,8 @@ std::string Minnaert::spec() const { return spec_text({"minnaert", {{"xi", xi_}}
 
 double Minnaert::f(const Vec3& i, const Vec3& j) const noexcept {
   if (i.z < 0.0 || j.z < 0.0) return 0.0;
-  return C_d_ * std::pow(i.z * j.z, xi_);
+  const double x = i.z * j.z;
+  return C_d_ * (xi_ == 1.0 ? x : std::pow(x, xi_));  // pow(x, 1) is x: glibc's pow is within 0.52 ulp
 }
 
 std::optional<GlslF> Minnaert::glsl_f() const {

@@ -248,6 +248,11 @@ TableQuery parse_table(const Query& query, const Limits& limits, TableEndpoint e
     q.options = bake;
   } else if (defaults.target && !query.count("res") && !query.count("tol")) {
     q.options = defaults.request(grid_law);  // the defaults' target (the scene defaults: best effort)
+    if (auto* bake = std::get_if<tables::TargetBake>(&q.options)) {  // within the service's size cap too
+      const std::uint64_t cap = limits.max_entries * sizeof(float);
+      std::uint64_t& bytes = bake->target.max_bytes;  // 0: the baker's default cap
+      bytes = bytes == 0 ? cap : std::min(bytes, cap);
+    }
   } else {  // res or tol, as the command line's --res/--tol: a fixed grid, no search
     tables::BakeOptions grid;
     grid.resolution = grid_law == Law::g ? defaults.resolution_g : defaults.resolution_h;

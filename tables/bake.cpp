@@ -159,7 +159,9 @@ Table empty_table(const Model& model, Law law, const BakeOptions& options, std::
   table.peak = options.lobe ? options.lobe->peak : PeakKind::mirror;
   table.filter = options.filter;
   if (table.frame == Frame::warped) {
-    table.warp = options.warp ? *options.warp : fit_warp(model, *options.lobe, table.axes[0], options.tolerance);
+    // A given warp serves a table with as many theta_j nodes as it has samples (tables/frame.h).
+    const bool given = options.warp && options.warp->samples.size() == static_cast<std::size_t>(table.axes[0].count);
+    table.warp = given ? *options.warp : fit_warp(model, *options.lobe, table.axes[0], options.tolerance);
     table.min_cos_j = kWarpedMinCosJ;
   }
   table.version = GANZFELD_VERSION;

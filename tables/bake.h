@@ -47,7 +47,8 @@ struct BakeOptions : BakeCommon {
   /// cosines frame (version 1's axes; `mappings` apply).
   std::optional<LobeFrame> lobe;
   /// With `lobe`: the warped frame instead of the lobe frame (tables/frame.h), with this warp, or
-  /// one fitted to the model (fit_warp) when nothing is given.
+  /// one fitted to the model (fit_warp) when nothing is given or its sample count is not the
+  /// number of theta_j nodes.
   bool warped = false;
   std::optional<Warp> warp;
   /// The lookup the bound covers and the exported shader performs: hardware filtering makes the

@@ -99,7 +99,10 @@ nlohmann::ordered_json axes_json(const Table& table) {
 std::string warp_text(const Warp& warp) {
   nlohmann::ordered_json samples = nlohmann::ordered_json::array();
   for (const WarpSample& s : warp.samples) samples.push_back({s.shift, s.along, s.across});
-  return nlohmann::ordered_json{{"mix", warp.mix}, {"envelope", warp.envelope}, {"samples", samples}}.dump();
+  nlohmann::ordered_json doc{{"mix", warp.mix}, {"envelope", warp.envelope}};
+  if (warp.beta_whitening != 0.0) doc["beta_whitening"] = warp.beta_whitening;  // absent: 0, as before it existed
+  doc["samples"] = samples;
+  return doc.dump();
 }
 
 void write_table(const Table& table, const std::string& path) {
@@ -235,11 +238,12 @@ struct Reader : ExrAttributes {
     return out;
   }
 
-  /// A warped table's warp: {"mix": m, "envelope": w, "samples": [[shift, along, across], ...]}
-  /// (check_table judges the numbers).
+  /// A warped table's warp: {"mix": m, "envelope": w, ["beta_whitening": mu,] "samples": [[shift, along,
+  /// across], ...]} (check_table judges the numbers).
   Warp warp(const std::string& text) const {
     const std::string bad = std::string(kAttrWarp) +
-                            " is not {\"mix\": number, \"envelope\": number, \"samples\": [[shift, along, across], ...]}";
+                            " is not {\"mix\": number, \"envelope\": number, [\"beta_whitening\": number,] "
+                            "\"samples\": [[shift, along, across], ...]}";
     nlohmann::json doc;
     try {
       doc = nlohmann::json::parse(text);
@@ -248,11 +252,12 @@ struct Reader : ExrAttributes {
     }
     if (!doc.is_object() || !doc.contains("mix") || !doc["mix"].is_number() || !doc.contains("envelope") ||
         !doc["envelope"].is_number() || !doc.contains("samples") || !doc["samples"].is_array() ||
-        doc["samples"].size() > 4096)
+        doc["samples"].size() > 4096 || (doc.contains("beta_whitening") && !doc["beta_whitening"].is_number()))
       refuse(bad);
     Warp w;
     w.mix = doc["mix"].get<double>();
     w.envelope = doc["envelope"].get<double>();
+    if (doc.contains("beta_whitening")) w.beta_whitening = doc["beta_whitening"].get<double>();
     for (const auto& s : doc["samples"]) {
       if (!s.is_array() || s.size() != 3 || !s[0].is_number() || !s[1].is_number() || !s[2].is_number()) refuse(bad);
       w.samples.push_back({s[0].get<double>(), s[1].get<double>(), s[2].get<double>()});
@@ -264,9 +269,11 @@ struct Reader : ExrAttributes {
   /// a newer format is refused before anything else is judged.
   void read_metadata(const Imf::Header& header, Table& table) const {
     const std::string version = attribute(header, kAttrVersion);
-    if (version != "1" && version != "2" && version != std::to_string(kFormatVersion))
-      refuse("format version '" + version + "' is not supported; this ganzfeld reads law tables of versions 1, 2 and " +
-             std::to_string(kFormatVersion) + " (version 3 is a parameter table)");
+    if (version != "1" && version != "2" && version != std::to_string(kWarpedFormatVersion) &&
+        version != std::to_string(kFormatVersion))
+      refuse("format version '" + version + "' is not supported; this ganzfeld reads law tables of versions 1, 2, " +
+             std::to_string(kWarpedFormatVersion) + " and " + std::to_string(kFormatVersion) +
+             " (version 3 is a parameter table)");
     table.format_version = std::stoi(version);
     try {
       table.law = parse_law(attribute(header, kAttrLaw));
@@ -316,7 +323,7 @@ struct Reader : ExrAttributes {
       refuse(std::string(e.what()));
     }
     table.lookup_error = number(header, kAttrLookupError);
-    if (table.format_version >= kFormatVersion) {
+    if (table.format_version >= kWarpedFormatVersion) {
       try {
         table.filter = parse_filter(attribute(header, kAttrFilter));
       } catch (const InputError& e) {

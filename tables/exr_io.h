@@ -14,7 +14,7 @@ namespace ganzfeld::tables {
 void write_table(const Table& table, const std::string& path);
 
 /// Reads and validates a table; anything that is not a complete, consistent law table (format
-/// versions 1, 2, 4) is refused with a one-line InputError naming the file.
+/// versions 1, 2, 4, 5) is refused with a one-line InputError naming the file.
 Table read_table(const std::string& path);
 
 /// A warped table's ganzfeld.warp attribute, JSON text: {"mix", "envelope", "samples": [[shift, along,

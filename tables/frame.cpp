@@ -31,7 +31,9 @@ LobeComponents lobe_components(PeakKind peak, double cos_theta_i, double cos_the
   const double ie1 = -s * si * cj * cp + ci * sj;
   const double ie2 = si * sp;
   const double beta = (ie1 == 0.0 && ie2 == 0.0) ? 0.0 : std::atan2(ie2, ie1);
-  return {std::atan2(sj, cj), std::atan2(std::hypot(ie1, ie2), ip), beta, ip, ie1, ie2, cj, sj};
+  // |(i·e1, i·e2)| as the exported GLSL's length() takes it (export/glsl.cpp): the components are at
+  // most 1, so the squares cannot overflow, and hypot's care would only cost time per lookup.
+  return {std::atan2(sj, cj), std::atan2(std::sqrt(ie1 * ie1 + ie2 * ie2), ip), beta, ip, ie1, ie2, cj, sj};
 }
 
 namespace {
@@ -87,15 +89,32 @@ double warped_offset(const WarpSample& at, double mix, double ip, double ie1, do
   return mix * lobe + (1.0 - mix) * (1.0 - psi / std::numbers::pi);
 }
 
+double warped_beta(const WarpSample& at, double whitening, double ie1, double ie2, double beta) noexcept {
+  if (whitening == 0.0) return beta;
+  const double whitened = (ie1 == 0.0 && ie2 == 0.0) ? beta : std::atan2(at.across * ie2, at.along * ie1);
+  return (1.0 - whitening) * beta + whitening * whitened;
+}
+
 std::array<double, 3> warped_coordinates(PeakKind peak, const Warp& warp, const Axis& theta_axis, double cos_theta_i,
                                          double cos_theta_j, double phi) noexcept {
   const LobeComponents c = lobe_components(peak, cos_theta_i, cos_theta_j, phi);
-  return {c.theta_j, warped_offset(warp_at(warp, theta_axis, c.theta_j), warp.mix, c.ip, c.ie1, c.ie2, c.psi), c.beta};
+  const WarpSample at = warp_at(warp, theta_axis, c.theta_j);
+  return {c.theta_j, warped_offset(at, warp.mix, c.ip, c.ie1, c.ie2, c.psi),
+          warped_beta(at, warp.beta_whitening, c.ie1, c.ie2, c.beta)};
 }
 
 std::pair<Vec3, Vec3> warped_directions(PeakKind peak, const Warp& warp, const Axis& theta_axis, double theta_j,
                                         double offset, double beta) noexcept {
   const WarpSample at = warp_at(warp, theta_axis, theta_j);
+  if (warp.beta_whitening != 0.0) {  // the axis rises from 0 (beta = 0) to pi (beta = pi)
+    const double axis = beta;
+    double below = 0.0, above = std::numbers::pi;
+    for (int it = 0; it < 64 && above - below > 1e-15; ++it) {
+      const double b = 0.5 * (below + above);
+      (warped_beta(at, warp.beta_whitening, std::cos(b), std::sin(b), b) < axis ? below : above) = b;
+    }
+    beta = 0.5 * (below + above);
+  }
   const double cb = std::cos(beta), sb = std::sin(beta);
   double lo = 0.0, hi = std::numbers::pi;  // offset(lo) = 1 >= offset >= 0 = offset(hi)
   for (int it = 0; it < 64 && hi - lo > 1e-15; ++it) {
@@ -120,13 +139,13 @@ Warp fit_warp(const Model& model, const LobeFrame& frame, const Axis& theta_axis
   CubatureOptions options;
   options.abs_tol = tolerance;
   const double w = frame.width;
-  struct Fit {
-    WarpSample sample;
-    double top = 0.0;  // g at psi = 0: the whole lobe under the sky
-  };
-  std::vector<Fit> fits(kWarpSamples);
-  tbb::parallel_for(0, kWarpSamples, [&](int k) {
-    const double theta_j = theta_axis.coordinate(static_cast<double>(k) / (kWarpSamples - 1));
+
+  // One sample per theta_j node: the warp, linear between samples, then bends only where the
+  // table's own linear interpolation does (samples between nodes put kinks inside cells).
+  const int samples = std::max(theta_axis.count, 2);
+  std::vector<WarpSample> fits(samples);
+  tbb::parallel_for(0, samples, [&](int k) {
+    const double theta_j = theta_axis.coordinate(static_cast<double>(k) / (samples - 1));
     auto g = [&](double x, double beta) {  // x = cot psi
       const auto [i, j] = lobe_directions(frame.peak, theta_j, std::atan2(1.0, x), beta);
       return vignetting(model, i, j, options).value;
@@ -151,19 +170,28 @@ Warp fit_warp(const Model& model, const LobeFrame& frame, const Axis& theta_axis
       s.along = bounded(kWarpWidthFactor * 0.5 * ((a75 - a25) + (b75 - b25)) / kQuartileSpread);
       s.across = bounded(kWarpWidthFactor * (c75 - c25) / kQuartileSpread);
     }
-    fits[k] = {s, top};
+    fits[k] = s;
+  });
+  // g(psi = 0) at kEnvelopeSamples theta_j uniform in the index coordinate, whatever the node count
+  // (a choice made on the nodes flipped with it: specular alpha = 100 lost its envelope at 29 nodes).
+  std::vector<double> tops(kEnvelopeSamples);
+  tbb::parallel_for(0, kEnvelopeSamples, [&](int k) {
+    const double theta_j = theta_axis.coordinate(static_cast<double>(k) / (kEnvelopeSamples - 1));
+    const auto [i, j] = lobe_directions(frame.peak, theta_j, std::atan2(1.0, HUGE_VAL), 0.0);
+    tops[k] = vignetting(model, i, j, options).value;
   });
   Warp warp;
   warp.mix = kWarpMix;
-  for (const Fit& f : fits) warp.samples.push_back(f.sample);
-  // The envelope: the one under which g(psi = 0) / A bends least over the samples.
+  warp.beta_whitening = kWarpBetaWhitening;
+  warp.samples = fits;
+  // The envelope: the one under which g(psi = 0) / A bends least over those theta_j.
   auto roughness = [&](double envelope) {
     Warp trial;
     trial.envelope = envelope;
     double worst = 0.0;
-    for (int k = 1; k + 1 < kWarpSamples; ++k) {
+    for (int k = 1; k + 1 < kEnvelopeSamples; ++k) {
       auto at = [&](int m) {
-        return fits[m].top / warp_envelope(trial, theta_axis.coordinate(static_cast<double>(m) / (kWarpSamples - 1)));
+        return tops[m] / warp_envelope(trial, theta_axis.coordinate(static_cast<double>(m) / (kEnvelopeSamples - 1)));
       };
       worst = std::max(worst, std::abs(at(k - 1) - 2.0 * at(k) + at(k + 1)));
     }

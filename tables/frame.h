@@ -70,15 +70,29 @@ struct LobeFrame {
 // envelope A(theta_j) = (cos theta_j + sqrt(cos^2 theta_j + envelope^2 sin^2 theta_j)) / 2 (the
 // mean k·n of a lobe of width `envelope` clipped by the horizon; 1 without an envelope) takes out
 // the cos theta_j that h of a Koenderink–Pont lobe carries. The stored numbers are g / A.
+//
+// The third axis: where along >> across (GGX towards grazing: the reflected lobe is a thin arc,
+// across ~ 2 alpha cos theta_j), g at a fixed offset turns within a few across/along radians of
+// beta = pi/2, since the edge's direction in the plane where the lobe is round,
+//   beta_w = atan2(across (i·e2), along (i·e1)),
+// swings from 0 to pi there. Nodes uniform in beta_w alone starve beta near 0 and pi (the lobe is
+// clipped by the horizon, not elliptical), so the axis is the blend
+//   beta_axis = (1 - mu) beta + mu beta_w        (mu = beta_whitening; increasing in beta)
+// which is beta where along = across (Koenderink–Pont lobes at moderate theta_j).
 
-/// Fitting: the number of warp samples over theta_j, the share of the offset axis that follows
+/// Fitting (one warp sample per theta_j node): the share of the offset axis that follows
 /// the lobe, the factor on the quartile widths (a warp wider than the lobe's quartiles spreads a
 /// Gaussian step over more nodes: measured on specular alpha = 8, 1000 and ggx roughness 0.3),
 /// and theta_j's sinh_max width in lobe widths.
-inline constexpr int kWarpSamples = 17;
 inline constexpr double kWarpMix = 0.85;
 inline constexpr double kWarpWidthFactor = 1.5;
 inline constexpr double kWarpedThetaWidths = 3.0;
+/// The theta_j at which fit_warp compares g(psi = 0) / A with and without the envelope.
+inline constexpr int kEnvelopeSamples = 17;
+/// beta_whitening of fitted warps: measured on ggx roughness 0.3 at 25x49x17 (the worst lookup error
+/// at 3000 points, half uniform in the law's coordinates, half in the axes: 0.029 with 0, 0.007 with
+/// beta_w alone, 0.005 with 0.8; specular alpha = 100 unchanged).
+inline constexpr double kWarpBetaWhitening = 0.8;
 
 /// The warp parameters at theta_j (linear between the samples in theta_axis' index coordinate).
 WarpSample warp_at(const Warp& warp, const Axis& theta_axis, double theta_j) noexcept;
@@ -90,18 +104,21 @@ double warp_envelope(const Warp& warp, double theta_j) noexcept;
 double warp_envelope(const Warp& warp, double cos_theta_j, double sin_theta_j) noexcept;
 /// The offset of a unit sky pole i with components (i·p, i·e1, i·e2) and angle psi to p.
 double warped_offset(const WarpSample& at, double mix, double ip, double ie1, double ie2, double psi) noexcept;
-/// (theta_j, offset, beta) of the g coordinates (c_i, c_j, phi).
+/// The third axis' coordinate of a pole with components (i·e1, i·e2 >= 0) at beta = atan2(i·e2, i·e1).
+double warped_beta(const WarpSample& at, double whitening, double ie1, double ie2, double beta) noexcept;
+/// (theta_j, offset, beta axis) of the g coordinates (c_i, c_j, phi).
 std::array<double, 3> warped_coordinates(PeakKind peak, const Warp& warp, const Axis& theta_axis, double cos_theta_i,
                                          double cos_theta_j, double phi) noexcept;
-/// The directions (i, j) at warped coordinates: psi is found by bisection (offset falls with psi).
+/// The directions (i, j) at warped coordinates: beta by bisection (the axis rises with it), then psi
+/// by bisection (offset falls with psi).
 std::pair<Vec3, Vec3> warped_directions(PeakKind peak, const Warp& warp, const Axis& theta_axis, double theta_j,
                                         double offset, double beta) noexcept;
-/// The warp of `model`'s g: at each of kWarpSamples theta_j, the quartiles of g along cot psi at
+/// The warp of `model`'s g: at each theta_j node of `theta_axis`, the quartiles of g along cot psi at
 /// beta = 0, pi/2, pi (by bisection, cubature at `tolerance`), relative to g's range between
 /// psi = pi and 0: shift = half the distance of the medians at beta = pi and 0, along and across
 /// from the quartile spreads (S(z) = 3/4 at z = 1/sqrt(3)) times kWarpWidthFactor, kept within
 /// [width/8, 8 width + 1] of the hinted width; the envelope (the lobe's width or none) that makes
-/// g(psi = 0) / A smoother over theta_j.
+/// g(psi = 0) / A smoother over kEnvelopeSamples theta_j.
 Warp fit_warp(const Model& model, const LobeFrame& frame, const Axis& theta_axis, double tolerance);
 
 /// The lobe frame of a model's g from its mass hints for the law of vignetting (varying the

@@ -74,7 +74,8 @@ bool same_lookup(const Table& a, const Table& b) noexcept {
   if (a.frame != Frame::cosines && a.peak != b.peak) return false;
   if (a.frame == Frame::warped) {  // the offset axis and the envelope follow each table's own warp
     const Warp &p = a.warp, &q = b.warp;
-    if (p.mix != q.mix || p.envelope != q.envelope || p.samples != q.samples) return false;
+    if (p.mix != q.mix || p.envelope != q.envelope || p.beta_whitening != q.beta_whitening || p.samples != q.samples)
+      return false;
   }
   return true;
 }
@@ -112,13 +113,14 @@ Lookup::Site Lookup::at_law(const Point& x) const noexcept {
   Site site;
   site.u[0] = index_[0](c.theta_j);
   if (t.frame == Frame::warped) {
-    const double offset = warped_offset(warp_at_index(t.warp, site.u[0]), t.warp.mix, c.ip, c.ie1, c.ie2, c.psi);
-    site.u[1] = index_[1](offset);
+    const WarpSample at = warp_at_index(t.warp, site.u[0]);
+    site.u[1] = index_[1](warped_offset(at, t.warp.mix, c.ip, c.ie1, c.ie2, c.psi));
+    site.u[2] = index_[2](warped_beta(at, t.warp.beta_whitening, c.ie1, c.ie2, c.beta));
     site.scale = warp_envelope(t.warp, c.cos_theta_j, c.sin_theta_j);
   } else {
     site.u[1] = index_[1](c.psi);
+    site.u[2] = index_[2](c.beta);
   }
-  site.u[2] = index_[2](c.beta);
   site.valid = true;
   return site;
 }

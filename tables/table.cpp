@@ -52,7 +52,9 @@ Interpolation parse_interpolation(const std::string& text) {
   return util::parse_name(kInterpolations, "interpolation", text);
 }
 
-bool is_law_table_version(int version) noexcept { return version == 1 || version == 2 || version == kFormatVersion; }
+bool is_law_table_version(int version) noexcept {
+  return version == 1 || version == 2 || version == kWarpedFormatVersion || version == kFormatVersion;
+}
 
 const char* to_string(Frame frame) { return util::name_of(kFrames, frame); }
 Frame parse_frame(const std::string& text) { return util::parse_name(kFrames, "frame", text); }
@@ -138,6 +140,8 @@ double Axis::coordinate(double u) const noexcept {
 
 AxisIndex::AxisIndex(const Axis& axis) noexcept
     : min(axis.min), range(axis.max - axis.min), mapping(axis.mapping), width(axis.width) {
+  int exponent = 0;  // range = 2^k exactly when its mantissa is 1/2; then 1/range = 2^-k, exact unless subnormal
+  if (range > 0.0 && std::frexp(range, &exponent) == 0.5 && std::isnormal(1.0 / range)) exact_reciprocal = 1.0 / range;
   if (mapping == Mapping::sinh && width > 0.0) {
     const SinhAxis s(axis);
     centre = s.c;
@@ -303,7 +307,7 @@ void check_unorm16(const Table& table) {
 
 namespace {
 /// A warped table's warp: >= 2 samples of finite shifts and positive finite widths, mix in (0, 1],
-/// a finite envelope width >= 0; other tables have none. The validated domain: j·n >= 0, < 1.
+/// a finite envelope width >= 0, beta_whitening in [0, 1); other tables have none. The validated domain: j·n >= 0, < 1.
 void check_warp(const Table& table) {
   if (!std::isfinite(table.min_cos_j) || table.min_cos_j < 0.0 || table.min_cos_j >= 1.0)
     throw InputError("validated j·n minimum " + format_number(table.min_cos_j) + " is not allowed; expected [0, 1)");
@@ -322,6 +326,8 @@ void check_warp(const Table& table) {
   if (!(w.mix > 0.0 && w.mix <= 1.0)) throw InputError("warp mix " + format_number(w.mix) + " is not in (0, 1]");
   if (!std::isfinite(w.envelope) || w.envelope < 0.0)
     throw InputError("warp envelope width " + format_number(w.envelope) + " is not a finite number >= 0");
+  if (!(w.beta_whitening >= 0.0 && w.beta_whitening < 1.0))
+    throw InputError("warp beta_whitening " + format_number(w.beta_whitening) + " is not in [0, 1)");
 }
 }  // namespace
 
@@ -339,8 +345,11 @@ void check_table(const Table& table) {
   if (table.frame != Frame::cosines && table.law != Law::g)
     throw InputError(std::string("law ") + law + " tables use the cosines frame; only g has a " +
                      to_string(table.frame) + " frame");
-  if (table.format_version < kFormatVersion && (table.frame == Frame::warped || table.filter != Filter::texel_fetch))
-    throw InputError("the warped frame and hardware filtering need format version " + std::to_string(kFormatVersion));
+  if (table.format_version < kWarpedFormatVersion && (table.frame == Frame::warped || table.filter != Filter::texel_fetch))
+    throw InputError("the warped frame and hardware filtering need format version " +
+                     std::to_string(kWarpedFormatVersion));
+  if (table.format_version < kFormatVersion && table.warp.beta_whitening != 0.0)
+    throw InputError("a whitened beta axis needs format version " + std::to_string(kFormatVersion));
   check_warp(table);
   if (table.filter == Filter::hardware && table.interpolation != Interpolation::linear)
     throw InputError("hardware filtering is validated for linear lookup only, not " +

@@ -20,13 +20,15 @@ void require_tabulated(Law law);
 /// parse_law for a flag that names a tabulated law; refusals name `flag` and the text.
 Law parse_tabulated_law(const std::string& flag, const std::string& text);
 
-/// The version of docs/lut-format.md this code writes: 4 (the warped frame and the lookup filter;
-/// version 3 is the parameter tables of tables/param_table.h). Versions 1 (cosine axes, linear
-/// lookup, no frame or interpolation attributes) and 2 (no warped frame, no filter attribute) are
-/// still read.
-inline constexpr int kFormatVersion = 4;
+/// The version of docs/lut-format.md this code writes: 5 (the warped frame's beta axis may be
+/// whitened; version 3 is the parameter tables of tables/param_table.h). Versions 1 (cosine axes,
+/// linear lookup, no frame or interpolation attributes), 2 (no warped frame, no filter attribute)
+/// and 4 (the warped frame and the lookup filter, beta unwhitened) are still read.
+inline constexpr int kFormatVersion = 5;
 inline constexpr int kOldestFormatVersion = 1;
-/// Whether read_table reads law tables of this version: 1, 2 and 4.
+/// The first version with the warped frame and the lookup filter attributes.
+inline constexpr int kWarpedFormatVersion = 4;
+/// Whether read_table reads law tables of this version: 1, 2, 4 and 5.
 bool is_law_table_version(int version) noexcept;
 
 /// How an axis spends its nodes. u in [0, 1] is the index coordinate (node k at u = k/(count-1)),
@@ -137,12 +139,16 @@ struct Axis {
 /// (tables/sample.h, Lookup). With t = (x - min) / (max - min) clamped to [0, 1]:
 ///   linear: u = t;  sqrt: u = sqrt t;  cos: u = acos(1 - 2t) / pi;  sinh and sinh_max: table.h's
 ///   inverses above (t itself without a width).
+/// Where max - min is a power of two (the cosine axes [-1, 1] and [0, 1], the offset [0, 1]), t is
+/// taken as (x - min) times the reciprocal, which is exact there: the same double as the quotient,
+/// without a division.
 struct AxisIndex {
   AxisIndex() = default;
   explicit AxisIndex(const Axis& axis) noexcept;
   double operator()(double x) const noexcept {
     if (!(range > 0.0)) return 0.0;
-    const double t = std::clamp((x - min) / range, 0.0, 1.0);  // NaN -> clamp keeps NaN; caught below
+    const double offset = x - min;  // NaN -> clamp keeps NaN; caught below
+    const double t = std::clamp(exact_reciprocal > 0.0 ? offset * exact_reciprocal : offset / range, 0.0, 1.0);
     if (!(t >= 0.0)) return 0.0;
     switch (mapping) {
       case Mapping::linear: return t;
@@ -160,6 +166,7 @@ struct AxisIndex {
 
  private:
   double min = 0.0, range = 0.0;  ///< range = max - min; 0 (or NaN): u = 0
+  double exact_reciprocal = 0.0;  ///< 1 / range where range is a power of two (the reciprocal exact), else 0
   Mapping mapping = Mapping::linear;
   double width = 0.0, centre = 0.0, v = 1.0;  ///< the sinh mappings' w, c and V
 };
@@ -223,6 +230,9 @@ inline constexpr double kLookupMargin = 1.5;
 /// widths along e1 and e2 (gnomonic units), blended linearly in between; the share `mix` of the
 /// offset axis that follows the lobe (the rest is uniform in psi); and the envelope's width
 /// (0: none): the stored numbers are g / A(theta_j), A = (cos + sqrt(cos^2 + width^2 sin^2))/2.
+/// `beta_whitening` mu: the third axis is (1 - mu) beta + mu beta_w, beta_w the edge's direction
+/// in the plane where the lobe is round (tables/frame.h, warped_beta); 0: beta itself (files that
+/// do not name it).
 struct WarpSample {
   double shift = 0.0, along = 1.0, across = 1.0;
   bool operator==(const WarpSample&) const = default;
@@ -231,6 +241,7 @@ struct Warp {
   std::vector<WarpSample> samples;  ///< >= 2
   double mix = 0.0;                 ///< in (0, 1]
   double envelope = 0.0;            ///< >= 0
+  double beta_whitening = 0.0;      ///< in [0, 1)
 };
 
 /// The smallest j·n at which a warped table's bound was validated: below it (the last degree

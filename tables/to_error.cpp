@@ -195,7 +195,8 @@ SearchResult search_counts(const Model& model, Law law, BakeOptions options, dou
     if (std::find(baked.begin(), baked.end(), key) != baked.end()) break;  // capped to a table already measured
     baked.push_back(key);
     Table table = bake_resolution(model, law, options);
-    if (table.frame == Frame::warped) options.warp = table.warp;  // fitted once: it does not depend on the counts
+    // The warp has one sample per theta_j node (tables/frame.h): refitted when that count changes.
+    if (table.frame == Frame::warped) options.warp = table.warp;
     if (table.lookup_error <= E) {
       result.table = std::move(table);
       return result;

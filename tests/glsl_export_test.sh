@@ -71,7 +71,8 @@ compile_table "$tmp/h2.glsl" gz_specular_alpha_100_h h
 "$G" export-glsl "$tmp/g4.exr" -o "$tmp/g4.glsl" --quiet && ok || fail "export g v4"
 "$G" export-glsl "$tmp/g4x.exr" -o "$tmp/g4x.glsl" --quiet && ok || fail "export ggx g v4"
 grep -q "gz_lookup3_filtered" "$tmp/g4.glsl" && grep -q "gz_warped_offset" "$tmp/g4.glsl" \
-  && grep -q "const vec3 gz_specular_alpha_100_g_warp\[17\]" "$tmp/g4.glsl" \
+  && grep -q "gz_warped_beta(warp, 0.8" "$tmp/g4.glsl" \
+  && grep -q "const vec3 gz_specular_alpha_100_g_warp\[9\]" "$tmp/g4.glsl" \
   && grep -q "// lookup: 1 texture fetch, hardware filtering" "$tmp/g4.glsl" && ok || fail "v4 g snippet: warp or filter missing"
 grep -q "// lookup: 8 texture fetches (texelFetch" "$tmp/g4x.glsl" && ! grep -q "gz_warp_envelope(cs_j" "$tmp/g4x.glsl" \
   && ok || fail "v4 ggx snippet: lookup line or an envelope it should not have"

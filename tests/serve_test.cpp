@@ -161,6 +161,12 @@ TEST(ServeRequest, TableUsesTheCacheKeysOfBake) {
   EXPECT_EQ(scene_target->target.lookup_error, scene::kSceneTargetError);
   EXPECT_EQ(scene_target->target.max_fetches, scene::kSceneFetches);
   EXPECT_TRUE(scene_target->target.best_effort);
+  // and, as max_error's target, within the service's own size cap
+  Limits small;
+  small.max_entries = 1000;
+  const TableQuery capped = parse_table(parse_query("model=minnaert:xi=1&law=g"), small, TableEndpoint::table,
+                                        scene::TableOptions::scene_defaults());
+  EXPECT_EQ(std::get<tables::TargetBake>(capped.options).target.max_bytes, small.max_entries * sizeof(float));
   const TableQuery fixed = parse_table(parse_query("model=minnaert:xi=1&law=g&res=8x6x4"), Limits{},
                                        TableEndpoint::table, scene::TableOptions::scene_defaults());
   EXPECT_TRUE(std::holds_alternative<tables::BakeOptions>(fixed.options));

@@ -122,6 +122,30 @@ TEST(Table, MappingsRoundTripAndEndsAreExact) {
   EXPECT_DOUBLE_EQ(cs.node(1), -std::cos(pi / 4));  // on [-1, 1]: x = -cos(pi u), uniform in angle
 }
 
+// AxisIndex multiplies by 1 / (max - min) where that range is a power of two, instead of dividing:
+// the identity x / 2^k = x 2^-k holds to the last bit, so a lookup (and with it a bake's validation
+// and its warped nodes, tables/frame.h) is the same double as the quotient's. Elsewhere it divides.
+TEST(Table, IndexCoordinateIsTheQuotientToTheLastBit) {
+  std::mt19937_64 random(11);
+  const Axis axes[] = {{"x", -1.0, 1.0, 9, Mapping::cos},  {"x", 0.0, 1.0, 9, Mapping::cos},
+                       {"x", 0.0, 1.0, 9, Mapping::sqrt},  {"x", 0.0, 1.0, 9, Mapping::linear},
+                       {"x", -3.0, 5.0, 9, Mapping::linear}, {"x", 0.0, pi, 9, Mapping::linear},
+                       {"x", 0.0, pi / 2, 9, Mapping::cos}, {"x", 0.1, 0.85, 9, Mapping::sqrt},
+                       {"x", -1.0, 2.0, 9, Mapping::linear}};
+  for (const Axis& axis : axes) {
+    std::uniform_real_distribution<double> inside(axis.min, axis.max);
+    for (int k = 0; k < 20000; ++k) {
+      const double x = inside(random);
+      const double t = std::clamp((x - axis.min) / (axis.max - axis.min), 0.0, 1.0);  // the quotient itself
+      const double u = axis.mapping == Mapping::linear ? t
+                       : axis.mapping == Mapping::sqrt ? std::sqrt(t)
+                                                       : std::acos(1.0 - 2.0 * t) / pi;
+      ASSERT_EQ(axis.index_coordinate(x), u) << to_string(axis.mapping) << " on [" << axis.min << ", " << axis.max
+                                             << "] at x = " << x;
+    }
+  }
+}
+
 TEST(Table, ResolutionParsing) {
   EXPECT_EQ(parse_resolution("8", Law::g), (std::vector<int>{8, 8, 8}));
   EXPECT_EQ(parse_resolution("64x32x16", Law::g), (std::vector<int>{64, 32, 16}));
@@ -931,18 +955,27 @@ Warp test_warp() {
 // then agrees to a few ulps of its O(1) arithmetic.
 constexpr double kWarpRoundTrip = 1e-9;
 TEST(Table, WarpedCoordinatesInvertWarpedDirections) {
-  const Warp warp = test_warp();
+  Warp warp = test_warp();
   const std::vector<Axis> axes = warped_axes(std::vector<int>{9, 9, 9}, 0.3);
   std::mt19937_64 rng(6);
   std::uniform_real_distribution<double> u(0.0, 1.0);
+  warp.samples.back().across = 0.01;  // a thin arc at grazing: the whitened beta turns fast near pi/2
+  for (double whitening : {0.0, kWarpBetaWhitening})
   for (PeakKind peak : {PeakKind::mirror, PeakKind::retro})
     for (int k = 0; k < 300; ++k) {
+      warp.beta_whitening = whitening;
       const double y[3] = {0.01 + 1.5 * u(rng), 0.001 + 0.998 * u(rng), 0.01 + 3.1 * u(rng)};
       const auto [i, j] = warped_directions(peak, warp, axes[0], y[0], y[1], y[2]);
       const std::vector<double> x = coordinates(Law::g, i, j);
       const std::array<double, 3> back = warped_coordinates(peak, warp, axes[0], x[0], x[1], x[2]);
       for (int d = 0; d < 3; ++d) EXPECT_NEAR(back[d], y[d], kWarpRoundTrip) << to_string(peak) << " axis " << d;
     }
+  // The whitened beta keeps the ends and pi/2, and rises faster than beta at pi/2 where along > across.
+  WarpSample thin{0.0, 1.0, 0.1};
+  EXPECT_DOUBLE_EQ(warped_beta(thin, 0.8, 1.0, 0.0, 0.0), 0.0);
+  EXPECT_DOUBLE_EQ(warped_beta(thin, 0.8, -1.0, 0.0, pi), pi);
+  EXPECT_NEAR(warped_beta(thin, 0.8, 0.0, 1.0, pi / 2), pi / 2, 1e-15);
+  EXPECT_GT(warped_beta(thin, 0.8, -0.1, 1.0, std::atan2(1.0, -0.1)) - pi / 2, 2.0 * (std::atan2(1.0, -0.1) - pi / 2));
   // The offset's ends: 1 at the peak (psi = 0), 0 opposite it (psi = pi).
   const WarpSample at = warp_at(warp, axes[0], 0.5);
   EXPECT_DOUBLE_EQ(warped_offset(at, warp.mix, 1.0, 0.0, 0.0, 0.0), 1.0);
@@ -963,13 +996,15 @@ TEST_F(TableRefusal, WarpedTableRoundTripsAndBadWarpsAreRefused) {
   EXPECT_EQ(baked.frame, Frame::warped);
   EXPECT_EQ(baked.format_version, kFormatVersion);
   EXPECT_EQ(baked.min_cos_j, kWarpedMinCosJ);
-  EXPECT_EQ(baked.warp.samples.size(), static_cast<std::size_t>(kWarpSamples));
+  EXPECT_EQ(baked.warp.samples.size(), static_cast<std::size_t>(baked.axes[0].count));  // one per theta_j node
   EXPECT_GT(baked.warp.envelope, 0.0);  // a Koenderink–Pont lobe's h carries cos theta_j
   const Table t = round_trip(baked, "warped.exr");
   EXPECT_EQ(t.filter, Filter::hardware);
   EXPECT_EQ(t.min_cos_j, baked.min_cos_j);
   EXPECT_EQ(t.warp.mix, baked.warp.mix);
   EXPECT_EQ(t.warp.envelope, baked.warp.envelope);
+  EXPECT_EQ(baked.warp.beta_whitening, kWarpBetaWhitening);
+  EXPECT_EQ(t.warp.beta_whitening, baked.warp.beta_whitening);
   for (std::size_t k = 0; k < t.warp.samples.size(); ++k) {
     EXPECT_EQ(t.warp.samples[k].shift, baked.warp.samples[k].shift);
     EXPECT_EQ(t.warp.samples[k].along, baked.warp.samples[k].along);
@@ -986,6 +1021,12 @@ TEST_F(TableRefusal, WarpedTableRoundTripsAndBadWarpsAreRefused) {
         std::tuple{"ganzfeld.warp", "{\"mix\": 0.85, \"envelope\": 0, \"samples\": [[0, -1, 1], [0, 1, 1]]}",
                    "widths > 0"},
         std::tuple{"ganzfeld.warp", "{\"mix\": 2, \"envelope\": 0, \"samples\": [[0, 1, 1], [0, 1, 1]]}", "mix"},
+        std::tuple{"ganzfeld.warp",
+                   "{\"mix\": 1, \"envelope\": 0, \"beta_whitening\": 1, \"samples\": [[0, 1, 1], [0, 1, 1]]}",
+                   "beta_whitening"},
+        std::tuple{"ganzfeld.warp",
+                   "{\"mix\": 1, \"envelope\": 0, \"beta_whitening\": \"x\", \"samples\": [[0, 1, 1], [0, 1, 1]]}",
+                   "is not {"},
         std::tuple{"ganzfeld.filter", "bilinear", "unknown lookup filter"},
         std::tuple{"ganzfeld.min_cos_j", "1", "validated j"}}) {
     write_table(baked, path);
@@ -1000,7 +1041,43 @@ TEST_F(TableRefusal, WarpedTableRoundTripsAndBadWarpsAreRefused) {
   raw.set("ganzfeld.format_version", "2");
   raw.save(path);
   expect_refused(path, "need format version 4");
+  // Version 4 has the warped frame but no whitened beta axis: such a file is refused, and one whose
+  // warp names no beta_whitening reads as beta itself (0), the lookup version-4 readers performed.
+  raw.set("ganzfeld.format_version", "4");
+  raw.save(path);
+  expect_refused(path, "whitened beta axis needs format version 5");
+  Table plain = baked;
+  plain.warp.beta_whitening = 0.0;
+  write_table(plain, path);
+  raw = RawExr::load(path);
+  raw.set("ganzfeld.format_version", "4");
+  raw.save(path);
+  const Table v4 = read_table(path);
+  EXPECT_EQ(v4.format_version, 4);
+  EXPECT_EQ(v4.warp.beta_whitening, 0.0);
 }
+
+// GGX towards grazing is a thin arc (across ~ 2 alpha cos theta_j, along ~ 2 alpha): at a fixed
+// offset g turns within a few across/along radians of beta = pi/2. The whitened beta axis
+// (tables/frame.h, warped_beta) puts the nodes there; with plain beta the same table errs far more.
+TEST(Table, WarpedGgxTableErrsLessWithTheWhitenedBeta) {
+  const ModelPtr model = parse_model("ggx:roughness=0.3");
+  BakeOptions options;
+  options.resolution = {17, 33, 13};
+  options.tolerance = 1e-5;
+  options.check_tolerance = 1e-6;
+  options.lobe = lobe_frame_of(*model);
+  options.warped = true;
+  options.filter = Filter::hardware;
+  const Table whitened = bake(*model, Law::g, options);
+  ASSERT_EQ(whitened.warp.beta_whitening, kWarpBetaWhitening);
+  options.warp = whitened.warp;
+  options.warp->beta_whitening = 0.0;
+  const Table plain = bake(*model, Law::g, options);
+  std::printf("lookup error: whitened beta %.3g, plain beta %.3g\n", whitened.lookup_error, plain.lookup_error);
+  EXPECT_LT(whitened.lookup_error, 0.5 * plain.lookup_error);
+}
+
 
 // The 8-bit emulation: linear weights rounded to multiples of 1/256 (nearest, or down), which
 // moves a lookup by at most half (one) step of a cell's difference per axis, and never at nodes.
