@@ -3,21 +3,21 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <fstream>
 #include <functional>
 #include <limits>
 #include <mutex>
 #include <numbers>
 #include <optional>
 #include <random>
-#include <fstream>
 #include <sstream>
 #include <thread>
 
+#include <cubature.h>
+#include <tbb/parallel_for.h>
 #include <boost/math/quadrature/gauss_kronrod.hpp>
 #include <boost/math/quadrature/tanh_sinh.hpp>
 #include <boost/math/special_functions/legendre.hpp>
-#include <cubature.h>
-#include <tbb/parallel_for.h>
 
 #include "integrate/laws.h"
 #include "models/spec.h"
@@ -34,8 +34,8 @@ using std::numbers::pi;
 
 struct Case {
   ModelPtr model;
-  Vec3 i, j;     // sky pole and view
-  Vec3 lobe;     // where the integrand peaks (break points of the Boost reference)
+  Vec3 i, j;  // sky pole and view
+  Vec3 lobe;  // where the integrand peaks (break points of the Boost reference)
 };
 
 /// The one integrand wrapper every competitor goes through: counts evaluations and enforces
@@ -117,38 +117,44 @@ struct Family {
 std::vector<Family> families() {
   auto lobe_family = [](std::string name, bool mirror_lobe) {
     return Family{name, [name, mirror_lobe](std::mt19937_64& rng, int k) {
-      std::uniform_real_distribution<double> u(0.0, 1.0);
-      const double alphas[] = {1, 10, 100, 1000};
-      const double alpha = alphas[k % 4];
-      const double w = std::sqrt(2.0 / alpha);
-      const Vec3 j = direction_from_cos(0.05 + 0.95 * u(rng), 2 * pi * u(rng));
-      const Vec3 lobe = mirror_lobe ? mirror(j) : j;
-      double delta;
-      switch ((k / 4) % 3) {
-        case 0: delta = 0.3 + 0.9 * u(rng); break;             // inside
-        case 1: delta = (4 * u(rng) - 2) * std::min(w, 0.3); break;  // near the sky edge
-        default: delta = -(0.3 + 0.9 * u(rng)); break;          // outside
-      }
-      return Case{parse_model(name + ":alpha=" + std::to_string(int(alpha))), pole_at_distance(lobe, delta, rng), j, lobe};
-    }};
+                    std::uniform_real_distribution<double> u(0.0, 1.0);
+                    const double alphas[] = {1, 10, 100, 1000};
+                    const double alpha = alphas[k % 4];
+                    const double w = std::sqrt(2.0 / alpha);
+                    const Vec3 j = direction_from_cos(0.05 + 0.95 * u(rng), 2 * pi * u(rng));
+                    const Vec3 lobe = mirror_lobe ? mirror(j) : j;
+                    double delta;
+                    switch ((k / 4) % 3) {
+                      case 0: delta = 0.3 + 0.9 * u(rng); break;                   // inside
+                      case 1: delta = (4 * u(rng) - 2) * std::min(w, 0.3); break;  // near the sky edge
+                      default: delta = -(0.3 + 0.9 * u(rng)); break;               // outside
+                    }
+                    return Case{parse_model(name + ":alpha=" + std::to_string(int(alpha))),
+                                pole_at_distance(lobe, delta, rng), j, lobe};
+                  }};
   };
   return {
       lobe_family("specular", true),
       lobe_family("backscatter", false),
-      {"minnaert", [](std::mt19937_64& rng, int k) {
+      {"minnaert",
+       [](std::mt19937_64& rng, int k) {
          std::uniform_real_distribution<double> u(0.0, 1.0);
          const char* xi[] = {"0.3", "1", "2.7"};
          const Vec3 j = direction_from_cos(u(rng), 2 * pi * u(rng));
-         return Case{parse_model(std::string("minnaert:xi=") + xi[k % 3]), direction_from_cos(2 * u(rng) - 1, 2 * pi * u(rng)), j, Vec3{0, 0, 1}};
+         return Case{parse_model(std::string("minnaert:xi=") + xi[k % 3]),
+                     direction_from_cos(2 * u(rng) - 1, 2 * pi * u(rng)), j, Vec3{0, 0, 1}};
        }},
-      {"asperity", [](std::mt19937_64& rng, int k) {
+      {"asperity",
+       [](std::mt19937_64& rng, int k) {
          std::uniform_real_distribution<double> u(0.0, 1.0);
          const int alphas[] = {1, 10, 100, 1000};
          const Vec3 j = direction_from_cos(0.01 + 0.99 * u(rng), 2 * pi * u(rng));
          return Case{parse_model("asperity:alpha=" + std::to_string(alphas[k % 4])),
-                     direction_from_cos(2 * u(rng) - 1, 2 * pi * u(rng)), j, direction_from_cos(0.0, std::atan2(j.y, j.x))};
+                     direction_from_cos(2 * u(rng) - 1, 2 * pi * u(rng)), j,
+                     direction_from_cos(0.0, std::atan2(j.y, j.x))};
        }},
-      {"degenerate", [](std::mt19937_64& rng, int k) {
+      {"degenerate",
+       [](std::mt19937_64& rng, int k) {
          std::uniform_real_distribution<double> u(0.0, 1.0);
          const char* specs[] = {"specular:alpha=10", "minnaert:xi=0.3", "asperity:alpha=4"};
          const double poles[] = {1.0 - 1e-12, 1.0, -1.0 + 1e-6, -0.999, 1e-6};
@@ -157,7 +163,8 @@ std::vector<Family> families() {
          const ModelPtr m = parse_model(specs[k % 3]);
          return Case{m, direction_from_cos(poles[(k / 3) % 5], 2 * pi * u(rng)), j, mirror(j)};
        }},
-      {"perfect-backscatter", [](std::mt19937_64& rng, int k) {
+      {"perfect-backscatter",
+       [](std::mt19937_64& rng, int k) {
          std::uniform_real_distribution<double> u(0.0, 1.0);
          const int alphas[] = {2, 10, 100};
          const Vec3 j = direction_from_cos(1e-3 * u(rng), 2 * pi * u(rng));
@@ -204,8 +211,8 @@ Run run_libcubature(const Case& c, const Lune& lune, double tol, long long cap, 
   auto fn = p_adaptive ? pcubature : hcubature;
   const int status = fn(1, cubature_callback, &data, 2, naive ? lo_hemi : lo_lune, naive ? hi_hemi : hi_lune,
                         static_cast<size_t>(cap), tol, 0.0, ERROR_INDIVIDUAL, &value, &error);
-  Run r = measured(naive ? "hcubature_naive" : (p_adaptive ? "pcubature_lune" : "hcubature_lune"), value, error,
-                   tol, ref);
+  Run r =
+      measured(naive ? "hcubature_naive" : (p_adaptive ? "pcubature_lune" : "hcubature_lune"), value, error, tol, ref);
   r.seconds = start.seconds();
   r.evaluations = in.count;
   r.capped = in.count >= cap;
@@ -240,7 +247,8 @@ double nested_gauss_kronrod(Integrand& in, double tol, double& estimate) {
   using boost::math::quadrature::gauss_kronrod;
   return gauss_kronrod<double, 15>::integrate(
       [&](double t) {
-        return gauss_kronrod<double, 15>::integrate([&](double phi) { return in.lune_point(t, phi); }, in.lune.phi_lo, pi / 2, 15, tol);
+        return gauss_kronrod<double, 15>::integrate([&](double phi) { return in.lune_point(t, phi); }, in.lune.phi_lo,
+                                                    pi / 2, 15, tol);
       },
       -pi / 2, pi / 2, 15, tol, &estimate);
 }
@@ -248,7 +256,9 @@ double nested_gauss_kronrod(Integrand& in, double tol, double& estimate) {
 double nested_tanh_sinh(Integrand& in, double tol, double& estimate) {
   boost::math::quadrature::tanh_sinh<double> ts;
   return ts.integrate(
-      [&](double t) { return ts.integrate([&](double phi) { return in.lune_point(t, phi); }, in.lune.phi_lo, pi / 2, tol); },
+      [&](double t) {
+        return ts.integrate([&](double phi) { return in.lune_point(t, phi); }, in.lune.phi_lo, pi / 2, tol);
+      },
       -pi / 2, pi / 2, tol, &estimate);
 }
 
@@ -332,7 +342,8 @@ Run run_monte_carlo(const Case& c, double budget_seconds, const Reference& ref, 
 }
 
 /// Cheapest run of a competitor that reaches `target`; the cap (a lower bound) if none does.
-std::pair<double, bool> cost_to_reach(const std::vector<Run>& runs, const std::string& who, double target, long long cap) {
+std::pair<double, bool> cost_to_reach(const std::vector<Run>& runs, const std::string& who, double target,
+                                      long long cap) {
   double best = std::numeric_limits<double>::infinity();
   for (const Run& r : runs)
     if (r.competitor == who && r.achieved_error <= target && !r.capped) best = std::min(best, double(r.evaluations));
@@ -346,7 +357,8 @@ double Reference::resolution() const {
   return error + doubt + kRoundingUlps * std::numeric_limits<double>::epsilon() * std::abs(value);
 }
 
-Run measured(const std::string& competitor, double value, double estimate, double tolerance, const Reference& reference) {
+Run measured(const std::string& competitor, double value, double estimate, double tolerance,
+             const Reference& reference) {
   Run r;
   r.competitor = competitor;
   r.tolerance = tolerance;
@@ -369,9 +381,9 @@ bool CubatureBenchOptions::runs(const std::string& competitor) const {
 }
 
 const std::vector<std::string>& cubature_competitors() {
-  static const std::vector<std::string> names{"ours", "ours_no_hints", "oracle", "mc", "hcubature_lune",
-                                              "hcubature_naive", "pcubature_lune", "boost_gauss_kronrod",
-                                              "boost_tanh_sinh"};
+  static const std::vector<std::string> names{
+      "ours",           "ours_no_hints",       "oracle",         "mc", "hcubature_lune", "hcubature_naive",
+      "pcubature_lune", "boost_gauss_kronrod", "boost_tanh_sinh"};
   return names;
 }
 
@@ -382,8 +394,9 @@ CubatureBenchOptions quick_options() {
 namespace {
 
 /// The peers whose evaluations are compared with ours (ratio = theirs / ours).
-const std::vector<std::string> kPeers{"ours_no_hints", "oracle", "hcubature_lune", "hcubature_naive",
-                                      "pcubature_lune", "boost_gauss_kronrod", "boost_tanh_sinh"};
+const std::vector<std::string> kPeers{"ours_no_hints",   "oracle",         "hcubature_lune",
+                                      "hcubature_naive", "pcubature_lune", "boost_gauss_kronrod",
+                                      "boost_tanh_sinh"};
 
 /// Everything measured on one case: every competitor's runs, the evaluation ratios at the ratio
 /// tolerance, Monte Carlo at our wall time, failures per competitor, and our missed/dishonest runs.
@@ -391,7 +404,7 @@ struct CaseResult {
   bool skipped = false;
   std::vector<Run> runs;
   std::map<std::string, std::pair<double, bool>> ratio;  // (ratio, capped)
-  std::optional<double> mc_ratio;  // none when both MC and ours are exact
+  std::optional<double> mc_ratio;                        // none when both MC and ours are exact
   int missed = 0, dishonest = 0, ours = 0;
   std::vector<Miss> misses;
   std::map<std::string, Failures> failures;
@@ -434,8 +447,14 @@ void judge_ours(const Case& c, const Run& r, CaseResult& out) {
   out.missed += v.missed;
   out.dishonest += v.dishonest;
   if (v.missed || v.dishonest)
-    out.misses.push_back({c.model->spec(), {c.i.x, c.i.y, c.i.z}, {c.j.x, c.j.y, c.j.z}, r.tolerance,
-                          r.achieved_error, r.estimate, r.resolution, r.evaluations});
+    out.misses.push_back({c.model->spec(),
+                          {c.i.x, c.i.y, c.i.z},
+                          {c.j.x, c.j.y, c.j.z},
+                          r.tolerance,
+                          r.achieved_error,
+                          r.estimate,
+                          r.resolution,
+                          r.evaluations});
 }
 
 /// The references of a case: Boost GK61 (independent, the one every competitor is judged by) and
@@ -469,7 +488,8 @@ CaseResult run_case(const Case& c, const CubatureBenchOptions& options, std::uin
     if (options.runs("pcubature_lune")) runs.push_back(run_libcubature(c, lu, tol, cap, false, true, ref));
     if (options.runs("boost_gauss_kronrod"))
       runs.push_back(run_boost("boost_gauss_kronrod", c, lu, tol, cap, ref, nested_gauss_kronrod));
-    if (options.runs("boost_tanh_sinh")) runs.push_back(run_boost("boost_tanh_sinh", c, lu, tol, cap, ref, nested_tanh_sinh));
+    if (options.runs("boost_tanh_sinh"))
+      runs.push_back(run_boost("boost_tanh_sinh", c, lu, tol, cap, ref, nested_tanh_sinh));
     for (const Run& r : runs) {
       if (r.competitor == "ours") judge_ours(c, r, out);
       count_failure(r, out.failures);
@@ -558,15 +578,23 @@ std::vector<FamilyResult> run_cubature_benchmark(const CubatureBenchOptions& opt
 
 namespace {
 
-const std::vector<std::string> kCompetitors{"ours", "ours_no_hints", "oracle", "hcubature_lune", "pcubature_lune",
-                                            "hcubature_naive", "boost_gauss_kronrod", "boost_tanh_sinh"};
+const std::vector<std::string> kCompetitors{"ours",
+                                            "ours_no_hints",
+                                            "oracle",
+                                            "hcubature_lune",
+                                            "pcubature_lune",
+                                            "hcubature_naive",
+                                            "boost_gauss_kronrod",
+                                            "boost_tanh_sinh"};
 
 /// (geometric mean evaluations, geometric mean achieved error) per competitor and tolerance.
-std::map<std::string, std::vector<std::pair<double, double>>> work_precision(const std::vector<FamilyResult>& families) {
+std::map<std::string, std::vector<std::pair<double, double>>> work_precision(
+    const std::vector<FamilyResult>& families) {
   std::map<std::string, std::map<double, std::array<double, 3>>> acc;  // log evals, log error, count
   for (const auto& f : families)
     for (const Run& r : f.runs) {
-      if (r.competitor == "mc" || r.competitor == "oracle" || !std::isfinite(r.achieved_error) || r.evaluations <= 0) continue;
+      if (r.competitor == "mc" || r.competitor == "oracle" || !std::isfinite(r.achieved_error) || r.evaluations <= 0)
+        continue;
       auto& a = acc[r.competitor][r.tolerance];
       a[0] += std::log(double(r.evaluations));
       // A geometric mean cannot take an exact 0: an error below the case's resolution is plotted
@@ -660,7 +688,8 @@ void failure_table(std::ostringstream& md, const std::vector<FamilyResult>& fami
   for (const auto& f : families)
     for (const auto& [who, x] : f.failures) {
       Failures& p = pooled[who];
-      p.runs += x.runs, p.silently_wrong += x.silently_wrong, p.not_converged += x.not_converged, p.over_cap += x.over_cap;
+      p.runs += x.runs, p.silently_wrong += x.silently_wrong, p.not_converged += x.not_converged,
+          p.over_cap += x.over_cap;
     }
   for (const auto& [who, p] : pooled)
     md << "| " << who << " | " << p.runs << " | " << p.silently_wrong << " (" << percent(p.silently_wrong, p.runs)
@@ -706,11 +735,12 @@ double growth(const FamilyResult& f, const EvaluationBaseline& baseline, const s
 void baseline_section(std::ostringstream& md, const std::vector<FamilyResult>& families,
                       const EvaluationBaseline& baseline) {
   md << "\n## Evaluations against the previous engine\n\nOur evaluations summed over every case and tolerance of "
-        "a family, this run against the baseline (" << baseline.source
-     << "): the same cases, the same counting. The limit is " << number(kEvaluationGrowthLimit)
+        "a family, this run against the baseline ("
+     << baseline.source << "): the same cases, the same counting. The limit is " << number(kEvaluationGrowthLimit)
      << "× for ours (the engine with the models' hints); without hints the first panels are each bisected once "
         "(integrate/cubature.h), shown for information.\n\n"
-     << "| family | runs | ours | before | ratio | ours, no hints | before | ratio |\n|---|---|---|---|---|---|---|---|\n";
+     << "| family | runs | ours | before | ratio | ours, no hints | before | ratio "
+        "|\n|---|---|---|---|---|---|---|---|\n";
   for (const auto& f : families) {
     const auto family = baseline.totals.find(f.name);
     auto before = [&](const std::string& who) {
@@ -727,16 +757,21 @@ void baseline_section(std::ostringstream& md, const std::vector<FamilyResult>& f
 void targets_section(std::ostringstream& md, const std::vector<FamilyResult>& families,
                      const std::vector<BakeTiming>& bakes, const EvaluationBaseline* baseline) {
   auto ratio = [](const char* who) {
-    return [who](const FamilyResult& f) { const auto it = f.evals_ratio.find(who); return it == f.evals_ratio.end() ? 0.0 : it->second; };
+    return [who](const FamilyResult& f) {
+      const auto it = f.evals_ratio.find(who);
+      return it == f.evals_ratio.end() ? 0.0 : it->second;
+    };
   };
   md << "\n## Targets, met or missed\n\n";
-  family_target(md, "Within 2× of the oracle (ratio ≥ 0.5)", families, ratio("oracle"), [](double r) { return r >= 0.5; });
+  family_target(md, "Within 2× of the oracle (ratio ≥ 0.5)", families, ratio("oracle"),
+                [](double r) { return r >= 0.5; });
   family_target(md, "≥ 10× fewer evaluations than hcubature on the lune", families, ratio("hcubature_lune"),
                 [](double r) { return r >= 10; });
   family_target(md, "≥ 1000× fewer than hcubature on the naive hemisphere (capped: lower bounds)", families,
                 ratio("hcubature_naive"), [](double r) { return r >= 1000; });
-  family_target(md, "Monte Carlo ≥ 10⁴× less accurate at equal time", families,
-                [](const FamilyResult& f) { return f.mc_error_ratio_equal_time; }, [](double r) { return r >= 1e4; });
+  family_target(
+      md, "Monte Carlo ≥ 10⁴× less accurate at equal time", families,
+      [](const FamilyResult& f) { return f.mc_error_ratio_equal_time; }, [](double r) { return r >= 1e4; });
   int runs = 0, missed = 0;
   for (const auto& f : families) {
     const auto it = f.failures.find("ours");
@@ -755,9 +790,10 @@ void targets_section(std::ostringstream& md, const std::vector<FamilyResult>& fa
   md << "- 0 dishonest runs of ours: **" << (dishonest == 0 ? "met" : "missed") << "** (" << dishonest << " of " << runs
      << ").\n";
   if (baseline)
-    family_target(md, "Our evaluations ≤ " + number(kEvaluationGrowthLimit) + "× the previous engine's", families,
-                  [&](const FamilyResult& f) { return growth(f, *baseline, "ours"); },
-                  [](double r) { return r > 0.0 && r <= kEvaluationGrowthLimit; });
+    family_target(
+        md, "Our evaluations ≤ " + number(kEvaluationGrowthLimit) + "× the previous engine's", families,
+        [&](const FamilyResult& f) { return growth(f, *baseline, "ours"); },
+        [](double r) { return r > 0.0 && r <= kEvaluationGrowthLimit; });
   const double limits[] = {5.0, 60.0};  // seconds on 2 threads: alpha = 8, alpha = 1000
   for (std::size_t k = 0; k < bakes.size() && k < 2; ++k) {
     const double median = util::median(bakes[k].seconds_2);
@@ -795,8 +831,9 @@ void disagreements_section(std::ostringstream& md, const std::vector<FamilyResul
 }
 
 /// The competitors judged for missed / dishonest (each states an error estimate), in table order.
-const std::vector<std::string> kJudged{"ours", "ours_no_hints", "hcubature_lune", "pcubature_lune", "hcubature_naive",
-                                       "boost_gauss_kronrod", "boost_tanh_sinh"};
+const std::vector<std::string> kJudged{"ours",           "ours_no_hints",   "hcubature_lune",
+                                       "pcubature_lune", "hcubature_naive", "boost_gauss_kronrod",
+                                       "boost_tanh_sinh"};
 
 /// Our listed runs stay in the page when there are at most this many; more go in a collapsed block.
 constexpr std::size_t kListedRunsInline = 30;
@@ -819,8 +856,9 @@ void verdict_table(std::ostringstream& md, const std::vector<FamilyResult>& fami
     md << "| " << f.name << " | " << (ours == f.failures.end() ? 0 : ours->second.runs) << " |";
     for (const auto& who : kJudged) {
       const auto it = f.failures.find(who);
-      md << " " << (it == f.failures.end() ? std::string("—") : std::to_string(it->second.missed) + " / " +
-                                                                    std::to_string(it->second.dishonest))
+      md << " "
+         << (it == f.failures.end() ? std::string("—")
+                                    : std::to_string(it->second.missed) + " / " + std::to_string(it->second.dishonest))
          << " |";
     }
     md << "\n";
@@ -836,9 +874,9 @@ void worst_of_ours(std::ostringstream& md, const std::vector<FamilyResult>& fami
     any = true;
     const Miss& m = *std::max_element(f.misses.begin(), f.misses.end(),
                                       [](const Miss& a, const Miss& b) { return a.excess() < b.excess(); });
-    md << "- " << f.name << ": error " << number(m.achieved_error) << ", estimate " << number(m.estimate)
-       << ", tol " << number(m.tolerance) << ", resolution " << number(m.resolution) << " (" << number(m.excess())
-       << "×): `" << eval_command(m) << "`\n";
+    md << "- " << f.name << ": error " << number(m.achieved_error) << ", estimate " << number(m.estimate) << ", tol "
+       << number(m.tolerance) << ", resolution " << number(m.resolution) << " (" << number(m.excess()) << "×): `"
+       << eval_command(m) << "`\n";
   }
   if (!any) md << "- none: no run of ours missed or was dishonest in this run.\n";
 }
@@ -855,8 +893,9 @@ void misses_section(std::ostringstream& md, const std::vector<FamilyResult>& fam
                      number(m.resolution) + " | " + std::to_string(m.evaluations) + " |");
   if (rows.empty()) return;
   const bool collapsed = rows.size() > kListedRunsInline;
-  md << "\n" << (collapsed ? "<details><summary>All " + std::to_string(rows.size()) + " of our listed runs</summary>\n\n"
-                            : std::string("All of our listed runs:\n\n"))
+  md << "\n"
+     << (collapsed ? "<details><summary>All " + std::to_string(rows.size()) + " of our listed runs</summary>\n\n"
+                   : std::string("All of our listed runs:\n\n"))
      << "| family | model | i | j | tol | achieved error | estimate | resolution | evaluations |\n"
         "|---|---|---|---|---|---|---|---|---|\n";
   for (const std::string& row : rows) md << row << "\n";
@@ -897,13 +936,15 @@ EvaluationBaseline read_evaluation_baseline(const std::string& path) {
     }
     std::istringstream fields(line);
     std::string family, competitor, runs, evaluations;
-    if (!std::getline(fields, family, ',') || !std::getline(fields, competitor, ',') || !std::getline(fields, runs, ',') ||
-        !std::getline(fields, evaluations))
-      throw InputError("evaluation baseline '" + path + "': line '" + line + "' is not family,competitor,runs,evaluations");
+    if (!std::getline(fields, family, ',') || !std::getline(fields, competitor, ',') ||
+        !std::getline(fields, runs, ',') || !std::getline(fields, evaluations))
+      throw InputError("evaluation baseline '" + path + "': line '" + line +
+                       "' is not family,competitor,runs,evaluations");
     try {
       out.totals[family][competitor] = {std::stoll(runs), std::stoll(evaluations)};
     } catch (const std::exception&) {
-      throw InputError("evaluation baseline '" + path + "': line '" + line + "' has no whole numbers of runs and evaluations");
+      throw InputError("evaluation baseline '" + path + "': line '" + line +
+                       "' has no whole numbers of runs and evaluations");
     }
   }
   return out;
@@ -949,7 +990,8 @@ void write_work_precision_plot(const std::vector<FamilyResult>& families, const 
     if (it == curves.end()) continue;
     const Rgb c = kPalette[series % 8];
     for (std::size_t k = 1; k < it->second.size(); ++k)
-      cv.line(px(it->second[k - 1].first), py(it->second[k - 1].second), px(it->second[k].first), py(it->second[k].second), c, 2);
+      cv.line(px(it->second[k - 1].first), py(it->second[k - 1].second), px(it->second[k].first),
+              py(it->second[k].second), c, 2);
     for (auto [x, y] : it->second) cv.marker(px(x), py(y), series, c);
     cv.marker(735, legend_y + 6, series, c);
     cv.text(752, legend_y, who, kBlack);
@@ -962,4 +1004,3 @@ void write_work_precision_plot(const std::vector<FamilyResult>& families, const 
 }
 
 }  // namespace ganzfeld::bench
-

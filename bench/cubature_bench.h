@@ -25,9 +25,9 @@
 // Boost's stated error + |ref1 - ref2| + kRoundingUlps of |ref|).
 #pragma once
 
+#include <array>
 #include <map>
 #include <string>
-#include <array>
 #include <vector>
 
 namespace ganzfeld::bench {
@@ -54,7 +54,7 @@ struct Reference {
 struct CubatureBenchOptions {
   int cases_per_family = 200;
   std::vector<double> tolerances{1e-4, 1e-6, 1e-8, 1e-10, 1e-12};
-  double ratio_tolerance = 1e-10;   ///< the requested tolerance at which ratios are reported
+  double ratio_tolerance = 1e-10;        ///< the requested tolerance at which ratios are reported
   long long competitor_cap = 2'000'000;  ///< evaluations per competitor run
   unsigned seed = 20190117;
   /// Only these competitors (names as in the tables: ours, ours_no_hints, oracle, mc, ...); empty:
@@ -76,7 +76,8 @@ struct Run {  // one competitor at one requested tolerance on one case
 };
 
 /// A run's value measured against the case's reference (no floor on the error).
-Run measured(const std::string& competitor, double value, double estimate, double tolerance, const Reference& reference);
+Run measured(const std::string& competitor, double value, double estimate, double tolerance,
+             const Reference& reference);
 
 /// The verdicts on one run, each beyond the case's resolution: missed = the achieved error
 /// exceeds the requested tolerance; dishonest = it exceeds the run's own error estimate. So an
@@ -117,8 +118,8 @@ struct Miss {
 struct FamilyResult {
   std::string name;
   int cases = 0, skipped = 0;
-  double missed_rate = 0.0;      ///< fraction of our runs (all tolerances) missing the tolerance
-  double dishonest_rate = 0.0;   ///< fraction of our runs whose estimate < actual error
+  double missed_rate = 0.0;                   ///< fraction of our runs (all tolerances) missing the tolerance
+  double dishonest_rate = 0.0;                ///< fraction of our runs whose estimate < actual error
   std::map<std::string, double> evals_ratio;  ///< geometric mean over cases, at ratio_tolerance
   std::map<std::string, int> capped;          ///< cases where the competitor hit the cap (ratio is a lower bound)
   double mc_error_ratio_equal_time = 0.0;     ///< geometric mean of MC error / our error (ours taken
@@ -126,8 +127,8 @@ struct FamilyResult {
                                               ///< measured); cases where both are exact are left out
   std::map<std::string, Failures> failures;   ///< per competitor (ours included)
   std::vector<Disagreement> disagreements;
-  std::vector<Run> runs;                      ///< every run, for the work–precision plot
-  std::vector<Miss> misses;                   ///< our missed or dishonest runs
+  std::vector<Run> runs;     ///< every run, for the work–precision plot
+  std::vector<Miss> misses;  ///< our missed or dishonest runs
 };
 
 std::vector<FamilyResult> run_cubature_benchmark(const CubatureBenchOptions& options);
@@ -156,7 +157,8 @@ std::string percent(int part, int whole);
 /// say how they were made (scripts/performance-baseline). Throws InputError for a malformed file.
 struct EvaluationBaseline {
   std::string source;  ///< the file's comment lines, joined
-  std::map<std::string, std::map<std::string, std::pair<long long, long long>>> totals;  ///< family → competitor → (runs, evaluations)
+  std::map<std::string, std::map<std::string, std::pair<long long, long long>>>
+      totals;  ///< family → competitor → (runs, evaluations)
 };
 EvaluationBaseline read_evaluation_baseline(const std::string& path);
 

@@ -7,10 +7,10 @@
 #include <numbers>
 #include <sstream>
 
-#include <boost/math/quadrature/gauss_kronrod.hpp>
-#include <boost/math/quadrature/tanh_sinh.hpp>
 #include <cubature.h>
 #include <tbb/parallel_for.h>
+#include <boost/math/quadrature/gauss_kronrod.hpp>
+#include <boost/math/quadrature/tanh_sinh.hpp>
 
 #include "bench/cubature_bench.h"
 #include "integrate/cubature.h"
@@ -87,7 +87,8 @@ long double genz_exact(const GenzInstance& in) {
   switch (in.family) {
     case GenzFamily::oscillatory: {
       // Re[e^{2πi u₁} Π (e^{i aₖ} − 1) / (i aₖ)], (e^{ia} − 1)/(ia) = sin(a)/a + i (1 − cos a)/a.
-      Long re = std::cos(2.0L * std::numbers::pi_v<Long> * in.u[0]), im = std::sin(2.0L * std::numbers::pi_v<Long> * in.u[0]);
+      Long re = std::cos(2.0L * std::numbers::pi_v<Long> * in.u[0]),
+           im = std::sin(2.0L * std::numbers::pi_v<Long> * in.u[0]);
       for (int d = 0; d < n; ++d) {
         const Long a = in.a[d], c = std::sin(a) / a, s = 2.0L * std::sin(a / 2) * std::sin(a / 2) / a;
         const Long next_re = re * c - im * s, next_im = re * s + im * c;
@@ -97,7 +98,8 @@ long double genz_exact(const GenzInstance& in) {
       return re;
     }
     case GenzFamily::product_peak:
-      for (int d = 0; d < n; ++d) value *= Long(in.a[d]) * (std::atan(Long(in.a[d]) * (1 - Long(in.u[d]))) + std::atan(Long(in.a[d]) * in.u[d]));
+      for (int d = 0; d < n; ++d)
+        value *= Long(in.a[d]) * (std::atan(Long(in.a[d]) * (1 - Long(in.u[d]))) + std::atan(Long(in.a[d]) * in.u[d]));
       return value;
     case GenzFamily::corner_peak: {
       // ∫(1 + a·x)^−(n+1) over [0,1]^n = Σ_{S ⊆ axes} (−1)^|S| / (1 + Σ_S aᵢ) / (n! Π aᵢ).
@@ -163,18 +165,16 @@ void check_genz_options(const GenzOptions& options) {
   for (double t : options.tolerances)
     if (!(t >= min_relative_tolerance() && t < 1.0))
       throw InputError({Named{"tolerances", number(t)}, " is not allowed; expected relative tolerances in [" +
-                                                           number(min_relative_tolerance()) +
-                                                           ", 1) (below it no double-precision rule resolves)"});
+                                                            number(min_relative_tolerance()) +
+                                                            ", 1) (below it no double-precision rule resolves)"});
   if (options.tolerances.empty()) throw InputError("no tolerance given; expected at least one");
   for (int d : options.dimensions) {
-    if (d != 1 && d != 2)
-      throw InputError("dimension " + std::to_string(d) + " is not allowed; allowed: 1, 2");
+    if (d != 1 && d != 2) throw InputError("dimension " + std::to_string(d) + " is not allowed; allowed: 1, 2");
     const long long panel = d == 1 ? kRuleNodes : kRuleNodes * kRuleNodes;
     if (options.budget < panel)
-      throw InputError({Named{"budget", std::to_string(options.budget)}, " is below one panel of " +
-                                                                     std::to_string(panel) + " evaluations in " +
-                                                                     std::to_string(d) + "-D; allowed: >= " +
-                                                                     std::to_string(panel)});
+      throw InputError({Named{"budget", std::to_string(options.budget)},
+                        " is below one panel of " + std::to_string(panel) + " evaluations in " + std::to_string(d) +
+                            "-D; allowed: >= " + std::to_string(panel)});
   }
 }
 
@@ -302,7 +302,12 @@ GenzRun run_boost(const std::string& who, const GenzInstance& in, double toleran
     } else {
       value = integrate(
           [&](double x) {
-            return integrate([&](double y) { const double p[2] = {x, y}; return counted(p); }, tolerance, nullptr);
+            return integrate(
+                [&](double y) {
+                  const double p[2] = {x, y};
+                  return counted(p);
+                },
+                tolerance, nullptr);
           },
           tolerance, &estimate);
     }
@@ -468,14 +473,13 @@ std::string genz_markdown(const std::vector<GenzCell>& cells, const GenzOptions&
            (c.dishonest_unseen ? number(c.worst_unseen_ratio) : std::string("–"));
   });
   md << "\n### Not converged (said so within the budget) + over the budget\n\n";
-  table(md, cells, options, [](const GenzCell& c) {
-    return percent(c.not_converged, c.runs) + " + " + percent(c.capped, c.runs);
-  });
+  table(md, cells, options,
+        [](const GenzCell& c) { return percent(c.not_converged, c.runs) + " + " + percent(c.capped, c.runs); });
   md << "\n### Evaluations (geometric mean over the runs)\n\n";
   table(md, cells, options, [](const GenzCell& c) { return number(c.geometric_mean_evaluations()); });
 
-  const GenzCell smooth = ours_total(cells, {GenzFamily::oscillatory, GenzFamily::product_peak, GenzFamily::corner_peak,
-                                             GenzFamily::gaussian});
+  const GenzCell smooth = ours_total(
+      cells, {GenzFamily::oscillatory, GenzFamily::product_peak, GenzFamily::corner_peak, GenzFamily::gaussian});
   const GenzCell c0 = ours_total(cells, {GenzFamily::c0});
   const GenzCell jumps = competitor_total(cells, GenzFamily::discontinuous, "ours");
   const GenzCell hcubature_jumps = competitor_total(cells, GenzFamily::discontinuous, "hcubature");
@@ -487,8 +491,8 @@ std::string genz_markdown(const std::vector<GenzCell>& cells, const GenzOptions&
   md << "\n### Targets, met or missed\n\n"
      << "- Oscillatory, product peak, corner peak, Gaussian and C0, 1-D and 2-D, no hints: 0 dishonest runs. "
      << "Oscillatory, product peak, corner peak, Gaussian: " << verdict(smooth.dishonest + smooth.dishonest_unseen == 0)
-     << " (" << smooth.dishonest + smooth.dishonest_unseen << " of " << smooth.runs << "). C0: "
-     << verdict(c0.dishonest + c0.dishonest_unseen == 0) << " (" << c0.dishonest << " of " << c0.runs
+     << " (" << smooth.dishonest + smooth.dishonest_unseen << " of " << smooth.runs
+     << "). C0: " << verdict(c0.dishonest + c0.dishonest_unseen == 0) << " (" << c0.dishonest << " of " << c0.runs
      << " where every kink was seen, and " << c0.dishonest_unseen
      << " where one lay between the box's end and the nodes, shown apart).\n"
      << "- Discontinuous: dishonest only where no node met the jump: " << verdict(jumps.dishonest == 0) << " ("

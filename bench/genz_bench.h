@@ -31,8 +31,8 @@ namespace ganzfeld::bench {
 
 enum class GenzFamily { oscillatory, product_peak, corner_peak, gaussian, c0, discontinuous };
 inline constexpr std::array<GenzFamily, 6> kGenzFamilies{GenzFamily::oscillatory, GenzFamily::product_peak,
-                                                         GenzFamily::corner_peak,  GenzFamily::gaussian,
-                                                         GenzFamily::c0,           GenzFamily::discontinuous};
+                                                         GenzFamily::corner_peak, GenzFamily::gaussian,
+                                                         GenzFamily::c0,          GenzFamily::discontinuous};
 const char* to_string(GenzFamily family);
 
 /// One integrand of a family: its parameters and its exact integral over [0, 1]^dimension.

@@ -7,8 +7,8 @@
 #include <sstream>
 #include <vector>
 
-#include <boost/math/quadrature/gauss.hpp>
 #include <tbb/parallel_for.h>
+#include <boost/math/quadrature/gauss.hpp>
 
 #include "bench/cubature_bench.h"
 #include "integrate/laws.h"
@@ -26,7 +26,7 @@ namespace {
 using tables::ParamTable;
 
 // The targets of docs/realtime.md ("Accuracy").
-constexpr double kTexelTarget = 1e-6;        // per-texel error bound, for alpha >= kMinAlpha
+constexpr double kTexelTarget = 1e-6;  // per-texel error bound, for alpha >= kMinAlpha
 constexpr double kMinAlpha = 1e-3;
 constexpr double kBakeSecondsTarget = 10.0;  // a 64x64 table on 2 cores
 constexpr double kFurnaceTarget = 1e-5;      // |a - 1| of ggx-ms with f0 = 1
@@ -73,17 +73,19 @@ void error_section(std::ostringstream& md, const std::vector<const Timed*>& bake
       double above = 0.0, all = 0.0;
       for (std::size_t m = 0; m < ch.error.size(); ++m) {
         all = std::max(all, static_cast<double>(ch.error[m]));
-        if (alpha_at(t, static_cast<int>(m / n_mu)) >= kMinAlpha) above = std::max(above, static_cast<double>(ch.error[m]));
+        if (alpha_at(t, static_cast<int>(m / n_mu)) >= kMinAlpha)
+          above = std::max(above, static_cast<double>(ch.error[m]));
       }
-      md << "| " << t.preset << " | `" << ch.name << "` | " << num(above) << " | " << num(all) << " | " << ch.unconverged
-         << " | " << verdict(above <= kTexelTarget) << " |\n";
+      md << "| " << t.preset << " | `" << ch.name << "` | " << num(above) << " | " << num(all) << " | "
+         << ch.unconverged << " | " << verdict(above <= kTexelTarget) << " |\n";
     }
   }
 }
 
 void timing_section(std::ostringstream& md, const std::vector<const Timed*>& bakes) {
   md << "\n## Bake time\n\n`bake_preset` of the whole table with the default options (tolerance "
-     << num(tables::kPresetTolerance) << ", texel grid), on the machine below with every hardware thread; target ≤ 10 s for 64x64 on 2 cores.\n\n"
+     << num(tables::kPresetTolerance)
+     << ", texel grid), on the machine below with every hardware thread; target ≤ 10 s for 64x64 on 2 cores.\n\n"
         "| preset | samples | runs | median (s) | min … max (s) | target |\n|---|---|---|---|---|---|\n";
   for (const Timed* b : bakes) {
     const auto [lo, hi] = std::minmax_element(b->seconds.begin(), b->seconds.end());
@@ -96,7 +98,8 @@ void timing_section(std::ostringstream& md, const std::vector<const Timed*>& bak
 }
 
 void furnace_section(std::ostringstream& md, const RealtimeOptions& options) {
-  const std::vector<double> alphas = options.quick ? std::vector<double>{1.0, 0.25} : std::vector<double>{1.0, 0.5, 0.25, 0.1};
+  const std::vector<double> alphas =
+      options.quick ? std::vector<double>{1.0, 0.25} : std::vector<double>{1.0, 0.5, 0.25, 0.1};
   const std::vector<double> mus{0.05, 0.2, 0.4, 0.6, 0.8, 1.0};
   md << "\n## White furnace: ggx-ms against plain GGX\n\nAlbedo a(μ) with f0 = 1 by the cubature (tolerance 1e-9) at "
         "μ ∈ {0.05, 0.2, 0.4, 0.6, 0.8, 1}: ggx-ms should give 1 (target |a − 1| ≤ 1e-5); plain ggx gives E(μ), "
@@ -181,9 +184,12 @@ void comparison_section(std::ostringstream& md, const ParamTable& dfg, const Par
     md << "| `" << name << "` | " << c.texels << " | " << num(c.max_difference) << " | " << num(c.max_ratio) << " | "
        << num(c.max_reference_error) << " | " << verdict(c.max_ratio <= 1.0) << " |\n";
   };
-  row("dfg_fc", compare(dfg, "dfg_fc", [](double mu, double a, int) { return ggx::ggx_albedo_reference(mu, a, 0.0, false); }));
-  row("dfg_e", compare(dfg, "dfg_e", [](double mu, double a, int) { return ggx::ggx_albedo_reference(mu, a, 1.0, false); }));
-  row("charlie", compare(dfg, "charlie", [](double mu, double a, int) { return ggx::charlie_albedo_reference(mu, a); }));
+  row("dfg_fc",
+      compare(dfg, "dfg_fc", [](double mu, double a, int) { return ggx::ggx_albedo_reference(mu, a, 0.0, false); }));
+  row("dfg_e",
+      compare(dfg, "dfg_e", [](double mu, double a, int) { return ggx::ggx_albedo_reference(mu, a, 1.0, false); }));
+  row("charlie",
+      compare(dfg, "charlie", [](double mu, double a, int) { return ggx::charlie_albedo_reference(mu, a); }));
   row("e", compare(kc, "e", [](double mu, double a, int) { return ggx::ggx_albedo_reference(mu, a, 1.0, false); }));
   // E_avg once per compared row (constant along μ), in parallel, then read by every texel of the row.
   std::vector<ggx::ReferenceValue> avg(kc.axes[0].count);
@@ -236,8 +242,9 @@ void lookup_section(std::ostringstream& md, const std::vector<const Timed*>& bak
           const double r = r_min + (1.0 - r_min) * unit(rng);
           const double mu = tables::kMinValidatedMu + (1.0 - tables::kMinValidatedMu) * unit(rng);
           const double x = t.axes[0].name == tables::kAxisRoughness ? r : r * r, alpha = r * r;
-          const ggx::ReferenceValue ref = ch.name == "charlie" ? ggx::charlie_albedo_reference(mu, alpha)
-                                                               : ggx::ggx_albedo_reference(mu, alpha, ch.name == "dfg_fc" ? 0.0 : 1.0, false);
+          const ggx::ReferenceValue ref =
+              ch.name == "charlie" ? ggx::charlie_albedo_reference(mu, alpha)
+                                   : ggx::ggx_albedo_reference(mu, alpha, ch.name == "dfg_fc" ? 0.0 : 1.0, false);
           diff[p] = std::abs(tables::sample_param(t, c, x, mu).value - ref.value);
           slack[p] = ch.lookup_error + ref.error - diff[p];
         });
@@ -245,8 +252,8 @@ void lookup_section(std::ostringstream& md, const std::vector<const Timed*>& bak
         const auto held = std::count_if(slack.begin(), slack.end(), [](double s) { return s >= 0.0; });
         holds = num(100.0 * held / fresh_points) + "%";
       }
-      md << "| " << t.preset << " | `" << ch.name << "` | " << num(ch.lookup_error) << " | " << num(ch.node_error()) << " | "
-         << actual << " | " << holds << " |\n";
+      md << "| " << t.preset << " | `" << ch.name << "` | " << num(ch.lookup_error) << " | " << num(ch.node_error())
+         << " | " << actual << " | " << holds << " |\n";
     }
   }
 }

@@ -8,8 +8,8 @@
 #include "bench/cubature_bench.h"
 #include "export/glsl.h"
 #include "models/spec.h"
-#include "scene/plan.h"
 #include "rasterizer/shading.h"
+#include "scene/plan.h"
 #include "util/timing.h"
 
 namespace ganzfeld::bench {
@@ -54,14 +54,13 @@ RenderBenchResult run_render_benchmark(bool quick, int repeats) {
   // (b) the mixture under all three lights, from tables at the scene defaults.
   // Planned as `render` plans a scene, with the scene defaults (scene/plan.h), in memory.
   auto lobe_tables = [&](const char* spec) {
-    const scene::ShadingPlan plan =
-        scene::plan_material(scene::material_of(spec), {sky, ambient}, scene::TableOptions::scene_defaults(),
-                            scene::TableStore{});
+    const scene::ShadingPlan plan = scene::plan_material(scene::material_of(spec), {sky, ambient},
+                                                         scene::TableOptions::scene_defaults(), scene::TableStore{});
     for (const scene::PlannedTable& t : plan.tables) {
       char error[32];
       std::snprintf(error, sizeof error, "%.3g", t.table->lookup_error);
-      out.tables.push_back("law " + std::string(to_string(t.table->law)) + " of `" + spec + "`: " +
-                           exporting::lookup_scheme(*t.table) + ", stated lookup error " + error);
+      out.tables.push_back("law " + std::string(to_string(t.table->law)) + " of `" + spec +
+                           "`: " + exporting::lookup_scheme(*t.table) + ", stated lookup error " + error);
     }
     return raster::shading_materials(plan, 1e-6).front().front().laws;
   };
@@ -105,10 +104,10 @@ std::string render_markdown(const RenderBenchResult& r, const std::string& comma
         "per pixel (`render --direct`), on a "
      << r.crop << "×" << r.crop << " crop. " << r.repeats << " repeats after one warm-up.\n\n"
      << "| picture | seconds per frame (median) | min … max |\n|---|---|---|\n"
-     << "| (a) Lambert + ambient | " << significant(util::median(r.seconds_lambert)) << " | " << spread(r.seconds_lambert)
-     << " |\n| (b) tables | " << significant(util::median(r.seconds_tables)) << " | " << spread(r.seconds_tables)
-     << " |\n| (c) direct, crop | " << significant(util::median(r.seconds_direct)) << " | " << spread(r.seconds_direct)
-     << " |\n\n| ratio | median | min … max | target |\n|---|---|---|---|\n"
+     << "| (a) Lambert + ambient | " << significant(util::median(r.seconds_lambert)) << " | "
+     << spread(r.seconds_lambert) << " |\n| (b) tables | " << significant(util::median(r.seconds_tables)) << " | "
+     << spread(r.seconds_tables) << " |\n| (c) direct, crop | " << significant(util::median(r.seconds_direct)) << " | "
+     << spread(r.seconds_direct) << " |\n\n| ratio | median | min … max | target |\n|---|---|---|---|\n"
      << "| tables ÷ Lambert, per frame | " << significant(ratio) << " | " << spread(r.tables_vs_lambert) << " | ≤ "
      << kTablesVsLambertTarget << ": " << (ratio <= kTablesVsLambertTarget ? "**met**" : "**missed**") << " |\n"
      << "| direct ÷ tables, per pixel | " << significant(util::median(r.direct_vs_tables)) << " | "

@@ -31,8 +31,8 @@
 #include <thread>
 #include <vector>
 
-#include <CLI/CLI.hpp>
 #include <httplib.h>
+#include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
 #include "util/timing.h"
@@ -51,8 +51,8 @@ constexpr int kCachedTables = 8, kUncachedTables = 12;
 /// measures the service, not the baker. Cached: Minnaert h in three formats; uncached: specular g.
 std::string cached_target(int k) {
   static constexpr const char* kFormats[] = {"exr", "json", "ktx2"};
-  return "/api/table?model=minnaert:xi=" + std::to_string(0.25 + 0.25 * k).substr(0, 4) + "&law=h&res=64&tol=1e-6&format=" +
-         kFormats[k % 3];
+  return "/api/table?model=minnaert:xi=" + std::to_string(0.25 + 0.25 * k).substr(0, 4) +
+         "&law=h&res=64&tol=1e-6&format=" + kFormats[k % 3];
 }
 std::string uncached_target(int k) {
   return "/api/table?model=specular:alpha=" + std::to_string(2 + k) + "&law=g&res=16x16x8&tol=1e-6";
@@ -261,7 +261,8 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0, 1000));
   CLI11_PARSE(app, argc, argv);
   if (host != "127.0.0.1" && host != "localhost" && host != "::1") {
-    std::fprintf(stderr, "ganzfeld-load: --host %s is not this machine; the load test targets loopback only\n", host.c_str());
+    std::fprintf(stderr, "ganzfeld-load: --host %s is not this machine; the load test targets loopback only\n",
+                 host.c_str());
     return 2;
   }
   try {
@@ -278,7 +279,8 @@ int main(int argc, char** argv) {
     const ganzfeld::util::Stopwatch watch;
     for (int c = 0; c < clients; ++c)
       threads.emplace_back([&, c] {
-        outcomes[static_cast<std::size_t>(c)] = run_client(host, port, plan_of(requests, seed * 1000003u + static_cast<std::uint64_t>(c)));
+        outcomes[static_cast<std::size_t>(c)] =
+            run_client(host, port, plan_of(requests, seed * 1000003u + static_cast<std::uint64_t>(c)));
       });
     for (std::thread& t : threads) t.join();
     const double seconds = watch.seconds();

@@ -59,7 +59,8 @@ void main() {
   vec2 t = 0.5 * vec2(p.x + p.y, p.x - p.y);
   vec3 n = normalize(vec3(t, 1.0 - abs(t.x) - abs(t.y)));
   vec3 j = normalize(vec3(-0.25 * p, 1.0));
-  vec3 c = )" + shade + R"(;
+  vec3 c = )" +
+         shade + R"(;
 #ifdef GZ_COUNT_FETCHES
   out_color = vec4(float(gz_fetches), c);
 #else
@@ -154,8 +155,8 @@ std::vector<TableSet> table_sets(bool quick) {
     to_error.target = tables::ErrorTarget{1e-2, 0, 0};
     return {{"`--res 9x9x5` (g), `--res 17` (h)", small}, {"`--max-error 1e-2`", to_error}};
   }
-  std::vector<TableSet> out{{"scene defaults (`bake scene`: `--max-error 1e-3 --fetches 1`)",
-                             scene::TableOptions::scene_defaults()}};
+  std::vector<TableSet> out{
+      {"scene defaults (`bake scene`: `--max-error 1e-3 --fetches 1`)", scene::TableOptions::scene_defaults()}};
   for (const auto& [e, text] : {std::pair{1e-3, "1e-3"}, std::pair{1e-4, "1e-4"}}) {
     scene::TableOptions options;
     options.target = tables::ErrorTarget{e, 0, 0};
@@ -222,8 +223,12 @@ gl::Texture environment_map(std::uint64_t& bytes) {
     for (int y = 0; y < kEnvironmentSide; ++y)
       for (int x = 0; x < kEnvironmentSide; ++x) {
         const double u = (x + 0.5) / kEnvironmentSide * 2.0 - 1.0, v = (y + 0.5) / kEnvironmentSide * 2.0 - 1.0;
-        const Vec3 d = glm::normalize(face == 0 ? Vec3{1, -v, -u} : face == 1 ? Vec3{-1, -v, u} : face == 2 ? Vec3{u, 1, v}
-                                      : face == 3 ? Vec3{u, -1, -v} : face == 4 ? Vec3{u, -v, 1} : Vec3{-u, -v, -1});
+        const Vec3 d = glm::normalize(face == 0   ? Vec3{1, -v, -u}
+                                      : face == 1 ? Vec3{-1, -v, u}
+                                      : face == 2 ? Vec3{u, 1, v}
+                                      : face == 3 ? Vec3{u, -1, -v}
+                                      : face == 4 ? Vec3{u, -v, 1}
+                                                  : Vec3{-u, -v, -1});
         const double up = std::max(d.y, 0.0), sun = std::pow(std::max(glm::dot(d, kSun.direction), 0.0), 64.0);
         float* t = &texels[(static_cast<std::size_t>(y) * kEnvironmentSide + x) * 4];
         t[0] = static_cast<float>(0.2 + 0.3 * up + 4.0 * sun);
@@ -257,7 +262,8 @@ gl::Texture dfg_texture(const tables::ParamTable& table, std::uint64_t& bytes) {
   gl::Texture texture(id);
   glBindTexture(GL_TEXTURE_2D, id);
   glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-  glTexImage2D(GL_TEXTURE_2D, 0, GL_RG16F, table.axes[1].count, table.axes[0].count, 0, GL_RG, GL_HALF_FLOAT, rg.data());
+  glTexImage2D(GL_TEXTURE_2D, 0, GL_RG16F, table.axes[1].count, table.axes[0].count, 0, GL_RG, GL_HALF_FLOAT,
+               rg.data());
   glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
   glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
   glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
@@ -326,8 +332,9 @@ ShadersBenchResult run_shaders_benchmark(const ShadersBenchOptions& options) {
   {
     const Scene scene = scene_of(scene::material_of("lambert"), {kSun, kAmbient});
     const scene::ShadingPlan plan = scene::plan_material(scene.materials[0], scene.lights, {}, store);
-    add_pass(named("A", "Lambert + point light + ambient (the scene shader of `lambert` under a collimated light "
-                        "and a Ganzfeld: closed forms)"),
+    add_pass(named("A",
+                   "Lambert + point light + ambient (the scene shader of `lambert` under a collimated light "
+                   "and a Ganzfeld: closed forms)"),
              exporting::glsl_scene_shader(scene, plan, "bench shaders: A"), "gz_scene_radiance(0, n, j)");
   }
   // S: GGX point light + split-sum IBL.
@@ -341,18 +348,21 @@ ShadersBenchResult run_shaders_benchmark(const ShadersBenchOptions& options) {
     textures.push_back(environment_map(environment_bytes));
     glActiveTexture(GL_TEXTURE1);
     textures.push_back(dfg_texture(dfg, dfg_bytes));
-    ShaderPass pass = named("S", "GGX point light (height-correlated Smith, Schlick) + split-sum IBL: a " +
-                                     std::to_string(kEnvironmentSide) + "² RGBA16F cubemap with mips, one RG16F fetch "
-                                     "of a " + std::to_string(samples) +
-                                     "² DFG table (`bake preset dfg --model ggx`), 9 SH coefficients");
+    ShaderPass pass =
+        named("S", "GGX point light (height-correlated Smith, Schlick) + split-sum IBL: a " +
+                       std::to_string(kEnvironmentSide) +
+                       "² RGBA16F cubemap with mips, one RG16F fetch "
+                       "of a " +
+                       std::to_string(samples) + "² DFG table (`bake preset dfg --model ggx`), 9 SH coefficients");
     pass.value_bytes = environment_bytes + dfg_bytes;
     Bound* b = add_pass(std::move(pass), kSplitSum, "gz_split_sum(n, j)");
     b->textures = {{GL_TEXTURE_CUBE_MAP, textures[textures.size() - 2].id()}, {GL_TEXTURE_2D, textures.back().id()}};
     b->set_uniforms = [](const gl::Program& p) {
       glUniform1i(p.uniform("u_environment"), 0);
       glUniform1i(p.uniform("u_dfg"), 1);
-      const float sh[27] = {0.8f, 0.85f, 0.9f, 0.2f, 0.25f, 0.3f, 0.1f, 0.1f, 0.12f, 0.05f, 0.04f, 0.03f, 0.02f, 0.02f,
-                            0.02f, 0.01f, 0.01f, 0.01f, 0.03f, 0.03f, 0.04f, 0.01f, 0.01f, 0.01f, 0.02f, 0.02f, 0.02f};
+      const float sh[27] = {0.8f,  0.85f, 0.9f,  0.2f,  0.25f, 0.3f,  0.1f,  0.1f,  0.12f,
+                            0.05f, 0.04f, 0.03f, 0.02f, 0.02f, 0.02f, 0.01f, 0.01f, 0.01f,
+                            0.03f, 0.03f, 0.04f, 0.01f, 0.01f, 0.01f, 0.02f, 0.02f, 0.02f};
       glUniform3fv(p.uniform("u_sh"), 9, sh);
       glUniform3f(p.uniform("u_light_direction"), static_cast<float>(kSun.direction.x),
                   static_cast<float>(kSun.direction.y), static_cast<float>(kSun.direction.z));
@@ -373,7 +383,8 @@ ShadersBenchResult run_shaders_benchmark(const ShadersBenchOptions& options) {
     const scene::ShadingPlan plan = scene::plan_material(scene.materials[0], scene.lights, set.options, store);
     const std::string glsl = exporting::glsl_scene_shader(scene, plan, "bench shaders: " + set.label);
     for (const std::string& define : variants(glsl)) {
-      ShaderPass pass = named("T" + std::to_string(set_number) + (define.empty() ? "" : " " + define), "", set.label, define);
+      ShaderPass pass =
+          named("T" + std::to_string(set_number) + (define.empty() ? "" : " " + define), "", set.label, define);
       std::vector<std::pair<GLenum, GLuint>> units;
       std::vector<std::pair<std::string, int>> samplers;
       for (const scene::PlannedTable& t : plan.tables) {
@@ -399,7 +410,8 @@ ShadersBenchResult run_shaders_benchmark(const ShadersBenchOptions& options) {
           double difference = std::abs(lookups.values[p] - tables::sample(table, points.x[p]).value);
           if (filtered)
             for (tables::WeightRounding r : {tables::WeightRounding::nearest, tables::WeightRounding::truncate})
-              difference = std::min(difference, std::abs(lookups.values[p] - tables::sample(table, points.x[p], r).value));
+              difference =
+                  std::min(difference, std::abs(lookups.values[p] - tables::sample(table, points.x[p], r).value));
           law.max_difference = std::max(law.max_difference, difference);
         }
         pass.laws.push_back(law);
@@ -409,7 +421,8 @@ ShadersBenchResult run_shaders_benchmark(const ShadersBenchOptions& options) {
         units.push_back({table.law == Law::g ? GL_TEXTURE_3D : GL_TEXTURE_2D, textures.back().id()});
         samplers.push_back({exporting::glsl_sampler_name(t.request.spec, table.law), unit});
       }
-      pass.what = "0.8 lambert + 0.2 `" + lobe->spec() + "` under the point light, a sky and a Ganzfeld (the scene "
+      pass.what = "0.8 lambert + 0.2 `" + lobe->spec() +
+                  "` under the point light, a sky and a Ganzfeld (the scene "
                   "shader: f closed form, g and h from the tables)";
       Bound* b = add_pass(std::move(pass), glsl, "gz_scene_radiance(0, n, j)");
       b->textures = units;
@@ -500,11 +513,11 @@ std::string shaders_markdown(const ShadersBenchResult& r, const std::string& com
       what.resize(what.size() - 2);
     }
     std::string fetches = significant(p.fetches_mean, 4);
-    if (p.fetches_max != static_cast<int>(std::lround(p.fetches_mean))) fetches += " (max " + std::to_string(p.fetches_max) + ")";
+    if (p.fetches_max != static_cast<int>(std::lround(p.fetches_mean)))
+      fetches += " (max " + std::to_string(p.fetches_max) + ")";
     md << "| " << p.name << " | " << what << " | " << fetches << " | " << p.value_bytes << " | "
        << significant(median_of(p), 4) << " | " << significant(*lo, 4) << " … " << significant(*hi, 4) << " | "
-       << significant(median_of(p) / ma)
-       << " | " << significant(median_of(p) / ms) << " |\n";
+       << significant(median_of(p) / ma) << " | " << significant(median_of(p) / ms) << " |\n";
   }
   md << "\nT passes shade 0.8 `lambert` + 0.2 `" << r.model
      << "` under a collimated light, a hemispherical sky and a Ganzfeld with the scene shader `export-glsl --scene` "
@@ -522,9 +535,9 @@ std::string shaders_markdown(const ShadersBenchResult& r, const std::string& com
   for (const ShaderPass& p : r.passes)
     for (const LawLookup& l : p.laws)
       md << "| " << p.name << " | " << to_string(l.law) << " | " << l.scheme << " | " << significant(l.lookup_error)
-         << " | " << l.fetches_max << (l.fetches_min != l.fetches_max ? " (min " + std::to_string(l.fetches_min) + ")" : "")
-         << " | " << significant(l.max_difference) << " | " << (l.max_difference <= l.lookup_error ? "yes" : "**no**")
-         << " |\n";
+         << " | " << l.fetches_max
+         << (l.fetches_min != l.fetches_max ? " (min " + std::to_string(l.fetches_min) + ")" : "") << " | "
+         << significant(l.max_difference) << " | " << (l.max_difference <= l.lookup_error ? "yes" : "**no**") << " |\n";
 
   md << "\n### GPU-cost targets\n\n"
      << "The targets of the tables' GPU cost, judged on this renderer"
@@ -538,22 +551,25 @@ std::string shaders_markdown(const ShadersBenchResult& r, const std::string& com
   for (const ShaderPass& p : r.passes) {
     if (p.laws.empty()) continue;
     const double ratio_a = median_of(p) / ma, ratio_s = median_of(p) / ms;
-    const bool single = std::all_of(p.laws.begin(), p.laws.end(), [](const LawLookup& l) { return l.fetches_max == 1; });
-    const bool fine = std::all_of(p.laws.begin(), p.laws.end(), [](const LawLookup& l) { return l.lookup_error <= 1e-4; });
+    const bool single =
+        std::all_of(p.laws.begin(), p.laws.end(), [](const LawLookup& l) { return l.fetches_max == 1; });
+    const bool fine =
+        std::all_of(p.laws.begin(), p.laws.end(), [](const LawLookup& l) { return l.lookup_error <= 1e-4; });
     if (single) {
       one_fetch = true;
       md << "| one fetch per law: ≤ 1.5 × A | " << p.name << " | " << significant(ratio_a) << " × A | "
          << verdict(ratio_a <= 1.5) << " |\n"
-         << "| one fetch per law: ≤ S | " << p.name << " | " << significant(ratio_s) << " × S | " << verdict(ratio_s <= 1.0)
-         << " |\n";
+         << "| one fetch per law: ≤ S | " << p.name << " | " << significant(ratio_s) << " × S | "
+         << verdict(ratio_s <= 1.0) << " |\n";
     }
     if (fine) {
       accurate = true;
-      md << "| stated ≤ 1e-4: ≤ 3 × A | " << p.name << " | " << significant(ratio_a) << " × A | " << verdict(ratio_a <= 3.0)
-         << " |\n";
+      md << "| stated ≤ 1e-4: ≤ 3 × A | " << p.name << " | " << significant(ratio_a) << " × A | "
+         << verdict(ratio_a <= 3.0) << " |\n";
     }
   }
-  if (!one_fetch) md << "| one fetch per law: ≤ 1.5 × A and ≤ S | none | no table set has one fetch per law | **missed** |\n";
+  if (!one_fetch)
+    md << "| one fetch per law: ≤ 1.5 × A and ≤ S | none | no table set has one fetch per law | **missed** |\n";
   if (!accurate) md << "| stated ≤ 1e-4: ≤ 3 × A | none | no table set states ≤ 1e-4 | **missed** |\n";
   return md.str();
 }

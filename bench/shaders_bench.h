@@ -34,13 +34,13 @@
 namespace ganzfeld::bench {
 
 struct ShadersBenchOptions {
-  int size = 2048;         ///< the pass is size x size pixels
-  int frames = 30;         ///< timed frames per pass
-  int points_side = 64;    ///< accuracy: points_side² lookups per table and variant
-  bool quick = false;      ///< small tables (seconds; CI's smoke test): fixed by quick_shaders_options
+  int size = 2048;       ///< the pass is size x size pixels
+  int frames = 30;       ///< timed frames per pass
+  int points_side = 64;  ///< accuracy: points_side² lookups per table and variant
+  bool quick = false;    ///< small tables (seconds; CI's smoke test): fixed by quick_shaders_options
   gl::Platform platform = gl::Platform::automatic;
   std::string model = "specular:alpha=100";  ///< the glossy lobe of the T passes (a GLSL f is needed)
-  std::string cache_dir;   ///< where tables are kept between runs ("" = baked in memory)
+  std::string cache_dir;                     ///< where tables are kept between runs ("" = baked in memory)
 };
 /// --quick: 128² pixels, 30 frames, 32² points, small tables.
 ShadersBenchOptions quick_shaders_options();
@@ -50,8 +50,8 @@ inline constexpr std::uint64_t kShaderPointSeed = 26;
 /// One table of a T pass, judged at the lookup points.
 struct LawLookup {
   Law law = Law::g;
-  std::string scheme;          ///< export/glsl.h: lookup_scheme
-  double lookup_error = 0.0;   ///< the table's stated error
+  std::string scheme;         ///< export/glsl.h: lookup_scheme
+  double lookup_error = 0.0;  ///< the table's stated error
   std::uint64_t value_bytes = 0;
   int fetches_min = 0, fetches_max = 0;  ///< per lookup, counted
   int points = 0;
@@ -59,20 +59,20 @@ struct LawLookup {
 };
 
 struct ShaderPass {
-  std::string name;          ///< "A", "S", "T1", "T1 hw", ...
-  std::string what;          ///< what it shades, one line
-  std::string table_set;     ///< T: the bake request; "" otherwise
-  std::string define;        ///< T: the variant's #define, "" for none
+  std::string name;                  ///< "A", "S", "T1", "T1 hw", ...
+  std::string what;                  ///< what it shades, one line
+  std::string table_set;             ///< T: the bake request; "" otherwise
+  std::string define;                ///< T: the variant's #define, "" for none
   std::vector<double> milliseconds;  ///< per timed frame
   double fetches_mean = 0.0;
-  int fetches_max = 0;       ///< per pixel, counted over a 256² pass
+  int fetches_max = 0;  ///< per pixel, counted over a 256² pass
   std::uint64_t value_bytes = 0;
   std::vector<LawLookup> laws;  ///< T: g and h
 };
 
 struct ShadersBenchResult {
   gl::ContextInfo context;
-  std::string timer;         ///< "GL_TIME_ELAPSED" or "wall time (glFinish)"
+  std::string timer;  ///< "GL_TIME_ELAPSED" or "wall time (glFinish)"
   int size = 0, frames = 0, points = 0;
   std::string model;
   std::vector<ShaderPass> passes;  ///< A, S, then T passes

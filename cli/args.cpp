@@ -1,17 +1,16 @@
 #include "cli/args.h"
 
+#include <unistd.h>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
 #include <memory>
-#include <unistd.h>
-#include <cstdio>
 #include <numbers>
 #include <sstream>
 
-#include "util/error.h"
 #include "models/registry.h"
+#include "util/error.h"
 #include "util/progress.h"
 
 namespace ganzfeld::cli {
@@ -82,7 +81,8 @@ Vec3 DirectionArgs::incident(Law law) const {
     check_angle("--theta-i", *theta_i, sky ? 180.0 : 90.0);
     i = direction(*theta_i * pi / 180.0, 0.0);
   } else {
-    throw InputError(std::string("law ") + to_string(law) + " needs the incident direction: give --i X,Y,Z or --theta-i DEG");
+    throw InputError(std::string("law ") + to_string(law) +
+                     " needs the incident direction: give --i X,Y,Z or --theta-i DEG");
   }
   return i;
 }
@@ -98,7 +98,8 @@ Vec3 DirectionArgs::outgoing(Law law) const {
     if (!std::isfinite(phi_deg)) throw InputError("--phi=" + format_number(phi_deg) + " is not finite");
     j = direction(*theta_j * pi / 180.0, phi_deg * pi / 180.0);
   } else {
-    throw InputError(std::string("law ") + to_string(law) + " needs the view direction: give --j X,Y,Z or --theta-j DEG [--phi DEG]");
+    throw InputError(std::string("law ") + to_string(law) +
+                     " needs the view direction: give --j X,Y,Z or --theta-j DEG [--phi DEG]");
   }
   return j;
 }
@@ -117,15 +118,15 @@ void add_table_argument(CLI::App& cmd, std::string& path) {
 
 void validate_tolerance(double tol) { check_tolerance("tol", tol); }
 
-
 /// Words joined into a line a POSIX shell reproduces: words with anything but [A-Za-z0-9_./:=,+-]
 /// are single-quoted. The first word is written as `ganzfeld`.
 std::string shell_line(const std::vector<std::string>& words) {
   std::string line = "ganzfeld";
   for (std::size_t k = 1; k < words.size(); ++k) {
     const std::string& word = words[k];
-    const bool plain = !word.empty() && word.find_first_not_of("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz"
-                                                               "0123456789_./:=,+-") == std::string::npos;
+    const bool plain = !word.empty() && word.find_first_not_of(
+                                            "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz"
+                                            "0123456789_./:=,+-") == std::string::npos;
     line += ' ';
     if (plain) {
       line += word;
@@ -166,44 +167,49 @@ std::string prepare_directory(const std::string& flag, const std::string& text) 
 
 void check_max_evaluations(long long n) { ganzfeld::check_max_evaluations("max_evals", n); }
 
-TableOptionArgs::Added TableOptionArgs::add_to(CLI::App& app, const scene::TableOptions& defaults,
-                                               bool per_law_grids) {
+TableOptionArgs::Added TableOptionArgs::add_to(CLI::App& app, const scene::TableOptions& defaults, bool per_law_grids) {
   if (per_law_grids) {
-    app.add_option("--res-g", res_g,
-                   "nodes of every g table, NIxNJxNPHI (default " + tables::resolution_text(defaults.resolution_g) + ")");
+    app.add_option(
+        "--res-g", res_g,
+        "nodes of every g table, NIxNJxNPHI (default " + tables::resolution_text(defaults.resolution_g) + ")");
     app.add_option("--res-h", res_h,
                    "nodes of every h table (default " + tables::resolution_text(defaults.resolution_h) + ")");
   }
   Added added{};
-  added.tol = app.add_option("--tol", tol, "absolute tolerance of every table entry's cubature (default " +
-                                               format_number(defaults.tolerance) + ")");
-  app.add_option("--encoding", encoding, "stored precision of the tables: float (default), half, or unorm16 (16-bit codes over the table's range, docs/lut-format.md)");
+  added.tol = app.add_option(
+      "--tol", tol,
+      "absolute tolerance of every table entry's cubature (default " + format_number(defaults.tolerance) + ")");
+  app.add_option("--encoding", encoding,
+                 "stored precision of the tables: float (default), half, or unorm16 (16-bit codes over the table's "
+                 "range, docs/lut-format.md)");
   app.add_option("--max-evals", max_evaluations,
                  "evaluation budget per table entry; beyond it the entry is kept and counted as unconverged");
-  added.max_error = app.add_option("--max-error", max_error,
-                 "bake every table to this validated lookup error: the baker chooses resolution, axes, interpolation "
-                 "and tolerance (excludes --res, --res-g, --res-h, --tol)");
+  added.max_error = app.add_option(
+      "--max-error", max_error,
+      "bake every table to this validated lookup error: the baker chooses resolution, axes, interpolation "
+      "and tolerance (excludes --res, --res-g, --res-h, --tol)");
   added.max_bytes = app.add_option("--max-bytes", max_bytes,
-                 "with --max-error: cap of each table's value bytes (default " +
-                     std::to_string(tables::kDefaultMaxValueBytes) + "); refused when the error cannot be met within it");
-  added.fetches = app.add_option("--fetches", fetches,
-                 "with --max-error: texture fetches one lookup of a table may cost a shader, N >= 1 (1: one "
-                 "hardware-filtered fetch, its bound covering 8-bit filter weights); the cheapest scheme within N is "
-                 "baked (default: " +
-                     (defaults.target
-                          ? "with no accuracy option scenes bake to --max-error " +
-                                format_number(defaults.target->lookup_error) + " --fetches " +
-                                std::to_string(defaults.target->max_fetches) +
-                                (defaults.target->best_effort ? " --best-effort" : "") +
-                                "; a scene's --max-error alone searches within " +
-                                std::to_string(scene::kSceneSearchFetches) + "; "
-                          : std::string()) +
-                     "one table: no budget, the fewest value bytes)");
-  app.add_flag("--best-effort", best_effort,
-               "with --max-error: where no scheme within the budget reaches it, keep the most accurate table the "
-               "search baked (its stated lookup error is the miss) instead of refusing" +
-                   std::string(defaults.target && defaults.target->best_effort ? " (the scene defaults are best effort)"
-                                                                               : ""));
+                                   "with --max-error: cap of each table's value bytes (default " +
+                                       std::to_string(tables::kDefaultMaxValueBytes) +
+                                       "); refused when the error cannot be met within it");
+  added.fetches = app.add_option(
+      "--fetches", fetches,
+      "with --max-error: texture fetches one lookup of a table may cost a shader, N >= 1 (1: one "
+      "hardware-filtered fetch, its bound covering 8-bit filter weights); the cheapest scheme within N is "
+      "baked (default: " +
+          (defaults.target
+               ? "with no accuracy option scenes bake to --max-error " + format_number(defaults.target->lookup_error) +
+                     " --fetches " + std::to_string(defaults.target->max_fetches) +
+                     (defaults.target->best_effort ? " --best-effort" : "") +
+                     "; a scene's --max-error alone searches within " + std::to_string(scene::kSceneSearchFetches) +
+                     "; "
+               : std::string()) +
+          "one table: no budget, the fewest value bytes)");
+  app.add_flag(
+      "--best-effort", best_effort,
+      "with --max-error: where no scheme within the budget reaches it, keep the most accurate table the "
+      "search baked (its stated lookup error is the miss) instead of refusing" +
+          std::string(defaults.target && defaults.target->best_effort ? " (the scene defaults are best effort)" : ""));
   return added;
 }
 
@@ -212,9 +218,7 @@ namespace {
 std::vector<int> resolution_for(const std::string& parameter, const std::string& text, Law law) {
   try {
     return tables::parse_resolution(text, law);
-  } catch (const InputError& e) {
-    throw e.renamed("res", parameter);
-  }
+  } catch (const InputError& e) { throw e.renamed("res", parameter); }
 }
 }  // namespace
 
@@ -241,7 +245,10 @@ scene::TableOptions TableOptionArgs::options(const scene::TableOptions& defaults
   if (max_error) {
     if (fixed)
       throw InputError({target, " chooses the resolution and the tolerance itself; drop ",
-                        Named{!res_g.empty() ? "res_g" : !res_h.empty() ? "res_h" : "tol"}, " or ", target});
+                        Named{!res_g.empty()   ? "res_g"
+                              : !res_h.empty() ? "res_h"
+                                               : "tol"},
+                        " or ", target});
     // E here; B against the smallest table of each table's own law when it is keyed (bake, table_key).
     tables::check_error_target(*max_error, 0, Law::g, out.encoding);
     const bool budgeted_defaults = defaults.target && defaults.target->max_fetches;
@@ -280,7 +287,8 @@ scene::TableStore CacheArgs::store(bool quiet) const {
 
 nlohmann::ordered_json tables_json(const scene::ShadingPlan& plan) {
   nlohmann::ordered_json out = nlohmann::ordered_json::array();
-  for (const scene::PlannedTable& t : plan.tables) out.push_back(shapes::table_json(t.path, *t.table, t.status, t.seconds));
+  for (const scene::PlannedTable& t : plan.tables)
+    out.push_back(shapes::table_json(t.path, *t.table, t.status, t.seconds));
   return out;
 }
 

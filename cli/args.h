@@ -12,12 +12,12 @@
 #include <nlohmann/json.hpp>
 
 #include "integrate/laws.h"
-#include "tables/bake.h"
-#include "tables/cache.h"
-#include "tables/to_error.h"
 #include "scene/plan.h"
 #include "scene/scene.h"
 #include "shapes/json.h"
+#include "tables/bake.h"
+#include "tables/cache.h"
+#include "tables/to_error.h"
 
 namespace ganzfeld::cli {
 

@@ -14,26 +14,25 @@
 
 #include <nlohmann/json.hpp>
 
-#include "util/atomic_file.h"
 #include "cli/args.h"
 #include "cli/commands.h"
 #include "cli/library.h"
-#include "util/error.h"
 #include "models/registry.h"
 #include "models/spec.h"
+#include "scene/plan.h"
+#include "scene/scene.h"
 #include "tables/bake.h"
 #include "tables/cache.h"
 #include "tables/exr_io.h"
 #include "tables/preset.h"
+#include "util/atomic_file.h"
+#include "util/error.h"
 #include "util/progress.h"
 #include "util/timing.h"
-#include "scene/plan.h"
-#include "scene/scene.h"
 
 namespace ganzfeld::cli {
 
 namespace {
-
 
 // Defaults of a scene bake (scene::TableOptions, shared by every command that takes a scene): a
 // scene's tables bake in about a second (the example scene's six tables: 1.6 s on 2 cores).
@@ -90,7 +89,8 @@ tables::PresetOptions preset_options(const BakeArgs& args) {
 
 /// bake preset dfg|kulla-conty --model ggx -o FILE.exr: a format version 3 table.
 int bake_preset_table(const BakeArgs& args) {
-  if (args.model.empty()) throw InputError("bake preset needs --model ggx[:g2=...] (the model over the roughness axis)");
+  if (args.model.empty())
+    throw InputError("bake preset needs --model ggx[:g2=...] (the model over the roughness axis)");
   if (args.output.empty()) throw InputError("bake preset needs -o FILE.exr");
   tables::PresetOptions options = preset_options(args);
   refuse_preset_parameters(args.model);
@@ -115,13 +115,14 @@ int bake_preset_table(const BakeArgs& args) {
     std::snprintf(number, sizeof number, "%.3g", ch.lookup_error);
     lookup += (lookup.empty() ? "" : ", ") + ch.name + " " + number;
   }
-  std::printf("baked preset %s (%s) of %s, %dx%d %s-centred samples over (%s, cos_theta_i), channels %s, in %.2f s: "
-              "lookup error %s (bilinear, validated at %lld points with alpha >= %s, cos_theta_i >= %s; per-texel "
-              "error %.3g), %lld unconverged -> %s\n",
-              table.preset.c_str(), table.layout.c_str(), table.model.c_str(), table.axes[0].count,
-              table.axes[1].count, to_string(table.grid), table.axes[0].name.c_str(), channels.c_str(), seconds,
-              lookup.c_str(), table.lookup_checks, format_number(tables::kMinValidatedAlpha).c_str(),
-              format_number(tables::kMinValidatedMu).c_str(), table.node_error, unconverged, args.output.c_str());
+  std::printf(
+      "baked preset %s (%s) of %s, %dx%d %s-centred samples over (%s, cos_theta_i), channels %s, in %.2f s: "
+      "lookup error %s (bilinear, validated at %lld points with alpha >= %s, cos_theta_i >= %s; per-texel "
+      "error %.3g), %lld unconverged -> %s\n",
+      table.preset.c_str(), table.layout.c_str(), table.model.c_str(), table.axes[0].count, table.axes[1].count,
+      to_string(table.grid), table.axes[0].name.c_str(), channels.c_str(), seconds, lookup.c_str(), table.lookup_checks,
+      format_number(tables::kMinValidatedAlpha).c_str(), format_number(tables::kMinValidatedMu).c_str(),
+      table.node_error, unconverged, args.output.c_str());
   if (unconverged > 0)
     std::cerr << "ganzfeld: warning: " << unconverged << " texels missed tolerance " << format_number(table.tolerance)
               << "; their achieved error is stored\n";
@@ -148,9 +149,10 @@ tables::BakeRequest model_request(const BakeArgs& args, const Model& model, Law 
       throw InputError({Named{"frame", to_string(frame)}, " is for law g; h and a tables use the cosines frame"});
     grid.lobe = tables::lobe_frame_of(model);
     if (!grid.lobe)
-      throw InputError({Named{"frame", to_string(frame)}, ": model '" + model.spec() +
-                                                              "' hints no lobe at the mirror direction or at j to "
-                                                              "follow; use ",
+      throw InputError({Named{"frame", to_string(frame)},
+                        ": model '" + model.spec() +
+                            "' hints no lobe at the mirror direction or at j to "
+                            "follow; use ",
                         Named{"frame", "cosines"}});
     grid.warped = frame == tables::Frame::warped;
   }
@@ -178,13 +180,15 @@ int bake_one(const BakeArgs& args) {
   check_writable(args.output);
   attach_progress(tables::common(request), args.quiet, law, model->spec());
 
-  const tables::CacheResult r = tables::bake_or_reuse(args.output, *model, law, request, shell_line(args.argv), args.force);
+  const tables::CacheResult r =
+      tables::bake_or_reuse(args.output, *model, law, request, shell_line(args.argv), args.force);
   const tables::Table& table = r.table;
   if (args.json) {
-    std::cout << nlohmann::ordered_json{{"tables", {shapes::table_json(r.path, r.table, r.status, r.seconds)}}}.dump(2) << "\n";
+    std::cout << nlohmann::ordered_json{{"tables", {shapes::table_json(r.path, r.table, r.status, r.seconds)}}}.dump(2)
+              << "\n";
   } else if (r.status == tables::CacheStatus::reused) {
-    std::cerr << "ganzfeld: reused " << args.output << ": it already holds " << to_string(law) << " of "
-              << table.model << " with the same axes, tolerance and encoding (--force re-bakes)\n";
+    std::cerr << "ganzfeld: reused " << args.output << ": it already holds " << to_string(law) << " of " << table.model
+              << " with the same axes, tolerance and encoding (--force re-bakes)\n";
   } else {
     std::string nodes;
     for (const tables::Axis& a : table.axes) nodes += (nodes.empty() ? "" : "x") + std::to_string(a.count);
@@ -193,14 +197,15 @@ int bake_one(const BakeArgs& args) {
                   static_cast<unsigned long long>(table.target_bytes),
                   table.target_fetches ? (" and " + std::to_string(table.target_fetches) + " fetches").c_str() : "",
                   tables::misses_target(table) ? "missed (best effort: the most accurate table found)" : "met");
-    std::printf("baked %s of %s, %s nodes (%s frame, %s, %s filter: %d fetches per lookup, %zu entries, %s, %llu value "
-                "bytes) in %.2f s: lookup error %.3g (validated at %lld points%s; node error %.3g), %lld unconverged -> %s\n",
-                to_string(law), table.model.c_str(), nodes.c_str(), to_string(table.frame),
-                to_string(table.interpolation), to_string(table.filter), tables::fetches(table), table.entries(),
-                to_string(table.encoding), static_cast<unsigned long long>(tables::value_bytes(table)), r.seconds,
-                table.lookup_error, table.interpolation_checks,
-                table.min_cos_j > 0.0 ? (" with j·n >= " + format_number(table.min_cos_j)).c_str() : "",
-                table.node_error, table.unconverged, args.output.c_str());
+    std::printf(
+        "baked %s of %s, %s nodes (%s frame, %s, %s filter: %d fetches per lookup, %zu entries, %s, %llu value "
+        "bytes) in %.2f s: lookup error %.3g (validated at %lld points%s; node error %.3g), %lld unconverged -> %s\n",
+        to_string(law), table.model.c_str(), nodes.c_str(), to_string(table.frame), to_string(table.interpolation),
+        to_string(table.filter), tables::fetches(table), table.entries(), to_string(table.encoding),
+        static_cast<unsigned long long>(tables::value_bytes(table)), r.seconds, table.lookup_error,
+        table.interpolation_checks,
+        table.min_cos_j > 0.0 ? (" with j·n >= " + format_number(table.min_cos_j)).c_str() : "", table.node_error,
+        table.unconverged, args.output.c_str());
   }
   warn_unconverged(r.table, r.status);
   return 0;
@@ -223,9 +228,9 @@ void print_table_line(const scene::PlannedTable& t) {
 
 /// How many of `plan`'s tables were baked (the others were reused).
 std::size_t baked_count(const scene::ShadingPlan& plan) {
-  return static_cast<std::size_t>(std::count_if(plan.tables.begin(), plan.tables.end(), [](const scene::PlannedTable& t) {
-    return t.status == tables::CacheStatus::baked;
-  }));
+  return static_cast<std::size_t>(
+      std::count_if(plan.tables.begin(), plan.tables.end(),
+                    [](const scene::PlannedTable& t) { return t.status == tables::CacheStatus::baked; }));
 }
 
 int bake_scene(const BakeArgs& args) {
@@ -266,7 +271,8 @@ int bake_library(const BakeArgs& args) {
   warn_unconverged(plan);
   const std::string name = std::to_string(shard.index) + "/" + std::to_string(shard.count);
   if (args.json) {
-    std::cout << nlohmann::ordered_json{{"shard", name}, {"library_tables", all.size()}, {"tables", tables_json(plan)}}.dump(2)
+    std::cout << nlohmann::ordered_json{{"shard", name}, {"library_tables", all.size()}, {"tables", tables_json(plan)}}
+                     .dump(2)
               << "\n";
   } else {
     const std::size_t baked = baked_count(plan);
@@ -281,9 +287,8 @@ int bake_library(const BakeArgs& args) {
 std::vector<std::string> bake_alias(const std::vector<std::string>& words) {
   if (words.size() < 3 || words[1] != "bake" || words[2].empty() || words[2][0] != '-') return words;
   auto given = [&](const std::string& flag) {
-    return std::any_of(words.begin() + 2, words.end(), [&](const std::string& w) {
-      return w == flag || w.rfind(flag + "=", 0) == 0;
-    });
+    return std::any_of(words.begin() + 2, words.end(),
+                       [&](const std::string& w) { return w == flag || w.rfind(flag + "=", 0) == 0; });
   };
   // The old dispatch: --preset first (it took --model too), then --scene, --library, --model.
   for (const char* kind : {"preset", "scene", "library", "model"})
@@ -325,7 +330,8 @@ void add_model_job(CLI::App& bake, Action& action, const std::shared_ptr<BakeArg
   cmd->add_option("--law", args->law, "g (vignetting, 3-D), h (darkening, 1-D) or a (albedo, 1-D)");
   add_output_flags(*cmd, *args);
   CLI::Option* res = cmd->add_option(
-      "--res", args->res, "fixed grid: nodes per axis, N or NIxNJxNPHI for g (axes cos_theta_i, cos_theta_j, phi); each >= 2");
+      "--res", args->res,
+      "fixed grid: nodes per axis, N or NIxNJxNPHI for g (axes cos_theta_i, cos_theta_j, phi); each >= 2");
   std::vector<CLI::Option*> grid{res};
   grid.push_back(cmd->add_option("--mapping", args->mapping,
                                  "fixed grid: axis mappings, M or MxMxM for g (M = linear, sqrt, cos; default: the "
@@ -337,8 +343,8 @@ void add_model_job(CLI::App& bake, Action& action, const std::shared_ptr<BakeArg
   grid.push_back(cmd->add_option("--filter", args->filter,
                                  "fixed grid: the lookup its bound covers, texel-fetch (default) or hardware (one "
                                  "GPU-filtered fetch, 8-bit weights; linear interpolation only)"));
-  grid.push_back(cmd->add_option("--interpolation", args->interpolation,
-                                 "fixed grid: lookup, linear (default) or catmull-rom"));
+  grid.push_back(
+      cmd->add_option("--interpolation", args->interpolation, "fixed grid: lookup, linear (default) or catmull-rom"));
   grid.push_back(cmd->add_option(
       "--checks", args->checks,
       "fixed grid: seeded random validation points (besides the cell centres) against direct cubature"));
@@ -367,9 +373,9 @@ void add_preset_job(CLI::App& bake, Action& action, const std::shared_ptr<BakeAr
   cmd->add_option("--axis", args->axis, "the parameter axis, roughness (default; alpha = R^2) or alpha");
   cmd->add_option("--grid", args->grid,
                   "texel (default; sample k at (k + 0.5)/N, what a GPU lookup reads) or node (k/(N - 1))");
-  cmd->add_option("--tol", args->table.tol,
-                  "absolute tolerance of every texel's cubature (default " + format_number(tables::kPresetTolerance) +
-                      ")");
+  cmd->add_option(
+      "--tol", args->table.tol,
+      "absolute tolerance of every texel's cubature (default " + format_number(tables::kPresetTolerance) + ")");
   cmd->add_option("--encoding", args->table.encoding, "stored precision: float (default), half or unorm16");
   cmd->add_option("--max-evals", args->table.max_evaluations,
                   "evaluation budget per texel; beyond it the texel is kept and counted as unconverged");
@@ -421,9 +427,10 @@ void add_bake_command(CLI::App& app, Action& action, int argc, const char* const
   cmd->callback([&action, cmd] {
     if (cmd->get_subcommands().empty())
       action = []() -> int {
-        throw InputError("bake needs a job: bake model SPEC --law g|h|a (--res N | --max-error E) -o FILE.exr, "
-                         "bake preset dfg|kulla-conty --model ggx -o FILE.exr, bake scene SCENE.json --out DIR or "
-                         "bake library LIB.json --out DIR [--shard K/N]");
+        throw InputError(
+            "bake needs a job: bake model SPEC --law g|h|a (--res N | --max-error E) -o FILE.exr, "
+            "bake preset dfg|kulla-conty --model ggx -o FILE.exr, bake scene SCENE.json --out DIR or "
+            "bake library LIB.json --out DIR [--shard K/N]");
       };
   });
 }

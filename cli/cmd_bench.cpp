@@ -1,11 +1,11 @@
 #include <algorithm>
-#include <filesystem>
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
 #include <optional>
 
-#include <nlohmann/json.hpp>
 #include <tbb/global_control.h>
+#include <nlohmann/json.hpp>
 
 #include "bench/cubature_bench.h"
 #include "bench/genz_bench.h"
@@ -14,11 +14,11 @@
 #include "bench/shaders_bench.h"
 #include "cli/args.h"
 #include "cli/commands.h"
-#include "util/error.h"
 #include "models/registry.h"
 #include "models/spec.h"
-#include "util/atomic_file.h"
 #include "tables/bake.h"
+#include "util/atomic_file.h"
+#include "util/error.h"
 #include "util/timing.h"
 
 namespace ganzfeld::cli {
@@ -34,7 +34,7 @@ struct BenchArgs {
   std::string markdown, plot, baseline;
   CLI::Option* markdown_option = nullptr;  ///< given, with or without a FILE
   std::vector<std::string> competitors;
-  int size = 0, frames = 0;                ///< shaders: 0 = the defaults
+  int size = 0, frames = 0;  ///< shaders: 0 = the defaults
   std::string platform = "auto", model, cache;
 };
 
@@ -74,8 +74,9 @@ nlohmann::ordered_json cubature_report(const BenchArgs& args) {
       args.baseline.empty() ? std::nullopt : std::optional(bench::read_evaluation_baseline(args.baseline));
   const auto families = bench::run_cubature_benchmark(options);
   // The report includes the bake throughput, measured in the same run (no appended sections).
-  const std::vector<bench::BakeTiming> bakes =
-      args.markdown.empty() ? std::vector<bench::BakeTiming>{} : bench::run_bake_benchmark(args.quick, bake_repeats(args));
+  const std::vector<bench::BakeTiming> bakes = args.markdown.empty()
+                                                   ? std::vector<bench::BakeTiming>{}
+                                                   : bench::run_bake_benchmark(args.quick, bake_repeats(args));
   if (!args.plot.empty()) bench::write_work_precision_plot(families, args.plot);
   if (!args.markdown.empty()) {
     std::vector<std::string> words{"ganzfeld", "bench", "cubature"};
@@ -102,33 +103,46 @@ nlohmann::ordered_json cubature_report(const BenchArgs& args) {
     for (const auto& [who, n] : f.capped) capped[who] = n;
     nlohmann::ordered_json misses = nlohmann::ordered_json::array();
     for (const auto& m : f.misses)
-      misses.push_back({{"model", m.model}, {"i", m.i}, {"j", m.j}, {"tolerance", m.tolerance},
-                        {"achieved_error", m.achieved_error}, {"estimate", m.estimate}, {"resolution", m.resolution},
+      misses.push_back({{"model", m.model},
+                        {"i", m.i},
+                        {"j", m.j},
+                        {"tolerance", m.tolerance},
+                        {"achieved_error", m.achieved_error},
+                        {"estimate", m.estimate},
+                        {"resolution", m.resolution},
                         {"evaluations", m.evaluations}});
     nlohmann::ordered_json runs = nlohmann::ordered_json::array();
     for (const auto& r : f.runs)
       runs.push_back({r.competitor, r.tolerance, r.achieved_error, r.evaluations, r.seconds, r.capped, r.claimed});
     nlohmann::ordered_json failures;
     for (const auto& [who, x] : f.failures)
-      failures[who] = {{"runs", x.runs}, {"silently_wrong", x.silently_wrong}, {"not_converged", x.not_converged},
-                       {"over_cap", x.over_cap}, {"missed", x.missed}, {"dishonest", x.dishonest}};
+      failures[who] = {{"runs", x.runs},
+                       {"silently_wrong", x.silently_wrong},
+                       {"not_converged", x.not_converged},
+                       {"over_cap", x.over_cap},
+                       {"missed", x.missed},
+                       {"dishonest", x.dishonest}};
     nlohmann::ordered_json disagreements = nlohmann::ordered_json::array();
     for (const auto& d : f.disagreements)
-      disagreements.push_back({{"model", d.model}, {"i", d.i}, {"j", d.j}, {"boost_reference", d.boost_reference},
+      disagreements.push_back({{"model", d.model},
+                               {"i", d.i},
+                               {"j", d.j},
+                               {"boost_reference", d.boost_reference},
                                {"ours_reference", d.ours_reference}});
-    doc["families"].push_back({{"name", f.name},
-                               {"cases", f.cases},
-                               {"skipped", f.skipped},
-                               {"missed_rate", f.missed_rate},
-                               {"dishonest_rate", f.dishonest_rate},
-                               {"evals_ratio", ratios},
-                               {"capped_cases", capped},
-                               {"mc_error_ratio_equal_time", f.mc_error_ratio_equal_time},
-                               {"failures", failures},
-                               {"reference_disagreements", disagreements},
-                               {"runs_columns", {"competitor", "tolerance", "achieved_error", "evaluations", "seconds", "capped", "claimed"}},
-                               {"runs", runs},
-                               {"misses", misses}});
+    doc["families"].push_back(
+        {{"name", f.name},
+         {"cases", f.cases},
+         {"skipped", f.skipped},
+         {"missed_rate", f.missed_rate},
+         {"dishonest_rate", f.dishonest_rate},
+         {"evals_ratio", ratios},
+         {"capped_cases", capped},
+         {"mc_error_ratio_equal_time", f.mc_error_ratio_equal_time},
+         {"failures", failures},
+         {"reference_disagreements", disagreements},
+         {"runs_columns", {"competitor", "tolerance", "achieved_error", "evaluations", "seconds", "capped", "claimed"}},
+         {"runs", runs},
+         {"misses", misses}});
   }
   return doc;
 }
@@ -140,10 +154,17 @@ nlohmann::ordered_json bake_report(const BenchArgs& args) {
   doc["tables"] = nlohmann::ordered_json::array();
   for (const bench::BakeTiming& b : bench::run_bake_benchmark(args.quick, bake_repeats(args))) {
     const double one = util::median(b.seconds_1), two = util::median(b.seconds_2);
-    doc["tables"].push_back({{"model", b.model}, {"law", "g"}, {"resolution", b.resolution}, {"tolerance", 1e-9},
-                             {"unconverged", b.unconverged}, {"max_error", b.max_error},
-                             {"seconds_1_thread_runs", b.seconds_1}, {"seconds_2_threads_runs", b.seconds_2},
-                             {"seconds_1_thread", one}, {"seconds_2_threads", two}, {"speedup_2_threads", one / two}});
+    doc["tables"].push_back({{"model", b.model},
+                             {"law", "g"},
+                             {"resolution", b.resolution},
+                             {"tolerance", 1e-9},
+                             {"unconverged", b.unconverged},
+                             {"max_error", b.max_error},
+                             {"seconds_1_thread_runs", b.seconds_1},
+                             {"seconds_2_threads_runs", b.seconds_2},
+                             {"seconds_1_thread", one},
+                             {"seconds_2_threads", two},
+                             {"speedup_2_threads", one / two}});
   }
   return doc;
 }
@@ -162,27 +183,32 @@ int render_report(const BenchArgs& args) {
     return 0;
   }
   auto runs = [](const std::vector<double>& v) {
-    return nlohmann::ordered_json{{"median", util::median(v)}, {"min", *std::min_element(v.begin(), v.end())},
-                                  {"max", *std::max_element(v.begin(), v.end())}, {"runs", v}};
+    return nlohmann::ordered_json{{"median", util::median(v)},
+                                  {"min", *std::min_element(v.begin(), v.end())},
+                                  {"max", *std::max_element(v.begin(), v.end())},
+                                  {"runs", v}};
   };
   const nlohmann::ordered_json doc{
       {"benchmark", "render"},
       {"size", r.size},
       {"direct_crop", r.crop},
       {"repeats", r.repeats},
-      {"seconds", {{"lambert_ambient", runs(r.seconds_lambert)}, {"tables", runs(r.seconds_tables)},
-                   {"direct_crop", runs(r.seconds_direct)}}},
+      {"seconds",
+       {{"lambert_ambient", runs(r.seconds_lambert)},
+        {"tables", runs(r.seconds_tables)},
+        {"direct_crop", runs(r.seconds_direct)}}},
       {"ratios", {{"tables_vs_lambert", runs(r.tables_vs_lambert)}, {"direct_vs_tables", runs(r.direct_vs_tables)}}}};
   if (args.json) {
     std::cout << doc.dump(2) << "\n";
     return 0;
   }
-  std::printf("%dx%d sphere, %d runs: Lambert + ambient %.3f s, tables (3 lights, 2 lobes) %.3f s, direct %dx%d crop %.3f s "
-              "(medians)\nper pixel: tables / Lambert = %.2f (%.2f … %.2f), direct / tables = %.3g\n",
-              r.size, r.size, r.repeats, util::median(r.seconds_lambert), util::median(r.seconds_tables), r.crop, r.crop,
-              util::median(r.seconds_direct), util::median(r.tables_vs_lambert),
-              *std::min_element(r.tables_vs_lambert.begin(), r.tables_vs_lambert.end()),
-              *std::max_element(r.tables_vs_lambert.begin(), r.tables_vs_lambert.end()), util::median(r.direct_vs_tables));
+  std::printf(
+      "%dx%d sphere, %d runs: Lambert + ambient %.3f s, tables (3 lights, 2 lobes) %.3f s, direct %dx%d crop %.3f s "
+      "(medians)\nper pixel: tables / Lambert = %.2f (%.2f … %.2f), direct / tables = %.3g\n",
+      r.size, r.size, r.repeats, util::median(r.seconds_lambert), util::median(r.seconds_tables), r.crop, r.crop,
+      util::median(r.seconds_direct), util::median(r.tables_vs_lambert),
+      *std::min_element(r.tables_vs_lambert.begin(), r.tables_vs_lambert.end()),
+      *std::max_element(r.tables_vs_lambert.begin(), r.tables_vs_lambert.end()), util::median(r.direct_vs_tables));
   return 0;
 }
 
@@ -216,13 +242,21 @@ int genz_report(const BenchArgs& args) {
     return 0;
   }
   if (args.json) {
-    nlohmann::ordered_json doc{{"benchmark", "genz"}, {"instances", options.instances}, {"budget", options.budget},
-                               {"tolerances", options.tolerances}, {"cells", nlohmann::ordered_json::array()}};
+    nlohmann::ordered_json doc{{"benchmark", "genz"},
+                               {"instances", options.instances},
+                               {"budget", options.budget},
+                               {"tolerances", options.tolerances},
+                               {"cells", nlohmann::ordered_json::array()}};
     for (const auto& c : cells)
-      doc["cells"].push_back({{"family", bench::to_string(c.family)}, {"dimension", c.dimension},
-                              {"competitor", c.competitor}, {"runs", c.runs}, {"dishonest", c.dishonest},
-                              {"dishonest_unseen", c.dishonest_unseen}, {"worst_ratio", c.worst_ratio},
-                              {"not_converged", c.not_converged}, {"capped", c.capped},
+      doc["cells"].push_back({{"family", bench::to_string(c.family)},
+                              {"dimension", c.dimension},
+                              {"competitor", c.competitor},
+                              {"runs", c.runs},
+                              {"dishonest", c.dishonest},
+                              {"dishonest_unseen", c.dishonest_unseen},
+                              {"worst_ratio", c.worst_ratio},
+                              {"not_converged", c.not_converged},
+                              {"capped", c.capped},
                               {"evaluations", c.evaluations},
                               {"geometric_mean_evaluations", c.geometric_mean_evaluations()}});
     std::cout << doc.dump(2) << "\n";
@@ -232,8 +266,8 @@ int genz_report(const BenchArgs& args) {
               "unseen", "worst", "not-conv", "capped", "geo-evals");
   for (const auto& c : cells)
     std::printf("%-14s %2d %-20s %6d %9d %9d %10.3g %9d %9d %12.4g\n", bench::to_string(c.family), c.dimension,
-                c.competitor.c_str(), c.runs, c.dishonest, c.dishonest_unseen, c.worst_ratio, c.not_converged,
-                c.capped, c.geometric_mean_evaluations());
+                c.competitor.c_str(), c.runs, c.dishonest, c.dishonest_unseen, c.worst_ratio, c.not_converged, c.capped,
+                c.geometric_mean_evaluations());
   return 0;
 }
 
@@ -265,15 +299,28 @@ int shaders_report(const BenchArgs& args) {
   for (const bench::ShaderPass& p : r.passes) {
     nlohmann::ordered_json laws = nlohmann::ordered_json::array();
     for (const bench::LawLookup& l : p.laws)
-      laws.push_back({{"law", to_string(l.law)}, {"scheme", l.scheme}, {"lookup_error", l.lookup_error},
-                      {"value_bytes", l.value_bytes}, {"fetches", l.fetches_max}, {"points", l.points},
+      laws.push_back({{"law", to_string(l.law)},
+                      {"scheme", l.scheme},
+                      {"lookup_error", l.lookup_error},
+                      {"value_bytes", l.value_bytes},
+                      {"fetches", l.fetches_max},
+                      {"points", l.points},
                       {"max_difference", l.max_difference}});
     const double m = util::median(p.milliseconds);
-    passes.push_back({{"name", p.name}, {"what", p.what}, {"table_set", p.table_set}, {"define", p.define},
-                      {"milliseconds", {{"median", m}, {"min", *std::min_element(p.milliseconds.begin(), p.milliseconds.end())},
-                                        {"max", *std::max_element(p.milliseconds.begin(), p.milliseconds.end())}}},
-                      {"vs_a", m / a}, {"vs_s", m / s}, {"fetches_per_pixel", p.fetches_mean},
-                      {"fetches_per_pixel_max", p.fetches_max}, {"value_bytes", p.value_bytes}, {"laws", laws}});
+    passes.push_back({{"name", p.name},
+                      {"what", p.what},
+                      {"table_set", p.table_set},
+                      {"define", p.define},
+                      {"milliseconds",
+                       {{"median", m},
+                        {"min", *std::min_element(p.milliseconds.begin(), p.milliseconds.end())},
+                        {"max", *std::max_element(p.milliseconds.begin(), p.milliseconds.end())}}},
+                      {"vs_a", m / a},
+                      {"vs_s", m / s},
+                      {"fetches_per_pixel", p.fetches_mean},
+                      {"fetches_per_pixel_max", p.fetches_max},
+                      {"value_bytes", p.value_bytes},
+                      {"laws", laws}});
   }
   const nlohmann::ordered_json doc{{"benchmark", "shaders"},
                                    {"gl_renderer", r.context.gl_renderer},
@@ -295,8 +342,8 @@ int shaders_report(const BenchArgs& args) {
               r.frames, r.timer.c_str());
   for (const auto& p : doc["passes"])
     std::printf("%-32s %9.3f ms  %6.2f x A  %6.2f x S  %6.1f fetches  %9llu bytes\n",
-                (p["name"].get<std::string>()).c_str(), p["milliseconds"]["median"].get<double>(), p["vs_a"].get<double>(),
-                p["vs_s"].get<double>(), p["fetches_per_pixel"].get<double>(),
+                (p["name"].get<std::string>()).c_str(), p["milliseconds"]["median"].get<double>(),
+                p["vs_a"].get<double>(), p["vs_s"].get<double>(), p["fetches_per_pixel"].get<double>(),
                 static_cast<unsigned long long>(p["value_bytes"].get<std::uint64_t>()));
   return 0;
 }
@@ -360,8 +407,9 @@ void add_bench_command(CLI::App& app, Action& action) {
       nlohmann::ordered_json doc;
       if (args->what == "cubature") doc = cubature_report(*args);
       else if (args->what == "bake") doc = bake_report(*args);
-      else throw InputError("unknown benchmark '" + args->what +
-                            "'; allowed: cubature, genz, bake, render, realtime, shaders");
+      else
+        throw InputError("unknown benchmark '" + args->what +
+                         "'; allowed: cubature, genz, bake, render, realtime, shaders");
       if (args->json) {
         std::cout << doc.dump(2) << "\n";
         return 0;
@@ -369,20 +417,23 @@ void add_bench_command(CLI::App& app, Action& action) {
       if (args->what == "cubature") {
         std::printf("evaluations of each competitor / ours to reach error %.0e (geometric mean; > = capped cases)\n",
                     doc["ratio_tolerance"].get<double>());
-        std::printf("%-20s %5s %7s %8s %9s %9s %9s %9s %9s %9s %9s\n", "family", "cases", "missed", "oracle", "hcub_lune",
-                    "hcub_naive", "pcub_lune", "boost_gk", "boost_ts", "mc_err", "dishonest");
+        std::printf("%-20s %5s %7s %8s %9s %9s %9s %9s %9s %9s %9s\n", "family", "cases", "missed", "oracle",
+                    "hcub_lune", "hcub_naive", "pcub_lune", "boost_gk", "boost_ts", "mc_err", "dishonest");
         for (const auto& f : doc["families"]) {
           auto ratio = [&](const char* who) { return f["evals_ratio"].value(who, 0.0); };
-          std::printf("%-20s %5d %7.4f %8.3g %9.3g %9.3g %9.3g %9.3g %9.3g %9.2g %9.4f\n", f["name"].get<std::string>().c_str(),
-                      f["cases"].get<int>(), f["missed_rate"].get<double>(), ratio("oracle"), ratio("hcubature_lune"),
-                      ratio("hcubature_naive"), ratio("pcubature_lune"), ratio("boost_gauss_kronrod"), ratio("boost_tanh_sinh"),
+          std::printf("%-20s %5d %7.4f %8.3g %9.3g %9.3g %9.3g %9.3g %9.3g %9.2g %9.4f\n",
+                      f["name"].get<std::string>().c_str(), f["cases"].get<int>(), f["missed_rate"].get<double>(),
+                      ratio("oracle"), ratio("hcubature_lune"), ratio("hcubature_naive"), ratio("pcubature_lune"),
+                      ratio("boost_gauss_kronrod"), ratio("boost_tanh_sinh"),
                       f["mc_error_ratio_equal_time"].get<double>(), f["dishonest_rate"].get<double>());
         }
       } else {
         for (const auto& t : doc["tables"])
-          std::printf("%-22s g %s tol 1e-9: median %.2f s (1 thread), %.2f s (2 threads), speed-up %.2f, unconverged %lld\n",
-                      t["model"].get<std::string>().c_str(), t["resolution"].dump().c_str(), t["seconds_1_thread"].get<double>(),
-                      t["seconds_2_threads"].get<double>(), t["speedup_2_threads"].get<double>(), t["unconverged"].get<long long>());
+          std::printf(
+              "%-22s g %s tol 1e-9: median %.2f s (1 thread), %.2f s (2 threads), speed-up %.2f, unconverged %lld\n",
+              t["model"].get<std::string>().c_str(), t["resolution"].dump().c_str(),
+              t["seconds_1_thread"].get<double>(), t["seconds_2_threads"].get<double>(),
+              t["speedup_2_threads"].get<double>(), t["unconverged"].get<long long>());
       }
       return 0;
     };

@@ -3,9 +3,9 @@
 
 #include "cli/args.h"
 #include "cli/commands.h"
-#include "util/error.h"
 #include "models/spec.h"
 #include "shapes/json.h"
+#include "util/error.h"
 #include "util/timing.h"
 
 namespace ganzfeld::cli {
@@ -25,19 +25,21 @@ void add_eval_command(CLI::App& app, Action& action) {
   auto* cmd = app.add_subcommand("eval", "one value of a law (f, g, h, a, r) with its error estimate");
   auto args = std::make_shared<EvalArgs>();
   add_model_option(*cmd, args->model);
-  cmd->add_option("--law", args->law, "f (BRDF), g (vignetting), h (darkening), a (albedo), r (double-diffuse)")->required();
+  cmd->add_option("--law", args->law, "f (BRDF), g (vignetting), h (darkening), a (albedo), r (double-diffuse)")
+      ->required();
   args->directions.add_to(*cmd);
   args->parameter.add_to(*cmd);
   cmd->add_option("--tol", args->tol, "absolute tolerance of the cubature (default 1e-9)");
-  cmd->add_option("--max-evals", args->max_evaluations, "evaluation budget; beyond it the result is reported as not converged");
+  cmd->add_option("--max-evals", args->max_evaluations,
+                  "evaluation budget; beyond it the result is reported as not converged");
   add_json_flag(*cmd, args->json);
   cmd->callback([&action, args] {
     action = [args] {
       const Law law = parse_law(args->law);
       const auto parameter = args->parameter.given();
-      const ModelPtr model = parameter ? make_model(with_parameter(parse_spec(args->model), parameter->first,
-                                                                   parameter->second))
-                                       : parse_model(args->model);
+      const ModelPtr model =
+          parameter ? make_model(with_parameter(parse_spec(args->model), parameter->first, parameter->second))
+                    : parse_model(args->model);
       validate_tolerance(args->tol);
       check_max_evaluations(args->max_evaluations);
       const bool needs_i = law == Law::f || law == Law::g || law == Law::a;

@@ -4,11 +4,11 @@
 #include <iostream>
 
 #include "cli/commands.h"
-#include "util/error.h"
+#include "export/brdf_export.h"
 #include "models/registry.h"
 #include "models/spec.h"
 #include "tables/bake.h"
-#include "export/brdf_export.h"
+#include "util/error.h"
 
 namespace ganzfeld::cli {
 
@@ -20,10 +20,12 @@ struct ExportBrdfArgs {
 }  // namespace
 
 void add_export_brdf_command(CLI::App& app, Action& action) {
-  auto* cmd = app.add_subcommand("export-brdf", "write a model as measured data: MERL binary or ganzfeld's tabulated text");
+  auto* cmd =
+      app.add_subcommand("export-brdf", "write a model as measured data: MERL binary or ganzfeld's tabulated text");
   auto args = std::make_shared<ExportBrdfArgs>();
   cmd->add_option("--model", args->model, "the model spec (single or mixture)")->required();
-  cmd->add_option("--format", args->format, "merl (90x90x180 binary, as MERL's database) or tabulated (docs/measured.md)");
+  cmd->add_option("--format", args->format,
+                  "merl (90x90x180 binary, as MERL's database) or tabulated (docs/measured.md)");
   cmd->add_option("--res", args->res, "tabulated: theta_i x theta_r x phi nodes (default 46x46x91: every 2 degrees)");
   cmd->add_option("-o,--output", args->output, "the file, written atomically")->required();
   cmd->add_option("--noise", args->noise.sigma,

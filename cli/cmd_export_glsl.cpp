@@ -17,17 +17,17 @@
 
 #include "cli/args.h"
 #include "cli/commands.h"
-#include "util/error.h"
-#include "models/registry.h"
-#include "models/spec.h"
-#include "util/atomic_file.h"
-#include "tables/exr_io.h"
 #include "export/glsl.h"
 #include "export/param_export.h"
-#include "tables/param_table.h"
+#include "export/texture_file.h"
+#include "models/registry.h"
+#include "models/spec.h"
 #include "scene/plan.h"
 #include "scene/scene.h"
-#include "export/texture_file.h"
+#include "tables/exr_io.h"
+#include "tables/param_table.h"
+#include "util/atomic_file.h"
+#include "util/error.h"
 
 namespace ganzfeld::cli {
 
@@ -45,9 +45,7 @@ std::optional<exporting::TextureFormat> texture_format(const std::string& text) 
   if (text.empty()) return exporting::TextureFormat::ktx2;
   try {
     return exporting::parse_texture_format(text);
-  } catch (const InputError&) {
-    throw InputError("unknown --texture '" + text + "'; allowed: ktx2, header, none");
-  }
+  } catch (const InputError&) { throw InputError("unknown --texture '" + text + "'; allowed: ktx2, header, none"); }
 }
 
 /// Writes a table's snippet to -o and says so: with --json `doc` and the texture's path ("texture",
@@ -95,7 +93,8 @@ int export_table(const ExportArgs& args) {
   const auto format = texture_format(args.texture);
   const tables::Table table = tables::read_table(args.table);
   if (!args.model.empty() || !args.law.empty()) {
-    if (args.model.empty() || args.law.empty()) throw InputError("--model and --law go together (the table the shader expects)");
+    if (args.model.empty() || args.law.empty())
+      throw InputError("--model and --law go together (the table the shader expects)");
     const Law law = tables::parse_tabulated_law("--law", args.law);
     exporting::check_table_is(table, *parse_model(args.model), law);
   }
@@ -146,7 +145,8 @@ int export_scene(const ExportArgs& args) {
       // The table's own snippet beside its texture, for engines that bind tables one by one
       // (js/ganzfeld-three): what `export-glsl FILE.exr` writes for it.
       const std::string snippet = sampler + ".glsl";
-      write_text_atomically((std::filesystem::path(dir) / snippet).string(), exporting::glsl_table_snippet(*table), "shader");
+      write_text_atomically((std::filesystem::path(dir) / snippet).string(), exporting::glsl_table_snippet(*table),
+                            "shader");
       entry["glsl"] = snippet;
       entry["function"] = exporting::glsl_function_name(table->model, table->law);
     }
@@ -168,9 +168,10 @@ int export_scene(const ExportArgs& args) {
 }  // namespace
 
 void add_export_glsl_command(CLI::App& app, Action& action) {
-  auto* cmd = app.add_subcommand("export-glsl",
-                                 "GLSL (4.30 core, ES 3.00) that samples a table exactly as tables/ does, plus the table as "
-                                 "a texture; or everything a scene's shader needs (docs/shaders.md)");
+  auto* cmd =
+      app.add_subcommand("export-glsl",
+                         "GLSL (4.30 core, ES 3.00) that samples a table exactly as tables/ does, plus the table as "
+                         "a texture; or everything a scene's shader needs (docs/shaders.md)");
   auto args = std::make_shared<ExportArgs>();
   cmd->add_option("TABLE", args->table, "a table written by `ganzfeld bake` (omit with --scene)");
   cmd->add_option("-o,--output", args->output, "the GLSL snippet, FILE.glsl; the texture goes beside it");
@@ -182,7 +183,8 @@ void add_export_glsl_command(CLI::App& app, Action& action) {
   cmd->add_option("--scene", args->scene, "export the reference shader and every table of SCENE.json instead");
   cmd->add_option("--out", args->out_dir, "with --scene: the output directory (created if its parent exists)");
   args->cache.add_to(*cmd, "with --scene: ");
-  args->tables.add_to(*cmd, scene::TableOptions::scene_defaults());  // with --scene: --res-g, --res-h, --tol, --encoding, --max-evals
+  args->tables.add_to(
+      *cmd, scene::TableOptions::scene_defaults());  // with --scene: --res-g, --res-h, --tol, --encoding, --max-evals
   cmd->add_flag("--quiet", args->quiet, "no progress and no summary line");
   add_json_flag(*cmd, args->json);
   cmd->callback([&action, args] {

@@ -28,21 +28,39 @@ struct ExtremesArgs {
 
 nlohmann::ordered_json vector_json(const Vec3& v) { return {v.x, v.y, v.z}; }
 
-nlohmann::ordered_json extremes_json(const std::vector<ExtremesRow>& rows, const ExtremesOptions& options, double seconds) {
-  nlohmann::ordered_json doc{{"tolerance", options.engine_tolerance}, {"seconds", seconds}, {"models", nlohmann::ordered_json::array()}};
+nlohmann::ordered_json extremes_json(const std::vector<ExtremesRow>& rows, const ExtremesOptions& options,
+                                     double seconds) {
+  nlohmann::ordered_json doc{
+      {"tolerance", options.engine_tolerance}, {"seconds", seconds}, {"models", nlohmann::ordered_json::array()}};
   for (const auto& r : rows) {
     nlohmann::ordered_json flagged = nlohmann::ordered_json::array();
     for (const ExtremesCase& c : r.flagged)
-      flagged.push_back({{"spec", c.spec}, {"law", to_string(c.law)}, {"i", vector_json(c.i)}, {"j", vector_json(c.j)},
-                         {"value", c.engine.value}, {"error", c.engine.error}, {"converged", c.converged},
-                         {"finite", c.finite}, {"reference", c.reference}, {"reference_error", c.reference_error},
-                         {"second_reference", c.second_reference}, {"second_reference_error", c.second_reference_error},
-                         {"dishonest", c.dishonest}, {"references_disagree", c.references_disagree},
+      flagged.push_back({{"spec", c.spec},
+                         {"law", to_string(c.law)},
+                         {"i", vector_json(c.i)},
+                         {"j", vector_json(c.j)},
+                         {"value", c.engine.value},
+                         {"error", c.engine.error},
+                         {"converged", c.converged},
+                         {"finite", c.finite},
+                         {"reference", c.reference},
+                         {"reference_error", c.reference_error},
+                         {"second_reference", c.second_reference},
+                         {"second_reference_error", c.second_reference_error},
+                         {"dishonest", c.dishonest},
+                         {"references_disagree", c.references_disagree},
                          {"reference_unresolved", c.reference_unresolved}});
-    doc["models"].push_back({{"model", r.model}, {"specs", r.specs}, {"refused", r.refused}, {"cases", r.cases},
-                             {"non_finite", r.non_finite}, {"not_converged", r.not_converged},
-                             {"dishonest", r.dishonest}, {"references_disagree", r.references_disagree},
-                             {"reference_unresolved", r.unresolved}, {"seconds", r.seconds}, {"flagged", flagged}});
+    doc["models"].push_back({{"model", r.model},
+                             {"specs", r.specs},
+                             {"refused", r.refused},
+                             {"cases", r.cases},
+                             {"non_finite", r.non_finite},
+                             {"not_converged", r.not_converged},
+                             {"dishonest", r.dishonest},
+                             {"references_disagree", r.references_disagree},
+                             {"reference_unresolved", r.unresolved},
+                             {"seconds", r.seconds},
+                             {"flagged", flagged}});
   }
   return doc;
 }
@@ -73,8 +91,9 @@ void add_extremes_command(CLI::App& app, Action& action) {
                 "every model at its defaults only (the whole direction grid; about ten times faster)");
   cmd->add_option("--tol", args->tol, "the engine's absolute tolerance (default 1e-8)");
   cmd->add_option("--model", args->models, "only these models (catalogue names, or 'mixture'); repeatable");
-  cmd->add_option("--csv", args->csv, "also write every case of the grid to FILE (CSV; with --markdown the section "
-                                      "links it by its file name, so put it beside the document)");
+  cmd->add_option("--csv", args->csv,
+                  "also write every case of the grid to FILE (CSV; with --markdown the section "
+                  "links it by its file name, so put it beside the document)");
   cmd->callback([&action, args] {
     action = [args] {
       validate_tolerance(args->tol);
@@ -105,10 +124,11 @@ void add_extremes_command(CLI::App& app, Action& action) {
         std::cout << extremes_json(rows, options, seconds).dump(2) << "\n";
       } else {
         for (const auto& r : rows)
-          std::printf("%-24s specs %3d cases %5d non-finite %d not-converged %d dishonest %d refs-disagree %d "
-                      "unresolved %d  %.1f s\n",
-                      r.model.c_str(), r.specs, r.cases, r.non_finite, r.not_converged, r.dishonest,
-                      r.references_disagree, r.unresolved, r.seconds);
+          std::printf(
+              "%-24s specs %3d cases %5d non-finite %d not-converged %d dishonest %d refs-disagree %d "
+              "unresolved %d  %.1f s\n",
+              r.model.c_str(), r.specs, r.cases, r.non_finite, r.not_converged, r.dishonest, r.references_disagree,
+              r.unresolved, r.seconds);
       }
       return 0;  // a report: its targets are met or missed in what it prints
     };

@@ -6,14 +6,14 @@
 
 #include <nlohmann/json.hpp>
 
-#include "util/atomic_file.h"
 #include "cli/args.h"
 #include "cli/commands.h"
-#include "util/error.h"
 #include "models/spec.h"
-#include "tables/exr_io.h"
 #include "rasterizer/figure.h"
 #include "reports/disk.h"
+#include "tables/exr_io.h"
+#include "util/atomic_file.h"
+#include "util/error.h"
 #include "util/timing.h"
 
 namespace ganzfeld::cli {
@@ -35,7 +35,8 @@ int draw_disk(const FigureArgs& args, const Model& data, const Model* fit, const
   options.theta_o_deg = args.theta_o;
   write_disk_figure(data, fit, options, args.output);
   if (args.json) {
-    nlohmann::ordered_json doc{{"output", args.output}, {"model", args.model}, {"disk", true}, {"theta_o", args.theta_o}};
+    nlohmann::ordered_json doc{
+        {"output", args.output}, {"model", args.model}, {"disk", true}, {"theta_o", args.theta_o}};
     if (fit) doc["compare"] = args.compare;
     doc["seconds"] = watch.seconds();
     std::cout << doc.dump(2) << "\n";

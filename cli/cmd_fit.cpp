@@ -66,8 +66,7 @@ nlohmann::ordered_json estimate_json(const Estimate& e) {
 
 int run_fit(const FitArgs& args) {
   const InterruptGuard guard;  // from here: Ctrl-C while the data load also ends in the best fit (the start)
-  if (args.data.empty() || args.model.empty())
-    throw InputError("fit needs --data SPEC and --model SPEC (or --report)");
+  if (args.data.empty() || args.model.empty()) throw InputError("fit needs --data SPEC and --model SPEC (or --report)");
   const fit::Metric metric = fit::parse_metric(args.metric);
   const fit::LocalSearch local = fit::parse_local_search(args.local);
   if (!args.no_laws) validate_tolerance(args.tol);
@@ -119,7 +118,8 @@ int run_fit(const FitArgs& args) {
     for (const auto& [name, value] : result.parameters) doc["parameters"][name] = value;
     doc["fixed"] = args.fixed;
     auto metrics_json = [](const fit::MetricValues& m) {
-      return nlohmann::ordered_json{{"ngan_relative", m.ngan_relative}, {"ngan_rms", m.ngan_rms}, {"log_rms", m.log_rms}};
+      return nlohmann::ordered_json{
+          {"ngan_relative", m.ngan_relative}, {"ngan_rms", m.ngan_rms}, {"log_rms", m.log_rms}};
     };
     doc["metrics"] = metrics_json(result.metrics);
     doc["start_metrics"] = metrics_json(result.start_metrics);
@@ -136,11 +136,15 @@ int run_fit(const FitArgs& args) {
     if (laws) {
       nlohmann::ordered_json points = nlohmann::ordered_json::array();
       for (const auto& p : laws->points)
-        points.push_back({{"law", to_string(p.law)}, {"theta_i", p.theta_i_deg}, {"theta_j", p.theta_j_deg},
-                          {"phi", p.phi_deg}, {"data", estimate_json(p.data)}, {"fit", estimate_json(p.fit)}});
-      doc["laws"] = {{"tolerance", args.tol}, {"points", points}, {"max_difference", {{"g", laws->max_g},
-                                                                                      {"h", laws->max_h},
-                                                                                      {"a", laws->max_a}}}};
+        points.push_back({{"law", to_string(p.law)},
+                          {"theta_i", p.theta_i_deg},
+                          {"theta_j", p.theta_j_deg},
+                          {"phi", p.phi_deg},
+                          {"data", estimate_json(p.data)},
+                          {"fit", estimate_json(p.fit)}});
+      doc["laws"] = {{"tolerance", args.tol},
+                     {"points", points},
+                     {"max_difference", {{"g", laws->max_g}, {"h", laws->max_h}, {"a", laws->max_a}}}};
     }
     std::cout << doc.dump(2) << "\n";
     return 0;
@@ -159,10 +163,10 @@ int run_fit(const FitArgs& args) {
       std::printf("  %s:", to_string(law));
       for (const auto& p : laws->points) {
         if (p.law != law) continue;
-        const std::string where = law == Law::h   ? degrees(p.theta_j_deg)
-                                  : law == Law::a ? degrees(p.theta_i_deg)
-                                                  : degrees(p.theta_i_deg) + "," + degrees(p.theta_j_deg) + "," +
-                                                        degrees(p.phi_deg);
+        const std::string where =
+            law == Law::h   ? degrees(p.theta_j_deg)
+            : law == Law::a ? degrees(p.theta_i_deg)
+                            : degrees(p.theta_i_deg) + "," + degrees(p.theta_j_deg) + "," + degrees(p.phi_deg);
         std::printf(" (%s) %.4f/%.4f", where.c_str(), p.data.value, p.fit.value);
       }
       std::printf("  data/fit\n");
@@ -175,7 +179,8 @@ int run_fit(const FitArgs& args) {
 }  // namespace
 
 void add_fit_command(CLI::App& app, Action& action) {
-  auto* cmd = app.add_subcommand("fit", "fit a model's parameters to measured or synthetic BRDF data (docs/fitting.md)");
+  auto* cmd =
+      app.add_subcommand("fit", "fit a model's parameters to measured or synthetic BRDF data (docs/fitting.md)");
   auto args = std::make_shared<FitArgs>();
   cmd->add_option("--data", args->data, "the data: merl:file=F, tabulated:file=F or any model spec");
   cmd->add_option("--model", args->model, "the model to fit (a spec: its values are the first start), e.g. hvd-fit");
@@ -184,7 +189,8 @@ void add_fit_command(CLI::App& app, Action& action) {
   cmd->add_option("--metric", args->metric, "ngan (cosine-weighted relative L2, default) or log (cosine-weighted log)");
   cmd->add_option("--local", args->local, "the local search: praxis (default) or bobyqa (docs/fitting.md)");
   cmd->add_option("--grid", args->grid, "theta_h x theta_d x phi_d sample nodes (default 90x30x30; MERL: divisors)");
-  cmd->add_option("--max-theta", args->max_theta, "leave out pairs with theta_i or theta_o beyond (degrees, default 80)");
+  cmd->add_option("--max-theta", args->max_theta,
+                  "leave out pairs with theta_i or theta_o beyond (degrees, default 80)");
   cmd->add_option("--starts", args->starts, "local searches, the first from the start (default 4)");
   cmd->add_option("--max-evals", args->max_evaluations, "evaluations per local search (default 4000)");
   cmd->add_option("--max-seconds", args->max_seconds, "stop after this long with the best point (default 0: no limit)");

@@ -25,23 +25,37 @@ int param_info(const std::string& path, bool json) {
   const tables::ParamTable table = tables::read_param_table(path);
   nlohmann::ordered_json axes = nlohmann::ordered_json::array(), channels = nlohmann::ordered_json::array();
   for (const tables::Axis& a : table.axes)
-    axes.push_back({{"name", a.name}, {"min", a.min}, {"max", a.max}, {"count", a.count},
-                    {"mapping", to_string(a.mapping)}, {"grid", to_string(table.grid)}});
+    axes.push_back({{"name", a.name},
+                    {"min", a.min},
+                    {"max", a.max},
+                    {"count", a.count},
+                    {"mapping", to_string(a.mapping)},
+                    {"grid", to_string(table.grid)}});
   for (const tables::Channel& ch : table.channels) {
     const double max_error = ch.node_error();
-    channels.push_back({{"name", ch.name}, {"definition", ch.definition}, {"lookup_error", ch.lookup_error},
-                        {"max_error", max_error}, {"unconverged", ch.unconverged}});
+    channels.push_back({{"name", ch.name},
+                        {"definition", ch.definition},
+                        {"lookup_error", ch.lookup_error},
+                        {"max_error", max_error},
+                        {"unconverged", ch.unconverged}});
   }
   if (json) {
-    nlohmann::ordered_json doc{{"path", path}, {"format_version", tables::kParamFormatVersion},
-                               {"preset", table.preset}, {"layout", table.layout}, {"model", table.model},
-                               {"axes", axes}, {"channels", channels}, {"lookup_error", table.lookup_error},
-                               {"lookup_checks", table.lookup_checks},
-                               {"validated_domain", {{"alpha_min", tables::kMinValidatedAlpha},
-                                                     {"cos_theta_i_min", tables::kMinValidatedMu}}},
-                               {"max_error", table.node_error},
-                               {"tolerance", table.tolerance}, {"encoding", to_string(table.encoding)},
-                               {"command", table.command}, {"version", table.version}};
+    nlohmann::ordered_json doc{
+        {"path", path},
+        {"format_version", tables::kParamFormatVersion},
+        {"preset", table.preset},
+        {"layout", table.layout},
+        {"model", table.model},
+        {"axes", axes},
+        {"channels", channels},
+        {"lookup_error", table.lookup_error},
+        {"lookup_checks", table.lookup_checks},
+        {"validated_domain", {{"alpha_min", tables::kMinValidatedAlpha}, {"cos_theta_i_min", tables::kMinValidatedMu}}},
+        {"max_error", table.node_error},
+        {"tolerance", table.tolerance},
+        {"encoding", to_string(table.encoding)},
+        {"command", table.command},
+        {"version", table.version}};
     std::cout << doc.dump(2) << "\n";
     return 0;
   }
@@ -56,14 +70,14 @@ int param_info(const std::string& path, bool json) {
     std::printf("  channel      %-8s lookup error %.3g (per texel %.3g), %lld unconverged: %s\n",
                 c["name"].get<std::string>().c_str(), c["lookup_error"].get<double>(), c["max_error"].get<double>(),
                 c["unconverged"].get<long long>(), c["definition"].get<std::string>().c_str());
-  std::printf("  error        %s (lookup error: validated bound of |bilinear lookup - integral| for alpha >= %s and "
-              "cos_theta_i >= %s, margin x the largest measured at %lld points between the samples)\n"
-              "  node error   %s (cubature + rounding at the samples only)\n"
-              "  tolerance    %s\n  encoding     %s\n  command      %s\n",
-              format_number(table.lookup_error).c_str(), format_number(tables::kMinValidatedAlpha).c_str(),
-              format_number(tables::kMinValidatedMu).c_str(), table.lookup_checks,
-              format_number(table.node_error).c_str(), format_number(table.tolerance).c_str(),
-              to_string(table.encoding), table.command.c_str());
+  std::printf(
+      "  error        %s (lookup error: validated bound of |bilinear lookup - integral| for alpha >= %s and "
+      "cos_theta_i >= %s, margin x the largest measured at %lld points between the samples)\n"
+      "  node error   %s (cubature + rounding at the samples only)\n"
+      "  tolerance    %s\n  encoding     %s\n  command      %s\n",
+      format_number(table.lookup_error).c_str(), format_number(tables::kMinValidatedAlpha).c_str(),
+      format_number(tables::kMinValidatedMu).c_str(), table.lookup_checks, format_number(table.node_error).c_str(),
+      format_number(table.tolerance).c_str(), to_string(table.encoding), table.command.c_str());
   return 0;
 }
 }  // namespace
@@ -75,7 +89,8 @@ void add_info_command(CLI::App& app, Action& action) {
   add_json_flag(*cmd, args->json);
   cmd->callback([&action, args] {
     action = [args] {
-      if (tables::format_version_of(args->path) == tables::kParamFormatVersion) return param_info(args->path, args->json);
+      if (tables::format_version_of(args->path) == tables::kParamFormatVersion)
+        return param_info(args->path, args->json);
       const tables::Table table = tables::read_table(args->path);
       if (args->json) {
         std::cout << shapes::info_json(args->path, table).dump(2) << "\n";
@@ -83,13 +98,14 @@ void add_info_command(CLI::App& app, Action& action) {
       }
       std::printf("%s\n  format version %d, ganzfeld %s\n  model        %s\n  law          %s\n", args->path.c_str(),
                   table.format_version, table.version.c_str(), table.model.c_str(), to_string(table.law));
-      std::printf("  error        %s (lookup error: validated bound of |lookup - law|, %s at %lld points the "
-                  "table was not built from)\n",
-                  format_number(table.lookup_error).c_str(),
-                  table.format_version >= 2 ? "margin x the largest measured" : "measured", table.interpolation_checks);
+      std::printf(
+          "  error        %s (lookup error: validated bound of |lookup - law|, %s at %lld points the "
+          "table was not built from)\n",
+          format_number(table.lookup_error).c_str(),
+          table.format_version >= 2 ? "margin x the largest measured" : "measured", table.interpolation_checks);
       if (table.target_error > 0.0)
-        std::printf("  target       lookup error <= %s within %llu value bytes: %s\n", format_number(table.target_error).c_str(),
-                    static_cast<unsigned long long>(table.target_bytes),
+        std::printf("  target       lookup error <= %s within %llu value bytes: %s\n",
+                    format_number(table.target_error).c_str(), static_cast<unsigned long long>(table.target_bytes),
                     tables::misses_target(table) ? "missed (a best-effort bake)" : "met");
       if (table.target_fetches > 0) std::printf("  fetch budget %d per lookup\n", table.target_fetches);
       std::printf("  frame        %s%s%s, %s interpolation\n", to_string(table.frame),
@@ -112,11 +128,12 @@ void add_info_command(CLI::App& app, Action& action) {
                                     ? " (value = " + format_number(table.unorm.offset) + " + " +
                                           format_number(table.unorm.scale) + " u / 65535)"
                                     : "";
-      std::printf("  encoding     %s%s, %llu value bytes\n  node error   %s (cubature + rounding at the nodes only)\n"
-                  "  tolerance    %s\n  unconverged  %lld of %zu\n  command      %s\n",
-                  to_string(table.encoding), unorm.c_str(), static_cast<unsigned long long>(tables::value_bytes(table)),
-                  format_number(table.node_error).c_str(), format_number(table.tolerance).c_str(), table.unconverged,
-                  table.entries(), table.command.c_str());
+      std::printf(
+          "  encoding     %s%s, %llu value bytes\n  node error   %s (cubature + rounding at the nodes only)\n"
+          "  tolerance    %s\n  unconverged  %lld of %zu\n  command      %s\n",
+          to_string(table.encoding), unorm.c_str(), static_cast<unsigned long long>(tables::value_bytes(table)),
+          format_number(table.node_error).c_str(), format_number(table.tolerance).c_str(), table.unconverged,
+          table.entries(), table.command.c_str());
       return 0;
     };
   });

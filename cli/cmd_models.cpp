@@ -30,13 +30,14 @@ std::string models_markdown(const nlohmann::ordered_json& doc) {
   std::string md =
       "# Model parameters\n\nGenerated from the model registry by `ganzfeld models --markdown "
       "docs/model-parameters.md`; a test keeps it current. Formulas, sources and measured traits: "
-      "[models.md](models.md).\n\nMixtures: " + doc["mixtures"].get<std::string>() + ".\n";
+      "[models.md](models.md).\n\nMixtures: " +
+      doc["mixtures"].get<std::string>() + ".\n";
   for (const auto& m : doc["models"]) {
     md += "\n## " + m["name"].get<std::string>() + "\n\n" + markdown_cell(m["summary"].get<std::string>()) + " (" +
           markdown_cell(m["source"].get<std::string>()) + "). Example: `" + m["example"].get<std::string>() + "`. " +
           (m["isotropic"].get<bool>() ? "Isotropic" : "Anisotropic") + ", " +
-          (m["reciprocal"].get<bool>() ? "reciprocal" : "not reciprocal") + ", energy: " +
-          m["energy_class"].get<std::string>() + ".\n";
+          (m["reciprocal"].get<bool>() ? "reciprocal" : "not reciprocal") +
+          ", energy: " + m["energy_class"].get<std::string>() + ".\n";
     if (m["parameters"].empty()) continue;
     md += "\n| param | allowed | default | meaning |\n|---|---|---|---|\n";
     for (const auto& p : m["parameters"]) {
@@ -57,7 +58,8 @@ void add_models_command(CLI::App& app, Action& action) {
   auto json = std::make_shared<bool>(false);
   auto markdown = std::make_shared<std::string>();
   add_json_flag(*cmd, *json);
-  cmd->add_option("--markdown", *markdown, "write every model's parameter table as markdown (docs/model-parameters.md)");
+  cmd->add_option("--markdown", *markdown,
+                  "write every model's parameter table as markdown (docs/model-parameters.md)");
   cmd->callback([&action, json, markdown] {
     action = [json, markdown] {
       if (!markdown->empty()) check_writable(*markdown);
@@ -77,13 +79,13 @@ void add_models_command(CLI::App& app, Action& action) {
         for (const auto& p : m["parameters"]) {
           if (p["type"] == "path") {
             std::cout << "    " << p["name"].get<std::string>() << " (path, "
-                      << (p["required"].get<bool>() ? "required" : "optional") << "): " << p["meaning"].get<std::string>()
-                      << "\n";
+                      << (p["required"].get<bool>() ? "required" : "optional")
+                      << "): " << p["meaning"].get<std::string>() << "\n";
             continue;
           }
           std::cout << "    " << p["name"].get<std::string>() << " (" << p["allowed"].get<std::string>()
-                    << (p.contains("optional") ? std::string(", optional") : ", default " + default_cell(p)) << "): "
-                    << p["meaning"].get<std::string>() << "\n";
+                    << (p.contains("optional") ? std::string(", optional") : ", default " + default_cell(p))
+                    << "): " << p["meaning"].get<std::string>() << "\n";
         }
       }
       std::cout << "mixtures: " << doc["mixtures"].get<std::string>() << "\n";

@@ -8,10 +8,10 @@
 
 #include "cli/args.h"
 #include "cli/commands.h"
-#include "reports/plausibility.h"
-#include "util/atomic_file.h"
-#include "tables/exr_io.h"
 #include "models/registry.h"
+#include "reports/plausibility.h"
+#include "tables/exr_io.h"
+#include "util/atomic_file.h"
 
 namespace ganzfeld::cli {
 
@@ -68,7 +68,8 @@ void add_plausibility_command(CLI::App& app, Action& action) {
       } else {
         for (const auto& r : rows)
           std::printf("%-60s min f %-10.3g recip %-9.2g max a %-8.4g h %.4g..%.4g%s%s\n", r.spec.c_str(), r.min_f,
-                      r.reciprocity_violation, r.max_albedo, r.h_min, r.h_max, r.ganzfeld_invisible() ? " invisible" : "",
+                      r.reciprocity_violation, r.max_albedo, r.h_min, r.h_max,
+                      r.ganzfeld_invisible() ? " invisible" : "",
                       r.traits_consistent() ? "" : "  DECLARED TRAITS CONTRADICTED");
       }
       return 0;

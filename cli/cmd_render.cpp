@@ -1,25 +1,25 @@
 // ganzfeld render: a scene file (examples/default.json) to a linear EXR or an sRGB PNG. The scene decides
 // which tables exist (scene/plan.h): only those are baked, or reused from --cache DIR (tables/cache.h,
 // the same files `ganzfeld bake scene SCENE --out DIR` makes with the same table options).
-#include <optional>
 #include <cstdio>
 #include <iostream>
 #include <map>
+#include <optional>
 
 #include <nlohmann/json.hpp>
 
-#include "util/atomic_file.h"
 #include "cli/args.h"
 #include "cli/commands.h"
-#include "util/error.h"
 #include "models/registry.h"
+#include "rasterizer/image.h"
+#include "rasterizer/shading.h"
+#include "scene/plan.h"
+#include "scene/scene.h"
 #include "tables/bake.h"
 #include "tables/cache.h"
 #include "tables/exr_io.h"
-#include "scene/plan.h"
-#include "scene/scene.h"
-#include "rasterizer/image.h"
-#include "rasterizer/shading.h"
+#include "util/atomic_file.h"
+#include "util/error.h"
 #include "util/timing.h"
 
 namespace ganzfeld::cli {

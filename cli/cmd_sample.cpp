@@ -1,6 +1,6 @@
 // ganzfeld sample: a table lookup at given directions (tables/sample.h).
-#include <cstdio>
 #include <cmath>
+#include <cstdio>
 #include <iostream>
 #include <optional>
 
@@ -8,11 +8,11 @@
 
 #include "cli/args.h"
 #include "cli/commands.h"
+#include "models/registry.h"
 #include "tables/exr_io.h"
 #include "tables/param_table.h"
-#include "util/error.h"
-#include "models/registry.h"
 #include "tables/sample.h"
+#include "util/error.h"
 
 namespace ganzfeld::cli {
 
@@ -31,7 +31,8 @@ struct SampleArgs {
 int sample_param_table(const SampleArgs& args) {
   const tables::ParamTable table = tables::read_param_table(args.path);
   const auto parameter = args.parameter.given();
-  if (!parameter) throw InputError("a parameter table needs --alpha A or --roughness R (its axis is " + table.axes[0].name + ")");
+  if (!parameter)
+    throw InputError("a parameter table needs --alpha A or --roughness R (its axis is " + table.axes[0].name + ")");
   // The point on the table's axis: R = sqrt(alpha) on a roughness axis, alpha = R^2 on an alpha axis.
   const bool same = parameter->first == table.axes[0].name;
   const double x = same ? parameter->second
@@ -39,19 +40,23 @@ int sample_param_table(const SampleArgs& args) {
                                                                   : parameter->second * parameter->second);
   double mu = 0.0;
   if (args.mu) {
-    if (args.directions.theta_i || !args.directions.i_text.empty()) throw InputError("give either --mu or --theta-i/--i");
+    if (args.directions.theta_i || !args.directions.i_text.empty())
+      throw InputError("give either --mu or --theta-i/--i");
     if (!(*args.mu >= 0.0 && *args.mu <= 1.0))
       throw InputError("--mu=" + format_number(*args.mu) + " is not allowed; allowed: cos theta_i in [0, 1]");
     mu = *args.mu;
   } else {
     mu = args.directions.incident(Law::a).z;
   }
-  nlohmann::ordered_json doc{{tables::kAxisAlpha, tables::alpha_of(table.axes[0].name, x)}, {"mu", mu},
+  nlohmann::ordered_json doc{{tables::kAxisAlpha, tables::alpha_of(table.axes[0].name, x)},
+                             {"mu", mu},
                              {"channels", nlohmann::ordered_json::array()}};
   for (std::size_t c = 0; c < table.channels.size(); ++c) {
     const tables::ParamSample s = tables::sample_param(table, c, x, mu);
-    doc["channels"].push_back({{"name", table.channels[c].name}, {"value", s.value},
-                               {"error", table.channels[c].lookup_error}, {"node_error", s.error}});
+    doc["channels"].push_back({{"name", table.channels[c].name},
+                               {"value", s.value},
+                               {"error", table.channels[c].lookup_error},
+                               {"node_error", s.error}});
   }
   if (args.json) {
     std::cout << doc.dump(2) << "\n";
@@ -83,8 +88,9 @@ void add_sample_command(CLI::App& app, Action& action) {
     action = [args] {
       if (tables::format_version_of(args->path) == tables::kParamFormatVersion) {
         if (args->hardware_filter)
-          throw InputError("--hardware-filter: '" + args->path +
-                           "' is a parameter table, whose exported lookup reads texels with texelFetch (no filtered path)");
+          throw InputError(
+              "--hardware-filter: '" + args->path +
+              "' is a parameter table, whose exported lookup reads texels with texelFetch (no filtered path)");
         return sample_param_table(*args);
       }
       if (args->parameter.alpha || args->parameter.roughness || args->mu)
@@ -104,22 +110,23 @@ void add_sample_command(CLI::App& app, Action& action) {
       const tables::Sample s = tables::sample(table, i, j, rounding);
       if (args->json) {
         // error: the table's validated lookup error (docs/lut-format.md, "The error a lookup reports").
-        nlohmann::ordered_json doc{{"value", s.value},
-                                   {"error", table.lookup_error},
-                                   {"node_error", s.error},
-                                   {"validation_points", table.interpolation_checks},
-                                   {"lookup", args->hardware_filter ? "hardware-filter emulation (8-bit weights, nearest)"
-                                                                    : "full precision"},
-                                   {"bound_filter", to_string(table.filter)},
-                                   {"min_cos_theta_j", table.min_cos_j}};
+        nlohmann::ordered_json doc{
+            {"value", s.value},
+            {"error", table.lookup_error},
+            {"node_error", s.error},
+            {"validation_points", table.interpolation_checks},
+            {"lookup", args->hardware_filter ? "hardware-filter emulation (8-bit weights, nearest)" : "full precision"},
+            {"bound_filter", to_string(table.filter)},
+            {"min_cos_theta_j", table.min_cos_j}};
         std::cout << doc.dump(2) << "\n";
       } else {
-        std::printf("%s %s = %.9g ± %.2g (the table's lookup error, validated at %lld points%s for the %s lookup; "
-                    "%s here; node error here %.2g; table %s)\n",
-                    table.model.c_str(), to_string(law), s.value, table.lookup_error, table.interpolation_checks,
-                    table.min_cos_j > 0.0 ? (" with j·n >= " + format_number(table.min_cos_j)).c_str() : "",
-                    to_string(table.filter), args->hardware_filter ? "8-bit filter weights emulated" : "full precision",
-                    s.error, args->path.c_str());
+        std::printf(
+            "%s %s = %.9g ± %.2g (the table's lookup error, validated at %lld points%s for the %s lookup; "
+            "%s here; node error here %.2g; table %s)\n",
+            table.model.c_str(), to_string(law), s.value, table.lookup_error, table.interpolation_checks,
+            table.min_cos_j > 0.0 ? (" with j·n >= " + format_number(table.min_cos_j)).c_str() : "",
+            to_string(table.filter), args->hardware_filter ? "8-bit filter weights emulated" : "full precision",
+            s.error, args->path.c_str());
       }
       return 0;
     };

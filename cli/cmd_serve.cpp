@@ -48,11 +48,13 @@ std::vector<std::string> comma_list(const std::string& text) {
 }  // namespace
 
 void add_serve_command(CLI::App& app, Action& action) {
-  auto* cmd = app.add_subcommand("serve", "serve models, laws, tables (baked on demand into the cache) and shaders "
-                                          "over HTTP until SIGINT/SIGTERM (docs/serve.md)");
+  auto* cmd = app.add_subcommand("serve",
+                                 "serve models, laws, tables (baked on demand into the cache) and shaders "
+                                 "over HTTP until SIGINT/SIGTERM (docs/serve.md)");
   auto args = std::make_shared<ServeArgs>();
   const serve::LoopOptions loop;
-  cmd->add_option("--cache", args->cache, "the table cache directory, shared with `bake scene --out` (default ganzfeld-cache)");
+  cmd->add_option("--cache", args->cache,
+                  "the table cache directory, shared with `bake scene --out` (default ganzfeld-cache)");
   cmd->add_option("--data", args->data,
                   "a directory of measured data files (MERL, tabulated, Beard-Maxwell first-surface tables) served "
                   "by name: merl:file=NAME (default none: requests naming a file are refused)");

@@ -1,22 +1,22 @@
 // `ganzfeld tradeoff`: the speed/accuracy trade of a law's tables, measured in one run against a
 // dense cubature reference (reports/tradeoff.h says what is measured and how).
+#include <unistd.h>
 #include <cstdio>
 #include <iostream>
-#include <unistd.h>
 
 #include <nlohmann/json.hpp>
 
 #include "cli/args.h"
-#include "util/progress.h"
 #include "cli/commands.h"
-#include "util/atomic_file.h"
-#include "util/error.h"
 #include "models/registry.h"
 #include "models/spec.h"
-#include "tables/bake.h"
-#include "tables/exr_io.h"
 #include "reports/schemes.h"
 #include "reports/tradeoff.h"
+#include "tables/bake.h"
+#include "tables/exr_io.h"
+#include "util/atomic_file.h"
+#include "util/error.h"
+#include "util/progress.h"
 
 namespace ganzfeld::cli {
 
@@ -57,7 +57,8 @@ reports::TradeoffPlan make_plan(Law law, const TradeoffArgs& args) {
     for (const std::string& m : split(args.mappings)) {
       std::vector<tables::Mapping> set = tables::parse_mappings(m, law);
       if (set.empty())  // "default"
-        for (const tables::Axis& axis : tables::default_axes(law, plan.resolutions.front())) set.push_back(axis.mapping);
+        for (const tables::Axis& axis : tables::default_axes(law, plan.resolutions.front()))
+          set.push_back(axis.mapping);
       plan.mapping_sets.push_back(set);
     }
   }
@@ -83,21 +84,22 @@ nlohmann::ordered_json to_json(const reports::TradeoffReport& report, bool quick
   for (const reports::TradeoffRow& r : report.rows) {
     nlohmann::ordered_json mappings = nlohmann::ordered_json::array();
     for (tables::Mapping m : r.config.mappings) mappings.push_back(to_string(m));
-    rows.push_back({{"resolution", r.config.resolution},
-                    {"mappings", mappings},
-                    {"encoding", to_string(r.config.encoding)},
-                    {"tolerance", r.config.tolerance},
-                    {"entries", r.entries},
-                    {"bytes", r.bytes},
-                    {"texture_bytes", r.texture_bytes},
-                    {"file_bytes", r.file_bytes},
-                    {"bake_seconds", r.bake_seconds},
-                    {"lookup_ns", r.lookup_ns},
-                    {"max_error", r.max_error},
-                    {"rms_error", r.rms_error},
-                    {"max_stored_error", r.max_stored_error},
-                    {"unconverged", r.unconverged},
-                    {"worst", {{"i", {r.worst.i.x, r.worst.i.y, r.worst.i.z}}, {"j", {r.worst.j.x, r.worst.j.y, r.worst.j.z}}}}});
+    rows.push_back(
+        {{"resolution", r.config.resolution},
+         {"mappings", mappings},
+         {"encoding", to_string(r.config.encoding)},
+         {"tolerance", r.config.tolerance},
+         {"entries", r.entries},
+         {"bytes", r.bytes},
+         {"texture_bytes", r.texture_bytes},
+         {"file_bytes", r.file_bytes},
+         {"bake_seconds", r.bake_seconds},
+         {"lookup_ns", r.lookup_ns},
+         {"max_error", r.max_error},
+         {"rms_error", r.rms_error},
+         {"max_stored_error", r.max_stored_error},
+         {"unconverged", r.unconverged},
+         {"worst", {{"i", {r.worst.i.x, r.worst.i.y, r.worst.i.z}}, {"j", {r.worst.j.x, r.worst.j.y, r.worst.j.z}}}}});
   }
   const reports::Reference& ref = report.reference;
   return {{"model", report.model},
@@ -122,25 +124,46 @@ nlohmann::ordered_json schemes_json(const reports::SchemeReport& report, const s
     const reports::Spread t = reports::bake_spread(r);
     nlohmann::ordered_json row{{"kind", to_string(r.kind)}, {"label", reports::scheme_label(r)}};
     if (r.kind == reports::SchemeKind::max_error)  // encoding here too: refused rows name what was asked
-      row.update({{"target", r.target}, {"target_bytes", r.target_bytes}, {"target_fetches", r.target_fetches},
+      row.update({{"target", r.target},
+                  {"target_bytes", r.target_bytes},
+                  {"target_fetches", r.target_fetches},
                   {"encoding", to_string(r.encoding)}});
     if (!r.refused.empty()) {
       row["refused"] = r.refused;
     } else {
-      row.update({{"frame", to_string(r.frame)}, {"interpolation", to_string(r.interpolation)},
-                  {"encoding", to_string(r.encoding)}, {"resolution", r.resolution}, {"value_bytes", r.value_bytes},
-                  {"bake_seconds", r.bake_seconds}, {"bake_median", t.median}, {"bake_min", t.min}, {"bake_max", t.max},
-                  {"max_error", r.max_error}, {"rms_error", r.rms_error}, {"lookup_error", r.lookup_error},
-                  {"covered", r.covered}, {"fetches", r.fetches}, {"filter", to_string(r.filter)}});
+      row.update({{"frame", to_string(r.frame)},
+                  {"interpolation", to_string(r.interpolation)},
+                  {"encoding", to_string(r.encoding)},
+                  {"resolution", r.resolution},
+                  {"value_bytes", r.value_bytes},
+                  {"bake_seconds", r.bake_seconds},
+                  {"bake_median", t.median},
+                  {"bake_min", t.min},
+                  {"bake_max", t.max},
+                  {"max_error", r.max_error},
+                  {"rms_error", r.rms_error},
+                  {"lookup_error", r.lookup_error},
+                  {"covered", r.covered},
+                  {"fetches", r.fetches},
+                  {"filter", to_string(r.filter)}});
     }
     rows.push_back(row);
   }
   const reports::Reference& ref = report.reference;
-  return {{"model", report.model}, {"law", to_string(report.law)}, {"command", command},
-          {"reference", {{"points", ref.points.size()}, {"seed", ref.seed}, {"tolerance", ref.tolerance},
-                         {"min_cos", reports::kSchemeMinCos}, {"max_error", ref.max_error},
-                         {"unconverged", ref.unconverged}, {"seconds", ref.seconds}}},
-          {"repeats", report.repeats}, {"seconds", report.seconds}, {"rows", rows}};
+  return {{"model", report.model},
+          {"law", to_string(report.law)},
+          {"command", command},
+          {"reference",
+           {{"points", ref.points.size()},
+            {"seed", ref.seed},
+            {"tolerance", ref.tolerance},
+            {"min_cos", reports::kSchemeMinCos},
+            {"max_error", ref.max_error},
+            {"unconverged", ref.unconverged},
+            {"seconds", ref.seconds}}},
+          {"repeats", report.repeats},
+          {"seconds", report.seconds},
+          {"rows", rows}};
 }
 
 /// --plot's file name as the Markdown links it (beside the Markdown).
@@ -170,15 +193,16 @@ int run_schemes(const TradeoffArgs& args, const Model& model, Law law, long long
   } else {
     for (const reports::SchemeRow& r : report.rows)
       std::printf("%-36s %s\n", reports::scheme_label(r).c_str(),
-                  r.refused.empty() ? (std::to_string(r.value_bytes) + " B, max error " + format_number(r.max_error)).c_str()
-                                    : r.refused.c_str());
+                  r.refused.empty()
+                      ? (std::to_string(r.value_bytes) + " B, max error " + format_number(r.max_error)).c_str()
+                      : r.refused.c_str());
   }
   return 0;
 }
 
 void print_text(const reports::TradeoffReport& report) {
-  std::printf("%s law %s: %zu reference points (tolerance %.0e), %.1f s\n", report.model.c_str(),
-              to_string(report.law), report.reference.points.size(), report.reference.tolerance, report.seconds);
+  std::printf("%s law %s: %zu reference points (tolerance %.0e), %.1f s\n", report.model.c_str(), to_string(report.law),
+              report.reference.points.size(), report.reference.tolerance, report.seconds);
   std::printf("%-10s %-16s %-5s %-6s %10s %10s %9s %8s %10s %10s %10s\n", "res", "mappings", "enc", "tol", "bytes",
               "file", "bake s", "ns/look", "max err", "rms err", "stored");
   for (const reports::TradeoffRow& r : report.rows)
@@ -193,7 +217,8 @@ void print_text(const reports::TradeoffReport& report) {
 
 void add_tradeoff_command(CLI::App& app, Action& action) {
   auto* cmd = app.add_subcommand(
-      "tradeoff", "measure table error, bytes, bake and lookup time over resolutions x mappings x encodings x tolerances");
+      "tradeoff",
+      "measure table error, bytes, bake and lookup time over resolutions x mappings x encodings x tolerances");
   auto args = std::make_shared<TradeoffArgs>();
   add_model_option(*cmd, args->model);
   cmd->add_option("--law", args->law, "g (vignetting), h (darkening) or a (albedo)")->required();
@@ -207,9 +232,11 @@ void add_tradeoff_command(CLI::App& app, Action& action) {
   cmd->add_flag("--schemes", args->schemes,
                 "instead of the sweep: today's scheme vs format version 2's, what --max-error picks, linear vs "
                 "cubic, half vs float (reports/schemes.h)");
-  cmd->add_option("--repeats", args->repeats, "with --schemes: bake runs per row, for the median and spread (default 3)");
-  cmd->add_flag("--one-fetch", args->one_fetch,
-                "with --schemes: only the one-fetch rows (warped frame, hardware filter, and --max-error 1e-3 --fetches 1)");
+  cmd->add_option("--repeats", args->repeats,
+                  "with --schemes: bake runs per row, for the median and spread (default 3)");
+  cmd->add_flag(
+      "--one-fetch", args->one_fetch,
+      "with --schemes: only the one-fetch rows (warped frame, hardware filter, and --max-error 1e-3 --fetches 1)");
   cmd->add_option("--mapping", args->mappings,
                   "only these mapping sets, comma-separated, each default or M[xMxM] with M = linear, sqrt, cos");
   cmd->callback([&action, args] {
@@ -225,7 +252,8 @@ void add_tradeoff_command(CLI::App& app, Action& action) {
       // Refuse unwritable outputs before the measurement, not after.
       if (!args->plot.empty()) check_writable(args->plot);
       if (!args->markdown.empty()) check_writable(args->markdown);
-      if (!args->schemes && args->repeats != 3) throw InputError("--repeats needs --schemes (the sweep bakes once per row)");
+      if (!args->schemes && args->repeats != 3)
+        throw InputError("--repeats needs --schemes (the sweep bakes once per row)");
       if (!args->schemes && args->one_fetch) throw InputError("--one-fetch needs --schemes");
       if (args->schemes) {
         if (!args->resolutions.empty() || !args->mappings.empty())
@@ -244,12 +272,10 @@ void add_tradeoff_command(CLI::App& app, Action& action) {
 
       if (!args->plot.empty()) reports::write_tradeoff_plot(report, args->plot);
       if (!args->markdown.empty())
-        write_text_atomically(args->markdown, reports::tradeoff_markdown(report, command,
-                                                                         args->plot.empty() ? "" : plot_link(args->plot)));
-      if (args->json)
-        std::cout << to_json(report, args->quick, command).dump(2) << "\n";
-      else
-        print_text(report);
+        write_text_atomically(args->markdown, reports::tradeoff_markdown(
+                                                  report, command, args->plot.empty() ? "" : plot_link(args->plot)));
+      if (args->json) std::cout << to_json(report, args->quick, command).dump(2) << "\n";
+      else print_text(report);
       return 0;
     };
   });

@@ -3,8 +3,8 @@
 
 #include "cli/args.h"
 #include "cli/commands.h"
-#include "util/atomic_file.h"
 #include "reports/verify.h"
+#include "util/atomic_file.h"
 
 namespace ganzfeld::cli {
 
@@ -35,11 +35,11 @@ void add_verify_command(CLI::App& app, Action& action) {
         for (const auto& c : checks) {
           char corrected[32] = "-";
           if (c.corrected_max_abs_error) std::snprintf(corrected, sizeof corrected, "%.2e", *c.corrected_max_abs_error);
-          std::printf("%-28s %-8s %12.2e %12s %8ld\n", c.id.c_str(), c.erratum ? "erratum" : "matches",
-                      c.max_abs_error, corrected, c.points);
+          std::printf("%-28s %-8s %12.2e %12s %8ld\n", c.id.c_str(), c.erratum ? "erratum" : "matches", c.max_abs_error,
+                      corrected, c.points);
         }
-        std::printf("%s: every matching or corrected form agrees with cubature to %.0e\n",
-                    passed ? "PASSED" : "FAILED", kAgreement);
+        std::printf("%s: every matching or corrected form agrees with cubature to %.0e\n", passed ? "PASSED" : "FAILED",
+                    kAgreement);
       }
       return passed ? 0 : 1;
     };

@@ -15,7 +15,8 @@ using Action = std::function<int()>;
 void add_models_command(CLI::App& app, Action& action);
 void add_eval_command(CLI::App& app, Action& action);
 void add_verify_command(CLI::App& app, Action& action);
-void add_bake_command(CLI::App& app, Action& action, int argc, const char* const* argv);  ///< argv: the command metadata
+void add_bake_command(CLI::App& app, Action& action, int argc,
+                      const char* const* argv);  ///< argv: the command metadata
 /// The command line with the alias spellings of bake (`bake --model ...`, `bake --preset ...`,
 /// `bake --scene ...`, `bake --library ...`) given their job's subcommand (`bake model --model
 /// ...`); the old dispatch order decides: --preset, then --scene, --library, --model. Other words

@@ -53,9 +53,7 @@ class LibraryParser {
   auto at(const std::string& where, F&& what) const {
     try {
       return what();
-    } catch (const InputError& e) {
-      refuse(where, e.worded(InputError::query_spelling));
-    }
+    } catch (const InputError& e) { refuse(where, e.worded(InputError::query_spelling)); }
   }
 
   /// group[name]: a non-empty array of strings (or, for accuracies, objects; absent: [{}]).
@@ -123,7 +121,8 @@ class LibraryParser {
         if (integer() < 0) refuse(at_key, v.dump() + " is negative");
         args.max_bytes = static_cast<unsigned long long>(integer());
       } else {
-        refuse(where, "unknown key '" + key + "'; allowed: res_g, res_h, tol, encoding, max_evals, max_error, max_bytes");
+        refuse(where,
+               "unknown key '" + key + "'; allowed: res_g, res_h, tol, encoding, max_evals, max_error, max_bytes");
       }
     }
     return at(where, [&] { return args.options(scene::TableOptions{}); });
@@ -131,7 +130,8 @@ class LibraryParser {
 
   /// Adds the table unless the library already has it (same cache key).
   void add(scene::TableRequest request, const std::string& where) {
-    const tables::TableKey key = at(where, [&] { return tables::table_key(*request.model, request.law, request.options); });
+    const tables::TableKey key =
+        at(where, [&] { return tables::table_key(*request.model, request.law, request.options); });
     if (keys_.insert(tables::key_text(key)).second) tables_.push_back(std::move(request));
   }
 };
@@ -148,7 +148,8 @@ std::uint64_t size_rank(const scene::TableRequest& r) {
 Shard parse_shard(const std::string& text) {
   const auto slash = text.find('/');
   const std::optional<int> k = whole_int(std::string_view(text).substr(0, slash));
-  const std::optional<int> n = slash == std::string::npos ? std::nullopt : whole_int(std::string_view(text).substr(slash + 1));
+  const std::optional<int> n =
+      slash == std::string::npos ? std::nullopt : whole_int(std::string_view(text).substr(slash + 1));
   if (!k || !n || *k < 0 || *n < 1 || *n > kMaxShards || *k >= *n)
     throw InputError("--shard '" + text + "' is not a shard; expected K/N with 0 <= K < N <= " +
                      std::to_string(kMaxShards) + " (e.g. 0/3, 1/3, 2/3)");
@@ -163,7 +164,8 @@ std::vector<scene::TableRequest> shard_of(const std::vector<scene::TableRequest>
   std::stable_sort(order.begin(), order.end(),
                    [&](std::size_t a, std::size_t b) { return size_rank(tables[a]) > size_rank(tables[b]); });
   std::vector<scene::TableRequest> out;
-  for (std::size_t t = static_cast<std::size_t>(shard.index); t < order.size(); t += static_cast<std::size_t>(shard.count))
+  for (std::size_t t = static_cast<std::size_t>(shard.index); t < order.size();
+       t += static_cast<std::size_t>(shard.count))
     out.push_back(tables[order[t]]);
   return out;
 }

@@ -44,8 +44,9 @@ int run_cli(int argc, const char* const* argv, bool parse_only) {
 #else
   app.add_subcommand("fit", "not built (needs NLopt: libnlopt-cxx-dev)")->allow_extras()->callback([&action] {
     action = []() -> int {
-      throw ganzfeld::InputError("this ganzfeld was built without NLopt, so it cannot fit; install libnlopt-cxx-dev "
-                                 "(scripts/install-deps) and configure again");
+      throw ganzfeld::InputError(
+          "this ganzfeld was built without NLopt, so it cannot fit; install libnlopt-cxx-dev "
+          "(scripts/install-deps) and configure again");
     };
   });
 #endif

@@ -8,9 +8,9 @@
 #include <numbers>
 #include <random>
 
-#include "util/error.h"
-#include "util/atomic_file.h"
 #include "models/registry.h"
+#include "util/atomic_file.h"
+#include "util/error.h"
 
 namespace ganzfeld::exporting {
 
@@ -30,7 +30,8 @@ class NoiseFactors {
 
 void validate_noise(const Noise& noise) {
   if (!std::isfinite(noise.sigma) || noise.sigma < 0.0 || noise.sigma > 1.0)
-    throw InputError({Named{"noise", format_number(noise.sigma)}, " is not allowed; allowed: a relative sigma in [0, 1]"});
+    throw InputError(
+        {Named{"noise", format_number(noise.sigma)}, " is not allowed; allowed: a relative sigma in [0, 1]"});
 }
 
 std::vector<char> merl_bytes(const Model& model, const Noise& noise) {
@@ -87,17 +88,18 @@ TabulatedBrdf tabulate(const Model& model, const std::vector<int>& counts, const
     for (double tr : t.theta_r)
       for (double p : t.phi) {
         const Vec3 i{std::sin(ti * rad), 0.0, std::cos(ti * rad)};
-        const Vec3 j{std::sin(tr * rad) * std::cos(p * rad), std::sin(tr * rad) * std::sin(p * rad), std::cos(tr * rad)};
+        const Vec3 j{std::sin(tr * rad) * std::cos(p * rad), std::sin(tr * rad) * std::sin(p * rad),
+                     std::cos(tr * rad)};
         t.values.push_back(std::max(0.0, model.f(i, j) * factors.next()));
       }
   return t;
 }
 
 void write_tabulated(const Model& model, const std::vector<int>& counts, const std::string& path, const Noise& noise) {
-  const std::string comment = "tabulated from " + model.spec() +
-                              (noise.sigma > 0.0 ? " with noise sigma " + format_number(noise.sigma) + ", seed " +
-                                                       std::to_string(noise.seed)
-                                                 : "");
+  const std::string comment =
+      "tabulated from " + model.spec() +
+      (noise.sigma > 0.0 ? " with noise sigma " + format_number(noise.sigma) + ", seed " + std::to_string(noise.seed)
+                         : "");
   write_text_atomically(path, format_tabulated(tabulate(model, counts, noise), comment), "table");
 }
 

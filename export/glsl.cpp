@@ -7,10 +7,10 @@
 #include <sstream>
 
 #include "export/glsl_f.h"
-#include "util/error.h"
 #include "scene/plan.h"
 #include "tables/cache.h"
 #include "tables/sample.h"
+#include "util/error.h"
 #include "util/literal.h"
 
 namespace ganzfeld::exporting {
@@ -44,7 +44,8 @@ std::string index_call(const Axis& axis, const std::string& x) {
 /// "true"/"false" per axis: Catmull–Rom reflects at the ends of an even axis (tables::is_even_axis).
 std::string even_flags(const Table& table) {
   std::string out;
-  for (const Axis& axis : table.axes) out += std::string(out.empty() ? "" : ", ") + (is_even_axis(axis) ? "true" : "false");
+  for (const Axis& axis : table.axes)
+    out += std::string(out.empty() ? "" : ", ") + (is_even_axis(axis) ? "true" : "false");
   return table.axes.size() == 1 ? out : "bvec3(" + out + ")";
 }
 
@@ -58,8 +59,8 @@ std::string lookup_call(const Table& table, const std::string& u) {
   // A hardware-filtered table's bound covers the GPU's filter (check_table: linear only): one
   // texture() whatever GANZFELD_HARDWARE_FILTER says.
   const std::string kind = cubic ? "_catmull_rom" : table.filter == Filter::hardware ? "_filtered" : "";
-  const std::string call = "gz_lookup" + dims + kind + "(table, " + u + ", " + count +
-                           (cubic ? ", " + even_flags(table) : "") + ")";
+  const std::string call =
+      "gz_lookup" + dims + kind + "(table, " + u + ", " + count + (cubic ? ", " + even_flags(table) : "") + ")";
   if (table.encoding != Encoding::unorm16) return call;
   // unorm16: the texture holds u / 65535 (R16 normalized); both lookups are affine (weights sum
   // to 1), so offset + scale x lookup(codes) = lookup(offset + scale x codes), tables::sample's value.
@@ -384,10 +385,12 @@ std::string lookup_description(const Table& table) {
   const int n = fetches(table);
   const std::string count = std::to_string(n) + " texture fetch" + (n == 1 ? "" : "es");
   if (table.filter == Filter::hardware)
-    return count + ", hardware filtering (GL_LINEAR, GL_CLAMP_TO_EDGE); the bound covers filter weights of 8 "
-                   "bits, rounded or truncated";
-  return count + " (texelFetch, weights in full precision; the bound is for this lookup, not for "
-                 "GANZFELD_HARDWARE_FILTER)";
+    return count +
+           ", hardware filtering (GL_LINEAR, GL_CLAMP_TO_EDGE); the bound covers filter weights of 8 "
+           "bits, rounded or truncated";
+  return count +
+         " (texelFetch, weights in full precision; the bound is for this lookup, not for "
+         "GANZFELD_HARDWARE_FILTER)";
 }
 
 /// The comment block above a table's function: metadata, the table's error, axes and texture.
@@ -418,8 +421,7 @@ std::string table_comment(const Table& table) {
   if (table.law == Law::g)
     s << "width " << table.axes[2].count << " (" << table.axes[2].name << "), height " << table.axes[1].count << " ("
       << table.axes[1].name << "), depth " << table.axes[0].count << " (" << table.axes[0].name << ")\n";
-  else
-    s << "width " << table.axes[0].count << ", height 1\n";
+  else s << "width " << table.axes[0].count << ", height 1\n";
   return s.str();
 }
 
@@ -431,8 +433,8 @@ std::string warp_array(const Table& table, const std::string& name) {
     << "const vec3 " << name << "[" << K << "] = vec3[" << K << "](";
   for (std::size_t k = 0; k < K; ++k) {
     const WarpSample& w = table.warp.samples[k];
-    s << (k ? ",\n    " : "\n    ") << "vec3(" << literal(w.shift) << ", " << literal(w.along) << ", " << literal(w.across)
-      << ")";
+    s << (k ? ",\n    " : "\n    ") << "vec3(" << literal(w.shift) << ", " << literal(w.along) << ", "
+      << literal(w.across) << ")";
   }
   s << ");\n";
   return s.str();
@@ -455,8 +457,9 @@ std::string warped_body(const Table& table, const std::string& warp_name) {
                                      ? "gz_warped_beta(warp, " + literal(table.warp.beta_whitening) + ", c, angles.z)"
                                      : std::string("angles.z"))
     << ");\n"
-    << "  return " << (table.warp.envelope > 0.0 ? "gz_warp_envelope(cs_j, " + literal(table.warp.envelope) + ") * " : "")
-    << "(" << lookup_call(table, "u") << ");\n";
+    << "  return "
+    << (table.warp.envelope > 0.0 ? "gz_warp_envelope(cs_j, " + literal(table.warp.envelope) + ") * " : "") << "("
+    << lookup_call(table, "u") << ");\n";
   return s.str();
 }
 
@@ -538,11 +541,13 @@ void check_scene_exportable(const Scene& scene) {
     for (const MaterialLobe& lobe : scene.materials.at(object.material).lobes) {
       if (collimated) glsl_model_f(*lobe.model);
       if (extended && has_mirror_delta(*lobe.model))
-        throw InputError("model '" + lobe.spec + "' has a mirror delta besides f (the coherent specular term rho_s) that "
+        throw InputError("model '" + lobe.spec +
+                         "' has a mirror delta besides f (the coherent specular term rho_s) that "
                          "its tables do not hold; render adds it under skies and the Ganzfeld, the GLSL would not: "
                          "allowed: models without a mirror delta under extended lights");
       if (extended && !lobe.model->traits().isotropic)
-        throw InputError("model '" + lobe.spec + "' is anisotropic: its sky and Ganzfeld terms have no tables (a fourth "
+        throw InputError("model '" + lobe.spec +
+                         "' is anisotropic: its sky and Ganzfeld terms have no tables (a fourth "
                          "axis would be needed), so no GLSL; allowed: isotropic models under extended lights");
     }
 }
@@ -553,11 +558,16 @@ namespace {
 std::string law_expression(const scene::PlannedLobe& lobe, Law law) {
   const bool g = law == Law::g;
   if ((g ? lobe.g : lobe.h) == scene::LawOrigin::closed_form) return g ? "0.5 * (1.0 + dot(i, n))" : "1.0";
-  return glsl_function_name(lobe.spec, law) + "(" + glsl_sampler_name(lobe.spec, law) + (g ? ", i, jc, n)" : ", jc, n)");
+  return glsl_function_name(lobe.spec, law) + "(" + glsl_sampler_name(lobe.spec, law) +
+         (g ? ", i, jc, n)" : ", jc, n)");
 }
 
-std::string vec3_literal(const Vec3& v) { return "vec3(" + literal(v[0]) + ", " + literal(v[1]) + ", " + literal(v[2]) + ")"; }
-std::string vec3_literal(const Rgb& v) { return "vec3(" + literal(v[0]) + ", " + literal(v[1]) + ", " + literal(v[2]) + ")"; }
+std::string vec3_literal(const Vec3& v) {
+  return "vec3(" + literal(v[0]) + ", " + literal(v[1]) + ", " + literal(v[2]) + ")";
+}
+std::string vec3_literal(const Rgb& v) {
+  return "vec3(" + literal(v[0]) + ", " + literal(v[1]) + ", " + literal(v[2]) + ")";
+}
 
 /// The GLSL a scene shader needs once per lobe and law: sampler uniforms, table functions, and f
 /// of the lobes lit by a collimated light; each emitted once however many materials share it.
@@ -570,7 +580,8 @@ struct LobeCode {
     if (origin == scene::LawOrigin::none || origin == scene::LawOrigin::closed_form) return;
     const tables::Table* table = (law == Law::g ? lobe.g_table : lobe.h_table).get();
     if (origin != scene::LawOrigin::table || table == nullptr)
-      throw InputError("no table of law " + std::string(to_string(law)) + " of '" + lobe.spec + "' for the scene shader");
+      throw InputError("no table of law " + std::string(to_string(law)) + " of '" + lobe.spec +
+                       "' for the scene shader");
     check_table_is(*table, *lobe.model, law);
     if (!done.insert(glsl_function_name(lobe.spec, law)).second) return;
     uniforms << "uniform highp " << glsl_sampler_type(law) << " " << glsl_sampler_name(lobe.spec, law) << ";\n";
@@ -589,9 +600,10 @@ std::string light_constants(const std::vector<Light>& lights) {
     out << "const vec3 GZ_LIGHT" << k << "_INTENSITY = " << vec3_literal(light.intensity) << ";";
     if (light.type != Light::Type::ganzfeld)
       out << "  const vec3 GZ_LIGHT" << k << "_DIRECTION = " << vec3_literal(glm::normalize(light.direction)) << ";";
-    out << "  // " << (light.type == Light::Type::collimated      ? "collimated: irradiance H0, towards the source"
-                       : light.type == Light::Type::hemispherical ? "hemispherical sky: radiance N, its pole"
-                                                                  : "Ganzfeld: radiance N")
+    out << "  // "
+        << (light.type == Light::Type::collimated      ? "collimated: irradiance H0, towards the source"
+            : light.type == Light::Type::hemispherical ? "hemispherical sky: radiance N, its pole"
+                                                       : "Ganzfeld: radiance N")
         << "\n";
   }
   return out.str();

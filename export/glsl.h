@@ -44,8 +44,8 @@ std::string glsl_function_name(const std::string& spec, Law law);
 /// The sampler type of a table's texture: "sampler3D" for g, "sampler2D" for h and a.
 const char* glsl_sampler_type(Law law);
 
-/// Shared helpers (index mappings, coordinates, the lobe frame, linear and Catmull–Rom fetches) once, inside an include guard
-/// so that several exported snippets can be pasted into one shader.
+/// Shared helpers (index mappings, coordinates, the lobe frame, linear and Catmull–Rom fetches) once, inside an include
+/// guard so that several exported snippets can be pasted into one shader.
 std::string glsl_common();
 
 /// A comment block with the table's metadata, error, axes and texture layout, then the function

@@ -1,7 +1,7 @@
 #include "export/glsl_f.h"
 
-#include <set>
 #include <optional>
+#include <set>
 #include <sstream>
 #include <tuple>
 #include <vector>
@@ -47,7 +47,8 @@ std::string single_f(const Model& model, const GlslF& f, const std::optional<Gls
     s << "float " << name << "(vec3 i, vec3 j, vec3 n) { return " << name << "(i, j, n, gz_any_tangent(n)); }\n";
   if (mirror)
     s << "// the reflectance of the mirror delta of " << model.spec() << " at c = j.n (Model::mirror_reflectance)\n"
-      << "float " << glsl_mirror_name(model.spec()) << "(float c) {\n" << mirror->body << "}\n";
+      << "float " << glsl_mirror_name(model.spec()) << "(float c) {\n"
+      << mirror->body << "}\n";
   return s.str();
 }
 
@@ -71,7 +72,8 @@ std::string glsl_model_f(const Model& model) {
     if (!f)
       throw InputError("no GLSL form of f for model '" + lobe->spec() +
                        "' (its f is read from a data file; the viewer asks the service for it); available: the "
-                       "analytic models (" + analytic_models() + ") and their mixtures");
+                       "analytic models (" +
+                       analytic_models() + ") and their mixtures");
     if (!emitted.insert(glsl_f_name(lobe->spec())).second) continue;
     helpers.insert(helpers.end(), f->helpers.begin(), f->helpers.end());
     std::optional<GlslF> mirror = lobe->glsl_mirror_reflectance();

@@ -20,7 +20,8 @@ std::string glsl_float(double x) { return decimal_literal(static_cast<float>(x))
 
 /// GLSL for the sample position along one axis (tables::grid_position), `x` the coordinate.
 std::string position_glsl(const tables::Axis& axis, tables::Grid grid, const std::string& x, const std::string& n) {
-  std::string u = "clamp((" + x + " - " + glsl_float(axis.min) + ") / " + glsl_float(axis.max - axis.min) + ", 0.0, 1.0)";
+  std::string u =
+      "clamp((" + x + " - " + glsl_float(axis.min) + ") / " + glsl_float(axis.max - axis.min) + ", 0.0, 1.0)";
   if (axis.mapping == tables::Mapping::sqrt) u = "sqrt(" + u + ")";
   if (grid == tables::Grid::node) return u + " * (" + n + " - 1.0)";
   return "clamp(" + u + " * " + n + " - 0.5, 0.0, " + n + " - 1.0)";
@@ -86,15 +87,16 @@ std::string param_c_header(const tables::ParamTable& table, const std::string& s
   s << "// ganzfeld parameter table as a C array (generated; docs/lut-format.md, version 3): preset " << table.preset
     << " (" << table.layout << ") of " << table.model << "\n// made by: " << table.command
     << "\n// texels: IEEE half bits, row-major (row = " << p.name << " sample, column = cos_theta_i sample), "
-    << table.channels.size() << " components per texel: " << channel_list(table)
-    << "; upload as GL_R" << (table.channels.size() > 2 ? "GB" : "G") << "16F / GL_HALF_FLOAT\n"
-    << "// sample k of N at u = " << (table.grid == tables::Grid::texel ? "(k + 0.5)/N" : "k/(N - 1)")
-    << " (" << to_string(table.grid) << "-centred), " << p.name << " and cos_theta_i " << to_string(p.mapping) << "/"
-    << to_string(mu.mapping) << " over [min, max]\n// error: |texel - exact| <= " << format_number(param_half_error(table))
+    << table.channels.size() << " components per texel: " << channel_list(table) << "; upload as GL_R"
+    << (table.channels.size() > 2 ? "GB" : "G") << "16F / GL_HALF_FLOAT\n"
+    << "// sample k of N at u = " << (table.grid == tables::Grid::texel ? "(k + 0.5)/N" : "k/(N - 1)") << " ("
+    << to_string(table.grid) << "-centred), " << p.name << " and cos_theta_i " << to_string(p.mapping) << "/"
+    << to_string(mu.mapping)
+    << " over [min, max]\n// error: |texel - exact| <= " << format_number(param_half_error(table))
     << " (the table's per-texel bound + half rounding)\n#pragma once\n#include <stdint.h>\n\n"
     << "enum { " << symbol << "_width = " << mu.count << ", " << symbol << "_height = " << p.count << ", " << symbol
-    << "_channels = " << table.channels.size() << ", " << symbol << "_texel_centred = "
-    << (table.grid == tables::Grid::texel) << " };\n"
+    << "_channels = " << table.channels.size() << ", " << symbol
+    << "_texel_centred = " << (table.grid == tables::Grid::texel) << " };\n"
     << "static const float " << symbol << "_mu_min = " << glsl_float(mu.min) << "f, " << symbol
     << "_mu_max = " << glsl_float(mu.max) << "f;\n"
     << "static const float " << symbol << "_" << p.name << "_min = " << glsl_float(p.min) << "f, " << symbol << "_"

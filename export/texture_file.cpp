@@ -11,10 +11,10 @@
 #include <Imath/half.h>
 
 #include "tables/exr_io.h"
+#include "util/atomic_file.h"
 #include "util/error.h"
 #include "util/literal.h"
 #include "util/names.h"
-#include "util/atomic_file.h"
 
 namespace ganzfeld::exporting {
 
@@ -62,8 +62,8 @@ std::string axes_text(const Table& table) {
   std::string text;
   for (const Axis& axis : table.axes) {
     char buffer[160];
-    std::snprintf(buffer, sizeof buffer, "%s%s %.17g %.17g %d %s", text.empty() ? "" : "; ", axis.name.c_str(), axis.min,
-                  axis.max, axis.count, to_string(axis.mapping));
+    std::snprintf(buffer, sizeof buffer, "%s%s %.17g %.17g %d %s", text.empty() ? "" : "; ", axis.name.c_str(),
+                  axis.min, axis.max, axis.count, to_string(axis.mapping));
     text += buffer;
     if (axis.has_width()) text += " width " + number_text(axis.width);  // the sinh mappings' scale
   }
@@ -101,8 +101,8 @@ std::vector<std::uint8_t> ktx2_bytes(const Table& table) {
   put32(out, static_cast<std::uint32_t>(size.width));
   put32(out, static_cast<std::uint32_t>(size.height));
   put32(out, table.axes.size() == 3 ? static_cast<std::uint32_t>(size.depth) : 0u);  // 0: not a 3-D texture
-  put32(out, 0);  // layerCount: not an array
-  put32(out, 1);  // faceCount
+  put32(out, 0);                                                                     // layerCount: not an array
+  put32(out, 1);                                                                     // faceCount
   put32(out, 1);  // levelCount: one level, no mipmaps (the lookup is exact on level 0)
   put32(out, 0);  // supercompressionScheme: none
   const std::size_t index_at = out.size();
@@ -110,13 +110,13 @@ std::vector<std::uint8_t> ktx2_bytes(const Table& table) {
 
   // Data format descriptor: one basic block, one float sample (Khronos Data Format 1.3, RGBSDA).
   const std::size_t dfd_at = out.size();
-  put32(out, 4 + 24 + 16);           // dfdTotalSize
-  put32(out, 0);                     // vendorId = Khronos, descriptorType = basic
+  put32(out, 4 + 24 + 16);               // dfdTotalSize
+  put32(out, 0);                         // vendorId = Khronos, descriptorType = basic
   put32(out, 2u | ((24u + 16u) << 16));  // versionNumber 2, descriptorBlockSize
   out.insert(out.end(), {1, 1, 1, 0});   // colorModel RGBSDA, primaries BT.709, transfer linear, flags
   out.insert(out.end(), {0, 0, 0, 0});   // texelBlockDimension (1x1x1x1, stored minus one)
   out.insert(out.end(), {static_cast<std::uint8_t>(type_size), 0, 0, 0, 0, 0, 0, 0});  // bytesPlane
-  out.push_back(0);  // bitOffset (16 bits)
+  out.push_back(0);                                                                    // bitOffset (16 bits)
   out.push_back(0);
   out.push_back(static_cast<std::uint8_t>(8 * type_size - 1));  // bitLength - 1
   out.push_back(unorm ? 0x00 : 0x00 | 0x80 | 0x40);             // channel R (| FLOAT | SIGNED)
@@ -202,8 +202,8 @@ TextureData parse_ktx2(const std::vector<std::uint8_t>& bytes, const std::string
   data.vk_format = get32(bytes, 12);
   const std::uint32_t type_size = get32(bytes, 16);
   const bool unorm = data.vk_format == kVkFormatR16Unorm && type_size == 2;
-  if (!((data.vk_format == kVkFormatR32Sfloat && type_size == 4) || (data.vk_format == kVkFormatR16Sfloat && type_size == 2) ||
-        unorm))
+  if (!((data.vk_format == kVkFormatR32Sfloat && type_size == 4) ||
+        (data.vk_format == kVkFormatR16Sfloat && type_size == 2) || unorm))
     throw fail("vkFormat " + std::to_string(data.vk_format) + " with typeSize " + std::to_string(type_size) +
                "; allowed: 100 (R32_SFLOAT, 4), 76 (R16_SFLOAT, 2) or 70 (R16_UNORM, 2)");
   const std::uint32_t w = get32(bytes, 20), h = get32(bytes, 24), d = get32(bytes, 28);
@@ -254,26 +254,28 @@ std::string c_header(const Table& table, const std::string& symbol) {
   const bool half = table.encoding == Encoding::half;
   const bool unorm = table.encoding == Encoding::unorm16;
   const TextureSize size = texture_size(table);
-  const std::string upload = unorm ? "16-bit codes (upload as GL_R16 / GL_UNSIGNED_SHORT; value = " +
-                                         number_text(table.unorm.offset) + " + " + number_text(table.unorm.scale) +
-                                         " x texel, texel = code / 65535)"
-                             : half ? "IEEE half bits (upload as GL_R16F / GL_HALF_FLOAT)"
-                                    : "float (upload as GL_R32F / GL_FLOAT)";
+  const std::string upload =
+      unorm ? "16-bit codes (upload as GL_R16 / GL_UNSIGNED_SHORT; value = " + number_text(table.unorm.offset) + " + " +
+                  number_text(table.unorm.scale) + " x texel, texel = code / 65535)"
+      : half ? "IEEE half bits (upload as GL_R16F / GL_HALF_FLOAT)"
+             : "float (upload as GL_R32F / GL_FLOAT)";
   std::ostringstream s;
   s << "// ganzfeld table as a C array (generated; docs/shaders.md): law " << to_string(table.law) << " of "
-    << table.model << "\n// made by: " << table.command << "\n// axes: " << axes_text(table)
-    << "\n// frame " << to_string(table.frame) << (table.frame == Frame::lobe ? std::string(" (peak ") + to_string(table.peak) + ")" : "")
-    << ", " << to_string(table.interpolation) << " lookup (export-glsl's GLSL implements it)"
+    << table.model << "\n// made by: " << table.command << "\n// axes: " << axes_text(table) << "\n// frame "
+    << to_string(table.frame)
+    << (table.frame == Frame::lobe ? std::string(" (peak ") + to_string(table.peak) + ")" : "") << ", "
+    << to_string(table.interpolation) << " lookup (export-glsl's GLSL implements it)"
     << "\n// error: lookup <= " << number_text(table.lookup_error) << "; nodes <= " << number_text(table.node_error)
-    << ", between nodes (measured) <= " << number_text(table.interpolation_error) << "\n// texels: x (width) fastest, then y (height), then z (depth); "
-    << upload << "\n"
+    << ", between nodes (measured) <= " << number_text(table.interpolation_error)
+    << "\n// texels: x (width) fastest, then y (height), then z (depth); " << upload << "\n"
     << "#pragma once\n#include <stdint.h>\n\n"
     << "enum { " << symbol << "_width = " << size.width << ", " << symbol << "_height = " << size.height << ", "
     << symbol << "_depth = " << size.depth << " };\n";
   if (unorm)
     s << "static const float " << symbol << "_unorm16_offset = " << float_literal(table.unorm.offset) << ", " << symbol
       << "_unorm16_scale = " << float_literal(table.unorm.scale) << ";  // value = offset + scale x code / 65535\n";
-  s << "static const " << (half || unorm ? "uint16_t " : "float ") << symbol << "_texels[" << table.value.size() << "] = {";
+  s << "static const " << (half || unorm ? "uint16_t " : "float ") << symbol << "_texels[" << table.value.size()
+    << "] = {";
   for (std::size_t k = 0; k < table.value.size(); ++k) {
     char buffer[40];
     if (unorm) std::snprintf(buffer, sizeof buffer, "%u", static_cast<unsigned>(table.unorm.code(table.value[k])));

@@ -46,7 +46,7 @@ std::vector<std::uint8_t> ktx2_bytes(const tables::Table& table);
 struct TextureData {
   std::uint32_t vk_format = 0;
   TextureSize size;
-  std::vector<float> texels;  ///< x fastest, then y, then z (R16_UNORM: code / 65535, as a GPU reads it)
+  std::vector<float> texels;         ///< x fastest, then y, then z (R16_UNORM: code / 65535, as a GPU reads it)
   std::vector<std::uint16_t> codes;  ///< R16_UNORM only: the codes, in the order of texels
   std::map<std::string, std::string> key_values;
 };
@@ -60,6 +60,7 @@ TextureData parse_ktx2(const std::vector<std::uint8_t>& bytes, const std::string
 std::string c_header(const tables::Table& table, const std::string& symbol);
 
 /// Writes the table as `format` to `path` atomically.
-void write_texture(const tables::Table& table, TextureFormat format, const std::string& path, const std::string& symbol);
+void write_texture(const tables::Table& table, TextureFormat format, const std::string& path,
+                   const std::string& symbol);
 
 }  // namespace ganzfeld::exporting

@@ -70,9 +70,7 @@ struct Search {
     ModelPtr model;
     try {
       model = parse_model(space.spec_at(model_units(u)));
-    } catch (const InputError&) {
-      return std::nullopt;
-    }
+    } catch (const InputError&) { return std::nullopt; }
     const MetricValues m = measure(data, model_values(data, *model));
     const double j = objective(options.metric, m);
     if (!std::isfinite(j)) return std::nullopt;
@@ -149,8 +147,9 @@ FitResult fit_model(const FitData& data, const std::string& model_spec, const Fi
 
   Search search(data, space, options);
   search.budget = static_cast<long long>(options.starts) * options.max_evaluations;
-  std::unique_ptr<nlopt_opt_s, void (*)(nlopt_opt)> opt(nlopt_create(options.local == LocalSearch::praxis ? NLOPT_LN_PRAXIS : NLOPT_LN_BOBYQA, static_cast<unsigned>(n)),
-                                                        nlopt_destroy);
+  std::unique_ptr<nlopt_opt_s, void (*)(nlopt_opt)> opt(
+      nlopt_create(options.local == LocalSearch::praxis ? NLOPT_LN_PRAXIS : NLOPT_LN_BOBYQA, static_cast<unsigned>(n)),
+      nlopt_destroy);
   if (!opt) throw std::runtime_error("NLopt could not create a BOBYQA optimizer");
   search.opt = opt.get();
   nlopt_set_lower_bounds1(opt.get(), 0.0);
@@ -213,7 +212,8 @@ FitResult fit_model(const FitData& data, const std::string& model_spec, const Fi
   result.stop_reason = reason(best_code, search.interrupted, timed_out);
   result.evaluations = search.evaluations;
   result.seconds = search.watch.seconds();
-  if (options.progress) options.progress({search.start, options.starts, search.evaluations, search.budget, search.best});
+  if (options.progress)
+    options.progress({search.start, options.starts, search.evaluations, search.budget, search.best});
   return result;
 }
 

@@ -33,10 +33,10 @@ namespace ganzfeld::fit {
 inline constexpr double kExactFit = 1e-16;
 
 struct FitProgress {
-  int start = 0, starts = 0;        ///< the local search running (1-based) and how many are planned
-  long long evaluations = 0;        ///< so far, all starts
-  long long budget = 0;             ///< starts × evaluations per start
-  double best = 0.0;                ///< the best objective so far
+  int start = 0, starts = 0;  ///< the local search running (1-based) and how many are planned
+  long long evaluations = 0;  ///< so far, all starts
+  long long budget = 0;       ///< starts × evaluations per start
+  double best = 0.0;          ///< the best objective so far
 };
 
 enum class LocalSearch { praxis, bobyqa };
@@ -47,11 +47,11 @@ LocalSearch parse_local_search(const std::string& text);
 struct FitOptions {
   Metric metric = Metric::ngan;
   LocalSearch local = LocalSearch::praxis;
-  std::vector<std::string> fixed;   ///< "KEY=VALUE" (fit/parameters.h)
-  int starts = 4;                   ///< local searches, the first from the start spec
-  int max_evaluations = 4000;       ///< per local search
-  double max_seconds = 0.0;         ///< all starts together; 0: no limit
-  double xtol = 1e-7;               ///< step tolerance in the unit box
+  std::vector<std::string> fixed;  ///< "KEY=VALUE" (fit/parameters.h)
+  int starts = 4;                  ///< local searches, the first from the start spec
+  int max_evaluations = 4000;      ///< per local search
+  double max_seconds = 0.0;        ///< all starts together; 0: no limit
+  double xtol = 1e-7;              ///< step tolerance in the unit box
   /// Polled after every evaluation; true stops the search (the best point so far is the result).
   std::function<bool()> interrupted;
   /// Called every few evaluations and once at the end.
@@ -59,11 +59,11 @@ struct FitOptions {
 };
 
 struct FitResult {
-  std::string spec;                                         ///< the best point as a model spec
+  std::string spec;                                        ///< the best point as a model spec
   std::vector<std::pair<std::string, double>> parameters;  ///< the free parameters there
-  MetricValues metrics, start_metrics;                      ///< at the best point and at the first start
+  MetricValues metrics, start_metrics;                     ///< at the best point and at the first start
   bool converged = false, interrupted = false;
-  std::string stop_reason;           ///< why the best point's local search stopped (NLopt's result)
+  std::string stop_reason;               ///< why the best point's local search stopped (NLopt's result)
   std::vector<double> start_objectives;  ///< each local search's best objective, in run order
   int starts_run = 0;
   long long evaluations = 0;

@@ -33,14 +33,16 @@ std::vector<LawPoint> law_geometries() {
 
 std::vector<LawPoint> data_laws(const Model& data, double tolerance) {
   std::vector<LawPoint> points = law_geometries();
-  tbb::parallel_for(std::size_t{0}, points.size(), [&](std::size_t k) { points[k].data = law_at(data, points[k], tolerance); });
+  tbb::parallel_for(std::size_t{0}, points.size(),
+                    [&](std::size_t k) { points[k].data = law_at(data, points[k], tolerance); });
   return points;
 }
 
 LawDifference law_difference(const std::vector<LawPoint>& data_points, const Model& fit, double tolerance) {
   LawDifference d;
   d.points = data_points;
-  tbb::parallel_for(std::size_t{0}, d.points.size(), [&](std::size_t k) { d.points[k].fit = law_at(fit, d.points[k], tolerance); });
+  tbb::parallel_for(std::size_t{0}, d.points.size(),
+                    [&](std::size_t k) { d.points[k].fit = law_at(fit, d.points[k], tolerance); });
   for (const LawPoint& p : d.points) {
     const double diff = std::abs(p.fit.value - p.data.value);
     double& max = p.law == Law::g ? d.max_g : p.law == Law::h ? d.max_h : d.max_a;

@@ -20,8 +20,10 @@ const char* to_string(Metric metric) { return metric == Metric::ngan ? "ngan" : 
 Metric parse_metric(const std::string& text) {
   if (text == "ngan") return Metric::ngan;
   if (text == "log") return Metric::log;
-  throw InputError({"unknown ", Named{"metric"}, " '" + text + "'; allowed: ngan (Ngan et al. 2005, cosine-weighted L2), "
-                                                  "log (Low et al. 2012, cosine-weighted log)"});
+  throw InputError({"unknown ", Named{"metric"},
+                    " '" + text +
+                        "'; allowed: ngan (Ngan et al. 2005, cosine-weighted L2), "
+                        "log (Low et al. 2012, cosine-weighted log)"});
 }
 
 std::vector<double> model_values(const FitData& data, const Model& model) {

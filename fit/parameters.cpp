@@ -73,8 +73,7 @@ ParameterSpace::ParameterSpace(const std::string& spec, const std::vector<std::s
   std::map<std::string, bool> is_fixed;
   for (const std::string& item : fixed) {
     const auto eq = item.find('=');
-    if (eq == std::string::npos || eq == 0)
-      throw InputError({Named{"fixed"}, " '" + item + "' is not KEY=VALUE"});
+    if (eq == std::string::npos || eq == 0) throw InputError({Named{"fixed"}, " '" + item + "' is not KEY=VALUE"});
     const std::string name = item.substr(0, eq), text = item.substr(eq + 1);
     bool found = false;
     std::string known;
@@ -86,7 +85,8 @@ ParameterSpace::ParameterSpace(const std::string& spec, const std::vector<std::s
         if (name == lobe.label + ".weight") {
           double w;
           if (!parse_number(text, w) || !std::isfinite(w) || w <= 0.0)
-            throw InputError({Named{"fixed", item}, ": a weight must be a finite number > 0 (relative to the first lobe's)"});
+            throw InputError(
+                {Named{"fixed", item}, ": a weight must be a finite number > 0 (relative to the first lobe's)"});
           lobe.term.weight = w;
           is_fixed[name] = found = true;
           break;
@@ -108,8 +108,8 @@ ParameterSpace::ParameterSpace(const std::string& spec, const std::vector<std::s
       }
     }
     if (!found)
-      throw InputError({Named{"fixed"}, " names unknown parameter '" + name + "'; the model's parameters: " +
-                                                (known.empty() ? "none" : known)});
+      throw InputError({Named{"fixed"}, " names unknown parameter '" + name +
+                                            "'; the model's parameters: " + (known.empty() ? "none" : known)});
   }
 
   // Free: the real-valued parameters not fixed, then the weights of lobes 2.. not fixed.

@@ -61,7 +61,7 @@ class ParameterSpace {
     std::string label;  ///< the model's name, with the lobe's position when the name occurs twice
     SpecTerm term;
     std::vector<std::pair<std::string, int>> free_values;  ///< parameter name, index into x
-    int weight_index = -1;  ///< free relative weight, lobes 2..
+    int weight_index = -1;                                 ///< free relative weight, lobes 2..
   };
   std::vector<LobeSpace> lobes_;
   std::vector<FreeParameter> free_;

@@ -40,8 +40,9 @@ const std::vector<std::string> kRecoveryTruths = {
     "hvd-empirical:cd=0.4,f0=0.1,k=0.2,ns=150,nr=20,rs=0.6,rr=0.5",
     "phong-lewis:kd=0.3,ks=0.5,n=40",
 };
-const std::vector<std::string> kFitModels = {"ggx",        "lambert + ggx", "cook-torrance", "ward",    "blinn-phong",
-                                             "lafortune",  "oren-nayar",    "hvd-fit",       "hvd-empirical", "phong-lewis"};
+const std::vector<std::string> kFitModels = {"ggx",           "lambert + ggx", "cook-torrance", "ward",
+                                             "blinn-phong",   "lafortune",     "oren-nayar",    "hvd-fit",
+                                             "hvd-empirical", "phong-lewis"};
 
 /// The relative noise of the noisy recovery files, and their seed.
 constexpr double kNoise = 0.01;
@@ -156,7 +157,8 @@ RecoveryRow recover(Setup& setup, const std::string& truth, double noise, int re
     double worst = 0.0;
     for (const auto& [pname, fitted] : row.result.parameters) {
       const std::string& wanted = pname;  // clang 14 cannot capture a structured binding
-      const auto it = std::find_if(truth_values.begin(), truth_values.end(), [&](const auto& t) { return t.first == wanted; });
+      const auto it =
+          std::find_if(truth_values.begin(), truth_values.end(), [&](const auto& t) { return t.first == wanted; });
       if (it == truth_values.end()) continue;
       errors.push_back({pname, it->second, fitted, std::abs(fitted - it->second) / std::abs(it->second)});
       worst = std::max(worst, errors.back().relative);
@@ -199,9 +201,9 @@ FitRow fit_row(const Setup& setup, const DataSet& data, const std::string& model
   row.metric = metric;
   row.result = fit_model(data.samples, model, setup.fit_options(metric));
   row.laws = law_difference(data.laws, *parse_model(row.result.spec), setup.options.quick ? 1e-4 : kLawTolerance);
-  setup.log("fit " + model + " to " + data.label + " (" + to_string(metric) + "): E_log " + g3(row.result.metrics.log_rms) +
-            ", E_rel " + g3(row.result.metrics.ngan_relative) + ", " + f1(row.result.seconds) + " s" +
-            (row.result.converged ? "" : ", not converged"));
+  setup.log("fit " + model + " to " + data.label + " (" + to_string(metric) + "): E_log " +
+            g3(row.result.metrics.log_rms) + ", E_rel " + g3(row.result.metrics.ngan_relative) + ", " +
+            f1(row.result.seconds) + " s" + (row.result.converged ? "" : ", not converged"));
   return row;
 }
 
@@ -243,7 +245,8 @@ Report run_report(const ReportOptions& options) {
                     : kRecoveryTruths;
   for (const std::string& truth : truths)
     report.recovery.push_back(recover(setup, truth, 0.0, options.quick ? 1 : kTimingRepeats, LocalSearch::praxis));
-  for (const std::string& truth : truths) report.recovery.push_back(recover(setup, truth, kNoise, 1, LocalSearch::praxis));
+  for (const std::string& truth : truths)
+    report.recovery.push_back(recover(setup, truth, kNoise, 1, LocalSearch::praxis));
   if (!options.quick)
     for (const char* truth : {"cook-torrance:kd=0.3,ks=0.6,m=0.2,eta=1.5,k=0.5",
                               "hvd-fit:cd=0.4,f0=0.05,f90=0.8,k=0.3,n1=200,r1=0.3,n2=20,r2=0.6"})
@@ -251,18 +254,18 @@ Report run_report(const ReportOptions& options) {
         report.local_searches.push_back(recover(setup, truth, 0.0, 1, local));
 
   // 2 and 3. The data sets, each written once.
-  const std::vector<std::string> data_specs =
-      options.quick ? std::vector<std::string>{kPlastic, kWardData} : std::vector<std::string>{kPlastic, kMetal, kWardData, kRough};
+  const std::vector<std::string> data_specs = options.quick
+                                                  ? std::vector<std::string>{kPlastic, kWardData}
+                                                  : std::vector<std::string>{kPlastic, kMetal, kWardData, kRough};
   std::vector<DataSet> data;
   for (const std::string& spec : data_specs) data.push_back(load_data(setup, spec));
-  const std::vector<std::string> fit_models =
-      options.quick ? std::vector<std::string>{"ggx", "hvd-fit"} : kFitModels;
+  const std::vector<std::string> fit_models = options.quick ? std::vector<std::string>{"ggx", "hvd-fit"} : kFitModels;
   report.fit_models = fit_models;
   for (const DataSet& d : data) report.data_models.push_back(d.spec);
 
   // 2. Two lumps against ggx and ward, both metrics, on the plastic and the metal.
-  const std::vector<std::string> lump_models = options.quick ? std::vector<std::string>{"hvd-fit"}
-                                                             : std::vector<std::string>{"hvd-fit", "ggx", "ward"};
+  const std::vector<std::string> lump_models =
+      options.quick ? std::vector<std::string>{"hvd-fit"} : std::vector<std::string>{"hvd-fit", "ggx", "ward"};
   for (const DataSet& d : data) {
     if (d.spec != kPlastic && d.spec != kMetal) continue;
     for (Metric metric : {Metric::log, Metric::ngan})
@@ -285,10 +288,12 @@ Report run_report(const ReportOptions& options) {
   std::filesystem::create_directories(dir);
   report.disk_figure = (std::filesystem::path(dir) / "fit-disk-plastic.png").string();
   write_disk_figure(*plastic.model, parse_model(report.disk_fit).get(), DiskOptions{}, report.disk_figure);
-  report.disk_command = "ganzfeld export-brdf --model " + plastic.spec + " -o plastic.binary && ganzfeld figure --disk " +
+  report.disk_command = "ganzfeld export-brdf --model " + plastic.spec +
+                        " -o plastic.binary && ganzfeld figure --disk " +
                         "--model merl:file=plastic.binary --compare '" + report.disk_fit + "' -o " + report.disk_figure;
   const ModelPtr disk_fit = parse_model(report.disk_fit);
-  for (double t : DiskOptions{}.theta_o_deg) report.disk.push_back({t, disk_spread(*plastic.model, t), disk_spread(*disk_fit, t)});
+  for (double t : DiskOptions{}.theta_o_deg)
+    report.disk.push_back({t, disk_spread(*plastic.model, t), disk_spread(*disk_fit, t)});
 
   // The targets.
   {
@@ -301,11 +306,12 @@ Report run_report(const ReportOptions& options) {
       worst = std::max(worst, r.max_relative);
       slowest = std::max(slowest, seconds);
     }
-    report.targets.push_back({"Synthetic recovery: parameters of >= 6 models recovered to <= 1e-3 relative from noise-free "
-                              "data made by export-brdf, in <= 60 s each on 2 cores",
-                              std::to_string(recovered) + " models recovered to <= 1e-3 in <= 60 s (worst error " +
-                                  g3(worst) + ", slowest median " + f1(slowest) + " s wall)",
-                              recovered >= kRecoveryModels});
+    report.targets.push_back(
+        {"Synthetic recovery: parameters of >= 6 models recovered to <= 1e-3 relative from noise-free "
+         "data made by export-brdf, in <= 60 s each on 2 cores",
+         std::to_string(recovered) + " models recovered to <= 1e-3 in <= 60 s (worst error " + g3(worst) +
+             ", slowest median " + f1(slowest) + " s wall)",
+         recovered >= kRecoveryModels});
   }
   {
     bool all = !report.lumps.empty();
@@ -313,24 +319,28 @@ Report run_report(const ReportOptions& options) {
       for (const char* m : {"hvd-fit", "ggx", "ward"})
         all = all && std::any_of(report.lumps.begin(), report.lumps.end(),
                                  [&](const FitRow& r) { return r.data_spec == d && r.model == m; });
-    report.targets.push_back({"hvd-fit with two lumps fitted to cook-torrance- and ggx-made data: metric values published "
-                              "beside ggx's and ward's own fits to the same data",
-                              std::to_string(report.lumps.size()) + " fits published (part 2)", all});
+    report.targets.push_back(
+        {"hvd-fit with two lumps fitted to cook-torrance- and ggx-made data: metric values published "
+         "beside ggx's and ward's own fits to the same data",
+         std::to_string(report.lumps.size()) + " fits published (part 2)", all});
   }
-  report.targets.push_back({"Cross-model table: each of >= 8 models fitted to the data of each of >= 4 others, with the "
-                            "metrics and the differences of g, h, a",
-                            std::to_string(fit_models.size()) + " models x " + std::to_string(data.size()) +
-                                " data sets, " + std::to_string(report.cross.size()) + " fits",
-                            static_cast<int>(fit_models.size()) >= kCrossModels && static_cast<int>(data.size()) >= kCrossData});
+  report.targets.push_back(
+      {"Cross-model table: each of >= 8 models fitted to the data of each of >= 4 others, with the "
+       "metrics and the differences of g, h, a",
+       std::to_string(fit_models.size()) + " models x " + std::to_string(data.size()) + " data sets, " +
+           std::to_string(report.cross.size()) + " fits",
+       static_cast<int>(fit_models.size()) >= kCrossModels && static_cast<int>(data.size()) >= kCrossData});
   {
     // Flat, then tightening: the spread falls less from 0° to 45° than from 45° to 75°, and by at
     // least kTightening from 45° to 75°.
     auto spread_at = [&](double t, bool fit) {
-      const auto it = std::find_if(report.disk.begin(), report.disk.end(), [&](const DiskRow& r) { return r.theta_o_deg == t; });
+      const auto it =
+          std::find_if(report.disk.begin(), report.disk.end(), [&](const DiskRow& r) { return r.theta_o_deg == t; });
       return fit ? it->fit_spread : it->data_spread;
     };
     auto drops = [&](bool fit) {
-      return std::make_pair(1.0 - spread_at(45.0, fit) / spread_at(0.0, fit), 1.0 - spread_at(75.0, fit) / spread_at(45.0, fit));
+      return std::make_pair(1.0 - spread_at(45.0, fit) / spread_at(0.0, fit),
+                            1.0 - spread_at(75.0, fit) / spread_at(45.0, fit));
     };
     auto shape = [&](bool fit) {
       const auto [early, late] = drops(fit);
@@ -341,9 +351,10 @@ Report run_report(const ReportOptions& options) {
       return f3(spread_at(0.0, fit)) + "/" + f3(spread_at(45.0, fit)) + "/" + f3(spread_at(75.0, fit)) + " (" +
              f1(100 * early) + "% narrower from 0 to 45 deg, " + f1(100 * late) + "% from 45 to 75 deg)";
     };
-    report.targets.push_back({"The disk view reproduces the shape of Edwards et al.'s Fig. 13 for a plastic-like dataset "
-                              "(two lumps): the data's halfway vectors about constant to 45 deg, then tightening",
-                              "lump spread on the orthogonal disk at 0/45/75 deg: " + numbers(false), shape(false)});
+    report.targets.push_back(
+        {"The disk view reproduces the shape of Edwards et al.'s Fig. 13 for a plastic-like dataset "
+         "(two lumps): the data's halfway vectors about constant to 45 deg, then tightening",
+         "lump spread on the orthogonal disk at 0/45/75 deg: " + numbers(false), shape(false)});
     report.targets.push_back({"... and the two-lump fit (constant parameters, as fitted here) follows that shape",
                               "fit's spread at 0/45/75 deg: " + numbers(true), shape(true)});
   }
@@ -355,12 +366,13 @@ std::string report_markdown(const Report& report, const ReportOptions& options) 
   std::ostringstream md;
   md << "# Fitting BRDFs to data: `ganzfeld fit`\n\n";
   md << "<!-- Generated by `" << options.command << "`; do not edit by hand. -->\n\n";
-  md << "Generated by `" << options.command << "` (scripts/gen-fitting-docs, which stamps the commit) on " << report.date
-     << ", commit " << options.commit << ", on "
-     << report.machine << " (read from the machine), in " << f1(report.seconds / 60.0)
+  md << "Generated by `" << options.command << "` (scripts/gen-fitting-docs, which stamps the commit) on "
+     << report.date << ", commit " << options.commit << ", on " << report.machine << " (read from the machine), in "
+     << f1(report.seconds / 60.0)
      << " min. **The machine is shared with other agents' builds and tests**: wall times include waiting for a core; "
         "the CPU time beside them is what the fits themselves used (both cores together).";
-  if (options.quick) md << " **Quick mode**: a few small fits, as the test suite runs it; the targets need the full run.";
+  if (options.quick)
+    md << " **Quick mode**: a few small fits, as the test suite runs it; the targets need the full run.";
   md << "\n\n";
 
   md << R"(`ganzfeld fit` fits the free parameters of any registered model — or a mixture such as
@@ -453,19 +465,20 @@ pairs the measures sum to (2π)² (tested). Each pair is rotated about n by a go
         "Time: reading and sampling the file plus the fit, "
      << (options.quick ? 1 : kTimingRepeats)
      << " runs for the noise-free files (median, min–max), wall and CPU.\n\n"
-        "| data (export-brdf --model) | noise | free | max relative error | E_rel | converged | evaluations | wall s | CPU s |\n"
+        "| data (export-brdf --model) | noise | free | max relative error | E_rel | converged | evaluations | wall s | "
+        "CPU s |\n"
         "|---|---|---|---|---|---|---|---|---|\n";
   for (const RecoveryRow& r : report.recovery) {
-    const auto worst = std::max_element(r.errors.begin(), r.errors.end(),
-                                        [](const ParameterError& a, const ParameterError& b) { return a.relative < b.relative; });
+    const auto worst =
+        std::max_element(r.errors.begin(), r.errors.end(),
+                         [](const ParameterError& a, const ParameterError& b) { return a.relative < b.relative; });
     const auto [mn, mx] = std::minmax_element(r.seconds.begin(), r.seconds.end());
     md << "| `" << r.truth << "` | " << (r.noise > 0 ? g3(r.noise) : "0") << " | " << r.errors.size() << " | "
        << g3(r.max_relative) << (worst != r.errors.end() ? " (" + worst->name + ")" : "")
-       << (r.equivalent ? ", lumps swapped" : "") << " | "
-       << g3(r.result.metrics.ngan_relative) << " | " << (r.result.converged ? "yes" : "**no**: " + r.result.stop_reason)
-       << " | " << r.result.evaluations << " | " << f1(util::median(r.seconds))
-       << (r.seconds.size() > 1 ? " (" + f1(*mn) + "–" + f1(*mx) + ")" : "") << " | " << f1(util::median(r.cpu_seconds))
-       << " |\n";
+       << (r.equivalent ? ", lumps swapped" : "") << " | " << g3(r.result.metrics.ngan_relative) << " | "
+       << (r.result.converged ? "yes" : "**no**: " + r.result.stop_reason) << " | " << r.result.evaluations << " | "
+       << f1(util::median(r.seconds)) << (r.seconds.size() > 1 ? " (" + f1(*mn) + "–" + f1(*mx) + ")" : "") << " | "
+       << f1(util::median(r.cpu_seconds)) << " |\n";
   }
   md << "\nWith noise the fit's E_rel is the noise level itself (the data's own scatter), and the parameters move "
         "by what that scatter allows.\n";
@@ -473,8 +486,10 @@ pairs the measures sum to (2π)² (tested). Each pair is rotated about n by a go
   if (!report.local_searches.empty()) {
     md << "\n### PRAXIS and BOBYQA\n\nThe same noise-free recoveries with either local search (one run each, "
           "4 starts, "
-       << FitOptions{}.max_evaluations << " evaluations per start at most):\n\n"
-          "| data | local search | max relative error | converged | evaluations | wall s | CPU s |\n|---|---|---|---|---|---|---|\n";
+       << FitOptions{}.max_evaluations
+       << " evaluations per start at most):\n\n"
+          "| data | local search | max relative error | converged | evaluations | wall s | CPU s "
+          "|\n|---|---|---|---|---|---|---|\n";
     for (const RecoveryRow& r : report.local_searches)
       md << "| `" << r.truth << "` | " << to_string(r.local) << " | " << g3(r.max_relative) << " | "
          << (r.result.converged ? "yes" : "**no**: " + r.result.stop_reason) << " | " << r.result.evaluations << " | "
@@ -483,13 +498,15 @@ pairs the measures sum to (2π)² (tested). Each pair is rotated about n by a go
 
   auto fit_table = [&](const std::vector<FitRow>& rows, bool with_metric) {
     md << "| data | model | " << (with_metric ? "minimized | " : "")
-       << "E_log | E_rel | E (1/sr) | max \\|Δg\\| | max \\|Δh\\| | max \\|Δa\\| | converged | wall s | fitted spec |\n|---|---|"
+       << "E_log | E_rel | E (1/sr) | max \\|Δg\\| | max \\|Δh\\| | max \\|Δa\\| | converged | wall s | fitted spec "
+          "|\n|---|---|"
        << (with_metric ? "---|" : "") << "---|---|---|---|---|---|---|---|---|\n";
     for (const FitRow& r : rows) {
       const MetricValues& m = r.result.metrics;
-      md << "| " << r.data_label << " | " << r.model << " | " << (with_metric ? std::string(to_string(r.metric)) + " | " : "")
-         << g3(m.log_rms) << " | " << g3(m.ngan_relative) << " | " << g3(m.ngan_rms) << " | " << g3(r.laws.max_g) << " | "
-         << g3(r.laws.max_h) << " | " << g3(r.laws.max_a) << (r.laws.converged ? "" : " (not converged)") << " | "
+      md << "| " << r.data_label << " | " << r.model << " | "
+         << (with_metric ? std::string(to_string(r.metric)) + " | " : "") << g3(m.log_rms) << " | "
+         << g3(m.ngan_relative) << " | " << g3(m.ngan_rms) << " | " << g3(r.laws.max_g) << " | " << g3(r.laws.max_h)
+         << " | " << g3(r.laws.max_a) << (r.laws.converged ? "" : " (not converged)") << " | "
          << (r.result.converged ? "yes" : "**no**: " + r.result.stop_reason) << " | " << f1(r.result.seconds) << " | `"
          << r.result.spec << "` |\n";
     }
@@ -523,8 +540,10 @@ pairs the measures sum to (2π)² (tested). Each pair is rotated about n by a go
     for (const std::string& d : report.data_models) {
       const auto it = std::find_if(report.cross.begin(), report.cross.end(),
                                    [&](const FitRow& r) { return r.data_spec == d && r.model == m; });
-      md << " " << (it == report.cross.end() ? "(own data)" : g3(it->result.metrics.log_rms) +
-                                                                  (it->result.converged ? "" : " (not converged)"))
+      md << " "
+         << (it == report.cross.end()
+                 ? "(own data)"
+                 : g3(it->result.metrics.log_rms) + (it->result.converged ? "" : " (not converged)"))
          << " |";
     }
     md << "\n";
@@ -541,14 +560,16 @@ pairs the measures sum to (2π)² (tested). Each pair is rotated about n by a go
      << "![disk view](" << std::filesystem::path(report.disk_figure).parent_path().filename().string() << "/"
      << std::filesystem::path(report.disk_figure).filename().string() << ")\n\n"
      << "Edwards et al.'s Fig. 13 regenerated for the plastic (`" << report.disk_data
-     << "`, red) and its two-lump hvd-fit under the log metric (blue): for each outgoing angle θ_o, halfway vectors drawn "
+     << "`, red) and its two-lump hvd-fit under the log metric (blue): for each outgoing angle θ_o, halfway vectors "
+        "drawn "
         "from each BRDF's density on the disk, in the orthogonal projection (p = ρ) and the scaling projection "
         "(reports/disk.h). The command (the data file first):\n\n```sh\n"
      << report.disk_command
      << "\n```\n\nThe paper (§5): the distribution \"is approximately constant as ω_o goes from normal incidence to "
         "the point where θ_o is approximately π/4. From that point until ω_o approaches grazing angles, the "
         "distribution tightens around the normal direction.\" The lump's spread on the orthogonal disk, sqrt(∫ q |h|² "
-        "dA / ∫ q dA) with q the density above its median (the diffuse floor):\n\n| θ_o | data | fit |\n|---|---|---|\n";
+        "dA / ∫ q dA) with q the density above its median (the diffuse floor):\n\n| θ_o | data | fit "
+        "|\n|---|---|---|\n";
   for (const DiskRow& r : report.disk)
     md << "| " << format_number(r.theta_o_deg) << "° | " << f3(r.data_spread) << " | " << f3(r.fit_spread) << " |\n";
   md << "\nThe shape counts as reproduced when the spread falls less from 0° to 45° than from 45° to 75°, and by at "

@@ -22,11 +22,11 @@
 namespace ganzfeld::fit {
 
 struct ReportOptions {
-  bool quick = false;           ///< a small slice (the ctest smoke test)
-  std::string command;          ///< the stamp: the command line that generates the report
+  bool quick = false;   ///< a small slice (the ctest smoke test)
+  std::string command;  ///< the stamp: the command line that generates the report
   std::string commit = "unknown";
-  std::string markdown;         ///< where the report goes (figures beside it unless `figures`)
-  std::string figures;          ///< the directory of the disk figure
+  std::string markdown;                         ///< where the report goes (figures beside it unless `figures`)
+  std::string figures;                          ///< the directory of the disk figure
   std::function<void(const std::string&)> log;  ///< one line per finished fit
 };
 
@@ -36,15 +36,15 @@ struct ParameterError {
 };
 
 struct RecoveryRow {
-  std::string truth;               ///< the spec the data were made from
-  double noise = 0.0;              ///< export-brdf --noise
+  std::string truth;   ///< the spec the data were made from
+  double noise = 0.0;  ///< export-brdf --noise
   std::vector<ParameterError> errors;
   double max_relative = 0.0;
   bool equivalent = false;          ///< the errors are against the truth with its lumps swapped (hvd-fit)
   std::vector<double> seconds;      ///< wall time of each repeated fit (data read and sampled included)
   std::vector<double> cpu_seconds;  ///< the process's CPU time of each, both cores together
   LocalSearch local = LocalSearch::praxis;
-  FitResult result;                 ///< the last run
+  FitResult result;  ///< the last run
 };
 
 struct FitRow {
@@ -67,8 +67,8 @@ struct Target {
 struct Report {
   std::vector<RecoveryRow> recovery;
   std::vector<RecoveryRow> local_searches;  ///< PRAXIS against BOBYQA on the same recoveries
-  std::vector<FitRow> lumps;           ///< part 2
-  std::vector<FitRow> cross;           ///< part 3
+  std::vector<FitRow> lumps;                ///< part 2
+  std::vector<FitRow> cross;                ///< part 3
   std::vector<std::string> data_models, fit_models;
   std::string disk_data, disk_fit, disk_figure, disk_command;
   std::vector<DiskRow> disk;

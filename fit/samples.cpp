@@ -108,7 +108,8 @@ FitData merl_samples(const MerlModel& merl, const SampleOptions& options) {
   std::array<int, 3> stride{};
   for (int a = 0; a < 3; ++a) {
     if (full[a] % options.grid[a] != 0)
-      throw InputError({Named{"grid", grid_text(options.grid)}, " does not divide a MERL file's 90x90x180 nodes; allowed: "
+      throw InputError({Named{"grid", grid_text(options.grid)},
+                        " does not divide a MERL file's 90x90x180 nodes; allowed: "
                         "counts dividing 90, 90 and 180, e.g. 90x30x30 or 45x45x45"});
     stride[a] = full[a] / options.grid[a];
   }
@@ -164,7 +165,8 @@ FitData model_samples(const Model& model, const SampleOptions& options) {
         const double value = i0.z >= 0.0 && j0.z >= 0.0 ? model.f(i, j) : -1.0;
         out.add(i0, j0, value, g.m_h[h] * g.m_d[d] * g.m_p[p] * 2.0 * 2.0 * pi);
       }
-  out.data.source = "the model at the nodes of a MERL-like " + grid_text(options.grid) + " theta_h x theta_d x phi_d grid";
+  out.data.source =
+      "the model at the nodes of a MERL-like " + grid_text(options.grid) + " theta_h x theta_d x phi_d grid";
   return std::move(out.data);
 }
 
@@ -175,20 +177,19 @@ std::array<int, 3> parse_grid(const std::string& text) {
   char tail = 0;
   if (std::sscanf(text.c_str(), "%dx%dx%d%c", &g[0], &g[1], &g[2], &tail) != 3 || g[0] < 2 || g[1] < 2 || g[2] < 2 ||
       g[0] > 1000 || g[1] > 1000 || g[2] > 1000)
-    throw InputError({Named{"grid", "'" + text + "'"}, " is not a grid; expected NHxNDxNP (theta_h x theta_d x phi_d nodes), each in 2..1000"});
+    throw InputError({Named{"grid", "'" + text + "'"},
+                      " is not a grid; expected NHxNDxNP (theta_h x theta_d x phi_d nodes), each in 2..1000"});
   return g;
 }
 
 FitData sample_data(const Model& data, const SampleOptions& options) {
   if (!(options.max_theta_deg > 0.0 && options.max_theta_deg <= 90.0))
-    throw InputError({Named{"max_theta", format_number(options.max_theta_deg)}, " is not allowed; allowed: (0, 90] degrees"});
+    throw InputError(
+        {Named{"max_theta", format_number(options.max_theta_deg)}, " is not allowed; allowed: (0, 90] degrees"});
   FitData out;
-  if (const auto* merl = dynamic_cast<const MerlModel*>(&data))
-    out = merl_samples(*merl, options);
-  else if (const auto* tab = dynamic_cast<const TabulatedModel*>(&data))
-    out = tabulated_samples(*tab, options);
-  else
-    out = model_samples(data, options);
+  if (const auto* merl = dynamic_cast<const MerlModel*>(&data)) out = merl_samples(*merl, options);
+  else if (const auto* tab = dynamic_cast<const TabulatedModel*>(&data)) out = tabulated_samples(*tab, options);
+  else out = model_samples(data, options);
   if (out.size() == 0)
     throw InputError({"the data '" + data.spec() + "' leave no valid sample within ",
                       Named{"max_theta", format_number(options.max_theta_deg)}, " degrees"});

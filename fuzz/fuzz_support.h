@@ -3,6 +3,7 @@
 // readers that take a path.
 #pragma once
 
+#include <unistd.h>
 #include <cstddef>
 #include <cstdint>
 #include <cstdio>
@@ -10,7 +11,6 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
-#include <unistd.h>
 
 #include "util/error.h"
 
@@ -37,11 +37,10 @@ void expect_clean(F&& read) {
 
 /// A scratch file of this process (libFuzzer -jobs/-fork run several), holding `bytes`.
 inline std::string scratch_file(const std::uint8_t* data, std::size_t size, const char* extension) {
-  static const std::string path = (std::filesystem::temp_directory_path() /
-                                   ("ganzfeld-fuzz-" + std::to_string(::getpid()) + extension))
-                                      .string();
-  std::ofstream(path, std::ios::binary | std::ios::trunc).write(reinterpret_cast<const char*>(data),
-                                                                static_cast<std::streamsize>(size));
+  static const std::string path =
+      (std::filesystem::temp_directory_path() / ("ganzfeld-fuzz-" + std::to_string(::getpid()) + extension)).string();
+  std::ofstream(path, std::ios::binary | std::ios::trunc)
+      .write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));
   return path;
 }
 

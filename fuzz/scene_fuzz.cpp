@@ -4,6 +4,7 @@
 #include "scene/scene.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-  ganzfeld::fuzz::expect_clean([&] { ganzfeld::load_scene_text(ganzfeld::fuzz::text(data, size), "/nonexistent/fuzz.json"); });
+  ganzfeld::fuzz::expect_clean(
+      [&] { ganzfeld::load_scene_text(ganzfeld::fuzz::text(data, size), "/nonexistent/fuzz.json"); });
   return 0;
 }

@@ -67,8 +67,8 @@ bool software_renderer(const std::string& renderer) {
 }
 
 /// Initializes `display` and makes a current context of `api` on it; "" or why not.
-std::string start(EGLDisplay display, EGLDisplay& display_slot, EGLContext& context_slot,
-                  EGLSurface& surface_slot, Api api) {
+std::string start(EGLDisplay display, EGLDisplay& display_slot, EGLContext& context_slot, EGLSurface& surface_slot,
+                  Api api) {
   EGLint major = 0, minor = 0;
   if (display == EGL_NO_DISPLAY || !eglInitialize(display, &major, &minor))
     return "eglInitialize failed (EGL error " + std::to_string(eglGetError()) + ")";
@@ -82,12 +82,14 @@ std::string start(EGLDisplay display, EGLDisplay& display_slot, EGLContext& cont
   if (!eglChooseConfig(display, config_wanted, &config, 1, &configs)) configs = 0;
   if (configs == 0 && !has_extension(extensions, "EGL_KHR_no_config_context"))
     return "no pbuffer config for the API and no EGL_KHR_no_config_context";
-  const EGLint core[] = {EGL_CONTEXT_MAJOR_VERSION, 4, EGL_CONTEXT_MINOR_VERSION, 3, EGL_CONTEXT_OPENGL_PROFILE_MASK,
-                         EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT, EGL_NONE};
+  const EGLint core[] = {
+      EGL_CONTEXT_MAJOR_VERSION,           4,       EGL_CONTEXT_MINOR_VERSION, 3, EGL_CONTEXT_OPENGL_PROFILE_MASK,
+      EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT, EGL_NONE};
   const EGLint gles[] = {EGL_CONTEXT_MAJOR_VERSION, 3, EGL_CONTEXT_MINOR_VERSION, 0, EGL_NONE};
   context_slot = eglCreateContext(display, configs > 0 ? config : EGL_NO_CONFIG_KHR, EGL_NO_CONTEXT,
                                   api == Api::es30 ? gles : core);
-  if (context_slot == EGL_NO_CONTEXT) return "eglCreateContext failed (EGL error " + std::to_string(eglGetError()) + ")";
+  if (context_slot == EGL_NO_CONTEXT)
+    return "eglCreateContext failed (EGL error " + std::to_string(eglGetError()) + ")";
   if (!has_extension(extensions, "EGL_KHR_surfaceless_context")) {
     if (configs == 0) return "no EGL_KHR_surfaceless_context and no pbuffer config";
     const EGLint size[] = {EGL_WIDTH, 1, EGL_HEIGHT, 1, EGL_NONE};

@@ -31,11 +31,11 @@ Platform parse_platform(const std::string& text);
 
 /// What the context runs on, as the implementation says.
 struct ContextInfo {
-  std::string platform;     ///< "EGL device" or "EGL surfaceless (Mesa)"
-  std::string egl_vendor;   ///< EGL_VENDOR, and the EGL version
-  std::string device;       ///< the device's extensions naming it (software, DRM node), "" for surfaceless
+  std::string platform;    ///< "EGL device" or "EGL surfaceless (Mesa)"
+  std::string egl_vendor;  ///< EGL_VENDOR, and the EGL version
+  std::string device;      ///< the device's extensions naming it (software, DRM node), "" for surfaceless
   std::string gl_vendor, gl_renderer, gl_version;  ///< GL_VENDOR, GL_RENDERER, GL_VERSION (the driver)
-  bool software = false;    ///< a CPU rasterizer (llvmpipe, softpipe, a software EGL device)
+  bool software = false;                           ///< a CPU rasterizer (llvmpipe, softpipe, a software EGL device)
 };
 
 /// Under a leak checker (scripts/test --sanitize), llvmpipe's JIT-compiled shader code allocates

@@ -70,7 +70,8 @@ Texture upload_texture(const exporting::TextureData& data, bool volume, int unit
   // unorm16: the codes as GL_R16 (normalized: the shader reads code / 65535), as docs/shaders.md says.
   const GLenum internal = unorm ? GL_R16 : data.vk_format == exporting::kVkFormatR16Sfloat ? GL_R16F : GL_R32F;
   const GLenum type = unorm ? GL_UNSIGNED_SHORT : GL_FLOAT;
-  const void* texels = unorm ? static_cast<const void*>(data.codes.data()) : static_cast<const void*>(data.texels.data());
+  const void* texels =
+      unorm ? static_cast<const void*>(data.codes.data()) : static_cast<const void*>(data.texels.data());
   GLuint id = 0;
   glGenTextures(1, &id);
   Texture texture(id);
@@ -80,13 +81,13 @@ Texture upload_texture(const exporting::TextureData& data, bool volume, int unit
   glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
   if (volume)
     glTexImage3D(target, 0, internal, data.size.width, data.size.height, data.size.depth, 0, GL_RED, type, texels);
-  else
-    glTexImage2D(target, 0, internal, data.size.width, data.size.height, 0, GL_RED, type, texels);
+  else glTexImage2D(target, 0, internal, data.size.width, data.size.height, 0, GL_RED, type, texels);
   // Complete without mipmaps, so texelFetch reads level 0 (export/glsl.h).
   const GLint filter = linear_filter ? GL_LINEAR : GL_NEAREST;
   glTexParameteri(target, GL_TEXTURE_MIN_FILTER, filter);
   glTexParameteri(target, GL_TEXTURE_MAG_FILTER, filter);
-  for (GLenum wrap : {GL_TEXTURE_WRAP_S, GL_TEXTURE_WRAP_T, GL_TEXTURE_WRAP_R}) glTexParameteri(target, wrap, GL_CLAMP_TO_EDGE);
+  for (GLenum wrap : {GL_TEXTURE_WRAP_S, GL_TEXTURE_WRAP_T, GL_TEXTURE_WRAP_R})
+    glTexParameteri(target, wrap, GL_CLAMP_TO_EDGE);
   return texture;
 }
 
@@ -125,11 +126,23 @@ VertexArray::VertexArray() {
 VertexArray::~VertexArray() { glDeleteVertexArrays(1, &id_); }
 
 std::string count_texture_fetches(const std::string& source) {
-  static const std::array<std::string, 17> kNames{
-      "texture",        "textureOffset",       "textureLod",          "textureLodOffset", "textureGrad",
-      "textureGradOffset", "textureProj",      "textureProjOffset",   "textureProjLod",   "textureProjLodOffset",
-      "textureProjGrad", "textureProjGradOffset", "texelFetch",       "texelFetchOffset", "textureGather",
-      "textureGatherOffset", "textureGatherOffsets"};
+  static const std::array<std::string, 17> kNames{"texture",
+                                                  "textureOffset",
+                                                  "textureLod",
+                                                  "textureLodOffset",
+                                                  "textureGrad",
+                                                  "textureGradOffset",
+                                                  "textureProj",
+                                                  "textureProjOffset",
+                                                  "textureProjLod",
+                                                  "textureProjLodOffset",
+                                                  "textureProjGrad",
+                                                  "textureProjGradOffset",
+                                                  "texelFetch",
+                                                  "texelFetchOffset",
+                                                  "textureGather",
+                                                  "textureGatherOffset",
+                                                  "textureGatherOffsets"};
   auto identifier_char = [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; };
   std::string out;
   std::size_t at = 0;
@@ -228,13 +241,14 @@ Texture point_texture(const std::vector<float>& texels, int side, const Program&
 Lookups table_function_at_points(const tables::Table& table, const LookupPoints& points, Api api,
                                  const std::string& define, bool linear_filter, std::string& error) {
   const std::string function = exporting::glsl_function_name(table.model, table.law);
-  const std::string args =
-      table.law == Law::g ? "(gz_table, i, j, n)" : table.law == Law::h ? "(gz_table, j, n)" : "(gz_table, i, n)";
+  const std::string args = table.law == Law::g   ? "(gz_table, i, j, n)"
+                           : table.law == Law::h ? "(gz_table, j, n)"
+                                                 : "(gz_table, i, n)";
   // The fetch counter is declared before the snippet, whose fetches alone it counts.
-  const std::string fragment =
-      std::string("#version ") + glsl_version(api) + "\n" + (define.empty() ? "" : "#define " + define + "\n") +
-      "highp int gz_fetches = 0;\n" + count_texture_fetches(exporting::glsl_table_snippet(table)) + "uniform highp " +
-      exporting::glsl_sampler_type(table.law) + " gz_table;\n" + R"(
+  const std::string fragment = std::string("#version ") + glsl_version(api) + "\n" +
+                               (define.empty() ? "" : "#define " + define + "\n") + "highp int gz_fetches = 0;\n" +
+                               count_texture_fetches(exporting::glsl_table_snippet(table)) + "uniform highp " +
+                               exporting::glsl_sampler_type(table.law) + " gz_table;\n" + R"(
 uniform highp sampler2D u_i;
 uniform highp sampler2D u_j;
 uniform highp sampler2D u_n;
@@ -242,7 +256,8 @@ out vec4 out_value;
 void main() {
   ivec2 p = ivec2(gl_FragCoord.xy);
   vec3 i = texelFetch(u_i, p, 0).xyz, j = texelFetch(u_j, p, 0).xyz, n = texelFetch(u_n, p, 0).xyz;
-  float value = )" + function + args + R"(;
+  float value = )" + function + args +
+                               R"(;
   out_value = vec4(value, float(gz_fetches), 0.0, 1.0);
 }
 )";
@@ -252,7 +267,8 @@ void main() {
   const int side = points.side;
   Texture table_texture = upload_table(table, 0, linear_filter);
   glUniform1i(program.uniform("gz_table"), 0);
-  const Texture i = point_texture(points.i, side, program, 1, "u_i"), j = point_texture(points.j, side, program, 2, "u_j"),
+  const Texture i = point_texture(points.i, side, program, 1, "u_i"),
+                j = point_texture(points.j, side, program, 2, "u_j"),
                 n = point_texture(points.n, side, program, 3, "u_n");
   const Framebuffer target(side, side, GL_RGBA32F);
   if (!target.complete()) {

@@ -113,9 +113,9 @@ std::string count_texture_fetches(const std::string& source);
 /// exported functions take any frame and need not-unit i and j), and the law's coordinates in the
 /// local frame that tables::sample takes.
 struct LookupPoints {
-  int side = 0;                         ///< side x side points, one pixel each
-  std::vector<float> i, j, n;           ///< RGBA per point, the input textures
-  std::vector<std::vector<double>> x;   ///< tables::coordinates(law, i, j) in the local frame
+  int side = 0;                        ///< side x side points, one pixel each
+  std::vector<float> i, j, n;          ///< RGBA per point, the input textures
+  std::vector<std::vector<double>> x;  ///< tables::coordinates(law, i, j) in the local frame
 };
 LookupPoints lookup_points(Law law, int side, std::uint64_t seed);
 

@@ -339,10 +339,8 @@ class Refinement {
       cells.push_back(p);
     }
     for (const Panel<D>& p : cells)
-      if (options_.bisect_initial_panels && splittable(p))
-        bisect(p);
-      else
-        open(p);
+      if (options_.bisect_initial_panels && splittable(p)) bisect(p);
+      else open(p);
     std::make_heap(heap_.begin(), heap_.end(), ByError<D>());
     error_ = open_error();
     seeded_ = true;
@@ -355,10 +353,8 @@ class Refinement {
     while (!heap_.empty() && !gave_up_ && (unresolved_ > 0 || error_ + frozen_error_ > options_.abs_tol) &&
            engine_.evaluations() + cost <= options_.max_evaluations && !cancelled()) {
       const Panel<D> worst = pop_worst();
-      if (splittable(worst))
-        bisect(worst);
-      else
-        freeze(worst);
+      if (splittable(worst)) bisect(worst);
+      else freeze(worst);
     }
   }
 
@@ -412,8 +408,7 @@ class Refinement {
   static bool splittable(const Panel<D>& p) {
     const int axis = p.split_axis;
     const double mid = 0.5 * (p.lo[axis] + p.hi[axis]);
-    return mid > p.lo[axis] && mid < p.hi[axis] &&
-           !(p.hi[axis] - p.lo[axis] < 1e-15 * std::max(1.0, std::abs(mid)));
+    return mid > p.lo[axis] && mid < p.hi[axis] && !(p.hi[axis] - p.lo[axis] < 1e-15 * std::max(1.0, std::abs(mid)));
   }
 
   Panel<D> pop_worst() {
@@ -560,13 +555,11 @@ std::vector<double> tidy_cuts(std::vector<double> lines, double lo, double hi, d
 }
 
 template <int D>
-Estimate adaptive_cubature(const PanelIntegrand<D>& integrand,
-                           const std::array<std::vector<double>, D>& cuts,
+Estimate adaptive_cubature(const PanelIntegrand<D>& integrand, const std::array<std::vector<double>, D>& cuts,
                            const CubatureOptions& options) {
   if (!(options.abs_tol >= kEngineMinTolerance) || !std::isfinite(options.abs_tol))
     throw InputError("adaptive_cubature: tolerance " + format_number(options.abs_tol) +
-                     " is not allowed; expected a finite absolute tolerance >= " +
-                     format_number(kEngineMinTolerance));
+                     " is not allowed; expected a finite absolute tolerance >= " + format_number(kEngineMinTolerance));
   if (options.max_evaluations < panel_nodes(D))
     throw InputError("adaptive_cubature: a budget of " + std::to_string(options.max_evaluations) +
                      " evaluations is below one panel; allowed: >= " + std::to_string(panel_nodes(D)));

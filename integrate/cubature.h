@@ -52,7 +52,7 @@ struct Estimate {
 };
 
 struct CubatureOptions {
-  double abs_tol = 1e-9;                     ///< stop when the summed error estimate <= this
+  double abs_tol = 1e-9;  ///< stop when the summed error estimate <= this
   /// Budget per integral; beyond it: not converged. The initial grid is always evaluated (a
   /// result needs at least one rule per panel), so it may exceed a budget smaller than itself;
   /// a budget smaller than one panel (kRuleNodes^D) is refused.
@@ -87,8 +87,7 @@ using PanelIntegrand =
 /// bound, last = upper bound, at least two per axis). Throws InputError (util/error.h) for a
 /// tolerance that is not a finite number >= kEngineMinTolerance or a budget below one panel.
 template <int D>
-Estimate adaptive_cubature(const PanelIntegrand<D>& integrand,
-                           const std::array<std::vector<double>, D>& cuts,
+Estimate adaptive_cubature(const PanelIntegrand<D>& integrand, const std::array<std::vector<double>, D>& cuts,
                            const CubatureOptions& options);
 
 /// Sorts, removes duplicates and drops lines closer than `min_gap` to a neighbour, keeping both

@@ -30,8 +30,7 @@ Estimate double_diffuse(const Model& model, const CubatureOptions& options);
 
 /// Any law for directions i, j in the local frame (unused ones are ignored); f is exact
 /// (error 0, one evaluation).
-Estimate evaluate_law(const Model& model, Law law, const Vec3& i, const Vec3& j,
-                      const CubatureOptions& options);
+Estimate evaluate_law(const Model& model, Law law, const Vec3& i, const Vec3& j, const CubatureOptions& options);
 
 /// The lune {k·n > 0} ∩ {k·pole > 0} as the rectangle t ∈ [-pi/2, pi/2] × phi ∈ [phi_lo, pi/2]:
 /// k = cos t (cos phi n + sin phi u) + sin t e, dk = cos t dt dphi. With pole = n it is the

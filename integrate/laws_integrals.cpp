@@ -3,8 +3,8 @@
 #include <cmath>
 #include <numbers>
 
-#include <glm/geometric.hpp>
 #include <tbb/parallel_for.h>
+#include <glm/geometric.hpp>
 
 #include "integrate/laws.h"
 #include "util/error.h"
@@ -103,7 +103,8 @@ void add_exact_lines(std::vector<double>& cuts, const std::vector<double>& lines
 template <typename FirstAxis>
 std::array<std::vector<double>, 2> cuts_from_hints(const MassHints& hints, const Lune& fr, FirstAxis first_axis,
                                                    double first_lo, double first_hi) {
-  std::vector<double> t_lines{first_axis(0.0, 0.0)}, phi_lines{0.5 * (fr.phi_lo + pi / 2)};  // 2x2 at least: a 1x1 start
+  std::vector<double> t_lines{first_axis(0.0, 0.0)},
+      phi_lines{0.5 * (fr.phi_lo + pi / 2)};  // 2x2 at least: a 1x1 start
   // misses asperity horizon layers below the hint threshold (measured: 6% dishonest estimates)
   double min_scale = 1.0;
   std::vector<double> pole_ladder;  // exact lines towards a coordinate pole (added after tidy_cuts)
@@ -176,7 +177,8 @@ std::array<std::vector<double>, 2> cuts_from_hints(const MassHints& hints, const
 }
 
 std::array<std::vector<double>, 2> cuts_from_hints(const MassHints& hints, const Lune& fr) {
-  return cuts_from_hints(hints, fr, [](double t, double) { return t; }, -pi / 2, pi / 2);
+  return cuts_from_hints(
+      hints, fr, [](double t, double) { return t; }, -pi / 2, pi / 2);
 }
 
 }  // namespace
@@ -200,13 +202,10 @@ Estimate integrate_rectangle(const Model& model, const Vec3& fixed, Varying vary
   PanelDirections k_dirs, fixed_dirs;
   PanelWeights weights;
   fixed_dirs.fill(fixed);
-  PanelIntegrand<2> integrand = [&](const std::array<std::span<const double>, 2>& nodes,
-                                    std::span<double> values) {
+  PanelIntegrand<2> integrand = [&](const std::array<std::span<const double>, 2>& nodes, std::span<double> values) {
     place(nodes, k_dirs, weights);
-    if (varying == Varying::incident)
-      model.f_batch(k_dirs, fixed_dirs, values);
-    else
-      model.f_batch(fixed_dirs, k_dirs, values);
+    if (varying == Varying::incident) model.f_batch(k_dirs, fixed_dirs, values);
+    else model.f_batch(fixed_dirs, k_dirs, values);
     for (int m = 0; m < kNodes * kNodes; ++m) values[m] *= weights[m];
   };
   return adaptive_cubature<2>(integrand, cuts, options);
@@ -261,27 +260,27 @@ Estimate integrate_on_lune(const Model& model, const Lune& fr, std::array<std::v
   cuts[0].back() = pi / 2;
   cuts[1].front() = fr.phi_lo;
   cuts[1].back() = pi / 2;
-  return integrate_rectangle(model, fixed, varying, cuts, options,
-                             [&](const std::array<std::span<const double>, 2>& nodes, PanelDirections& k_dirs,
-                                 PanelWeights& weights) {
-    std::array<double, kNodes> cos_t, sin_t, cos_phi, sin_phi, jt, jp;
-    for (int m = 0; m < kNodes; ++m) {
-      const double t = gt.x(nodes[0][m]), phi = gp.x(nodes[1][m]);
-      jt[m] = gt.dx_ds(nodes[0][m]);
-      jp[m] = gp.dx_ds(nodes[1][m]);
-      cos_t[m] = std::cos(t);
-      sin_t[m] = std::sin(t);
-      cos_phi[m] = std::cos(phi);
-      sin_phi[m] = std::sin(phi);
-    }
-    for (int a = 0; a < kNodes; ++a)
-      for (int b = 0; b < kNodes; ++b) {
-        const int m = a * kNodes + b;
-        k_dirs[m] = cos_t[a] * (cos_phi[b] * kNormal + sin_phi[b] * fr.u) + sin_t[a] * fr.e;
-        // (k·n) = cos t cos phi >= 0 on the rectangle; times the Jacobians cos t and the gradings'.
-        weights[m] = cos_t[a] * cos_t[a] * cos_phi[b] * jt[a] * jp[b];
-      }
-  });
+  return integrate_rectangle(
+      model, fixed, varying, cuts, options,
+      [&](const std::array<std::span<const double>, 2>& nodes, PanelDirections& k_dirs, PanelWeights& weights) {
+        std::array<double, kNodes> cos_t, sin_t, cos_phi, sin_phi, jt, jp;
+        for (int m = 0; m < kNodes; ++m) {
+          const double t = gt.x(nodes[0][m]), phi = gp.x(nodes[1][m]);
+          jt[m] = gt.dx_ds(nodes[0][m]);
+          jp[m] = gp.dx_ds(nodes[1][m]);
+          cos_t[m] = std::cos(t);
+          sin_t[m] = std::sin(t);
+          cos_phi[m] = std::cos(phi);
+          sin_phi[m] = std::sin(phi);
+        }
+        for (int a = 0; a < kNodes; ++a)
+          for (int b = 0; b < kNodes; ++b) {
+            const int m = a * kNodes + b;
+            k_dirs[m] = cos_t[a] * (cos_phi[b] * kNormal + sin_phi[b] * fr.u) + sin_t[a] * fr.e;
+            // (k·n) = cos t cos phi >= 0 on the rectangle; times the Jacobians cos t and the gradings'.
+            weights[m] = cos_t[a] * cos_t[a] * cos_phi[b] * jt[a] * jp[b];
+          }
+      });
 }
 
 /// Lines at a smooth step of the integrand at longitude `centre` and width `w` (its centre,
@@ -350,21 +349,21 @@ Estimate integrate_creased(const Model& model, const Vec3& pole, const Vec3& fix
   if (radius > 0.0)
     for (double centre : {phi_p - pi / 2, phi_p + pi / 2}) add_step_lines(cuts[1], centre, p_e_abs / radius);
   add_exact_lines(cuts[1], creases);
-  return integrate_rectangle(model, fixed, varying, cuts, options,
-                             [&](const std::array<std::span<const double>, 2>& nodes, PanelDirections& k_dirs,
-                                 PanelWeights& weights) {
-    for (int b = 0; b < kNodes; ++b) {
-      const double cos_phi = std::cos(nodes[1][b]), sin_phi = std::sin(nodes[1][b]);
-      const double t_lo = t0(cos_phi, sin_phi), span = pi / 2 - t_lo;
-      const Vec3 meridian = cos_phi * kNormal + sin_phi * fr.u;
-      for (int a = 0; a < kNodes; ++a) {
-        const double t = t_lo + nodes[0][a] * span, cos_t = std::cos(t);
-        const int m = a * kNodes + b;
-        k_dirs[m] = cos_t * meridian + std::sin(t) * e;
-        weights[m] = cos_t * cos_t * cos_phi * span;
-      }
-    }
-  });
+  return integrate_rectangle(
+      model, fixed, varying, cuts, options,
+      [&](const std::array<std::span<const double>, 2>& nodes, PanelDirections& k_dirs, PanelWeights& weights) {
+        for (int b = 0; b < kNodes; ++b) {
+          const double cos_phi = std::cos(nodes[1][b]), sin_phi = std::sin(nodes[1][b]);
+          const double t_lo = t0(cos_phi, sin_phi), span = pi / 2 - t_lo;
+          const Vec3 meridian = cos_phi * kNormal + sin_phi * fr.u;
+          for (int a = 0; a < kNodes; ++a) {
+            const double t = t_lo + nodes[0][a] * span, cos_t = std::cos(t);
+            const int m = a * kNodes + b;
+            k_dirs[m] = cos_t * meridian + std::sin(t) * e;
+            weights[m] = cos_t * cos_t * cos_phi * span;
+          }
+        }
+      });
 }
 
 /// Whether the model said where its mass is: then the initial grid is placed there and trusted
@@ -453,7 +452,8 @@ Estimate double_diffuse(const Model& model, const CubatureOptions& options) {
       run_inner(dirs, values);
       for (std::size_t m = 0; m < dirs.size(); ++m) values[m] *= weight[m];
     };
-    out = adaptive_cubature<2>(integrand, {std::vector<double>{-pi / 2, 0.0, pi / 2}, std::vector<double>{-pi / 2, 0.0, pi / 2}}, outer);
+    out = adaptive_cubature<2>(
+        integrand, {std::vector<double>{-pi / 2, 0.0, pi / 2}, std::vector<double>{-pi / 2, 0.0, pi / 2}}, outer);
   }
   out.error += max_inner_error;
   out.evaluations += inner_evaluations;

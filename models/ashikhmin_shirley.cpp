@@ -72,18 +72,25 @@ std::optional<GlslF> AshikhminShirley::glsl_f() const {
   const std::string diffuse = decimal_literal(28.0 * rd_ / (23.0 * pi) * (1.0 - rs_));
   return GlslF{std::string(kGlslBelowHorizon) +
                    "  float xi = 0.5 * min(i.z, 1.0), xj = 0.5 * min(j.z, 1.0), yi = 1.0 - xi, yj = 1.0 - xj;\n"
-                   "  float d = " + diffuse + " * ((xi * (1.0 + yi * (1.0 + yi * (1.0 + yi * (1.0 + yi))))) *\n"
+                   "  float d = " +
+                   diffuse +
+                   " * ((xi * (1.0 + yi * (1.0 + yi * (1.0 + yi * (1.0 + yi))))) *\n"
                    "            (xj * (1.0 + yj * (1.0 + yj * (1.0 + yj * (1.0 + yj))))));\n"
                    "  vec3 s = i + j, e = i - j;\n"
                    "  float len = length(s), mu_max = max(i.z, j.z);\n"
                    "  if (!(len > 0.0) || !(mu_max > 0.0)) return d;\n"
                    "  float kh = 0.5 * len, x = clamp(dot(e, e) / (4.0 * (1.0 + kh)), 0.0, 1.0), x2 = x * x;\n"
-                   "  float F = " + decimal_literal(rs_) + " + " + decimal_literal(1.0 - rs_) + " * (x2 * x2 * x);\n"
+                   "  float F = " +
+                   decimal_literal(rs_) + " + " + decimal_literal(1.0 - rs_) +
+                   " * (x2 * x2 * x);\n"
                    "  float sxx = s.x * s.x, syy = s.y * s.y, sxy = sxx + syy;\n"
-                   "  float exponent = sxy > 0.0 ? (" + decimal_literal(nu_) + " * sxx + " + decimal_literal(nv_) +
+                   "  float exponent = sxy > 0.0 ? (" +
+                   decimal_literal(nu_) + " * sxx + " + decimal_literal(nv_) +
                    " * syy) / sxy : 0.0;\n"
                    "  float lobe = s.z > 0.0 ? gz_pow_pair(s.z / len, sxy / (len * (len + s.z)), exponent) : 0.0;\n"
-                   "  float spec = " + decimal_literal(norm_ / (8.0 * pi)) + " * lobe / (kh * mu_max) * F;\n"
+                   "  float spec = " +
+                   decimal_literal(norm_ / (8.0 * pi)) +
+                   " * lobe / (kh * mu_max) * F;\n"
                    "  return isinf(spec) || isnan(spec) ? d : d + spec;\n",
                {"gz_pow_pair"}};
 }
@@ -136,7 +143,8 @@ void register_ashikhmin_shirley_models(std::vector<ModelInfo>& c) {
        "anisotropic Phong: f = sqrt((nu+1)(nv+1))/(8 pi) (h.n)^(nu (h.x)^2 + nv (h.y)^2)/(1 - (h.n)^2) F(k.h) / "
        "((k.h) max(i.n, j.n)) + 28 rd/(23 pi) (1 - rs)(1 - (1 - i.n/2)^5)(1 - (1 - j.n/2)^5), F Schlick's with rs",
        "Ashikhmin & Shirley 2000, An Anisotropic Phong BRDF Model, Journal of Graphics Tools 5(2) 25-32",
-       {rd, rs,
+       {rd,
+        rs,
         {"nu", ParamType::real, 0.0, 10000.0, 100.0, "Phong-like exponent along the tangent (local x)"},
         {"nv", ParamType::real, 0.0, 10000.0, 100.0, "Phong-like exponent along the bitangent (local y)"}},
        {false, true, EnergyClass::plausible},

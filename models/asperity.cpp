@@ -24,8 +24,9 @@ std::optional<GlslF> Asperity::glsl_f() const {
   // both stand near the normal.
   return GlslF{std::string(kGlslBelowHorizon) +
                    "  float u = 0.5 * (dot(i.xy, i.xy) + dot(j.xy, j.xy) + (i.z - j.z) * (i.z - j.z));\n"
-                   "  return " + decimal_literal(std::numbers::inv_pi) + " * gz_pow_pair(u, i.z * j.z, " +
-                   decimal_literal(alpha_) + ");\n",
+                   "  return " +
+                   decimal_literal(std::numbers::inv_pi) + " * gz_pow_pair(u, i.z * j.z, " + decimal_literal(alpha_) +
+                   ");\n",
                {"gz_pow_pair"}};
 }
 
@@ -46,9 +47,7 @@ double g_alpha1_printed(double c, double mu_j) {
 
 // Corrected (docs/errata.md): g_a = (1/pi)[∫_lune (k·n) dk - (j·n) ∫_lune (k·n)^2 dk]
 //                                 = (1 + c)/2 - 2 (j·n)/(3 pi) (pi - arccos c + c sqrt(1 - c^2)).
-double g_alpha1(double c, double mu_j) {
-  return 0.5 * (1.0 + c) - 2.0 * mu_j / (3.0 * pi) * lune_moment_2(c);
-}
+double g_alpha1(double c, double mu_j) { return 0.5 * (1.0 + c) - 2.0 * mu_j / (3.0 * pi) * lune_moment_2(c); }
 
 double h_alpha1_printed(double mu_j) { return 1.0 - 2.0 * mu_j / 3.0; }
 

@@ -58,16 +58,14 @@ KpAngles kp_angles(const Vec3& i, const Vec3& j) {
 double g_alpha1_printed(const Vec3& i, const Vec3& j) {
   const auto [theta, eta, sin_zeta] = kp_angles(i, j);
   return 0.3 * (1.0 + std::cos(theta)) +
-         (std::cos(eta) - std::cos(eta + 2 * theta) + 2 * (pi - theta) * std::sin(eta) * sin_zeta) /
-             (5.0 * pi);
+         (std::cos(eta) - std::cos(eta + 2 * theta) + 2 * (pi - theta) * std::sin(eta) * sin_zeta) / (5.0 * pi);
 }
 
 // Corrected (docs/errata.md): the first bracket term also carries the factor sin zeta.
 double g_alpha1(const Vec3& i, const Vec3& j) {
   const auto [theta, eta, sin_zeta] = kp_angles(i, j);
   return 0.3 * (1.0 + std::cos(theta)) +
-         sin_zeta * (std::cos(eta) - std::cos(eta + 2 * theta) + 2 * (pi - theta) * std::sin(eta)) /
-             (5.0 * pi);
+         sin_zeta * (std::cos(eta) - std::cos(eta + 2 * theta) + 2 * (pi - theta) * std::sin(eta)) / (5.0 * pi);
 }
 
 double h_alpha1_printed(double mu_j) { return (3.0 + 2.0 * mu_j) / 5.0; }

@@ -8,9 +8,9 @@
 #include <utility>
 
 #include "models/classic_models.h"  // fresnel_complex, kGrazingCosFloor
-#include "util/error.h"
 #include "models/spec.h"
 #include "models/text_data.h"
+#include "util/error.h"
 #include "util/hash.h"
 
 namespace ganzfeld {
@@ -157,23 +157,28 @@ double FirstSurface::rho_fs_cos2(double theta_N, double cos_N) const noexcept {
 // ---------------------------------------------------------------------------------------------
 BeardMaxwell::BeardMaxwell(double n, double k, FirstSurface first_surface, double tau_deg, double omega_deg,
                            double rho_D, double rho_V)
-    : n_(n), k_(k), fs_(std::move(first_surface)), tau_deg_(tau_deg), omega_deg_(omega_deg),
-      tau_(tau_deg * kDeg), omega_(omega_deg * kDeg), rho_D_(rho_D), rho_V_(rho_V),
+    : n_(n),
+      k_(k),
+      fs_(std::move(first_surface)),
+      tau_deg_(tau_deg),
+      omega_deg_(omega_deg),
+      tau_(tau_deg * kDeg),
+      omega_(omega_deg * kDeg),
+      rho_D_(rho_D),
+      rho_V_(rho_V),
       R0_(fresnel_complex(1.0, n, k)) {}
 
 std::string BeardMaxwell::spec() const {
-  ModelSpec spec{"beard-maxwell", {{"n", n_}, {"k", k_}, {"tau", tau_deg_}, {"omega", omega_deg_},
-                                   {"rho_d", rho_D_}, {"rho_v", rho_V_}}};
+  ModelSpec spec{
+      "beard-maxwell",
+      {{"n", n_}, {"k", k_}, {"tau", tau_deg_}, {"omega", omega_deg_}, {"rho_d", rho_D_}, {"rho_v", rho_V_}}};
   if (fs_.is_table())  // the table replaces the analytic first surface's b and m
     spec.file = fs_.path();
-  else
-    spec.values.insert({{"b", fs_.B()}, {"m", fs_.m()}});
+  else spec.values.insert({{"b", fs_.B()}, {"m", fs_.m()}});
   return spec_text(spec);
 }
 
-double BeardMaxwell::fresnel_ratio(double cos_beta) const noexcept {
-  return fresnel_complex(cos_beta, n_, k_) / R0_;
-}
+double BeardMaxwell::fresnel_ratio(double cos_beta) const noexcept { return fresnel_complex(cos_beta, n_, k_) / R0_; }
 
 double BeardMaxwell::first_surface(const Vec3& i, const Vec3& j) const noexcept {
   if (i.z < 0.0 || j.z < 0.0) return 0.0;
@@ -206,24 +211,32 @@ std::optional<GlslF> BeardMaxwell::glsl_f() const {
   // As first_surface() + volumetric(): theta_N, beta and the Beckmann rho_fs cos^2 from s = i + j
   // (tan^2 theta_N = |s_xy|^2/s_z^2, no 1 - cos^2 cancellation near the peak).
   const double m2 = fs_.m() * fs_.m();
-  return GlslF{std::string(kGlslBelowHorizon) +
-                   "  float volumetric = " + decimal_literal(rho_D_) + " + " + decimal_literal(2.0 * rho_V_) +
-                   " / max(i.z + j.z, " + decimal_literal(kGrazingCosFloor) + ");\n"
+  return GlslF{std::string(kGlslBelowHorizon) + "  float volumetric = " + decimal_literal(rho_D_) + " + " +
+                   decimal_literal(2.0 * rho_V_) + " / max(i.z + j.z, " + decimal_literal(kGrazingCosFloor) +
+                   ");\n"
                    "  vec3 s = i + j;\n"
                    "  float len_s = length(s);\n"
                    "  if (!(len_s > 0.0) || !(s.z > 0.0)) return volumetric;\n"
                    "  float theta_N = gz_atan2(length(s.xy), s.z);\n"
                    "  float beta = gz_atan2(length(i - j), len_s);\n"
                    "  float c = s.z / len_s, c2 = c * c;\n"
-                   "  float q = " + decimal_literal(fs_.B() / (4.0 * pi * m2)) +
-                   " * exp(-dot(s.xy, s.xy) / (s.z * s.z * " + decimal_literal(m2) + ")) / (c2 * c2);\n"
+                   "  float q = " +
+                   decimal_literal(fs_.B() / (4.0 * pi * m2)) + " * exp(-dot(s.xy, s.xy) / (s.z * s.z * " +
+                   decimal_literal(m2) +
+                   ")) / (c2 * c2);\n"
                    "  if (!(q > 0.0)) return volumetric;\n"
-                   "  float mu = max(i.z, " + decimal_literal(kGrazingCosFloor) + ") * max(j.z, " +
-                   decimal_literal(kGrazingCosFloor) + ");\n"
-                   "  float x = theta_N * " + decimal_literal(1.0 / omega_) + ";\n"
-                   "  float SO = (1.0 + x * exp(-2.0 * beta * " + decimal_literal(1.0 / tau_) + ")) / (1.0 + x);\n"
-                   "  float v = gz_fresnel_complex(min(0.5 * len_s, 1.0), " + decimal_literal(n_) + ", " +
-                   decimal_literal(k_) + ") * " + decimal_literal(1.0 / R0_) + " * q / mu * SO;\n"
+                   "  float mu = max(i.z, " +
+                   decimal_literal(kGrazingCosFloor) + ") * max(j.z, " + decimal_literal(kGrazingCosFloor) +
+                   ");\n"
+                   "  float x = theta_N * " +
+                   decimal_literal(1.0 / omega_) +
+                   ";\n"
+                   "  float SO = (1.0 + x * exp(-2.0 * beta * " +
+                   decimal_literal(1.0 / tau_) +
+                   ")) / (1.0 + x);\n"
+                   "  float v = gz_fresnel_complex(min(0.5 * len_s, 1.0), " +
+                   decimal_literal(n_) + ", " + decimal_literal(k_) + ") * " + decimal_literal(1.0 / R0_) +
+                   " * q / mu * SO;\n"
                    "  return (isinf(v) || isnan(v) || !(v > 0.0) ? 0.0 : v) + volumetric;\n",
                {"gz_atan2", "gz_fresnel_complex"}};
 }

@@ -89,7 +89,7 @@ class FirstSurface {
   FirstSurface() = default;
   double B_ = 0.0, m_ = 1.0;
   std::string path_, digest_;
-  FirstSurfaceTable table_;  // theta_N converted to radians
+  FirstSurfaceTable table_;     // theta_N converted to radians
   std::vector<double> slopes_;  // d rho_fs/d theta_N at the nodes (monotone Hermite)
   double width_ = 0.0;
 };

@@ -57,15 +57,14 @@ double henyey_greenstein(double g, const PhaseAngle& a) noexcept {
   // peak, (1 - g)^2 + 2g (1 - c) for g >= 0 and (1 + g)^2 - 2g (1 + c) for g < 0, keeps its
   // relative precision where it is smallest (~(1 - |g|)^2 = 1e-4 at |g| = 0.99).
   if (!(std::abs(g) < 1.0)) return 0.0;
-  const double d = g >= 0.0 ? (1.0 - g) * (1.0 - g) + 2.0 * g * a.one_minus_cos
-                            : (1.0 + g) * (1.0 + g) - 2.0 * g * a.one_plus_cos;
+  const double d =
+      g >= 0.0 ? (1.0 - g) * (1.0 - g) + 2.0 * g * a.one_minus_cos : (1.0 + g) * (1.0 + g) - 2.0 * g * a.one_plus_cos;
   return (1.0 - g * g) / (d * std::sqrt(d));
 }
 
 double BlinnPhaseFunction::operator()(const PhaseAngle& a) const noexcept {
   switch (kind) {
-    case BlinnPhase::constant:
-      return 1.0;
+    case BlinnPhase::constant: return 1.0;
     case BlinnPhase::anisotropic:
       // Blinn's 1 + x cos alpha (its mean over the sphere is 1), written as (1 - |x|) + |x|(1 ± c)
       // so that its zero at x = ±1 is approached with full relative precision.
@@ -74,10 +73,8 @@ double BlinnPhaseFunction::operator()(const PhaseAngle& a) const noexcept {
       // Phase law of a large Lambertian sphere (Russell 1916; Blinn 1982); 8/(3pi) normalizes it
       // ((1/2) ∫ (sin a + (pi - a) cos a) sin a da = 3pi/8).
       return 8.0 / (3.0 * pi) * lambert_sphere_bracket(a);
-    case BlinnPhase::rayleigh:
-      return 0.75 * (1.0 + a.cos * a.cos);
-    case BlinnPhase::henyey_greenstein:
-      return henyey_greenstein(g, a);
+    case BlinnPhase::rayleigh: return 0.75 * (1.0 + a.cos * a.cos);
+    case BlinnPhase::henyey_greenstein: return henyey_greenstein(g, a);
     case BlinnPhase::two_term_hg:  // Blinn's linear combination (Saturn's rings)
       return m * henyey_greenstein(g, a) + (1.0 - m) * henyey_greenstein(g2, a);
   }
@@ -88,13 +85,14 @@ double BlinnPhaseFunction::operator()(const PhaseAngle& a) const noexcept {
 BlinnDusty::BlinnDusty(double w, double tau, BlinnPhaseFunction phase) : w_(w), tau_(tau), phase_(phase) {}
 
 std::string BlinnDusty::spec() const {
-  return spec_text({"blinn-dusty", {{"w", w_},
-                                 {"tau", tau_},
-                                 {"phase", static_cast<double>(phase_.kind)},
-                                 {"x", phase_.x},
-                                 {"g", phase_.g},
-                                 {"g2", phase_.g2},
-                                 {"m", phase_.m}}});
+  return spec_text({"blinn-dusty",
+                    {{"w", w_},
+                     {"tau", tau_},
+                     {"phase", static_cast<double>(phase_.kind)},
+                     {"x", phase_.x},
+                     {"g", phase_.g},
+                     {"g2", phase_.g2},
+                     {"m", phase_.m}}});
 }
 
 double BlinnDusty::f(const Vec3& i, const Vec3& j) const noexcept {
@@ -144,7 +142,9 @@ std::optional<GlslF> BlinnDusty::glsl_f() const {
   return GlslF{std::string(kGlslBelowHorizon) +
                    "  float mu_i = min(i.z, 1.0), mu_j = min(j.z, 1.0);\n"
                    "  float sum = mu_i + mu_j, prod = mu_i * mu_j;\n"
-                   "  float scattered = prod > 0.0 ? -gz_expm1(-" + decimal_literal(tau_) + " * (sum / prod)) : 1.0;\n"
+                   "  float scattered = prod > 0.0 ? -gz_expm1(-" +
+                   decimal_literal(tau_) +
+                   " * (sum / prod)) : 1.0;\n"
                    "  vec3 d = i - j, s = i + j;\n"
                    "  float one_minus_cos = clamp(0.5 * dot(d, d), 0.0, 2.0), one_plus_cos = clamp(0.5 * dot(s, s), "
                    "0.0, 2.0);\n"

@@ -35,7 +35,8 @@ std::optional<GlslF> Charlie::glsl_f() const {
                    "  float len2 = dot(s, s);\n"
                    "  float den = 4.0 * (i.z + j.z - i.z * j.z);\n"
                    "  if (!(len2 > 0.0) || !(den > 0.0)) return 0.0;\n"
-                   "  return " + decimal_literal((2.0 + 1.0 / alpha_) / (2.0 * std::numbers::pi)) +
+                   "  return " +
+                   decimal_literal((2.0 + 1.0 / alpha_) / (2.0 * std::numbers::pi)) +
                    " * gz_pow_pair(dot(s.xy, s.xy) / len2, s.z * s.z / len2, " + decimal_literal(0.5 / alpha_) +
                    ") / den;\n",
                {"gz_pow_pair"}};
@@ -58,8 +59,13 @@ void register_charlie_models(std::vector<ModelInfo>& c) {
                "V = 1/(4 (i.n + j.n - (i.n)(j.n))), no Fresnel",
                "Estevez & Kulla 2017, Production Friendly Microfacet Sheen BRDF; Neubelt & Pettineo 2013 "
                "(visibility); Filament, cloth model",
-               {{.name = "alpha", .type = ParamType::real, .min = 0.0, .max = 1.0, .default_value = 0.5,
-                 .meaning = "sheen roughness alpha (the exponent of sin theta_h is 1/alpha)", .min_exclusive = true}},
+               {{.name = "alpha",
+                 .type = ParamType::real,
+                 .min = 0.0,
+                 .max = 1.0,
+                 .default_value = 0.5,
+                 .meaning = "sheen roughness alpha (the exponent of sin theta_h is 1/alpha)",
+                 .min_exclusive = true}},
                {true, true, EnergyClass::not_plausible},
                {"charlie.norm"},
                [](const ParamValues& p) -> ModelPtr { return std::make_shared<Charlie>(p.at("alpha")); }});

@@ -3,17 +3,17 @@
 // docs/models.md.
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <complex>
+#include <limits>
 #include <numbers>
 
 #include <boost/math/quadrature/gauss_kronrod.hpp>
 
 #include "models/classic_models.h"
-#include "models/schlick.h"
-#include "util/error.h"
 #include "models/registry.h"
+#include "models/schlick.h"
 #include "models/spec.h"
+#include "util/error.h"
 
 namespace ganzfeld {
 
@@ -81,9 +81,11 @@ std::optional<GlslF> Phong::glsl_f() const {
   return GlslF{std::string(kGlslBelowHorizon) +
                    "  vec3 k = vec3(-i.x, -i.y, i.z), d = k - j;\n"
                    "  float t = dot(k, j);\n"
-                   "  float lobe = t > 0.0 ? min(t, 1.0) / (" + n + " * (0.5 * dot(d, d)) + t) : 0.0;\n"
-                   "  return " + decimal_literal(kd_ / pi) + " + " + decimal_literal(ks_) + " * lobe / max(i.z, " +
-                   floor + ");\n",
+                   "  float lobe = t > 0.0 ? min(t, 1.0) / (" +
+                   n +
+                   " * (0.5 * dot(d, d)) + t) : 0.0;\n"
+                   "  return " +
+                   decimal_literal(kd_ / pi) + " + " + decimal_literal(ks_) + " * lobe / max(i.z, " + floor + ");\n",
                {}};
 }
 
@@ -109,12 +111,9 @@ MassHints Phong::mass_hints(const Vec3& fixed, Varying varying) const {
   return hints.build();
 }
 
-PhongLewis::PhongLewis(double kd, double ks, double n)
-    : kd_(kd), ks_(ks), n_(n), C_((n + 2.0) / (2.0 * pi)) {}
+PhongLewis::PhongLewis(double kd, double ks, double n) : kd_(kd), ks_(ks), n_(n), C_((n + 2.0) / (2.0 * pi)) {}
 
-std::string PhongLewis::spec() const {
-  return spec_text({"phong-lewis", {{"kd", kd_}, {"ks", ks_}, {"n", n_}}});
-}
+std::string PhongLewis::spec() const { return spec_text({"phong-lewis", {{"kd", kd_}, {"ks", ks_}, {"n", n_}}}); }
 
 double PhongLewis::f(const Vec3& i, const Vec3& j) const noexcept {
   if (i.z < 0.0 || j.z < 0.0) return 0.0;
@@ -132,17 +131,14 @@ MassHints PhongLewis::mass_hints(const Vec3& fixed, Varying) const {
 }
 
 double blinn_phong_normalization(double n) {
-  const double bracket = 2.0 * (1.0 - std::exp2(-(n + 4.0) / 2.0)) / (n + 4.0) -
-                         (1.0 - std::exp2(-(n + 2.0) / 2.0)) / (n + 2.0);
+  const double bracket =
+      2.0 * (1.0 - std::exp2(-(n + 4.0) / 2.0)) / (n + 4.0) - (1.0 - std::exp2(-(n + 2.0) / 2.0)) / (n + 2.0);
   return 1.0 / (8.0 * pi * bracket);
 }
 
-BlinnPhong::BlinnPhong(double kd, double ks, double n)
-    : kd_(kd), ks_(ks), n_(n), C_(blinn_phong_normalization(n)) {}
+BlinnPhong::BlinnPhong(double kd, double ks, double n) : kd_(kd), ks_(ks), n_(n), C_(blinn_phong_normalization(n)) {}
 
-std::string BlinnPhong::spec() const {
-  return spec_text({"blinn-phong", {{"kd", kd_}, {"ks", ks_}, {"n", n_}}});
-}
+std::string BlinnPhong::spec() const { return spec_text({"blinn-phong", {{"kd", kd_}, {"ks", ks_}, {"n", n_}}}); }
 
 double BlinnPhong::f(const Vec3& i, const Vec3& j) const noexcept {
   if (i.z < 0.0 || j.z < 0.0) return 0.0;
@@ -156,10 +152,13 @@ std::optional<GlslF> BlinnPhong::glsl_f() const {
   return GlslF{std::string(kGlslBelowHorizon) +
                    "  vec3 s = i + j;\n"
                    "  float len = length(s);\n"
-                   "  if (!(len > 0.0)) return " + decimal_literal(kd_ / pi) + ";\n"
+                   "  if (!(len > 0.0)) return " +
+                   decimal_literal(kd_ / pi) +
+                   ";\n"
                    "  float y = dot(s.xy, s.xy) / (len * (len + s.z));\n"
-                   "  return " + decimal_literal(kd_ / pi) + " + " + decimal_literal(ks_ * C_) +
-                   " * gz_pow_pair(s.z / len, y, " + decimal_literal(n_) + ");\n",
+                   "  return " +
+                   decimal_literal(kd_ / pi) + " + " + decimal_literal(ks_ * C_) + " * gz_pow_pair(s.z / len, y, " +
+                   decimal_literal(n_) + ");\n",
                {"gz_pow_pair"}};
 }
 
@@ -186,8 +185,7 @@ CookTorrance::CookTorrance(FacetDistribution d, double kd, double ks, double m, 
     const auto integrand = [m](double delta) {
       return std::exp(-(delta / m) * (delta / m)) * std::cos(delta) * std::sin(delta);
     };
-    const double I = boost::math::quadrature::gauss_kronrod<double, 61>::integrate(
-        integrand, 0.0, pi / 2, 15, 1e-13);
+    const double I = boost::math::quadrature::gauss_kronrod<double, 61>::integrate(integrand, 0.0, pi / 2, 15, 1e-13);
     c_gauss_ = 1.0 / (2.0 * pi * I);
   }
 }
@@ -230,30 +228,33 @@ double CookTorrance::f(const Vec3& i, const Vec3& j) const noexcept {
 std::optional<GlslF> CookTorrance::glsl_f() const {
   // D as CookTorrance::D, with tan^2 delta = |s_xy|^2 / s_z^2 and delta = atan2(|s_xy|, s_z) taken
   // from s = i + j (no 1 - cos^2 cancellation near the peak); j.h = |s|/2 for unit i, j.
-  const std::string D =
-      d_ == FacetDistribution::beckmann
-          ? "  float c2 = nh * nh;\n"
-            "  float D = exp(-dot(s.xy, s.xy) / (s.z * s.z * " + decimal_literal(m_ * m_) + ")) / (" +
-                decimal_literal(pi * m_ * m_) + " * c2 * c2);\n"
-          : "  float delta = gz_atan2(length(s.xy), s.z);\n"
-            "  float D = " + decimal_literal(c_gauss_) + " * exp(-(delta * delta) * " +
-                decimal_literal(1.0 / (m_ * m_)) + ");\n";
+  const std::string D = d_ == FacetDistribution::beckmann
+                            ? "  float c2 = nh * nh;\n"
+                              "  float D = exp(-dot(s.xy, s.xy) / (s.z * s.z * " +
+                                  decimal_literal(m_ * m_) + ")) / (" + decimal_literal(pi * m_ * m_) + " * c2 * c2);\n"
+                            : "  float delta = gz_atan2(length(s.xy), s.z);\n"
+                              "  float D = " +
+                                  decimal_literal(c_gauss_) + " * exp(-(delta * delta) * " +
+                                  decimal_literal(1.0 / (m_ * m_)) + ");\n";
   const std::string diffuse = decimal_literal(kd_ / pi);
   return GlslF{std::string(kGlslBelowHorizon) +
                    "  vec3 s = i + j;\n"
                    "  float len = length(s);\n"
-                   "  if (!(len > 0.0)) return " + diffuse + ";\n"
+                   "  if (!(len > 0.0)) return " +
+                   diffuse +
+                   ";\n"
                    "  float nh = s.z / len, jh = 0.5 * len;\n"
                    "  float mu_max = max(i.z, j.z);\n"
-                   "  if (!(mu_max > 0.0) || !(jh > 0.0) || !(nh > 0.0)) return " + diffuse + ";\n"
+                   "  if (!(mu_max > 0.0) || !(jh > 0.0) || !(nh > 0.0)) return " +
+                   diffuse +
+                   ";\n"
                    "  float G_over = 2.0 * nh / jh / mu_max;\n"
                    "  float p = i.z * j.z;\n"
                    "  if (p > 0.0) G_over = min(G_over, 1.0 / p);\n" +
-                   D +
-                   "  float spec = gz_fresnel_complex(jh, " + decimal_literal(eta_) + ", " + decimal_literal(k_) +
+                   D + "  float spec = gz_fresnel_complex(jh, " + decimal_literal(eta_) + ", " + decimal_literal(k_) +
                    ") * D * G_over / 4.0;\n"
-                   "  return isinf(spec) || isnan(spec) ? " + diffuse + " : " + diffuse + " + " + decimal_literal(ks_) +
-                   " * spec;\n",
+                   "  return isinf(spec) || isnan(spec) ? " +
+                   diffuse + " : " + diffuse + " + " + decimal_literal(ks_) + " * spec;\n",
                {"gz_fresnel_complex", "gz_atan2"}};
 }
 
@@ -268,8 +269,8 @@ Ward::Ward(double rho_d, double rho_s, double alpha_x, double alpha_y, bool anis
 
 std::string Ward::spec() const {
   if (anisotropic_)
-    return spec_text({"ward-aniso", {{"rho_d", rho_d_}, {"rho_s", rho_s_}, {"alpha_x", alpha_x_},
-                                     {"alpha_y", alpha_y_}}});
+    return spec_text(
+        {"ward-aniso", {{"rho_d", rho_d_}, {"rho_s", rho_s_}, {"alpha_x", alpha_x_}, {"alpha_y", alpha_y_}}});
   return spec_text({"ward", {{"rho_d", rho_d_}, {"rho_s", rho_s_}, {"alpha", alpha_x_}}});
 }
 
@@ -289,14 +290,21 @@ std::optional<GlslF> Ward::glsl_f() const {
   const std::string diffuse = decimal_literal(rho_d_ / pi);
   return GlslF{std::string(kGlslBelowHorizon) +
                    "  vec3 h = i + j;\n"
-                   "  if (!(h.z > 0.0)) return " + diffuse + ";\n"
-                   "  float ex = h.x / (" + decimal_literal(alpha_x_) + " * h.z), ey = h.y / (" +
-                   decimal_literal(alpha_y_) + " * h.z);\n"
+                   "  if (!(h.z > 0.0)) return " +
+                   diffuse +
+                   ";\n"
+                   "  float ex = h.x / (" +
+                   decimal_literal(alpha_x_) + " * h.z), ey = h.y / (" + decimal_literal(alpha_y_) +
+                   " * h.z);\n"
                    "  float e = ex * ex + ey * ey;\n"
-                   "  if (!(e < 700.0)) return " + diffuse + ";\n"
-                   "  float root = sqrt(max(i.z * j.z, " + decimal_literal(kGrazingCosFloor * kGrazingCosFloor) +
+                   "  if (!(e < 700.0)) return " +
+                   diffuse +
+                   ";\n"
+                   "  float root = sqrt(max(i.z * j.z, " +
+                   decimal_literal(kGrazingCosFloor * kGrazingCosFloor) +
                    "));\n"
-                   "  return " + diffuse + " + " + decimal_literal(rho_s_ / (4.0 * pi * alpha_x_ * alpha_y_)) +
+                   "  return " +
+                   diffuse + " + " + decimal_literal(rho_s_ / (4.0 * pi * alpha_x_ * alpha_y_)) +
                    " * exp(-e) / root;\n",
                {}};
 }
@@ -330,8 +338,7 @@ double Ward::pdf_incident(const Vec3& j, const Vec3& i) const {
     const Vec3 h = glm::normalize(sum);
     const double ex = h.x / (alpha_x_ * h.z), ey = h.y / (alpha_y_ * h.z);
     const double e = ex * ex + ey * ey;
-    if (e < 700.0)
-      lobe = std::exp(-e) / (4.0 * pi * alpha_x_ * alpha_y_ * h.z * h.z * h.z * glm::dot(i, h));
+    if (e < 700.0) lobe = std::exp(-e) / (4.0 * pi * alpha_x_ * alpha_y_ * h.z * h.z * h.z * glm::dot(i, h));
   }
   return p_diffuse * i.z / pi + (1.0 - p_diffuse) * lobe;
 }
@@ -398,27 +405,34 @@ std::optional<GlslF> OrenNayar::glsl_f() const {
                    "  float sin_dphi = pxy > 0.0 ? (i.x * j.y - i.y * j.x) / pxy : 0.0;\n"
                    "  float one_minus_abs_cos = pxy > 0.0 ? sin_dphi * sin_dphi / (1.0 + abs(cos_dphi)) : 1.0;\n"
                    "  float two_beta_pi = 2.0 * beta / 3.1415926536, u = 2.0 * e_b / 3.1415926536;\n"
-                   "  float C2 = " + decimal_literal(0.45 * s2 / (s2 + 0.09)) +
+                   "  float C2 = " +
+                   decimal_literal(0.45 * s2 / (s2 + 0.09)) +
                    " * (cos_dphi < 0.0 ? u * (3.0 - 3.0 * u + u * u) - mu_a * mu_a / (1.0 + s_a) : s_a);\n"
                    "  float q = 4.0 * alpha * beta / 9.8696044011;\n"
-                   "  float C3 = " + decimal_literal(0.125 * s2 / (s2 + 0.09)) + " * q * q;\n"
-                   "  float tan_beta = s_b / max(mu_b, " + decimal_literal(kGrazingCosFloor) + ");\n"
+                   "  float C3 = " +
+                   decimal_literal(0.125 * s2 / (s2 + 0.09)) +
+                   " * q * q;\n"
+                   "  float tan_beta = s_b / max(mu_b, " +
+                   decimal_literal(kGrazingCosFloor) +
+                   ");\n"
                    "  float cos_E = s_a * s_b - mu_a * mu_b, sin_E = mu_a * s_b + s_a * mu_b;\n"
                    "  float cos_h = sqrt(max(0.5 * (1.0 + cos_E), 0.0));\n"
                    "  float sin_h = cos_h > 0.0 ? 0.5 * sin_E / cos_h : 1.0;\n"
-                   "  float tan_half = cos_h / max(sin_h, " + decimal_literal(kGrazingCosFloor) + ");\n"
-                   "  float L1 = " + decimal_literal(rho_ / pi) + " * (" +
-                   decimal_literal(1.0 - 0.5 * s2 / (s2 + 0.33)) +
+                   "  float tan_half = cos_h / max(sin_h, " +
+                   decimal_literal(kGrazingCosFloor) +
+                   ");\n"
+                   "  float L1 = " +
+                   decimal_literal(rho_ / pi) + " * (" + decimal_literal(1.0 - 0.5 * s2 / (s2 + 0.33)) +
                    " + cos_dphi * C2 * tan_beta + one_minus_abs_cos * C3 * tan_half);\n"
-                   "  float L2 = " + decimal_literal(0.17 * rho_ * rho_ / pi * s2 / (s2 + 0.13)) +
+                   "  float L2 = " +
+                   decimal_literal(0.17 * rho_ * rho_ / pi * s2 / (s2 + 0.13)) +
                    " * (1.0 - cos_dphi * two_beta_pi * two_beta_pi);\n"
                    "  return L1 + L2;\n",
                {"gz_atan2"}};
 }
 
 // ---------------------------------------------------------------------------------------------
-Lafortune::Lafortune(double kd, double C_x, double C_y, double C_z, double n)
-    : kd_(kd), lobes_{{C_x, C_y, C_z, n}} {}
+Lafortune::Lafortune(double kd, double C_x, double C_y, double C_z, double n) : kd_(kd), lobes_{{C_x, C_y, C_z, n}} {}
 
 Lafortune::Lafortune(double kd, std::vector<Lobe> lobes, std::string spec)
     : kd_(kd), lobes_(std::move(lobes)), preset_(std::move(spec)) {}
@@ -476,7 +490,8 @@ ModelPtr lafortune_paint(int channel) {
       {{0.670982, 0.586674, 7.472717}, {-0.477976, 0.227295, 3.677653}, {-1.026588, 0.687715, 57.489181}}};
   std::vector<Lafortune::Lobe> l;
   for (const auto& c : lobes[channel]) l.push_back({c[0], c[0], c[1], c[2]});
-  return std::make_shared<Lafortune>(kd[channel], std::move(l), spec_text({"lafortune-paint", {{"channel", static_cast<double>(channel)}}}));
+  return std::make_shared<Lafortune>(kd[channel], std::move(l),
+                                     spec_text({"lafortune-paint", {{"channel", static_cast<double>(channel)}}}));
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -487,8 +502,8 @@ std::string Hapke::spec() const {
 }
 
 double Hapke::B(double tan_alpha, double cos_alpha, double g) noexcept {
-  if (!(cos_alpha > 0.0)) return 1.0;  // alpha >= pi/2 (the limit from below is 1 too)
-  if (!(tan_alpha > 0.0)) return 2.0;   // alpha = 0: the full opposition surge
+  if (!(cos_alpha > 0.0)) return 1.0;                      // alpha >= pi/2 (the limit from below is 1 too)
+  if (!(tan_alpha > 0.0)) return 2.0;                      // alpha = 0: the full opposition surge
   const double one_minus_e = -std::expm1(-g / tan_alpha);  // accurate as tan alpha -> inf
   return 2.0 - tan_alpha / (2.0 * g) * one_minus_e * (2.0 + one_minus_e);
 }
@@ -521,11 +536,16 @@ std::optional<GlslF> Hapke::glsl_f() const {
                    "    if (!(tan_a > 0.0)) {\n"
                    "      B = 2.0;\n"
                    "    } else {\n"
-                   "      float one_minus_e = -gz_expm1(-" + decimal_literal(g_) + " / tan_a);\n"
-                   "      B = 2.0 - tan_a * " + decimal_literal(0.5 / g_) + " * one_minus_e * (2.0 + one_minus_e);\n"
+                   "      float one_minus_e = -gz_expm1(-" +
+                   decimal_literal(g_) +
+                   " / tan_a);\n"
+                   "      B = 2.0 - tan_a * " +
+                   decimal_literal(0.5 / g_) +
+                   " * one_minus_e * (2.0 + one_minus_e);\n"
                    "    }\n"
                    "  }\n"
-                   "  return " + decimal_literal(rho_ / pi) + " * " + S + " * B / max(i.z + j.z, " +
+                   "  return " +
+                   decimal_literal(rho_ / pi) + " * " + S + " * B / max(i.z + j.z, " +
                    decimal_literal(kGrazingCosFloor) + ");\n",
                {"gz_lambert_sphere_bracket", "gz_expm1"}};
 }
@@ -540,8 +560,8 @@ MassHints Hapke::mass_hints(const Vec3& fixed, Varying) const {
 // ---------------------------------------------------------------------------------------------
 void require_sum_at_most_one(const std::string& model, const char* a, double va, const char* b, double vb) {
   if (va + vb > 1.0)
-    throw InputError(model + ": " + a + "=" + format_number(va) + " + " + b + "=" + format_number(vb) +
-                     " = " + format_number(va + vb) + " exceeds 1; allowed: " + a + " + " + b + " <= 1");
+    throw InputError(model + ": " + a + "=" + format_number(va) + " + " + b + "=" + format_number(vb) + " = " +
+                     format_number(va + vb) + " exceeds 1; allowed: " + a + " + " + b + " <= 1");
 }
 
 ParamInfo kd_param(double def) {
@@ -550,9 +570,7 @@ ParamInfo kd_param(double def) {
 ParamInfo ks_param(double def) {
   return {"ks", ParamType::real, 0.0, 1.0, def, "specular reflectance (weight of the lobe); kd + ks <= 1"};
 }
-ParamInfo n_param(double def, const char* meaning) {
-  return {"n", ParamType::real, 1.0, 10000.0, def, meaning};
-}
+ParamInfo n_param(double def, const char* meaning) { return {"n", ParamType::real, 1.0, 10000.0, def, meaning}; }
 
 namespace {
 
@@ -582,7 +600,8 @@ ModelInfo cook_torrance_info(FacetDistribution d) {
               (beckmann ? "Beckmann exp(-tan^2 d/m^2)/(4 m^2 cos^4 d)" : "Gaussian c exp(-(d/m)^2)") +
               ", V-groove G, exact Fresnel for eta + ik",
           std::string("Cook & Torrance 1981, SIGGRAPH '81; ") + kWalker + ", Cook-Torrance",
-          {kd_param(0.3), ks_param(0.7),
+          {kd_param(0.3),
+           ks_param(0.7),
            {"m", ParamType::real, 0.01, 1.0, 0.15, "RMS slope of the microfacets (roughness)"},
            {"eta", ParamType::real, 0.01, 10.0, 1.6, "real part of the complex index of refraction"},
            {"k", ParamType::real, 0.0, 20.0, 0.2, "imaginary part (extinction coefficient)"}},
@@ -642,21 +661,19 @@ void register_classic_models(std::vector<ModelInfo>& c) {
                {},
                [](const ParamValues& p) -> ModelPtr {
                  require_sum_at_most_one("ward-aniso", "rho_d", p.at("rho_d"), "rho_s", p.at("rho_s"));
-                 return std::make_shared<Ward>(p.at("rho_d"), p.at("rho_s"), p.at("alpha_x"), p.at("alpha_y"),
-                                               true);
+                 return std::make_shared<Ward>(p.at("rho_d"), p.at("rho_s"), p.at("alpha_x"), p.at("alpha_y"), true);
                }});
-  c.push_back({"oren-nayar",
-               "rough Lambertian facets (V-cavities), full model with interreflections (L1 + L2)",
-               std::string("Oren & Nayar 1994, SIGGRAPH '94, eqs. 8 and 11; ") + kWalker +
-                   ", Oren-Nayar (eqs. III.25-26, app. D)",
-               {{"sigma", ParamType::real, 0.0, 0.6, 0.3,
-                 "RMS facet slope angle in radians (<= 0.6: beyond ~0.68 the model goes negative)"},
-                {"rho", ParamType::real, 0.0, 1.0, 0.8, "albedo of the Lambertian facets"}},
-               {true, true, EnergyClass::not_plausible},
-               {},
-               [](const ParamValues& p) -> ModelPtr {
-                 return std::make_shared<OrenNayar>(p.at("sigma"), p.at("rho"));
-               }});
+  c.push_back(
+      {"oren-nayar",
+       "rough Lambertian facets (V-cavities), full model with interreflections (L1 + L2)",
+       std::string("Oren & Nayar 1994, SIGGRAPH '94, eqs. 8 and 11; ") + kWalker +
+           ", Oren-Nayar (eqs. III.25-26, app. D)",
+       {{"sigma", ParamType::real, 0.0, 0.6, 0.3,
+         "RMS facet slope angle in radians (<= 0.6: beyond ~0.68 the model goes negative)"},
+        {"rho", ParamType::real, 0.0, 1.0, 0.8, "albedo of the Lambertian facets"}},
+       {true, true, EnergyClass::not_plausible},
+       {},
+       [](const ParamValues& p) -> ModelPtr { return std::make_shared<OrenNayar>(p.at("sigma"), p.at("rho")); }});
   c.push_back({"lafortune",
                "one generalized cosine lobe + Lambert, f = kd/pi + max(0, Cx ix jx + Cy iy jy + Cz iz jz)^n",
                std::string("Lafortune et al. 1997, SIGGRAPH '97, eq. 4; ") + kWalker + ", Lafortune (eq. III.32)",
@@ -684,8 +701,7 @@ void register_classic_models(std::vector<ModelInfo>& c) {
                [](const ParamValues& p) -> ModelPtr { return lafortune_paint(static_cast<int>(p.at("channel"))); }});
   c.push_back({"hapke",
                "Hapke/Lommel-Seeliger lunar law, f = rho S(a) B(a, g)/(pi (i.n + j.n)), a = phase angle",
-               std::string("Hapke 1963, J. Geophys. Res. 68; ") + kWalker +
-                   ", Hapke/Lommel-Seeliger (eqs. III.27-29)",
+               std::string("Hapke 1963, J. Geophys. Res. 68; ") + kWalker + ", Hapke/Lommel-Seeliger (eqs. III.27-29)",
                {{"rho", ParamType::real, 0.0, 1.0, 0.5, "single-scattering reflectance (scale)"},
                 {"g", ParamType::real, 0.01, 10.0, 0.6, "compaction g = 2y/tau (opposition-surge width)"},
                 {"phase", ParamType::integer, 0.0, 2.0, 0.0, "phase law S: 0 isotropic, 1 forward, 2 back"}},

@@ -16,10 +16,10 @@
 #include <limits>
 #include <numbers>
 
-#include "util/error.h"
 #include "models/hvd.h"
 #include "models/registry.h"
 #include "models/spec.h"
+#include "util/error.h"
 
 namespace ganzfeld {
 
@@ -94,10 +94,8 @@ Ggx::Ggx(ggx::Alpha alpha, double f0, ggx::G2Form g2) : alpha_(alpha), f0_(f0), 
 
 ParamValues Ggx::parameters() const {
   ParamValues values{{"f0", f0_}, {"g2", static_cast<double>(g2_)}};
-  if (alpha_.x == alpha_.y)
-    values["alpha"] = alpha_.x;
-  else
-    values.insert({{"alpha_x", alpha_.x}, {"alpha_y", alpha_.y}});
+  if (alpha_.x == alpha_.y) values["alpha"] = alpha_.x;
+  else values.insert({{"alpha_x", alpha_.x}, {"alpha_y", alpha_.y}});
   return values;
 }
 
@@ -119,21 +117,30 @@ double Ggx::f(const Vec3& i, const Vec3& j) const noexcept {
 std::string Ggx::glsl_single_scattering() const {
   // D(s/|s|) = |s|^4 / (pi ax ay Q^2), Q = (s_x/ax)^2 + (s_y/ay)^2 + s_z^2 (ggx::D of the unit m,
   // multiplied out); i.h = |s|/2; the visibility as ggx::visibility.
-  const std::string den = g2_ == ggx::G2Form::height_correlated ? "2.0 * (j.z * r_i + i.z * r_j)"
-                                                                 : "(i.z + r_i) * (j.z + r_j)";
+  const std::string den =
+      g2_ == ggx::G2Form::height_correlated ? "2.0 * (j.z * r_i + i.z * r_j)" : "(i.z + r_i) * (j.z + r_j)";
   return "  float ggx_value = 0.0;\n"
          "  vec3 s = i + j;\n"
          "  float len = length(s);\n"
          "  if (len > 0.0) {\n"
-         "    float F = gz_schlick(0.5 * len, " + decimal_literal(f0_) + ", 1.0);\n"
+         "    float F = gz_schlick(0.5 * len, " +
+         decimal_literal(f0_) +
+         ", 1.0);\n"
          "    vec3 m = s / len;\n"
-         "    float x = m.x * " + decimal_literal(1.0 / alpha_.x) + ", y = m.y * " + decimal_literal(1.0 / alpha_.y) +
+         "    float x = m.x * " +
+         decimal_literal(1.0 / alpha_.x) + ", y = m.y * " + decimal_literal(1.0 / alpha_.y) +
          ";\n"
          "    float q = x * x + y * y + m.z * m.z;\n"
-         "    float D = m.z > 0.0 ? " + decimal_literal(1.0 / (pi * alpha_.x * alpha_.y)) + " / (q * q) : 0.0;\n"
-         "    vec3 a = vec3(" + decimal_literal(alpha_.x) + ", " + decimal_literal(alpha_.y) + ", 1.0);\n"
+         "    float D = m.z > 0.0 ? " +
+         decimal_literal(1.0 / (pi * alpha_.x * alpha_.y)) +
+         " / (q * q) : 0.0;\n"
+         "    vec3 a = vec3(" +
+         decimal_literal(alpha_.x) + ", " + decimal_literal(alpha_.y) +
+         ", 1.0);\n"
          "    float r_i = length(a * i), r_j = length(a * j);\n"
-         "    float den = " + den + ";\n"
+         "    float den = " +
+         den +
+         ";\n"
          "    ggx_value = den > 0.0 ? F * D / den : 0.0;\n"
          "    if (isnan(ggx_value)) ggx_value = 0.0;\n"
          "    ggx_value = min(ggx_value, 3.40282347e38);\n"
@@ -212,7 +219,8 @@ ggx::Alpha alpha_from(const ParamValues& v, double default_alpha) {
   if (keys.size() > (x && y ? 2u : 1u)) {
     std::string list;
     for (const auto& k : keys) list += (list.empty() ? "" : ", ") + k;
-    throw InputError("ggx: " + list + " are alternatives; allowed: exactly one of alpha, roughness, alpha_x with alpha_y");
+    throw InputError("ggx: " + list +
+                     " are alternatives; allowed: exactly one of alpha, roughness, alpha_x with alpha_y");
   }
   if (x != y)
     throw InputError("ggx: " + keys.front() + " needs " + (x ? "alpha_y" : "alpha_x") +
@@ -229,8 +237,15 @@ ggx::Alpha alpha_from(const ParamValues& v, double default_alpha) {
 }
 
 ParamInfo alpha_param(const char* name, const std::string& meaning, const char* alternative_of = "") {
-  return {.name = name, .type = ParamType::real, .min = 0.0, .max = 1.0, .default_value = 0.5,
-          .meaning = meaning, .optional = true, .min_exclusive = true, .alternative_of = alternative_of};
+  return {.name = name,
+          .type = ParamType::real,
+          .min = 0.0,
+          .max = 1.0,
+          .default_value = 0.5,
+          .meaning = meaning,
+          .optional = true,
+          .min_exclusive = true,
+          .alternative_of = alternative_of};
 }
 
 }  // namespace
@@ -242,11 +257,16 @@ void register_ggx_models(std::vector<ModelInfo>& c) {
        "GGX (Trowbridge-Reitz) microfacets with Smith masking-shadowing, f = F D G2/(4 (i.n)(j.n)), Schlick F",
        kSources,
        {alpha_param("alpha", "GGX roughness alpha (0.5 when neither alpha, roughness nor alpha_x/alpha_y is given)"),
-        alpha_param("roughness", "perceptual roughness R, alpha = R^2 (engines' convention); instead of alpha", "alpha"),
+        alpha_param("roughness", "perceptual roughness R, alpha = R^2 (engines' convention); instead of alpha",
+                    "alpha"),
         alpha_param("alpha_x", "alpha along the tangent (local x); with alpha_y, instead of alpha", "alpha"),
         alpha_param("alpha_y", "alpha along the bitangent (local y); with alpha_x", "alpha"),
         {"f0", ParamType::real, 0.0, 1.0, 1.0, "Schlick reflectance at normal incidence (1: F = 1)"},
-        {.name = "g2", .type = ParamType::choice, .min = 0.0, .max = 1.0, .default_value = 0.0,
+        {.name = "g2",
+         .type = ParamType::choice,
+         .min = 0.0,
+         .max = 1.0,
+         .default_value = 0.0,
          .meaning = "Smith masking-shadowing: 1/(1 + L(i) + L(j)) or G1(i) G1(j)",
          .choices = {kG2Names[0], kG2Names[1]}}},
        {true, true, EnergyClass::plausible},
@@ -258,8 +278,9 @@ void register_ggx_models(std::vector<ModelInfo>& c) {
   // ggx-ms: the same parameters but isotropic only (its E(mu) table is over mu alone).
   ModelInfo ms = c.back();
   ms.name = "ggx-ms";
-  ms.summary = "GGX plus Kulla-Conty multiple-scattering compensation, f = f_ggx + F_ms (1 - E(i.n))(1 - E(j.n)) / "
-               "(pi (1 - E_avg)); E from ganzfeld's own table (models/ggx_ms.h)";
+  ms.summary =
+      "GGX plus Kulla-Conty multiple-scattering compensation, f = f_ggx + F_ms (1 - E(i.n))(1 - E(j.n)) / "
+      "(pi (1 - E_avg)); E from ganzfeld's own table (models/ggx_ms.h)";
   ms.source = std::string(kSources) + "; Kulla & Conty 2017, Revisiting Physically Based Shading at Imageworks";
   std::erase_if(ms.parameters, [](const ParamInfo& p) { return p.name == "alpha_x" || p.name == "alpha_y"; });
   ms.closed_forms = {};

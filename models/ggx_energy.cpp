@@ -102,8 +102,8 @@ double ggx_albedo_rule(double mu, double alpha, double f0, bool separable, int l
     const double q = a2 * c * c + s * s;
     const double D = a2 / (pi * q * q);  // Walter eq. 33 with 1 + (α² − 1) cos² = α² cos² + sin²
     const double lambda_o = lambda(o_z, alpha);
-    const double G2_over_mu = separable ? 1.0 / ((mu + mu_lambda_v) * (1.0 + lambda_o))
-                                        : 1.0 / (mu * (1.0 + lambda_o) + mu_lambda_v);
+    const double G2_over_mu =
+        separable ? 1.0 / ((mu + mu_lambda_v) * (1.0 + lambda_o)) : 1.0 / (mu * (1.0 + lambda_o) + mu_lambda_v);
     const double F = f0 + (1.0 - f0) * std::pow(1.0 - vh, 5);
     // f cos θ_o 4 (v·h) = F D G2/(4 μ o_z) · o_z · 4 (v·h).
     return F * D * G2_over_mu * vh;

@@ -122,9 +122,7 @@ GgxMs::GgxMs(double alpha, double f0, ggx::G2Form g2)
   f_ms_scale_ = E_avg < 1.0 ? F_ms / (pi * (1.0 - E_avg)) : 0.0;
 }
 
-std::string GgxMs::spec() const {
-  return spec_text({"ggx-ms", ggx_.parameters()});
-}
+std::string GgxMs::spec() const { return spec_text({"ggx-ms", ggx_.parameters()}); }
 
 double GgxMs::f(const Vec3& i, const Vec3& j) const noexcept {
   if (i.z < 0.0 || j.z < 0.0) return 0.0;
@@ -139,26 +137,33 @@ std::optional<GlslF> GgxMs::glsl_f() const {
   const int n = static_cast<int>(E.size()) - 1;
   std::string nodes;
   for (double e : E) nodes += (nodes.empty() ? "" : ", ") + decimal_literal(1.0 - e);
-  return GlslF{std::string(kGlslBelowHorizon) + ggx_.glsl_single_scattering() +
-                   "  const float E[" + std::to_string(n + 1) + "] = float[" + std::to_string(n + 1) + "](" + nodes +
+  return GlslF{std::string(kGlslBelowHorizon) + ggx_.glsl_single_scattering() + "  const float E[" +
+                   std::to_string(n + 1) + "] = float[" + std::to_string(n + 1) + "](" + nodes +
                    ");\n"
                    "  float one_minus_E[2];\n"
                    "  for (int q = 0; q < 2; ++q) {\n"
-                   "    float u = sqrt(sqrt(clamp(q == 0 ? i.z : j.z, 0.0, 1.0))) * " + std::to_string(n) + ".0;\n"
-                   "    int k = min(int(u), " + std::to_string(n - 1) + ");\n"
+                   "    float u = sqrt(sqrt(clamp(q == 0 ? i.z : j.z, 0.0, 1.0))) * " +
+                   std::to_string(n) +
+                   ".0;\n"
+                   "    int k = min(int(u), " +
+                   std::to_string(n - 1) +
+                   ");\n"
                    "    float t = u - float(k), t2 = t * t, t3 = t2 * t;\n"
                    "    float p[4];\n"
                    "    for (int c = 0; c < 4; ++c) {\n"
                    "      int m = k - 1 + c;\n"
                    "      p[c] = m < 0 ? 3.0 * E[0] - 3.0 * E[1] + E[2]\n"
-                   "           : m > " + std::to_string(n) + " ? 3.0 * E[" + std::to_string(n) + "] - 3.0 * E[" +
-                   std::to_string(n - 1) + "] + E[" + std::to_string(n - 2) + "] : E[m];\n"
+                   "           : m > " +
+                   std::to_string(n) + " ? 3.0 * E[" + std::to_string(n) + "] - 3.0 * E[" + std::to_string(n - 1) +
+                   "] + E[" + std::to_string(n - 2) +
+                   "] : E[m];\n"
                    "    }\n"
                    "    float e = 0.5 * ((-t3 + 2.0 * t2 - t) * p[0] + (3.0 * t3 - 5.0 * t2 + 2.0) * p[1]\n"
                    "                     + (-3.0 * t3 + 4.0 * t2 + t) * p[2] + (t3 - t2) * p[3]);\n"
                    "    one_minus_E[q] = e;\n"
                    "  }\n"
-                   "  return ggx_value + " + decimal_literal(f_ms_scale_) + " * one_minus_E[0] * one_minus_E[1];\n",
+                   "  return ggx_value + " +
+                   decimal_literal(f_ms_scale_) + " * one_minus_E[0] * one_minus_E[1];\n",
                {"gz_schlick"}};
 }
 

@@ -20,11 +20,11 @@ using std::numbers::pi;
 namespace {
 
 // Boost policy that never throws (f is noexcept); errors give NaN/0, handled by the callers.
-using NoThrow = boost::math::policies::policy<
-    boost::math::policies::domain_error<boost::math::policies::errno_on_error>,
-    boost::math::policies::pole_error<boost::math::policies::errno_on_error>,
-    boost::math::policies::overflow_error<boost::math::policies::errno_on_error>,
-    boost::math::policies::evaluation_error<boost::math::policies::errno_on_error>>;
+using NoThrow =
+    boost::math::policies::policy<boost::math::policies::domain_error<boost::math::policies::errno_on_error>,
+                                  boost::math::policies::pole_error<boost::math::policies::errno_on_error>,
+                                  boost::math::policies::overflow_error<boost::math::policies::errno_on_error>,
+                                  boost::math::policies::evaluation_error<boost::math::policies::errno_on_error>>;
 
 /// Below this an absolute tail is irrelevant whatever the partial sum (smallest normal double).
 constexpr double kTiny = std::numeric_limits<double>::min();
@@ -120,7 +120,8 @@ double he_z0_over_sigma0(double f0) noexcept {
   for (int it = 0; it < 200; ++it) {
     const double psi = std::log(x) + 0.5 * x * x - L;
     if (psi == 0.0) return x;
-    if (psi > 0.0) hi = x; else lo = x;
+    if (psi > 0.0) hi = x;
+    else lo = x;
     double next = x - psi / (1.0 / x + x);
     if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);  // Newton left the bracket: bisect
     if (std::abs(next - x) <= 2.0 * std::numeric_limits<double>::epsilon() * x) return next;
@@ -131,13 +132,18 @@ double he_z0_over_sigma0(double f0) noexcept {
 
 // ---------------------------------------------------------------------------------------------
 HeTorrance::HeTorrance(double sigma0, double tau, double lambda, double eta, double k, double a)
-    : sigma0_(sigma0), tau_(tau), lambda_(lambda), eta_(eta), k_(k), a_(a),
+    : sigma0_(sigma0),
+      tau_(tau),
+      lambda_(lambda),
+      eta_(eta),
+      k_(k),
+      a_(a),
       prefactor_(pi * pi * tau * tau / (4.0 * lambda * lambda)),
       c_scale_((pi * tau / lambda) * (pi * tau / lambda)) {}
 
 std::string HeTorrance::spec() const {
-  return spec_text({"he-torrance", {{"sigma0", sigma0_}, {"tau", tau_}, {"lambda", lambda_},
-                                    {"eta", eta_}, {"k", k_}, {"a", a_}}});
+  return spec_text(
+      {"he-torrance", {{"sigma0", sigma0_}, {"tau", tau_}, {"lambda", lambda_}, {"eta", eta_}, {"k", k_}, {"a", a_}}});
 }
 
 double HeTorrance::shadowing_over_cos(double mu, double sin_theta) const noexcept {
@@ -175,7 +181,7 @@ double HeTorrance::sigma_eff(double mu_i, double sin_i, double mu_r, double sin_
   const double f0 = (K(mu_i, sin_i) + K(mu_r, sin_r)) / std::sqrt(8.0 * pi);  // eq. 81 with x = z0/sigma0
   if (std::isinf(f0)) return 0.0;                                             // grazing: the limit
   const double x = he_z0_over_sigma0(f0);
-  return x > 1e150 ? sigma0_ / x : sigma0_ / std::sqrt(1.0 + x * x);          // eq. 80
+  return x > 1e150 ? sigma0_ / x : sigma0_ / std::sqrt(1.0 + x * x);  // eq. 80
 }
 
 double HeTorrance::effective_roughness(double cos_i, double cos_r) const noexcept {
@@ -207,8 +213,8 @@ double HeTorrance::directional_diffuse(const Vec3& i, const Vec3& j) const noexc
   if (!(sigma > 0.0)) return 0.0;
   const double kappa = 2.0 * pi * sigma / lambda_;
   const double sum_mu = mu_i + mu_j;
-  const double g = (kappa * sum_mu) * (kappa * sum_mu);           // eq. 79
-  const double c = c_scale_ * (v.x * v.x + v.y * v.y);             // v_xy^2 tau^2/4, v = (2 pi/lambda)(i + j)
+  const double g = (kappa * sum_mu) * (kappa * sum_mu);  // eq. 79
+  const double c = c_scale_ * (v.x * v.x + v.y * v.y);   // v_xy^2 tau^2/4, v = (2 pi/lambda)(i + j)
   // D / (mu_i + mu_j)^2 = prefactor kappa^2 T(g, c)  (eq. 78, g/(mu_i + mu_j)^2 = kappa^2);
   // G (mu_i + mu_j)^2 = (v.v)^2                        (eq. 76, brackets = |k_r x k_i|^4);
   // S / (mu_i mu_j) = (S_i/mu_i)(S_j/mu_j)             (eqs. 24-25).
@@ -232,29 +238,43 @@ std::optional<GlslF> HeTorrance::glsl_f() const {
   // As directional_diffuse() + a/pi: the effective roughness of eqs. 80-83 (0 when a direction
   // grazes: K is infinite there), g of eq. 79, the series of eq. 78 over g, G (mu_i + mu_j)^2 =
   // |i + j|^4, the shadowing over the cosines, Fresnel at the bisector.
-  return GlslF{std::string(kGlslBelowHorizon) +
-                   "  float diffuse = " + diffuse + ";\n"
+  return GlslF{std::string(kGlslBelowHorizon) + "  float diffuse = " + diffuse +
+                   ";\n"
                    "  float mu_i = min(i.z, 1.0), mu_j = min(j.z, 1.0);\n"
                    "  float sin_i = length(i.xy), sin_j = length(j.xy);\n"
                    "  vec3 v = i + j;\n"
                    "  float vv = dot(v, v);\n"
                    "  if (!(vv > 0.0)) return diffuse;\n"
                    "  if ((!(mu_i > 0.0) && sin_i > 0.0) || (!(mu_j > 0.0) && sin_j > 0.0)) return diffuse;\n"
-                   "  float f0 = (gz_he_K(mu_i, sin_i, " + tau + ", " + sigma0 + ") + gz_he_K(mu_j, sin_j, " + tau + ", " +
-                   sigma0 + ")) * " + decimal_literal(1.0 / std::sqrt(8.0 * pi)) + ";\n"
+                   "  float f0 = (gz_he_K(mu_i, sin_i, " +
+                   tau + ", " + sigma0 + ") + gz_he_K(mu_j, sin_j, " + tau + ", " + sigma0 + ")) * " +
+                   decimal_literal(1.0 / std::sqrt(8.0 * pi)) +
+                   ";\n"
                    "  if (isinf(f0)) return diffuse;\n"
                    "  float x = gz_he_z0_over_sigma0(f0);\n"
-                   "  float sigma = x > 1e18 ? " + sigma0 + " / x : " + sigma0 + " / sqrt(1.0 + x * x);\n"
+                   "  float sigma = x > 1e18 ? " +
+                   sigma0 + " / x : " + sigma0 +
+                   " / sqrt(1.0 + x * x);\n"
                    "  if (!(sigma > 0.0)) return diffuse;\n"
-                   "  float kappa = sigma * " + decimal_literal(2.0 * pi / lambda_) + ";\n"
+                   "  float kappa = sigma * " +
+                   decimal_literal(2.0 * pi / lambda_) +
+                   ";\n"
                    "  float g = (kappa * (mu_i + mu_j)) * (kappa * (mu_i + mu_j));\n"
-                   "  float c = " + decimal_literal(c_scale_) + " * dot(v.xy, v.xy);\n"
-                   "  float D_over = " + decimal_literal(prefactor_) + " * kappa * kappa * gz_he_series_over_g(g, c);\n"
-                   "  float S_over = gz_he_shadowing_over_cos(mu_i, sin_i, " + tau + ", " + sigma0 +
-                   ") * gz_he_shadowing_over_cos(mu_j, sin_j, " + tau + ", " + sigma0 + ");\n"
-                   "  float F = gz_fresnel_complex(0.5 * sqrt(vv), " + decimal_literal(eta_) + ", " +
-                   decimal_literal(k_) + ");\n"
-                   "  float rho = F * " + decimal_literal(1.0 / pi) + " * vv * vv * S_over * D_over;\n"
+                   "  float c = " +
+                   decimal_literal(c_scale_) +
+                   " * dot(v.xy, v.xy);\n"
+                   "  float D_over = " +
+                   decimal_literal(prefactor_) +
+                   " * kappa * kappa * gz_he_series_over_g(g, c);\n"
+                   "  float S_over = gz_he_shadowing_over_cos(mu_i, sin_i, " +
+                   tau + ", " + sigma0 + ") * gz_he_shadowing_over_cos(mu_j, sin_j, " + tau + ", " + sigma0 +
+                   ");\n"
+                   "  float F = gz_fresnel_complex(0.5 * sqrt(vv), " +
+                   decimal_literal(eta_) + ", " + decimal_literal(k_) +
+                   ");\n"
+                   "  float rho = F * " +
+                   decimal_literal(1.0 / pi) +
+                   " * vv * vv * S_over * D_over;\n"
                    "  return (isinf(rho) || isnan(rho) || !(rho > 0.0) ? 0.0 : rho) + diffuse;\n",
                {"gz_he_terms", "gz_he_series_over_g", "gz_fresnel_complex"}};
 }
@@ -266,18 +286,26 @@ std::optional<GlslF> HeTorrance::glsl_mirror_reflectance() const {
   if (!(sigma0_ > 0.0))
     return GlslF{"  float mu = clamp(c, 0.0, 1.0);\n  return " + fresnel + ";\n", {"gz_fresnel_complex"}};
   const std::string tau = decimal_literal(tau_), sigma0 = decimal_literal(sigma0_);
-  return GlslF{"  float mu = clamp(c, 0.0, 1.0), sin_t = sqrt((1.0 - mu) * (1.0 + mu));\n"
-               "  if (!(mu > 0.0)) return 0.0;\n"
-               "  float S = mu * gz_he_shadowing_over_cos(mu, sin_t, " + tau + ", " + sigma0 + ");\n"
-               "  if (!(S > 0.0)) return 0.0;\n"
-               "  float f0 = 2.0 * gz_he_K(mu, sin_t, " + tau + ", " + sigma0 + ") * " +
-                   decimal_literal(1.0 / std::sqrt(8.0 * pi)) + ";\n"
-               "  float x = isinf(f0) ? 0.0 : gz_he_z0_over_sigma0(f0);\n"
-               "  float sigma = isinf(f0) ? 0.0 : x > 1e18 ? " + sigma0 + " / x : " + sigma0 +
-               " / sqrt(1.0 + x * x);\n"
-               "  float two_kappa_mu = 2.0 * mu * sigma * " + decimal_literal(2.0 * pi / lambda_) + ";\n"
-               "  return " + fresnel + " * exp(-two_kappa_mu * two_kappa_mu) * S * S;\n",
-               {"gz_he_terms", "gz_fresnel_complex"}};
+  return GlslF{
+      "  float mu = clamp(c, 0.0, 1.0), sin_t = sqrt((1.0 - mu) * (1.0 + mu));\n"
+      "  if (!(mu > 0.0)) return 0.0;\n"
+      "  float S = mu * gz_he_shadowing_over_cos(mu, sin_t, " +
+          tau + ", " + sigma0 +
+          ");\n"
+          "  if (!(S > 0.0)) return 0.0;\n"
+          "  float f0 = 2.0 * gz_he_K(mu, sin_t, " +
+          tau + ", " + sigma0 + ") * " + decimal_literal(1.0 / std::sqrt(8.0 * pi)) +
+          ";\n"
+          "  float x = isinf(f0) ? 0.0 : gz_he_z0_over_sigma0(f0);\n"
+          "  float sigma = isinf(f0) ? 0.0 : x > 1e18 ? " +
+          sigma0 + " / x : " + sigma0 +
+          " / sqrt(1.0 + x * x);\n"
+          "  float two_kappa_mu = 2.0 * mu * sigma * " +
+          decimal_literal(2.0 * pi / lambda_) +
+          ";\n"
+          "  return " +
+          fresnel + " * exp(-two_kappa_mu * two_kappa_mu) * S * S;\n",
+      {"gz_he_terms", "gz_fresnel_complex"}};
 }
 
 MassHints HeTorrance::mass_hints(const Vec3& fixed, Varying) const {

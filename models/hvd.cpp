@@ -18,9 +18,9 @@
 #include <limits>
 #include <numbers>
 
-#include "util/error.h"
 #include "models/registry.h"
 #include "models/spec.h"
+#include "util/error.h"
 
 namespace ganzfeld {
 
@@ -147,10 +147,11 @@ std::optional<GlslF> HvdEmpirical::glsl_f() const {
   if (p_.k > 0.0)
     lumps += std::string(lumps.empty() ? "" : " + ") + decimal_literal(p_.k) + " * gz_hvd_lump(h, j.xy, vec2(" +
              decimal_literal(p_.rr_u) + ", " + decimal_literal(p_.rr_v) + "), " + decimal_literal(p_.n_r) + ")";
-  return GlslF{std::string(kGlslBelowHorizon) +
-                   "  float F = gz_schlick(j.z, " + decimal_literal(p_.F_0) + ", 1.0);\n"
-                   "  float diffuse = gz_one_minus_schlick(j.z, " + decimal_literal(p_.F_0) + ", 1.0) * " +
-                   decimal_literal(p_.C_d / pi) + ";\n"
+  return GlslF{std::string(kGlslBelowHorizon) + "  float F = gz_schlick(j.z, " + decimal_literal(p_.F_0) +
+                   ", 1.0);\n"
+                   "  float diffuse = gz_one_minus_schlick(j.z, " +
+                   decimal_literal(p_.F_0) + ", 1.0) * " + decimal_literal(p_.C_d / pi) +
+                   ";\n"
                    "  if (!(j.z > 0.0)) return diffuse;\n"
                    "  vec3 H = i + j;\n"
                    "  if (!(H.z > 0.0)) return diffuse;\n"
@@ -158,7 +159,9 @@ std::optional<GlslF> HvdEmpirical::glsl_f() const {
                    "  if (!(J > 0.0)) return diffuse;\n"
                    "  vec2 h = (j.z / H.z) * H.xy;\n"
                    "  float R_max = j.z * j.z / (1.0 + length(j.xy));\n"
-                   "  float Q = (" + lumps + ") * J;\n"
+                   "  float Q = (" +
+                   lumps +
+                   ") * J;\n"
                    "  if (!(Q > 0.0)) return diffuse;\n"
                    "  return diffuse + F * min(Q / max(i.z, 1.17549435e-38), 3.40282347e38);\n",
                {"gz_schlick", "gz_one_minus_schlick", "gz_hvd_lump"}};
@@ -245,18 +248,12 @@ MassHints HvdEmpirical::mass_hints(const Vec3& fixed, Varying) const {
 
 std::string HvdEmpirical::spec() const {
   ModelSpec spec{"hvd-empirical", {{"cd", p_.C_d}, {"k", p_.k}, {"ns", p_.n_s}, {"nr", p_.n_r}}};
-  if (p_.eta > 0.0)
-    spec.values["eta"] = p_.eta;
-  else
-    spec.values["f0"] = p_.F_0;
-  if (p_.rs_u == p_.rs_v)
-    spec.values["rs"] = p_.rs_u;
-  else
-    spec.values.insert({{"rsu", p_.rs_u}, {"rsv", p_.rs_v}});
-  if (p_.rr_u == p_.rr_v)
-    spec.values["rr"] = p_.rr_u;
-  else
-    spec.values.insert({{"rru", p_.rr_u}, {"rrv", p_.rr_v}});
+  if (p_.eta > 0.0) spec.values["eta"] = p_.eta;
+  else spec.values["f0"] = p_.F_0;
+  if (p_.rs_u == p_.rs_v) spec.values["rs"] = p_.rs_u;
+  else spec.values.insert({{"rsu", p_.rs_u}, {"rsv", p_.rs_v}});
+  if (p_.rr_u == p_.rr_v) spec.values["rr"] = p_.rr_u;
+  else spec.values.insert({{"rru", p_.rr_u}, {"rrv", p_.rr_v}});
   return spec_text(spec);
 }
 
@@ -282,15 +279,18 @@ double HvdFit::f(const Vec3& i, const Vec3& j) const noexcept {
 }
 
 std::optional<GlslF> HvdFit::glsl_f() const {
-  return GlslF{std::string(kGlslBelowHorizon) +
-                   "  float F = gz_schlick(j.z, " + decimal_literal(p_.F_0) + ", " + decimal_literal(p_.F_90) + ");\n"
+  return GlslF{std::string(kGlslBelowHorizon) + "  float F = gz_schlick(j.z, " + decimal_literal(p_.F_0) + ", " +
+                   decimal_literal(p_.F_90) +
+                   ");\n"
                    "  vec2 h = i.xy + j.xy;\n"
-                   "  float p = " + decimal_literal(1.0 - p_.k) + " * gz_hvd_lump(h, vec2(0.0), vec2(" +
-                   decimal_literal(p_.R_1) + "), " + decimal_literal(p_.n_1) + ") + " + decimal_literal(p_.k) +
+                   "  float p = " +
+                   decimal_literal(1.0 - p_.k) + " * gz_hvd_lump(h, vec2(0.0), vec2(" + decimal_literal(p_.R_1) +
+                   "), " + decimal_literal(p_.n_1) + ") + " + decimal_literal(p_.k) +
                    " * gz_hvd_lump(h, vec2(0.0), vec2(" + decimal_literal(p_.R_2) + "), " + decimal_literal(p_.n_2) +
                    ");\n"
-                   "  return gz_one_minus_schlick(j.z, " + decimal_literal(p_.F_0) + ", " + decimal_literal(p_.F_90) +
-                   ") * " + decimal_literal(p_.C_d / pi) + " + F * p;\n",
+                   "  return gz_one_minus_schlick(j.z, " +
+                   decimal_literal(p_.F_0) + ", " + decimal_literal(p_.F_90) + ") * " + decimal_literal(p_.C_d / pi) +
+                   " + F * p;\n",
                {"gz_schlick", "gz_one_minus_schlick", "gz_hvd_lump"}};
 }
 
@@ -325,8 +325,15 @@ MassHints HvdFit::mass_hints(const Vec3& fixed, Varying) const {
 }
 
 std::string HvdFit::spec() const {
-  return spec_text({"hvd-fit", {{"cd", p_.C_d}, {"f0", p_.F_0}, {"f90", p_.F_90}, {"k", p_.k}, {"n1", p_.n_1},
-                                {"r1", p_.R_1}, {"n2", p_.n_2}, {"r2", p_.R_2}}});
+  return spec_text({"hvd-fit",
+                    {{"cd", p_.C_d},
+                     {"f0", p_.F_0},
+                     {"f90", p_.F_90},
+                     {"k", p_.k},
+                     {"n1", p_.n_1},
+                     {"r1", p_.R_1},
+                     {"n2", p_.n_2},
+                     {"r2", p_.R_2}}});
 }
 
 Traits HvdFit::traits() const { return {true, false, EnergyClass::not_plausible}; }
@@ -369,18 +376,29 @@ HvdEmpirical::Params empirical_params(const ParamValues& v) {
 void register_hvd_models(std::vector<ModelInfo>& catalogue) {
   using P = ParamType;
   const auto radius_axis = [](const char* name, const char* meaning, const char* radius) {
-    return ParamInfo{.name = name, .type = P::real, .min = 0.0, .max = 1.0, .default_value = 0.0, .meaning = meaning,
+    return ParamInfo{.name = name,
+                     .type = P::real,
+                     .min = 0.0,
+                     .max = 1.0,
+                     .default_value = 0.0,
+                     .meaning = meaning,
                      .alternative_of = radius};
   };
-  const std::string radius_note = " (fraction of the largest radius keeping the lump on the disk; > 1 would lose energy)";
+  const std::string radius_note =
+      " (fraction of the largest radius keeping the lump on the disk; > 1 would lose energy)";
   catalogue.push_back(
       {"hvd-empirical",
        "energy-conserving halfway-vector-disk BRDF: (1-F) C_d/pi + F x (specular + retro lumps), scaling projection",
        std::string(kEdwards) + ", section 4, eq. 32-33",
        {{"cd", P::real, 0.0, 1.0, 0.5, "diffuse colour C_d"},
         {"f0", P::real, 0.0, 1.0, 0.04, "Schlick F_0, reflectance at normal incidence (eq. 30)"},
-        {.name = "eta", .type = P::real, .min = 0.0, .max = 100.0, .default_value = 0.0,
-         .meaning = "refractive index; > 0 sets F_0 = ((eta-1)/(eta+1))^2 (eq. 31); 0 = use f0", .alternative_of = "f0"},
+        {.name = "eta",
+         .type = P::real,
+         .min = 0.0,
+         .max = 100.0,
+         .default_value = 0.0,
+         .meaning = "refractive index; > 0 sets F_0 = ((eta-1)/(eta+1))^2 (eq. 31); 0 = use f0",
+         .alternative_of = "f0"},
         {"k", P::real, 0.0, 1.0, 0.0, "weight of the retro-reflective lump (0 = specular only)"},
         {"ns", P::real, 0.0, 1e6, 100.0, "specular lump exponent n_s (0 = uniform)"},
         {"nr", P::real, 0.0, 1e6, 10.0, "retro-reflective lump exponent n_r"},
@@ -401,7 +419,8 @@ void register_hvd_models(std::vector<ModelInfo>& catalogue) {
        }});
   catalogue.push_back(
       {"hvd-fit",
-       "data-fitting halfway-vector-disk BRDF: (1-F_fit) C_d/pi + F_fit x two lumps at the origin, orthogonal projection; "
+       "data-fitting halfway-vector-disk BRDF: (1-F_fit) C_d/pi + F_fit x two lumps at the origin, orthogonal "
+       "projection; "
        "loses energy where the lumps leave the disk",
        std::string(kEdwards) + ", section 5, eq. 34-36",
        {{"cd", P::real, 0.0, 1.0, 0.5, "diffuse colour C_d"},

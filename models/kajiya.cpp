@@ -45,10 +45,12 @@ std::optional<GlslF> Kajiya::glsl_f() const {
   return GlslF{std::string(kGlslBelowHorizon) +
                    "  float si = min(1.0, length(i.yz)), sj = min(1.0, length(j.yz));\n"
                    "  vec2 d = vec2(i.x + j.x, si - sj);\n"
-                   "  float highlight = gz_pow_pair(si * sj - i.x * j.x, 0.5 * dot(d, d), " + decimal_literal(n_) +
+                   "  float highlight = gz_pow_pair(si * sj - i.x * j.x, 0.5 * dot(d, d), " +
+                   decimal_literal(n_) +
                    ");\n"
-                   "  return (" + decimal_literal(kd_ / pi) + " * si + " + decimal_literal(ks_) +
-                   " * highlight) / max(i.z, " + decimal_literal(kGrazingCosFloor) + ");\n",
+                   "  return (" +
+                   decimal_literal(kd_ / pi) + " * si + " + decimal_literal(ks_) + " * highlight) / max(i.z, " +
+                   decimal_literal(kGrazingCosFloor) + ");\n",
                {"gz_pow_pair"}};
 }
 

@@ -99,7 +99,7 @@ double C_b(double alpha);          // corrected, docs/errata.md
 /// [i,j,n] = -cos zeta sin theta. Takes i and j in the local frame with i at azimuth 0.
 double g_alpha1_printed(const Vec3& i, const Vec3& j);
 double g_alpha1(const Vec3& i, const Vec3& j);  // corrected, docs/errata.md
-double h_alpha1_printed(double mu_j);          // (3 + 2 j·n)/5
+double h_alpha1_printed(double mu_j);           // (3 + 2 j·n)/5
 }  // namespace backscatter
 
 // ---------------------------------------------------------------------------------------------

@@ -107,8 +107,8 @@ class HintBuilder {
   /// elongated, its scale across the plane of n and the centre (0: as wide across as along).
   HintBuilder& lobe(const Vec3& direction, double width, double across = 0.0);
   /// A layer of mass hugging the horizon, `thickness` thick in k·n; of several, every one gets
-  /// its lines (MassHints::thicker_layers) and the thinnest its grading. A thickness that is not > 0 declares none, and one at least hint_rules::kThinLayer
-  /// neither: such a layer is smooth on the scale of the starting grid.
+  /// its lines (MassHints::thicker_layers) and the thinnest its grading. A thickness that is not > 0 declares none, and
+  /// one at least hint_rules::kThinLayer neither: such a layer is smooth on the scale of the starting grid.
   HintBuilder& layer(double thickness);
   /// The layer of a lobe of `width` radians whose centre stands `elevation` above the horizon
   /// (radians, or its sine, a lower bound that declares the layer a little earlier): declared when

@@ -9,10 +9,10 @@
 #include <numbers>
 #include <sstream>
 
-#include "util/error.h"
 #include "models/registry.h"
 #include "models/spec.h"
 #include "models/text_data.h"
+#include "util/error.h"
 #include "util/hash.h"
 
 namespace ganzfeld {
@@ -44,7 +44,8 @@ HalfDiff half_diff(const Vec3& i, const Vec3& j) noexcept {
 }
 
 std::array<Vec3, 2> directions(const HalfDiff& a) noexcept {
-  const Vec3 diff{std::sin(a.theta_d) * std::cos(a.phi_d), std::sin(a.theta_d) * std::sin(a.phi_d), std::cos(a.theta_d)};
+  const Vec3 diff{std::sin(a.theta_d) * std::cos(a.phi_d), std::sin(a.theta_d) * std::sin(a.phi_d),
+                  std::cos(a.theta_d)};
   const Vec3 i = rotate(diff, kBinormal, a.theta_h);
   const Vec3 h{std::sin(a.theta_h), 0.0, std::cos(a.theta_h)};
   return {i, 2.0 * glm::dot(i, h) * h - i};
@@ -66,12 +67,14 @@ std::shared_ptr<const MerlData> read_merl(const std::string& path) {
   if (!in) throw InputError("cannot read MERL file '" + path + "'");
   const auto size = static_cast<std::size_t>(in.tellg());
   in.seekg(0);
-  if (size < 12) throw InputError("MERL file '" + path + "' has " + std::to_string(size) + " bytes; a MERL file has " + std::to_string(merl::kFileBytes));
+  if (size < 12)
+    throw InputError("MERL file '" + path + "' has " + std::to_string(size) + " bytes; a MERL file has " +
+                     std::to_string(merl::kFileBytes));
   std::int32_t dims[3];
   in.read(reinterpret_cast<char*>(dims), sizeof dims);
   if (dims[0] != merl::kThetaHalf || dims[1] != merl::kThetaDiff || dims[2] != merl::kPhiDiff)
-    throw InputError("MERL file '" + path + "' has dimensions " + std::to_string(dims[0]) + "x" + std::to_string(dims[1]) +
-                     "x" + std::to_string(dims[2]) + "; allowed: 90x90x180");
+    throw InputError("MERL file '" + path + "' has dimensions " + std::to_string(dims[0]) + "x" +
+                     std::to_string(dims[1]) + "x" + std::to_string(dims[2]) + "; allowed: 90x90x180");
   if (size != merl::kFileBytes)
     throw InputError("MERL file '" + path + "' has " + std::to_string(size) + " bytes; 90x90x180 needs " +
                      std::to_string(merl::kFileBytes));
@@ -84,8 +87,8 @@ std::shared_ptr<const MerlData> read_merl(const std::string& path) {
       throw InputError("MERL file '" + path + "' holds a non-finite value at sample " + std::to_string(k));
   // The header and the samples as read are the file's bytes in order (the size was checked).
   const std::uint64_t hash = util::fnv1a_64({reinterpret_cast<const char*>(dims), sizeof dims});
-  data->digest = util::content_digest(util::fnv1a_64(
-      {reinterpret_cast<const char*>(data->values.data()), data->values.size() * sizeof(double)}, hash));
+  data->digest = util::content_digest(
+      util::fnv1a_64({reinterpret_cast<const char*>(data->values.data()), data->values.size() * sizeof(double)}, hash));
   return data;
 }
 
@@ -136,7 +139,8 @@ double MerlModel::f(const Vec3& i, const Vec3& j) const noexcept {
   }
   // Multilinear: theta axes clamp at their last node; phi_diff wraps (phi_d + pi = phi_d).
   const double sh = std::clamp(uh, 0.0, merl::kThetaHalf - 1.0), sd = std::clamp(ud, 0.0, merl::kThetaDiff - 1.0);
-  const int h0 = std::min(static_cast<int>(sh), merl::kThetaHalf - 2), d0 = std::min(static_cast<int>(sd), merl::kThetaDiff - 2);
+  const int h0 = std::min(static_cast<int>(sh), merl::kThetaHalf - 2),
+            d0 = std::min(static_cast<int>(sd), merl::kThetaDiff - 2);
   const int p0 = std::clamp(static_cast<int>(up), 0, merl::kPhiDiff - 1);
   const double th = sh - h0, td = sd - d0, tp = std::clamp(up - p0, 0.0, 1.0);
   double sum = 0.0, weight = 0.0;
@@ -157,7 +161,8 @@ MassHints MerlModel::mass_hints(const Vec3& fixed, Varying) const {
 }
 
 std::string MerlModel::spec() const {
-  return spec_text({"merl", {{"channel", static_cast<double>(channel_)}, {"lookup", static_cast<double>(lookup_)}}, path_});
+  return spec_text(
+      {"merl", {{"channel", static_cast<double>(channel_)}, {"lookup", static_cast<double>(lookup_)}}, path_});
 }
 
 Traits MerlModel::traits() const {
@@ -206,8 +211,8 @@ TabulatedBrdf parse_tabulated(const std::string& text, const std::string& name) 
     }
   }
   if (t.values.size() != want)
-    throw InputError("tabulated BRDF '" + name + "' has " + std::to_string(t.values.size()) + " values; its grid needs " +
-                     std::to_string(want));
+    throw InputError("tabulated BRDF '" + name + "' has " + std::to_string(t.values.size()) +
+                     " values; its grid needs " + std::to_string(want));
   return t;
 }
 
@@ -230,7 +235,9 @@ std::string format_tabulated(const TabulatedBrdf& table, const std::string& comm
 TabulatedModel::TabulatedModel(std::string path, TabulatedBrdf table, int lookup, std::string digest)
     : path_(std::move(path)), table_(std::move(table)), lookup_(lookup), digest_(std::move(digest)) {}
 
-std::string TabulatedModel::spec() const { return spec_text({"tabulated", {{"lookup", static_cast<double>(lookup_)}}, path_}); }
+std::string TabulatedModel::spec() const {
+  return spec_text({"tabulated", {{"lookup", static_cast<double>(lookup_)}}, path_});
+}
 
 Traits TabulatedModel::traits() const { return {true, false, EnergyClass::not_plausible}; }
 

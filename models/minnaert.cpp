@@ -28,8 +28,8 @@ std::optional<GlslF> Minnaert::glsl_f() const {
   // 1 - (i.n)(j.n) = (|i_xy|^2 + |j_xy|^2 + (i.z - j.z)^2)/2 for unit i, j: accurate near the normal.
   return GlslF{std::string(kGlslBelowHorizon) +
                    "  float u = 0.5 * (dot(i.xy, i.xy) + dot(j.xy, j.xy) + (i.z - j.z) * (i.z - j.z));\n"
-                   "  return " + decimal_literal(C_d_) + " * gz_pow_pair(i.z * j.z, u, " + decimal_literal(xi_) +
-                   ");\n",
+                   "  return " +
+                   decimal_literal(C_d_) + " * gz_pow_pair(i.z * j.z, u, " + decimal_literal(xi_) + ");\n",
                {"gz_pow_pair"}};
 }
 

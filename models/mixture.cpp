@@ -12,7 +12,8 @@ Mixture::Mixture(std::vector<Lobe> lobes) : lobes_(std::move(lobes)) { normalize
 
 std::string Mixture::spec() const {
   Spec spec;
-  for (const auto& lobe : lobes_) spec.terms.push_back({lobe.weight, parse_spec(lobe.model->spec()).terms.front().model});
+  for (const auto& lobe : lobes_)
+    spec.terms.push_back({lobe.weight, parse_spec(lobe.model->spec()).terms.front().model});
   return spec_text(spec);
 }
 

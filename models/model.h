@@ -68,8 +68,7 @@ class Model {
   virtual double f(const Vec3& i, const Vec3& j) const noexcept = 0;
 
   /// f over arrays (the integrator calls this for whole panels). out[m] = f(i[m], j[m]).
-  virtual void f_batch(std::span<const Vec3> i, std::span<const Vec3> j,
-                       std::span<double> out) const noexcept;
+  virtual void f_batch(std::span<const Vec3> i, std::span<const Vec3> j, std::span<double> out) const noexcept;
 
   /// Where the integrand k -> (k·n) f(k, fixed) [or f(fixed, k)] has its mass, built by HintBuilder
   /// (models/mass_hints.h); none by default.

@@ -31,8 +31,9 @@ std::optional<GlslF> PerfectBackscatter::glsl_f() const {
   return GlslF{std::string(kGlslBelowHorizon) +
                    "  float denominator = i.z + j.z;\n"
                    "  if (denominator <= 0.0) return 0.0;\n"
-                   "  return " + decimal_literal(C_pb_times_2_pow_alpha_) + " * gz_half_cos_power(i, j, " +
-                   decimal_literal(alpha_) + ") / denominator;\n",
+                   "  return " +
+                   decimal_literal(C_pb_times_2_pow_alpha_) + " * gz_half_cos_power(i, j, " + decimal_literal(alpha_) +
+                   ") / denominator;\n",
                {"gz_half_cos_power"}};
 }
 

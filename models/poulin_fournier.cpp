@@ -19,12 +19,12 @@ namespace {
 
 // Boost policy that never throws (f is noexcept; errors give NaN/0, handled by the callers) and
 // computes in double (promotion to long double costs 10x here; accuracy measured in the tests).
-using NoThrow = boost::math::policies::policy<
-    boost::math::policies::promote_double<false>,
-    boost::math::policies::domain_error<boost::math::policies::errno_on_error>,
-    boost::math::policies::pole_error<boost::math::policies::errno_on_error>,
-    boost::math::policies::overflow_error<boost::math::policies::errno_on_error>,
-    boost::math::policies::evaluation_error<boost::math::policies::errno_on_error>>;
+using NoThrow =
+    boost::math::policies::policy<boost::math::policies::promote_double<false>,
+                                  boost::math::policies::domain_error<boost::math::policies::errno_on_error>,
+                                  boost::math::policies::pole_error<boost::math::policies::errno_on_error>,
+                                  boost::math::policies::overflow_error<boost::math::policies::errno_on_error>,
+                                  boost::math::policies::evaluation_error<boost::math::policies::errno_on_error>>;
 
 /// A root beta of the crease equations is accepted when the function it was solved for agrees
 /// with the target to this (radians or floor lengths, O(1) quantities).
@@ -80,8 +80,9 @@ double integral_sin_squared(double x) noexcept {
   double v;
   if (y < 1.0) {
     const double y2 = y * y;
-    constexpr double inv_fact[8] = {1.0 / 6, 1.0 / 120, 1.0 / 5040, 1.0 / 362880, 1.0 / 39916800,
-                                    1.0 / 6227020800, 1.0 / 1307674368000, 1.0 / 355687428096000};  // 1/(2k+3)!
+    constexpr double inv_fact[8] = {
+        1.0 / 6,        1.0 / 120,        1.0 / 5040,          1.0 / 362880,
+        1.0 / 39916800, 1.0 / 6227020800, 1.0 / 1307674368000, 1.0 / 355687428096000};  // 1/(2k+3)!
     double sum = 0.0;
     for (int k = 7; k >= 0; --k) sum = (k % 2 ? -inv_fact[k] : inv_fact[k]) + y2 * sum;
     v = y * y2 * sum / 4.0;
@@ -96,7 +97,7 @@ PoulinFournier::PoulinFournier(double kd, double ks, double n, double d, double 
     : kd_(kd), ks_(ks), n_(n), d_(d), h_(h), C_(blinn_phong_normalization(n)), local_(kd, ks, n) {
   const double phi_h = std::acos(std::clamp(h, 0.0, 1.0));
   const double phi_d = d < 2.0 ? std::asin(0.5 * d) : pi / 2;
-  theta_M_ = std::min(phi_d, phi_h);                                           // app. D
+  theta_M_ = std::min(phi_d, phi_h);  // app. D
   floor_w_ = std::max(d - 2.0 * std::sqrt(std::max(0.0, (1.0 - h) * (1.0 + h))), 0.0);
 }
 
@@ -215,32 +216,40 @@ double PoulinFournier::f(const Vec3& i, const Vec3& j) const noexcept {
 std::optional<GlslF> PoulinFournier::glsl_f() const {
   // As f(): the local blinn-phong (BlinnPhong::glsl_f's form), then the fronts of i and j, their
   // intersection on the arc and on the floor, the arc integrals (models/glsl.cpp, gz_pf).
-  const std::string flat = "  vec3 s = i + j;\n"
-                           "  float len = length(s);\n"
-                           "  float flat_f = " + decimal_literal(kd_ / pi) + ";\n"
-                           "  if (len > 0.0) flat_f += " + decimal_literal(ks_ * C_) +
-                           " * gz_pow_pair(s.z / len, dot(s.xy, s.xy) / (len * (len + s.z)), " +
-                           decimal_literal(n_) + ");\n";
+  const std::string flat =
+      "  vec3 s = i + j;\n"
+      "  float len = length(s);\n"
+      "  float flat_f = " +
+      decimal_literal(kd_ / pi) +
+      ";\n"
+      "  if (len > 0.0) flat_f += " +
+      decimal_literal(ks_ * C_) + " * gz_pow_pair(s.z / len, dot(s.xy, s.xy) / (len * (len + s.z)), " +
+      decimal_literal(n_) + ");\n";
   if (!(theta_M_ > 0.0)) return GlslF{std::string(kGlslBelowHorizon) + flat + "  return flat_f;\n", {"gz_pow_pair"}};
   const std::string d = decimal_literal(d_), theta_M = decimal_literal(theta_M_), w = decimal_literal(floor_w_);
-  return GlslF{std::string(kGlslBelowHorizon) + flat +
-                   "  vec2 pi_ = gz_pf_project(i), pj = gz_pf_project(j);\n"
-                   "  vec4 fi = gz_pf_front(pi_, " + d + ", " + theta_M + ", " + w + "), fj = gz_pf_front(pj, " + d + ", " +
-                   theta_M + ", " + w + ");\n"
-                   "  float a = max(fi.x, fj.x), b = min(fi.y, fj.y);\n"
-                   "  float floor_vi = max(0.0, min(fi.w, fj.w) - max(fi.z, fj.z));\n"
-                   "  float arc = 0.0;\n"
-                   "  if (b > a) {\n" +
-                   (kd_ > 0.0 ? "    arc += " + decimal_literal(kd_ / pi) +
-                                    " * gz_pf_arc_cosine_product(pi_, pj, a, b);\n"
-                              : "") +
-                   (ks_ > 0.0 ? "    if (len > 0.0) arc += " + decimal_literal(ks_ * C_) +
-                                    " * gz_pf_arc_specular(pi_, pj, a, b, s / len, " + decimal_literal(n_) + ");\n"
-                              : "") +
-                   "  }\n"
-                   "  float value = (arc + floor_vi * flat_f) * " + decimal_literal(1.0 / d_) + ";\n"
-                   "  return isinf(value) || isnan(value) || !(value > 0.0) ? 0.0 : value;\n",
-               {"gz_pow_pair", "gz_pf"}, 0.0, true};
+  return GlslF{
+      std::string(kGlslBelowHorizon) + flat +
+          "  vec2 pi_ = gz_pf_project(i), pj = gz_pf_project(j);\n"
+          "  vec4 fi = gz_pf_front(pi_, " +
+          d + ", " + theta_M + ", " + w + "), fj = gz_pf_front(pj, " + d + ", " + theta_M + ", " + w +
+          ");\n"
+          "  float a = max(fi.x, fj.x), b = min(fi.y, fj.y);\n"
+          "  float floor_vi = max(0.0, min(fi.w, fj.w) - max(fi.z, fj.z));\n"
+          "  float arc = 0.0;\n"
+          "  if (b > a) {\n" +
+          (kd_ > 0.0 ? "    arc += " + decimal_literal(kd_ / pi) + " * gz_pf_arc_cosine_product(pi_, pj, a, b);\n"
+                     : "") +
+          (ks_ > 0.0 ? "    if (len > 0.0) arc += " + decimal_literal(ks_ * C_) +
+                           " * gz_pf_arc_specular(pi_, pj, a, b, s / len, " + decimal_literal(n_) + ");\n"
+                     : "") +
+          "  }\n"
+          "  float value = (arc + floor_vi * flat_f) * " +
+          decimal_literal(1.0 / d_) +
+          ";\n"
+          "  return isinf(value) || isnan(value) || !(value > 0.0) ? 0.0 : value;\n",
+      {"gz_pow_pair", "gz_pf"},
+      0.0,
+      true};
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -289,10 +298,10 @@ std::vector<PfCrease> PoulinFournier::creases(const Vec3& fixed) const {
 
   // Of k against the fixed front: an end of the intersection switches from one direction's limit
   // to the other's. A kink unless one of the two limits is a terminator (integrand 0 there: C1).
-  const double c_lo = -ff.arc_lo, c_hi = ff.arc_hi;      // in (0, theta_M]
+  const double c_lo = -ff.arc_lo, c_hi = ff.arc_hi;                           // in (0, theta_M]
   const bool lo_is_terminator = pf.side > 0, hi_is_terminator = pf.side < 0;  // when limited
   if (c_lo < theta_M_) {
-    add(1, c_lo, false);                                                    // k's terminator (s = +1)
+    add(1, c_lo, false);                                                         // k's terminator (s = +1)
     for (double beta : neighbour_roots(c_lo)) add(-1, beta, !lo_is_terminator);  // k's neighbour limit (s = -1)
   }
   if (c_hi < theta_M_) {
@@ -311,8 +320,7 @@ std::vector<PfCrease> PoulinFournier::creases(const Vec3& fixed) const {
   for (const PfCrease& c : out) {
     if (!unique.empty() && c.longitude - unique.back().longitude <= 1e-12)
       unique.back().kink = unique.back().kink || c.kink;
-    else
-      unique.push_back(c);
+    else unique.push_back(c);
   }
   return unique;
 }
@@ -355,7 +363,9 @@ void register_poulin_fournier_models(std::vector<ModelInfo>& c) {
        "in the cross-section; local blinn-phong on the arcs and the floor (anisotropic)",
        "Poulin & Fournier 1990, SIGGRAPH '90 (Computer Graphics 24(4) 273-282); Walker 1999, MSc thesis "
        "(U. Oregon), ch. III Poulin-Fournier (eqs. III.19-III.21), app. D",
-       {kd_param(0.5), ks_param(0.3), n_param(20.0, "exponent of N.h on the cylinders and the floor"),
+       {kd_param(0.5),
+        ks_param(0.3),
+        n_param(20.0, "exponent of N.h on the cylinders and the floor"),
         {"d", ParamType::real, 0.0, 100.0, 2.5, "distance between cylinder axes, in cylinder radii (0: a plane)"},
         {"h", ParamType::real, 0.0, 1.0, 0.2, "height of the floor above the axes, in radii (1: a plane)"}},
        {false, true, EnergyClass::plausible},

@@ -1,11 +1,11 @@
 #include "models/registry.h"
 
 #include <charconv>
-#include <cstdlib>
 #include <cmath>
+#include <cstdlib>
 
-#include "util/error.h"
 #include "models/kp_lobes.h"
+#include "util/error.h"
 
 namespace ganzfeld {
 
@@ -14,39 +14,45 @@ const char* kKp = "Koenderink & Pont 2019, \"Material Properties and Extended So
 
 std::vector<ModelInfo> build_catalogue() {
   std::vector<ModelInfo> c;
-  c.push_back({"lambert", "Lambertian bulk scattering, f = 1/pi", std::string(kKp) + ", Extended Sources",
-               {}, {true, true, EnergyClass::conserving},
+  c.push_back({"lambert",
+               "Lambertian bulk scattering, f = 1/pi",
+               std::string(kKp) + ", Extended Sources",
+               {},
+               {true, true, EnergyClass::conserving},
                {"lambert.g", "lambert.h", "lambert.a", "lambert.r"},
                [](const ParamValues&) { return std::make_shared<Lambert>(); }});
-  c.push_back({"minnaert", "Minnaert diffuse lobe with edge darkening, f = C_d ((i.n)(j.n))^xi",
+  c.push_back({"minnaert",
+               "Minnaert diffuse lobe with edge darkening, f = C_d ((i.n)(j.n))^xi",
                std::string(kKp) + ", Bulk Scattering",
                {{"xi", ParamType::real, 0.0, 1000.0, 1.0, "edge-darkening exponent (0 = Lambert)"}},
                {true, true, EnergyClass::plausible},
-               {"minnaert.g.xi1", "minnaert.g.hyp2f1", "minnaert.g.betainc", "minnaert.h", "minnaert.a",
-                "minnaert.r", "minnaert.norm"},
+               {"minnaert.g.xi1", "minnaert.g.hyp2f1", "minnaert.g.betainc", "minnaert.h", "minnaert.a", "minnaert.r",
+                "minnaert.norm"},
                [](const ParamValues& p) { return std::make_shared<Minnaert>(p.at("xi")); }});
-  c.push_back({"specular", "specular lobe about the mirror direction, f = C_s ((1 + k.j)/2)^alpha",
+  c.push_back({"specular",
+               "specular lobe about the mirror direction, f = C_s ((1 + k.j)/2)^alpha",
                std::string(kKp) + ", Specular reflection",
                {{"alpha", ParamType::real, 1.0, 10000.0, 8.0, "lobe sharpness (paper: integers >= 1)"}},
                {true, true, EnergyClass::plausible},
                {"specular.a.alpha1", "specular.a.alpha8", "specular.norm"},
                [](const ParamValues& p) { return std::make_shared<Specular>(p.at("alpha")); }});
-  c.push_back({"backscatter", "backscatter lobe about the source direction, f = C_b ((1 + i.j)/2)^alpha",
+  c.push_back({"backscatter",
+               "backscatter lobe about the source direction, f = C_b ((1 + i.j)/2)^alpha",
                std::string(kKp) + ", Backscattering",
                {{"alpha", ParamType::real, 1.0, 10000.0, 1.0, "lobe sharpness"}},
                {true, true, EnergyClass::plausible},
                {"backscatter.g.alpha1", "backscatter.h.alpha1", "backscatter.norm"},
                [](const ParamValues& p) { return std::make_shared<Backscatter>(p.at("alpha")); }});
-  c.push_back({"perfect-backscatter",
-               "perfect backscatterer (uniform full moon), f = C_pb (1 + i.j)^alpha / ((i + j).n)",
-               std::string(kKp) + ", Backscattering",
-               {{"alpha", ParamType::integer, 2.0, 10000.0, 2.0, "lobe sharpness (integer >= 2)"}},
-               {true, true, EnergyClass::plausible},
-               {"perfect-backscatter.norm", "perfect-backscatter.retro"},
-               [](const ParamValues& p) {
-                 return std::make_shared<PerfectBackscatter>(static_cast<int>(p.at("alpha")));
-               }});
-  c.push_back({"asperity", "asperity (velvet) lobe along the surface, f = C_a (1 - (i.n)(j.n))^alpha",
+  c.push_back(
+      {"perfect-backscatter",
+       "perfect backscatterer (uniform full moon), f = C_pb (1 + i.j)^alpha / ((i + j).n)",
+       std::string(kKp) + ", Backscattering",
+       {{"alpha", ParamType::integer, 2.0, 10000.0, 2.0, "lobe sharpness (integer >= 2)"}},
+       {true, true, EnergyClass::plausible},
+       {"perfect-backscatter.norm", "perfect-backscatter.retro"},
+       [](const ParamValues& p) { return std::make_shared<PerfectBackscatter>(static_cast<int>(p.at("alpha"))); }});
+  c.push_back({"asperity",
+               "asperity (velvet) lobe along the surface, f = C_a (1 - (i.n)(j.n))^alpha",
                std::string(kKp) + ", Asperity Scattering",
                {{"alpha", ParamType::real, 1.0, 10000.0, 1.0, "lobe sharpness"}},
                {true, true, EnergyClass::plausible},
@@ -123,8 +129,8 @@ void validate_param(const ModelInfo& model, const ParamInfo& param, double value
 double parse_choice(const ModelInfo& model, const ParamInfo& param, const std::string& text) {
   for (std::size_t k = 0; k < param.choices.size(); ++k)
     if (param.choices[k] == text) return static_cast<double>(k);
-  throw InputError(model.name + ": " + param.name + "='" + text + "' is not allowed; allowed: " +
-                   allowed_values(param));
+  throw InputError(model.name + ": " + param.name + "='" + text +
+                   "' is not allowed; allowed: " + allowed_values(param));
 }
 
 }  // namespace ganzfeld

@@ -40,7 +40,7 @@ struct ModelInfo {
   std::string source;  ///< paper and section the model comes from
   std::vector<ParamInfo> parameters;
   Traits traits;
-  std::vector<std::string> closed_forms;  ///< ids of printed closed forms checked by `verify`
+  std::vector<std::string> closed_forms;             ///< ids of printed closed forms checked by `verify`
   std::function<ModelPtr(const ParamValues&)> make;  ///< params complete and validated
   /// Set instead of `make` for measured models: the spec carries `file=PATH` (required), which
   /// is passed as text; the other parameters as usual.
@@ -52,18 +52,18 @@ struct ModelInfo {
 };
 
 /// Model families register themselves here (one function per family, in its own file).
-void register_hvd_models(std::vector<ModelInfo>& catalogue);      // models/hvd.cpp (Edwards et al.)
-void register_classic_models(std::vector<ModelInfo>& catalogue);  // models/classic.cpp (Walker's survey)
-void register_measured_models(std::vector<ModelInfo>& catalogue);  // models/measured.cpp (MERL, tabulated)
-void register_he_torrance_models(std::vector<ModelInfo>& catalogue);  // models/he_torrance.cpp
-void register_blinn_dusty_models(std::vector<ModelInfo>& catalogue);  // models/blinn_dusty.cpp
-void register_beard_maxwell_models(std::vector<ModelInfo>& catalogue);  // models/beard_maxwell.cpp
-void register_poulin_fournier_models(std::vector<ModelInfo>& catalogue);  // models/poulin_fournier.cpp
-void register_ggx_models(std::vector<ModelInfo>& catalogue);      // models/ggx.cpp (microfacets, Smith G2)
-void register_charlie_models(std::vector<ModelInfo>& catalogue);  // models/charlie.cpp (sheen)
+void register_hvd_models(std::vector<ModelInfo>& catalogue);                // models/hvd.cpp (Edwards et al.)
+void register_classic_models(std::vector<ModelInfo>& catalogue);            // models/classic.cpp (Walker's survey)
+void register_measured_models(std::vector<ModelInfo>& catalogue);           // models/measured.cpp (MERL, tabulated)
+void register_he_torrance_models(std::vector<ModelInfo>& catalogue);        // models/he_torrance.cpp
+void register_blinn_dusty_models(std::vector<ModelInfo>& catalogue);        // models/blinn_dusty.cpp
+void register_beard_maxwell_models(std::vector<ModelInfo>& catalogue);      // models/beard_maxwell.cpp
+void register_poulin_fournier_models(std::vector<ModelInfo>& catalogue);    // models/poulin_fournier.cpp
+void register_ggx_models(std::vector<ModelInfo>& catalogue);                // models/ggx.cpp (microfacets, Smith G2)
+void register_charlie_models(std::vector<ModelInfo>& catalogue);            // models/charlie.cpp (sheen)
 void register_ashikhmin_shirley_models(std::vector<ModelInfo>& catalogue);  // models/ashikhmin_shirley.cpp
-void register_schlick_models(std::vector<ModelInfo>& catalogue);  // models/schlick.cpp (Schlick 1994)
-void register_kajiya_models(std::vector<ModelInfo>& catalogue);   // models/kajiya.cpp (fibres)
+void register_schlick_models(std::vector<ModelInfo>& catalogue);            // models/schlick.cpp (Schlick 1994)
+void register_kajiya_models(std::vector<ModelInfo>& catalogue);             // models/kajiya.cpp (fibres)
 
 /// Every registered model, in presentation order.
 const std::vector<ModelInfo>& model_catalogue();

@@ -86,27 +86,40 @@ std::optional<GlslF> Schlick::glsl_f() const {
   // 1 - G(v) G(v') = (1 - G(v)) + G(v) (1 - G(v')) keeps its digits where both G are near 1.
   const std::string r = decimal_literal(r_), p = decimal_literal(p_), four_pi = decimal_literal(4.0 * pi);
   const std::string floor = decimal_literal(kGrazingCosFloor);
-  const std::string azimuth =
-      p_ == 1.0 ? "  float a = 1.0;\n"
-                : "  float sxy = dot(s.xy, s.xy);\n"
-                  "  float a = " + decimal_literal(1.0 / a_mean_) + " * (sxy > 0.0 ? sqrt(" + p + " * sxy / (" + p +
-                      " * " + p + " * s.y * s.y + s.x * s.x)) : sqrt(" + p + "));\n";
+  const std::string azimuth = p_ == 1.0
+                                  ? "  float a = 1.0;\n"
+                                  : "  float sxy = dot(s.xy, s.xy);\n"
+                                    "  float a = " +
+                                        decimal_literal(1.0 / a_mean_) + " * (sxy > 0.0 ? sqrt(" + p + " * sxy / (" +
+                                        p + " * " + p + " * s.y * s.y + s.x * s.x)) : sqrt(" + p + "));\n";
   return GlslF{std::string(kGlslBelowHorizon) +
                    "  vec3 s = i + j, e = i - j;\n"
                    "  float len = length(s);\n"
                    "  if (!(len > 0.0)) return 0.0;\n"
                    "  float v = min(i.z, 1.0), w = min(j.z, 1.0);\n"
                    "  float u = 0.5 * len, x = clamp(dot(e, e) / (4.0 * (1.0 + u)), 0.0, 1.0), x2 = x * x;\n"
-                   "  float S = " + decimal_literal(C_) + " + " + decimal_literal(1.0 - C_) + " * (x2 * x2 * x);\n"
-                   "  float q = dot(s.xy, s.xy) + " + r + " * s.z * s.z;\n"
-                   "  float Z = " + r + " * ((len * len) / q) * ((len * len) / q);\n" +
-                   azimuth +
-                   "  float Di = " + r + " - " + r + " * v + v, Dj = " + r + " - " + r + " * w + w;\n"
-                   "  float single = Z * a / (" + four_pi + " * (Di * Dj));\n"
+                   "  float S = " +
+                   decimal_literal(C_) + " + " + decimal_literal(1.0 - C_) +
+                   " * (x2 * x2 * x);\n"
+                   "  float q = dot(s.xy, s.xy) + " +
+                   r +
+                   " * s.z * s.z;\n"
+                   "  float Z = " +
+                   r + " * ((len * len) / q) * ((len * len) / q);\n" + azimuth + "  float Di = " + r + " - " + r +
+                   " * v + v, Dj = " + r + " - " + r +
+                   " * w + w;\n"
+                   "  float single = Z * a / (" +
+                   four_pi +
+                   " * (Di * Dj));\n"
                    "  float Gi = v > 0.0 ? v / Di : 0.0, Gj = w > 0.0 ? w / Dj : 0.0;\n"
-                   "  float Oi = v > 0.0 ? " + r + " * (1.0 - v) / Di : 1.0;\n"
-                   "  float Oj = w > 0.0 ? " + r + " * (1.0 - w) / Dj : 1.0;\n"
-                   "  float multiple = (Oi + Gi * Oj) / (" + four_pi + " * (max(v, " + floor + ") * max(w, " + floor +
+                   "  float Oi = v > 0.0 ? " +
+                   r +
+                   " * (1.0 - v) / Di : 1.0;\n"
+                   "  float Oj = w > 0.0 ? " +
+                   r +
+                   " * (1.0 - w) / Dj : 1.0;\n"
+                   "  float multiple = (Oi + Gi * Oj) / (" +
+                   four_pi + " * (max(v, " + floor + ") * max(w, " + floor +
                    ")));\n"
                    "  float value = S * (single + multiple);\n"
                    "  return isinf(value) || isnan(value) ? 0.0 : value;\n",
@@ -176,9 +189,18 @@ void register_schlick_models(std::vector<ModelInfo>& c) {
        "Schlick 1994, An Inexpensive BRDF Model for Physically-based Rendering, Computer Graphics Forum 13(3) "
        "(Eurographics '94), section 5; Walker 1999, MSc thesis (U. Oregon), ch. III Phong [22]",
        {{"c", ParamType::real, 0.0, 1.0, 0.5, "reflection factor at normal incidence, S(1) = c"},
-        {.name = "r", .type = ParamType::real, .min = 0.0, .max = 1.0, .default_value = 0.1,
-         .meaning = "roughness (0 a mirror, refused; 1 facets of every slope alike)", .min_exclusive = true},
-        {.name = "p", .type = ParamType::real, .min = 0.0, .max = 1.0, .default_value = 1.0,
+        {.name = "r",
+         .type = ParamType::real,
+         .min = 0.0,
+         .max = 1.0,
+         .default_value = 0.1,
+         .meaning = "roughness (0 a mirror, refused; 1 facets of every slope alike)",
+         .min_exclusive = true},
+        {.name = "p",
+         .type = ParamType::real,
+         .min = 0.0,
+         .max = 1.0,
+         .default_value = 1.0,
          .meaning = "isotropy (1 isotropic; towards 0 the facets turn across the scratches along x)",
          .min_exclusive = true}},
        {false, true, EnergyClass::not_plausible},

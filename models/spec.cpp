@@ -5,8 +5,8 @@
 #include <limits>
 #include <stdexcept>
 
-#include "util/error.h"
 #include "models/mixture.h"
+#include "util/error.h"
 
 namespace ganzfeld {
 
@@ -38,8 +38,8 @@ const ParamInfo& find_param(const ModelInfo& info, const std::string& key) {
     if (p.name == key) return p;
     allowed += (allowed.empty() ? "" : ", ") + p.name;
   }
-  throw InputError("unknown parameter '" + key + "' for model '" + info.name + "'; allowed: " +
-                   (allowed.empty() ? "none" : allowed));
+  throw InputError("unknown parameter '" + key + "' for model '" + info.name +
+                   "'; allowed: " + (allowed.empty() ? "none" : allowed));
 }
 
 /// NAME[:KEY=VALUE,...] of one model. A data file's path is text up to the next ',' (it may
@@ -70,10 +70,8 @@ ModelSpec parse_model_spec(const std::string& term) {
         if (s == key) throw InputError("parameter '" + key + "' given twice in '" + spec + "'");
       seen.push_back(key);
       double value;
-      if (param->type == ParamType::choice)
-        value = parse_choice(info, *param, text);
-      else if (!parse_number(text, value))
-        throw InputError(name + ": " + key + "='" + text + "' is not a number");
+      if (param->type == ParamType::choice) value = parse_choice(info, *param, text);
+      else if (!parse_number(text, value)) throw InputError(name + ": " + key + "='" + text + "' is not a number");
       validate_param(info, *param, value);
       parsed.values[key] = value;
     }

@@ -48,8 +48,8 @@ double a_alpha1_printed(double mu_i) { return (3.0 + 2.0 * mu_i) / 5.0; }
 // K&P: a_s for alpha = 8 with theta = arccos(i·n) (printed).
 double a_alpha8_printed(double mu_i) {
   const double t = std::acos(std::clamp(mu_i, -1.0, 1.0));
-  return (24201945.0 + 33554432.0 * std::cos(t) + 9773400.0 * std::cos(2 * t) -
-          415212.0 * std::cos(4 * t) + 10728.0 * std::cos(6 * t) - 45.0 * std::cos(8 * t)) /
+  return (24201945.0 + 33554432.0 * std::cos(t) + 9773400.0 * std::cos(2 * t) - 415212.0 * std::cos(4 * t) +
+          10728.0 * std::cos(6 * t) - 45.0 * std::cos(8 * t)) /
          67125248.0;
 }
 

@@ -11,7 +11,8 @@ namespace ganzfeld {
 std::string read_text_file(const std::string& path, const std::string& what) {
   // Not a device or FIFO: /dev/zero would be read for ever, a FIFO block.
   std::error_code ec;
-  if (std::filesystem::exists(path, ec) && !std::filesystem::is_regular_file(path, ec)) throw InputError("cannot read " + what + ": not a regular file");
+  if (std::filesystem::exists(path, ec) && !std::filesystem::is_regular_file(path, ec))
+    throw InputError("cannot read " + what + ": not a regular file");
   std::ifstream in(path, std::ios::binary);  // the bytes as they are: models hash them (content_digest)
   if (!in) throw InputError("cannot read " + what);
   std::stringstream text;
@@ -54,8 +55,8 @@ std::vector<double> TextDataReader::read_values(const char* key, double lo, doub
   if (values.empty()) throw error(std::string(key) + " has no values");
   for (std::size_t k = 0; k < values.size(); ++k) {
     if (!(values[k] >= lo && values[k] <= hi))
-      throw error(std::string(key) + " value " + format_number(values[k]) + " is outside [" + format_number(lo) +
-                  ", " + format_number(hi) + "]" + unit);
+      throw error(std::string(key) + " value " + format_number(values[k]) + " is outside [" + format_number(lo) + ", " +
+                  format_number(hi) + "]" + unit);
     if (increasing && k > 0 && !(values[k] > values[k - 1]))
       throw error(std::string(key) + " values must increase strictly");
   }

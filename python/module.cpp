@@ -72,9 +72,7 @@ void run_released(BatchControl& control, const std::atomic<std::uint64_t>& total
     std::thread worker([&] {
       try {
         work();
-      } catch (...) {
-        failure = std::current_exception();
-      }
+      } catch (...) { failure = std::current_exception(); }
       const std::lock_guard lock(mutex);
       finished = true;
       finished_signal.notify_one();
@@ -242,8 +240,10 @@ tables::BakeRequest bake_request(const Model& model, Law law, const BakeArgument
   check_max_evaluations("max_evals", a.max_evaluations);
   const tables::Encoding encoding = tables::parse_encoding(a.encoding);
   if (a.max_error) {
-    for (const auto& [name, set] : {std::pair{"mapping=", a.mapping.has_value()}, {"frame=", a.frame.has_value()},
-                                    {"interpolation=", a.interpolation.has_value()}, {"checks=", a.checks.has_value()}})
+    for (const auto& [name, set] : {std::pair{"mapping=", a.mapping.has_value()},
+                                    {"frame=", a.frame.has_value()},
+                                    {"interpolation=", a.interpolation.has_value()},
+                                    {"checks=", a.checks.has_value()}})
       if (set) throw InputError(std::string(name) + " cannot be combined with max_error=, which chooses it itself");
     tables::TargetBake bake;
     bake.max_evaluations = a.max_evaluations;
@@ -301,22 +301,25 @@ PYBIND11_MODULE(_core, m) {
   py::register_exception_translator([](std::exception_ptr p) {
     try {
       if (p) std::rethrow_exception(p);
-    } catch (const InputError& e) {
-      PyErr_SetString(PyExc_ValueError, e.what());
-    }
+    } catch (const InputError& e) { PyErr_SetString(PyExc_ValueError, e.what()); }
   });
 
-  m.def("models_json", [] { return json_to_python(shapes::models_json()); },
-        "The registry as `ganzfeld models --json` prints it (shapes/json.h).");
-  m.def("verify_json", [] {
-    BatchControl control;
-    const std::atomic<std::uint64_t> total{0};
-    nlohmann::ordered_json doc;
-    run_released(control, total, py::none(), [&] { doc = verify_json(run_verification()); });
-    return json_to_python(doc);
-  }, "The closed-form report as `ganzfeld verify --json` prints it (reports/verify.h).");
-  m.def("progress_bar", [](const std::string& label) { return util::progress_bar(label); },
-        "The command line's progress bar on stderr (util/progress.h); None when stderr is not a terminal.");
+  m.def(
+      "models_json", [] { return json_to_python(shapes::models_json()); },
+      "The registry as `ganzfeld models --json` prints it (shapes/json.h).");
+  m.def(
+      "verify_json",
+      [] {
+        BatchControl control;
+        const std::atomic<std::uint64_t> total{0};
+        nlohmann::ordered_json doc;
+        run_released(control, total, py::none(), [&] { doc = verify_json(run_verification()); });
+        return json_to_python(doc);
+      },
+      "The closed-form report as `ganzfeld verify --json` prints it (reports/verify.h).");
+  m.def(
+      "progress_bar", [](const std::string& label) { return util::progress_bar(label); },
+      "The command line's progress bar on stderr (util/progress.h); None when stderr is not a terminal.");
   m.def("unit", &unit, "Rows divided by their length, as `ganzfeld eval` normalizes --i/--j.");
   m.def("directions", &directions, py::arg("polar"), py::arg("phi"), py::arg("polar_in_degrees"),
         "Unit directions of polar angles in degrees (or their cosines) and azimuths in degrees.");
@@ -325,16 +328,17 @@ PYBIND11_MODULE(_core, m) {
       .def(py::init([](const std::string& spec) { return PyModel{parse_model(spec)}; }), py::arg("spec"))
       .def_property_readonly("spec", [](const PyModel& self) { return self.model->spec(); })
       .def_property_readonly("content_digest", [](const PyModel& self) { return self.model->content_digest(); })
-      .def_property_readonly("traits", [](const PyModel& self) {
-        const Traits t = self.model->traits();
-        py::dict d;
-        d["isotropic"] = t.isotropic;
-        d["reciprocal"] = t.reciprocal;
-        d["energy_class"] = to_string(t.energy);
-        return d;
-      })
-      .def("evaluate", &evaluate, py::arg("law"), py::arg("i"), py::arg("j"), py::arg("tol"),
-           py::arg("max_evals"), py::arg("progress"));
+      .def_property_readonly("traits",
+                             [](const PyModel& self) {
+                               const Traits t = self.model->traits();
+                               py::dict d;
+                               d["isotropic"] = t.isotropic;
+                               d["reciprocal"] = t.reciprocal;
+                               d["energy_class"] = to_string(t.energy);
+                               return d;
+                             })
+      .def("evaluate", &evaluate, py::arg("law"), py::arg("i"), py::arg("j"), py::arg("tol"), py::arg("max_evals"),
+           py::arg("progress"));
 
   py::class_<BakeArguments>(m, "BakeArguments")
       .def(py::init<>())
@@ -360,21 +364,27 @@ PYBIND11_MODULE(_core, m) {
       .def_property_readonly(
           "info", [](const PyTable& self) { return json_to_python(shapes::info_json(self.path, *self.table)); })
       .def("sample", &sample, py::arg("i"), py::arg("j"))
-      .def("write", [](PyTable& self, const std::string& path) {
-        {
-          const py::gil_scoped_release release;
-          tables::write_table(*self.table, path);
-        }
-        self.path = path;
-      }, py::arg("path"));
+      .def(
+          "write",
+          [](PyTable& self, const std::string& path) {
+            {
+              const py::gil_scoped_release release;
+              tables::write_table(*self.table, path);
+            }
+            self.path = path;
+          },
+          py::arg("path"));
 
   m.def("bake", &bake, py::arg("model"), py::arg("law"), py::arg("arguments"), py::arg("command"), py::arg("progress"));
-  m.def("read_table", [](const std::string& path) {
-    auto table = std::make_shared<tables::Table>();
-    {
-      const py::gil_scoped_release release;
-      *table = tables::read_table(path);
-    }
-    return PyTable{table, path};
-  }, py::arg("path"));
+  m.def(
+      "read_table",
+      [](const std::string& path) {
+        auto table = std::make_shared<tables::Table>();
+        {
+          const py::gil_scoped_release release;
+          *table = tables::read_table(path);
+        }
+        return PyTable{table, path};
+      },
+      py::arg("path"));
 }

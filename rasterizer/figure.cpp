@@ -5,9 +5,9 @@
 #include <memory>
 #include <numbers>
 
-#include "util/error.h"
 #include "models/spec.h"
 #include "rasterizer/shading.h"
+#include "util/error.h"
 
 namespace ganzfeld::raster {
 
@@ -32,7 +32,6 @@ Camera sphere_camera(int size, const Rgb& background) {
   c.background = background;
   return c;
 }
-
 
 ShadingMaterial lambert_material(const Rgb& color) {
   ShadingLobe lobe;
@@ -104,7 +103,8 @@ Mesh disc(double radius, double y, int segments) {
     mesh.normals.push_back({0, 1, 0});
   }
   for (int s = 0; s < segments; ++s)
-    mesh.triangles.push_back({0, static_cast<std::uint32_t>(1 + s), static_cast<std::uint32_t>(1 + (s + 1) % segments)});
+    mesh.triangles.push_back(
+        {0, static_cast<std::uint32_t>(1 + s), static_cast<std::uint32_t>(1 + (s + 1) % segments)});
   return mesh;
 }
 
@@ -149,7 +149,8 @@ int figure_gap(int size) { return std::max(2, size / 64); }
 
 Image koenderink_pont_panel(const std::string& spec, const FigureOptions& options) {
   if (options.size < 16 || options.size > 4096)
-    throw InputError("figure size " + std::to_string(options.size) + " is invalid; allowed: 16..4096 pixels per quadrant");
+    throw InputError("figure size " + std::to_string(options.size) +
+                     " is invalid; allowed: 16..4096 pixels per quadrant");
   const ModelPtr model = parse_model(spec);
   const ShadingMaterial material = figure_material(spec, options);
   const int s = options.size, gap = figure_gap(s);
@@ -159,10 +160,11 @@ Image koenderink_pont_panel(const std::string& spec, const FigureOptions& option
   blit(indicatrix_quadrant(*model, s), panel, 0, 0);
   blit(sphere_quadrant(material, grey_light(Light::Type::collimated, beam, kPi * kFieldRadiance), s, kFigureBackground),
        panel, s + gap, 0);
-  blit(sphere_quadrant(material, grey_light(Light::Type::hemispherical, {0, 1, 0}, kFieldRadiance), s, kFigureBackground),
+  blit(sphere_quadrant(material, grey_light(Light::Type::hemispherical, {0, 1, 0}, kFieldRadiance), s,
+                       kFigureBackground),
        panel, 0, s + gap);
-  blit(sphere_quadrant(material, grey_light(Light::Type::ganzfeld, {0, 1, 0}, kFieldRadiance), s, kFieldRadiance), panel,
-       s + gap, s + gap);
+  blit(sphere_quadrant(material, grey_light(Light::Type::ganzfeld, {0, 1, 0}, kFieldRadiance), s, kFieldRadiance),
+       panel, s + gap, s + gap);
   return panel;
 }
 

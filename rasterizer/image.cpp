@@ -12,11 +12,11 @@
 #include <OpenEXR/ImfInputFile.h>
 #include <OpenEXR/ImfOutputFile.h>
 
-#include "util/error.h"
-#include "util/atomic_file.h"
-#include "util/png.h"
-#include "tables/exr_io.h"
 #include "rasterizer/raster.h"
+#include "tables/exr_io.h"
+#include "util/atomic_file.h"
+#include "util/error.h"
+#include "util/png.h"
 
 namespace ganzfeld::raster {
 
@@ -54,7 +54,6 @@ std::string one_line(std::string text) {
   return text;
 }
 
-
 void write_png(const Image& image, const std::string& file) {
   std::vector<std::uint8_t> bytes(image.rgb.size());
   for (std::size_t k = 0; k < bytes.size(); ++k) bytes[k] = srgb_byte(image.rgb[k]);
@@ -90,7 +89,8 @@ ImageFormat image_format(const std::string& path) {
 
 void write_image(const Image& image, const std::string& path) {
   const ImageFormat format = image_format(path);
-  if (image.width < 1 || image.height < 1 || image.rgb.size() != static_cast<std::size_t>(image.width) * image.height * 3)
+  if (image.width < 1 || image.height < 1 ||
+      image.rgb.size() != static_cast<std::size_t>(image.width) * image.height * 3)
     throw InputError("cannot write image '" + path + "': the image is empty (" + std::to_string(image.width) + "x" +
                      std::to_string(image.height) + ")");
   check_writable(path);
@@ -109,7 +109,8 @@ Image read_image(const std::string& path) {
     if (format == ImageFormat::png) {
       const util::Rgb8Image png = util::read_png_rgb8(path);
       Image image(png.width, png.height);
-      for (std::size_t k = 0; k < png.rgb.size(); ++k) image.rgb[k] = static_cast<float>(srgb_decode(png.rgb[k] / 255.0));
+      for (std::size_t k = 0; k < png.rgb.size(); ++k)
+        image.rgb[k] = static_cast<float>(srgb_decode(png.rgb[k] / 255.0));
       return image;
     }
     Imf::InputFile in(path.c_str());
@@ -125,9 +126,7 @@ Image read_image(const std::string& path) {
     in.setFrameBuffer(frame);
     in.readPixels(dw.min.y, dw.max.y);
     return image;
-  } catch (const InputError&) {
-    throw;
-  } catch (const std::exception& e) {
+  } catch (const InputError&) { throw; } catch (const std::exception& e) {
     throw InputError("cannot read image '" + path + "': " + one_line(e.what()));
   }
 }

@@ -1,5 +1,6 @@
 // Linear RGB float images and their files: OpenEXR (linear radiance, RGB FLOAT) and PNG (8-bit
-// sRGB: the linear value clamped to [0, 1] through the sRGB transfer function, nothing else). The format is chosen by the file extension; writes are atomic.
+// sRGB: the linear value clamped to [0, 1] through the sRGB transfer function, nothing else). The format is chosen by
+// the file extension; writes are atomic.
 #pragma once
 
 #include <string>

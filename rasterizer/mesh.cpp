@@ -52,7 +52,8 @@ void compute_normals(Mesh& mesh) {
   mesh.normals.assign(mesh.positions.size(), Vec3{0, 0, 0});
   for (const auto& t : mesh.triangles) {
     // The cross product's length is twice the area: summing it weights faces by area.
-    const Vec3 face = glm::cross(mesh.positions[t[1]] - mesh.positions[t[0]], mesh.positions[t[2]] - mesh.positions[t[0]]);
+    const Vec3 face =
+        glm::cross(mesh.positions[t[1]] - mesh.positions[t[0]], mesh.positions[t[2]] - mesh.positions[t[0]]);
     for (auto v : t) mesh.normals[v] += face;
   }
   for (Vec3& n : mesh.normals) {
@@ -117,9 +118,7 @@ class ObjParser {
     long k = 0;
     try {
       k = std::stol(text, &used);
-    } catch (const std::exception&) {
-      refuse("face corner '" + text + "' is not an index");
-    }
+    } catch (const std::exception&) { refuse("face corner '" + text + "' is not an index"); }
     if (used != text.size()) refuse("face corner '" + text + "' is not an index");
     const long resolved = k < 0 ? static_cast<long>(count) + k : k - 1;
     if (k == 0 || resolved < 0 || resolved >= static_cast<long>(count))
@@ -157,8 +156,8 @@ class ObjParser {
     if (!all_normals) {
       mesh.positions = positions_;
       for (const auto& f : faces_)
-        mesh.triangles.push_back(
-            {static_cast<std::uint32_t>(f[0].v), static_cast<std::uint32_t>(f[1].v), static_cast<std::uint32_t>(f[2].v)});
+        mesh.triangles.push_back({static_cast<std::uint32_t>(f[0].v), static_cast<std::uint32_t>(f[1].v),
+                                  static_cast<std::uint32_t>(f[2].v)});
       compute_normals(mesh);
       return mesh;
     }
@@ -167,7 +166,8 @@ class ObjParser {
     for (const auto& f : faces_) {
       std::array<std::uint32_t, 3> t{};
       for (int k = 0; k < 3; ++k) {
-        const auto [it, fresh] = vertex.try_emplace({f[k].v, f[k].vn}, static_cast<std::uint32_t>(mesh.positions.size()));
+        const auto [it, fresh] =
+            vertex.try_emplace({f[k].v, f[k].vn}, static_cast<std::uint32_t>(mesh.positions.size()));
         if (fresh) {
           mesh.positions.push_back(positions_[f[k].v]);
           mesh.normals.push_back(normals_[f[k].vn]);

@@ -19,10 +19,10 @@ struct Sphere {
 };
 
 struct Mesh {
-  std::vector<Vec3> positions;                         ///< world space
-  std::vector<Vec3> normals;                           ///< unit, one per position
+  std::vector<Vec3> positions;                          ///< world space
+  std::vector<Vec3> normals;                            ///< unit, one per position
   std::vector<std::array<std::uint32_t, 3>> triangles;  ///< counter-clockwise seen from outside
-  std::optional<Sphere> exact_sphere;                  ///< set by uv_sphere
+  std::optional<Sphere> exact_sphere;                   ///< set by uv_sphere
 };
 
 /// A UV sphere: `segments` slices in longitude (>= 3) and segments/2 (>= 2) stacks in latitude,

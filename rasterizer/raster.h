@@ -13,8 +13,8 @@
 #include <cstdint>
 #include <vector>
 
-#include "scene/scene.h"
 #include "rasterizer/mesh.h"
+#include "scene/scene.h"
 
 namespace ganzfeld::raster {
 

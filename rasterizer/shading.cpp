@@ -24,7 +24,8 @@ class LambertLaws final : public LawSource {
 
 class TableLaws final : public LawSource {
  public:
-  TableLaws(std::shared_ptr<const tables::Table> g, std::shared_ptr<const tables::Table> h) : g_(std::move(g)), h_(std::move(h)) {}
+  TableLaws(std::shared_ptr<const tables::Table> g, std::shared_ptr<const tables::Table> h)
+      : g_(std::move(g)), h_(std::move(h)) {}
   bool has(Law law) const override { return (law == Law::g && g_) || (law == Law::h && h_); }
   double g(const Vec3& i, const Vec3& j) const override {
     const auto x = tables::coordinates(Law::g, i, j);
@@ -34,7 +35,9 @@ class TableLaws final : public LawSource {
     const double x[1] = {std::clamp(j.z, 0.0, 1.0)};
     return tables::sample(*h_, std::span<const double>(x)).value;
   }
-  const tables::Table* table(Law law) const override { return law == Law::g ? g_.get() : law == Law::h ? h_.get() : nullptr; }
+  const tables::Table* table(Law law) const override {
+    return law == Law::g ? g_.get() : law == Law::h ? h_.get() : nullptr;
+  }
 
  private:
   std::shared_ptr<const tables::Table> g_, h_;
@@ -136,7 +139,9 @@ Rgb MaterialShader::radiance(const Vec3& n, const Vec3& j_world, const Vec3& tan
         case Light::Type::hemispherical:
           value = lobe.laws->g(i, j_clamped) + mirror_term(*lobe.model, j_clamped, &i);
           break;
-        case Light::Type::ganzfeld: value = lobe.laws->h(j_clamped) + mirror_term(*lobe.model, j_clamped, nullptr); break;
+        case Light::Type::ganzfeld:
+          value = lobe.laws->h(j_clamped) + mirror_term(*lobe.model, j_clamped, nullptr);
+          break;
       }
       for (int c = 0; c < 3; ++c) out[c] += term.scale[c] * value;
     }
@@ -171,9 +176,11 @@ void check_laws_available(const RenderScene& scene) {
     if (m >= scene.materials.size()) throw std::logic_error("mesh material index out of range");
     for (const ShadingLobe& lobe : scene.materials[m]) {
       if (!lobe.model) throw std::logic_error("a shading lobe has no model");
-      if ((needed.sky || needed.ganzfeld) && !lobe.laws) throw std::logic_error("lobe " + lobe.model->spec() + " has no law source");
+      if ((needed.sky || needed.ganzfeld) && !lobe.laws)
+        throw std::logic_error("lobe " + lobe.model->spec() + " has no law source");
       if (needed.sky && !lobe.laws->has(Law::g)) throw std::logic_error("lobe " + lobe.model->spec() + " has no g");
-      if (needed.ganzfeld && !lobe.laws->has(Law::h)) throw std::logic_error("lobe " + lobe.model->spec() + " has no h");
+      if (needed.ganzfeld && !lobe.laws->has(Law::h))
+        throw std::logic_error("lobe " + lobe.model->spec() + " has no h");
     }
   }
 }
@@ -202,7 +209,8 @@ Image render(const RenderScene& scene) { return shade_image(scene, rasterize(sce
 
 void add_scene_geometry(const Scene& scene, RenderScene& out) {
   for (const SceneObject& object : scene.objects) {
-    if (object.shape == SceneObject::Shape::sphere) out.meshes.push_back(uv_sphere(object.center, object.radius, kSphereSegments));
+    if (object.shape == SceneObject::Shape::sphere)
+      out.meshes.push_back(uv_sphere(object.center, object.radius, kSphereSegments));
     else out.meshes.push_back(load_obj(object.mesh_path));
     out.mesh_material.push_back(object.material);
     out.mesh_tangent.push_back(object.tangent);

@@ -27,12 +27,12 @@
 #include <vector>
 
 #include "integrate/laws.h"
+#include "rasterizer/image.h"
+#include "rasterizer/raster.h"
 #include "scene/plan.h"
 #include "scene/scene.h"
 #include "tables/sample.h"
 #include "tables/table.h"
-#include "rasterizer/image.h"
-#include "rasterizer/raster.h"
 
 namespace ganzfeld::raster {
 
@@ -94,7 +94,7 @@ class MaterialShader {
 
   /// Lobes whose law (g or h) is looked up in a table, and the lookups a pixel makes per light.
   struct SummedTable {
-    tables::Lookup lookup;  ///< the lookup's axes (one of the summed tables), prepared once
+    tables::Lookup lookup;                       ///< the lookup's axes (one of the summed tables), prepared once
     std::vector<std::array<double, 3>> entries;  ///< Σ weight x colour x light intensity x value
   };
   struct LobeTerm {
@@ -103,8 +103,8 @@ class MaterialShader {
   };
   struct PreparedLight {
     Light::Type type = Light::Type::collimated;
-    Vec3 direction{0, 0, 1};        ///< unit, world
-    std::vector<LobeTerm> lobes;    ///< collimated: every lobe; sky, Ganzfeld: lobes without a table
+    Vec3 direction{0, 0, 1};      ///< unit, world
+    std::vector<LobeTerm> lobes;  ///< collimated: every lobe; sky, Ganzfeld: lobes without a table
     std::vector<SummedTable> tables;
     std::vector<LobeTerm> mirrors;  ///< sky, Ganzfeld: lobes in `tables` with a mirror delta, added apart
   };

@@ -148,7 +148,8 @@ Value nested(F&& point, const std::vector<double>& outer_cut, const std::vector<
   double worst_inner = 0.0;
   auto inner = [&](double x) {
     double error = 0.0;
-    const double value = panels<Points>([&](double y) { return point(x, y); }, inner_cut, options, inner_absolute, &error);
+    const double value =
+        panels<Points>([&](double y) { return point(x, y); }, inner_cut, options, inner_absolute, &error);
     worst_inner = std::max(worst_inner, error);
     return value;
   };
@@ -169,7 +170,8 @@ Value nested_tanh_sinh(F&& point, const std::vector<double>& outer_cut, const st
   std::vector<std::pair<double, double>> inner_errors;  // (outer node, inner error there)
   auto inner = [&](double x) {
     double error = 0.0;
-    const double value = tanh_sinh_panels([&](double y) { return point(x, y); }, inner_cut, options, inner_absolute, &error);
+    const double value =
+        tanh_sinh_panels([&](double y) { return point(x, y); }, inner_cut, options, inner_absolute, &error);
     inner_errors.push_back({x, error});
     return value;
   };
@@ -261,8 +263,7 @@ Value vignetting(const Model& model, const Vec3& i, const Vec3& j, const Options
   const LuneCoordinates lune(i, kHemisphereEdge);
   if (lune.empty) return {};
   const auto [t_cut, psi_cut] = break_points(model, lune, j, Varying::incident, options);
-  return lune_integral([&](const Vec3& k) { return model.f(k, j); }, lune, t_cut, psi_cut,
-                       options);
+  return lune_integral([&](const Vec3& k) { return model.f(k, j); }, lune, t_cut, psi_cut, options);
 }
 
 Value darkening(const Model& model, const Vec3& j, const Options& options) {
@@ -272,8 +273,7 @@ Value darkening(const Model& model, const Vec3& j, const Options& options) {
 Value albedo(const Model& model, const Vec3& i, const Options& options) {
   const LuneCoordinates lune(kNormal, kHemisphereEdge);
   const auto [t_cut, psi_cut] = break_points(model, lune, i, Varying::outgoing, options);
-  return lune_integral([&](const Vec3& k) { return model.f(i, k); }, lune, t_cut, psi_cut,
-                       options);
+  return lune_integral([&](const Vec3& k) { return model.f(i, k); }, lune, t_cut, psi_cut, options);
 }
 
 }  // namespace ganzfeld::reference

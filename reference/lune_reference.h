@@ -39,7 +39,7 @@ struct Options {
   /// backscatter lobes peak) and, when set, the peaks, widths and horizon layer of the model's
   /// mass hints (models/mass_hints.h: the model's own data, not the engine's).
   bool use_mass_hints = true;
-  bool swapped = false;      ///< psi outer, t inner, gauss_kronrod<31>: the second reference
+  bool swapped = false;  ///< psi outer, t inner, gauss_kronrod<31>: the second reference
   /// Boost's tanh_sinh at both levels (t outer) instead of gauss_kronrod: its double-exponential
   /// nodes crowd towards every panel's ends, where a layer 1e-9 thick at the horizon (a view
   /// 1e-9 above it) or the lune's tip takes a bisecting rule ~30 levels. Ignores max_depth.

@@ -37,7 +37,8 @@ std::vector<hvd::Uv> sample_disk(const Model& model, DiskProjection projection, 
       double sum = 0.0;
       for (int a = 0; a < ss; ++a)
         for (int b = 0; b < ss; ++b)
-          sum += disk_density(model, projection, j, {kU0 + (x + (a + 0.5) / ss) / ppu, kV1 - (y + (b + 0.5) / ss) / ppu});
+          sum +=
+              disk_density(model, projection, j, {kU0 + (x + (a + 0.5) / ss) / ppu, kV1 - (y + (b + 0.5) / ss) / ppu});
       cumulative[static_cast<std::size_t>(y) * w + x] = sum;
     }
   });
@@ -47,8 +48,8 @@ std::vector<hvd::Uv> sample_disk(const Model& model, DiskProjection projection, 
   std::uniform_real_distribution<double> uniform(0.0, 1.0);
   for (int n = 0; n < count; ++n) {
     const double target = uniform(engine) * cumulative.back();
-    const auto pixel = static_cast<std::size_t>(std::upper_bound(cumulative.begin(), cumulative.end(), target) -
-                                                cumulative.begin());
+    const auto pixel =
+        static_cast<std::size_t>(std::upper_bound(cumulative.begin(), cumulative.end(), target) - cumulative.begin());
     const int x = static_cast<int>(std::min(pixel, cumulative.size() - 1) % w), y = static_cast<int>(pixel / w);
     points.push_back({kU0 + (x + uniform(engine)) / ppu, kV1 - (y + uniform(engine)) / ppu});
   }
@@ -81,14 +82,15 @@ void write_disk_figure(const Model& data, const Model* fit, const DiskOptions& o
   const int panels = fit ? 3 : 1, columns = 2 * panels, rows = static_cast<int>(options.theta_o_deg.size());
   const int left = 150, top = 60, gap = 10;
   plot::Canvas cv(left + columns * (w + gap), top + rows * (h + gap));
-  const char* headers_fit[] = {"ORTHO: DATA", "ORTHO: FIT", "ORTHO: BOTH", "SCALING: DATA", "SCALING: FIT", "SCALING: BOTH"};
+  const char* headers_fit[] = {"ORTHO: DATA",   "ORTHO: FIT",   "ORTHO: BOTH",
+                               "SCALING: DATA", "SCALING: FIT", "SCALING: BOTH"};
   const char* headers_data[] = {"ORTHOGONAL", "SCALING"};
   for (int c = 0; c < columns; ++c)
     cv.text(left + c * (w + gap) + 4, top - 24, fit ? headers_fit[c] : headers_data[c], plot::kBlack);
-  cv.text(8, 8,
-          std::to_string(options.points) + " HALFWAY VECTORS DRAWN FROM EACH DENSITY" +
-              (fit ? ": RED DATA, BLUE FIT" : ""),
-          plot::kGrey);
+  cv.text(
+      8, 8,
+      std::to_string(options.points) + " HALFWAY VECTORS DRAWN FROM EACH DENSITY" + (fit ? ": RED DATA, BLUE FIT" : ""),
+      plot::kGrey);
   std::mt19937_64 engine(options.seed);
 
   for (int r = 0; r < rows; ++r) {

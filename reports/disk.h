@@ -29,10 +29,10 @@ double disk_density(const Model& model, DiskProjection projection, const Vec3& j
 
 struct DiskOptions {
   std::vector<double> theta_o_deg{0, 15, 30, 45, 60, 75};  ///< Fig. 13's outgoing angles
-  int pixels_per_unit = 56;                               ///< of the (u, v) plane
-  int samples_per_pixel_axis = 2;                         ///< the density per pixel: the mean of n × n points
-  int points = 3000;                                      ///< halfway vectors drawn per disk and model
-  std::uint64_t seed = 13;                                ///< of the draws: the same figure every time
+  int pixels_per_unit = 56;                                ///< of the (u, v) plane
+  int samples_per_pixel_axis = 2;                          ///< the density per pixel: the mean of n × n points
+  int points = 3000;                                       ///< halfway vectors drawn per disk and model
+  std::uint64_t seed = 13;                                 ///< of the draws: the same figure every time
 };
 
 /// The figure, as Fig. 13 shows it: halfway vectors drawn from each density as dots, red for the

@@ -62,7 +62,8 @@ struct ExtremesCase {
   double reference = 0.0, reference_error = 0.0;
   /// Which reference judged: "gauss_kronrod<61>", "gauss_kronrod<31>, swapped" or "tanh_sinh".
   std::string reference_rule;
-  double second_reference = 0.0, second_reference_error = 0.0;  ///< another reference, where the engine disagrees with the first
+  double second_reference = 0.0,
+         second_reference_error = 0.0;  ///< another reference, where the engine disagrees with the first
   bool finite = true, converged = true, dishonest = false, references_disagree = false;
   /// The reference ran out of its budget or its error exceeds the engine's tolerance: this case
   /// is not judged (counted and listed, not dropped).
@@ -74,8 +75,8 @@ struct ExtremesRow {
   int specs = 0;
   std::vector<std::string> refused;  ///< specs the parser refused (e.g. kd + ks > 1), with its message
   int cases = 0, non_finite = 0, not_converged = 0, dishonest = 0, references_disagree = 0, unresolved = 0;
-  int judged_by_fallback = 0;       ///< judged cases whose first reference was unresolved
-  double seconds = 0.0;             ///< wall time of the model's cases
+  int judged_by_fallback = 0;         ///< judged cases whose first reference was unresolved
+  double seconds = 0.0;               ///< wall time of the model's cases
   std::vector<ExtremesCase> flagged;  ///< every non-finite, not converged, dishonest or doubtful case
   std::vector<ExtremesCase> all;      ///< every case (for the CSV)
 };

@@ -2,7 +2,6 @@
 
 #include <stdexcept>
 
-
 #include "util/atomic_file.h"
 #include "util/png.h"
 
@@ -23,7 +22,8 @@ void draw_log_axes(Canvas& cv, const Panel& p, const LogAxis& ax, const LogAxis&
       cv.text(x - Canvas::text_width(l) / 2, p.y1 + 12, l, kBlack);
     }
     if (e < ax.hi)
-      for (int m = 2; m <= 9; ++m) cv.line(px(m * std::pow(10.0, e)), p.y1, px(m * std::pow(10.0, e)), p.y1 + 3, kBlack);
+      for (int m = 2; m <= 9; ++m)
+        cv.line(px(m * std::pow(10.0, e)), p.y1, px(m * std::pow(10.0, e)), p.y1 + 3, kBlack);
   }
   for (int e = ay.lo; e <= ay.hi; ++e) {
     const int y = py(std::pow(10.0, e));
@@ -34,7 +34,8 @@ void draw_log_axes(Canvas& cv, const Panel& p, const LogAxis& ax, const LogAxis&
       cv.text(p.x0 - 10 - Canvas::text_width(l), y - 7, l, kBlack);
     }
     if (e < ay.hi)
-      for (int m = 2; m <= 9; ++m) cv.line(p.x0 - 3, py(m * std::pow(10.0, e)), p.x0, py(m * std::pow(10.0, e)), kBlack);
+      for (int m = 2; m <= 9; ++m)
+        cv.line(p.x0 - 3, py(m * std::pow(10.0, e)), p.x0, py(m * std::pow(10.0, e)), kBlack);
   }
   cv.line(p.x0, p.y0, p.x0, p.y1, kBlack);
   cv.line(p.x0, p.y1, p.x1, p.y1, kBlack);
@@ -45,7 +46,8 @@ void draw_log_axes(Canvas& cv, const Panel& p, const LogAxis& ax, const LogAxis&
 }
 
 void write_png(const Canvas& cv, const std::string& path) {
-  write_atomically(path, [&](const std::string& temp) { util::write_png_rgb8(temp, cv.width(), cv.height(), cv.data()); });
+  write_atomically(path,
+                   [&](const std::string& temp) { util::write_png_rgb8(temp, cv.width(), cv.height(), cv.data()); });
 }
 
 }  // namespace ganzfeld::plot

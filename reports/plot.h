@@ -18,7 +18,7 @@ struct Rgb {
 };
 constexpr Rgb kWhite{255, 255, 255}, kBlack{0, 0, 0}, kGrid{225, 225, 225}, kGrey{110, 110, 110};
 // Colour-blind-safe palette (Okabe & Ito, 2008): one colour per mapping set x encoding.
-constexpr Rgb kPalette[] = {{0, 114, 178}, {230, 159, 0}, {0, 158, 115}, {213, 94, 0},
+constexpr Rgb kPalette[] = {{0, 114, 178},   {230, 159, 0},  {0, 158, 115},  {213, 94, 0},
                             {204, 121, 167}, {86, 180, 233}, {240, 228, 66}, {0, 0, 0}};
 
 // Each glyph: 7 rows of 5 columns, '#' = ink.
@@ -50,8 +50,7 @@ inline const std::map<char, const char*>& font() {
       {'_', "..............................#####"}, {'|', "..#....#....#....#....#....#....#.."},
       {'*', "......#..#.#.#.###.#.#.#..#........"}, {'?', ".###.#...#....#...#...#.........#.."},
       {'%', "##...##..#...#...#...#...#..##...##"}, {'<', "...#...#...#...#.....#.....#.....#."},
-      {'>', ".#.....#.....#.....#...#...#...#..."},
-      {';', "......##...##.........##....#...#..."}};
+      {'>', ".#.....#.....#.....#...#...#...#..."}, {';', "......##...##.........##....#...#..."}};
   return glyphs;
 }
 
@@ -86,8 +85,9 @@ class Canvas {
   void marker(int cx, int cy, int shape, Rgb c, int r = 5) {
     for (int y = -r; y <= r; ++y)
       for (int x = -r; x <= r; ++x) {
-        const bool in = inside(shape, x, y, r), edge = in && (!inside(shape, x - 1, y, r) || !inside(shape, x + 1, y, r) ||
-                                                                !inside(shape, x, y - 1, r) || !inside(shape, x, y + 1, r));
+        const bool in = inside(shape, x, y, r),
+                   edge = in && (!inside(shape, x - 1, y, r) || !inside(shape, x + 1, y, r) ||
+                                 !inside(shape, x, y - 1, r) || !inside(shape, x, y + 1, r));
         if (in) set(cx + x, cy + y, edge ? Rgb{40, 40, 40} : c);
       }
   }
@@ -103,10 +103,8 @@ class Canvas {
           const int along = static_cast<int>(k) * 6 * scale + col * scale;
           for (int a = 0; a < scale; ++a)
             for (int b = 0; b < scale; ++b) {
-              if (vertical)
-                set(x + row * scale + b, y - along - a, c);
-              else
-                set(x + along + a, y + row * scale + b, c);
+              if (vertical) set(x + row * scale + b, y - along - a, c);
+              else set(x + along + a, y + row * scale + b, c);
             }
         }
     }

@@ -2,8 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <optional>
 #include <cstdio>
+#include <optional>
 #include <sstream>
 
 #include "reports/plot.h"
@@ -122,7 +122,8 @@ std::optional<Table> measure_row(const Model& model, Law law, const BakeRequest&
   row.max_error = 0.0;
   for (const ReferencePoint& p : reference.points) {
     double e = 0.0;
-    for (WeightRounding r : roundings) e = std::max(e, std::abs(sample(table, p.direction.i, p.direction.j, r).value - p.value));
+    for (WeightRounding r : roundings)
+      e = std::max(e, std::abs(sample(table, p.direction.i, p.direction.j, r).value - p.value));
     covered += e <= table.lookup_error;
     sum_sq += e * e;
     row.max_error = std::max(row.max_error, e);
@@ -234,14 +235,14 @@ SchemeReport measure_schemes(const Model& model, Law law, const SchemeOptions& o
       measure_row(model, law, bake_options, options.repeats, report.reference, row);
       add(row);
     };
-    for (const std::vector<int>& resolution : plan.one_fetch) one_fetch_row(resolution, Encoding::single, Filter::hardware);
+    for (const std::vector<int>& resolution : plan.one_fetch)
+      one_fetch_row(resolution, Encoding::single, Filter::hardware);
     // The finest again read with texelFetch (2^D fetches, weights in full precision): what the 8-bit weights cost.
     one_fetch_row(std::vector<int>(report.rows.back().resolution), Encoding::single, Filter::texel_fetch);
     const SchemeRow* base = &report.rows.back();  // in unorm16: the smallest within kTrilinearTarget, else the finest
     for (const SchemeRow& r : report.rows)
       if (r.kind == SchemeKind::one_fetch && r.filter == Filter::hardware && r.refused.empty() &&
-          r.max_error <= kTrilinearTarget &&
-          r.value_bytes < base->value_bytes)
+          r.max_error <= kTrilinearTarget && r.value_bytes < base->value_bytes)
         base = &r;
     one_fetch_row(std::vector<int>(base->resolution), Encoding::unorm16, Filter::hardware);
     for (const auto& [target, budget] : plan.fetch_targets) {
@@ -282,7 +283,9 @@ std::string scheme_label(const SchemeRow& row) {
            (row.encoding == Encoding::unorm16 ? " --encoding unorm16" : "");
   if (row.kind == SchemeKind::today || row.kind == SchemeKind::trilinear || row.kind == SchemeKind::one_fetch)
     return std::string(to_string(row.kind)) + " " + resolution_text(row.resolution) +
-           (row.encoding == Encoding::half ? " half" : row.encoding == Encoding::unorm16 ? " unorm16" : "") +
+           (row.encoding == Encoding::half      ? " half"
+            : row.encoding == Encoding::unorm16 ? " unorm16"
+                                                : "") +
            (row.kind == SchemeKind::one_fetch && row.filter == Filter::texel_fetch ? " texelFetch" : "");
   return std::string(row.kind == SchemeKind::half ? "pick in half" : "pick, other lookup");
 }
@@ -290,7 +293,8 @@ std::string scheme_label(const SchemeRow& row) {
 std::string schemes_markdown(const SchemeReport& report, const std::string& command, const std::string& plot) {
   std::ostringstream md;
   const Reference& ref = report.reference;
-  md << "Measured by\n\n```sh\n" << command << "\n```\n\n"
+  md << "Measured by\n\n```sh\n"
+     << command << "\n```\n\n"
      << "Reference: " << ref.points.size() << " seeded random points (seed " << ref.seed << ", "
      << (report.law == Law::g ? "j·n" : "cos θ") << " in [" << kSchemeMinCos << ", 1]) by cubature at "
      << number("%.0e", ref.tolerance) << " (largest error estimate " << number("%.2g", ref.max_error) << ", "
@@ -308,11 +312,10 @@ std::string schemes_markdown(const SchemeReport& report, const std::string& comm
     const Spread t = bake_spread(r);
     md << to_string(r.frame) << " | " << to_string(r.interpolation)
        << (r.filter == Filter::hardware ? " (hardware filter)" : "") << " | " << r.fetches << " | "
-       << to_string(r.encoding) << " | "
-       << resolution_text(r.resolution) << " | " << r.value_bytes << " | " << number("%.3g", t.median) << " ["
-       << number("%.3g", t.min) << "–" << number("%.3g", t.max) << "] | " << number("%.3g", r.max_error) << " | "
-       << number("%.3g", r.rms_error) << " | " << number("%.3g", r.lookup_error) << " | "
-       << number("%.2f", 100.0 * r.covered) << "% |\n";
+       << to_string(r.encoding) << " | " << resolution_text(r.resolution) << " | " << r.value_bytes << " | "
+       << number("%.3g", t.median) << " [" << number("%.3g", t.min) << "–" << number("%.3g", t.max) << "] | "
+       << number("%.3g", r.max_error) << " | " << number("%.3g", r.rms_error) << " | " << number("%.3g", r.lookup_error)
+       << " | " << number("%.2f", 100.0 * r.covered) << "% |\n";
   }
   return md.str();
 }
@@ -333,8 +336,9 @@ void write_schemes_plot(const SchemeReport& report, const std::string& path) {
     errors.push_back(r->max_error);
   }
   const LogAxis ay = LogAxis::of(errors);
-  for (const auto& [panel, xs, label] : {std::tuple{Panel{130, 70, 660, 530}, &bytes, "value bytes (what a shader uploads)"},
-                                         std::tuple{Panel{830, 70, 1340, 530}, &seconds, "bake time (s, median)"}}) {
+  for (const auto& [panel, xs, label] :
+       {std::tuple{Panel{130, 70, 660, 530}, &bytes, "value bytes (what a shader uploads)"},
+        std::tuple{Panel{830, 70, 1340, 530}, &seconds, "bake time (s, median)"}}) {
     const LogAxis ax = LogAxis::of(*xs);
     draw_log_axes(cv, panel, ax, ay, label, "max |lookup - reference|");
     for (std::size_t k = 0; k < rows.size(); ++k) {
@@ -353,8 +357,10 @@ void write_schemes_plot(const SchemeReport& report, const std::string& path) {
   }
   cv.text(130, 650, "today: cosines frame, linear.  max-error: what bake --max-error picks.  other lookup, half: the",
           kGrey);
-  cv.text(130, 674, "finest pick with the other interpolation or in half floats.  trilinear: lobe frame, linear.  "
-          "one-fetch: warped frame, hardware filter.", kGrey);
+  cv.text(130, 674,
+          "finest pick with the other interpolation or in half floats.  trilinear: lobe frame, linear.  "
+          "one-fetch: warped frame, hardware filter.",
+          kGrey);
   write_png(cv, path);
 }
 

@@ -52,29 +52,29 @@ const char* to_string(SchemeKind kind);
 
 struct SchemeRow {
   SchemeKind kind = SchemeKind::today;
-  double target = 0.0;             ///< max_error rows: E (and target_bytes, 0: the default cap)
+  double target = 0.0;  ///< max_error rows: E (and target_bytes, 0: the default cap)
   std::uint64_t target_bytes = 0;
-  std::string refused;             ///< max_error rows the baker refused: its message (no table)
+  std::string refused;  ///< max_error rows the baker refused: its message (no table)
   tables::Frame frame = tables::Frame::cosines;
   tables::Interpolation interpolation = tables::Interpolation::linear;
   tables::Encoding encoding = tables::Encoding::single;
   std::vector<int> resolution;
-  std::uint64_t value_bytes = 0;   ///< what a shader uploads (tables::value_bytes)
+  std::uint64_t value_bytes = 0;     ///< what a shader uploads (tables::value_bytes)
   std::vector<double> bake_seconds;  ///< wall time of each run
-  double max_error = 0.0;          ///< max |lookup - reference| over the reference points
+  double max_error = 0.0;            ///< max |lookup - reference| over the reference points
   double rms_error = 0.0;
-  double lookup_error = 0.0;       ///< the table's stated bound (Table::lookup_error)
-  double covered = 0.0;            ///< fraction of the points where |lookup - reference| <= lookup_error
-  int fetches = 0;                 ///< texture fetches per lookup (tables::fetches)
+  double lookup_error = 0.0;  ///< the table's stated bound (Table::lookup_error)
+  double covered = 0.0;       ///< fraction of the points where |lookup - reference| <= lookup_error
+  int fetches = 0;            ///< texture fetches per lookup (tables::fetches)
   tables::Filter filter = tables::Filter::texel_fetch;
-  int target_fetches = 0;          ///< max_error rows: --fetches (0: none)
+  int target_fetches = 0;  ///< max_error rows: --fetches (0: none)
 };
 
 struct SchemeOptions {
   int points = 2000;
   std::uint64_t seed = 1;
-  int repeats = 3;     ///< bake runs per row (median and spread)
-  bool quick = false;  ///< fewer rows (tests): coarser resolutions, E = 1e-3 only
+  int repeats = 3;              ///< bake runs per row (median and spread)
+  bool quick = false;           ///< fewer rows (tests): coarser resolutions, E = 1e-3 only
   bool one_fetch_only = false;  ///< only the one_fetch family (models whose other searches take too long)
   std::function<void(std::size_t done, std::size_t total)> progress;
 };

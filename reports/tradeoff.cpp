@@ -1,5 +1,6 @@
 #include "reports/tradeoff.h"
 
+#include <unistd.h>
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -10,18 +11,17 @@
 #include <numbers>
 #include <random>
 #include <sstream>
-#include <unistd.h>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include "integrate/laws.h"
-#include "util/error.h"
-#include "util/atomic_file.h"
+#include "reports/plot.h"
 #include "tables/bake.h"
 #include "tables/exr_io.h"
-#include "reports/plot.h"
 #include "tables/sample.h"
+#include "util/atomic_file.h"
+#include "util/error.h"
 #include "util/timing.h"
 
 namespace ganzfeld::reports {
@@ -58,7 +58,6 @@ std::vector<std::vector<int>> one_d(std::initializer_list<int> counts) {
   for (int c : counts) out.push_back({c});
   return out;
 }
-
 
 }  // namespace
 
@@ -334,7 +333,8 @@ std::string tradeoff_markdown(const TradeoffReport& report, const std::string& c
     tightest = std::min(tightest, r.config.tolerance);
     if (finest.empty() || product(r.config.resolution) > product(finest)) finest = r.config.resolution;
   }
-  auto find = [&](const std::vector<int>& res, const std::vector<Mapping>& m, Encoding e, double tol) -> const TradeoffRow* {
+  auto find = [&](const std::vector<int>& res, const std::vector<Mapping>& m, Encoding e,
+                  double tol) -> const TradeoffRow* {
     for (const TradeoffRow& r : rows)
       if (r.config.resolution == res && same(r.config, m, e, tol)) return &r;
     return nullptr;
@@ -342,8 +342,8 @@ std::string tradeoff_markdown(const TradeoffReport& report, const std::string& c
 
   md << "Measured by\n\n```sh\n" << command << "\n```\n\n";
   md << "Reference: " << report.reference.points.size() << " points (" << report.reference.extreme_points
-     << " extremes + " << report.reference.points.size() - report.reference.extreme_points
-     << " random, seed " << report.reference.seed << ") by cubature at tolerance " << sci(report.reference.tolerance)
+     << " extremes + " << report.reference.points.size() - report.reference.extreme_points << " random, seed "
+     << report.reference.seed << ") by cubature at tolerance " << sci(report.reference.tolerance)
      << " (largest error estimate " << sci(report.reference.max_error) << ", " << report.reference.unconverged
      << " unconverged), " << seconds_text(report.reference.seconds) << "; whole run " << seconds_text(report.seconds)
      << ".\n\n";
@@ -391,8 +391,7 @@ std::string tradeoff_markdown(const TradeoffReport& report, const std::string& c
          << to_string(best->config.encoding) << " tol " << sci(best->config.tolerance) << " (max error "
          << sci(best->max_error) << ", " << bytes_text(best->bytes) << ", bake " << seconds_text(best->bake_seconds)
          << ").\n";
-    else
-      md << "none in this sweep.\n";
+    else md << "none in this sweep.\n";
   }
   md << "<!-- /summary -->\n\n";
   if (!plot.empty()) md << "![max error vs bytes and bake time](" << plot << ")\n\n";
@@ -402,13 +401,12 @@ std::string tradeoff_markdown(const TradeoffReport& report, const std::string& c
   md << "|---|---|---|---|--:|--:|--:|--:|--:|--:|--:|\n";
   for (const TradeoffRow& r : rows)
     md << "| " << resolution_text(r.config.resolution) << " | " << mappings_text(r.config.mappings) << " | "
-       << to_string(r.config.encoding) << " | " << sci(r.config.tolerance) << " | " << r.bytes << " | "
-       << r.file_bytes << " | " << fmt("%.3g", r.bake_seconds) << " | " << fmt("%.0f", r.lookup_ns) << " | "
-       << fmt("%.3g", r.max_error) << " | " << fmt("%.3g", r.rms_error) << " | " << fmt("%.3g", r.max_stored_error)
+       << to_string(r.config.encoding) << " | " << sci(r.config.tolerance) << " | " << r.bytes << " | " << r.file_bytes
+       << " | " << fmt("%.3g", r.bake_seconds) << " | " << fmt("%.0f", r.lookup_ns) << " | " << fmt("%.3g", r.max_error)
+       << " | " << fmt("%.3g", r.rms_error) << " | " << fmt("%.3g", r.max_stored_error)
        << (r.unconverged ? " (" + std::to_string(r.unconverged) + " unconverged)" : std::string()) << " |\n";
   return md.str();
 }
-
 
 // --- The plot ---------------------------------------------------------------------------------
 // A tiny raster plotter: RGB canvas, Bresenham lines, a built-in 5x7 bitmap font (upper case,
@@ -488,7 +486,8 @@ void write_tradeoff_plot(const TradeoffReport& report, const std::string& path) 
     cv.text(862, y, "tol " + short_number(tolerances[t]), kBlack);
   }
   cv.text(130, cv.height() - 22,
-          "points: " + std::to_string(report.reference.points.size()) + " reference directions. lines join the resolutions of a series and tolerance.",
+          "points: " + std::to_string(report.reference.points.size()) +
+              " reference directions. lines join the resolutions of a series and tolerance.",
           kGrey);
 
   plot::write_png(cv, path);

@@ -32,10 +32,10 @@ namespace ganzfeld::reports {
 inline constexpr double kReferenceTolerance = 1e-11;
 
 struct TradeoffConfig {
-  std::vector<int> resolution;     ///< nodes per axis
-  std::vector<tables::Mapping> mappings;   ///< one per axis (resolved: never empty)
+  std::vector<int> resolution;            ///< nodes per axis
+  std::vector<tables::Mapping> mappings;  ///< one per axis (resolved: never empty)
   tables::Encoding encoding = tables::Encoding::single;
-  double tolerance = 1e-9;         ///< cubature tolerance of the bake
+  double tolerance = 1e-9;  ///< cubature tolerance of the bake
 };
 
 /// The sweep: every combination of the lists, in the order mapping set → encoding → tolerance →
@@ -84,7 +84,7 @@ struct Reference {
   double tolerance = kReferenceTolerance;
   double max_error = 0.0;  ///< largest error estimate of any reference value
   long long unconverged = 0;
-  double seconds = 0.0;    ///< wall time of the reference cubature
+  double seconds = 0.0;  ///< wall time of the reference cubature
 };
 
 /// Evaluates the law at reference_directions(law, random_points, seed) (in parallel,
@@ -110,13 +110,13 @@ struct TradeoffRow {
   double lookup_ns = 0.0;           ///< per tables::sample on axis coordinates, one thread
   double max_error = 0.0;           ///< max |lookup − reference| over the reference points
   double rms_error = 0.0;
-  double max_stored_error = 0.0;    ///< Table::max_error (cubature + rounding at the nodes)
-  long long unconverged = 0;        ///< entries whose cubature missed the tolerance
-  Direction worst;                  ///< where max_error was reached
+  double max_stored_error = 0.0;  ///< Table::max_error (cubature + rounding at the nodes)
+  long long unconverged = 0;      ///< entries whose cubature missed the tolerance
+  Direction worst;                ///< where max_error was reached
 };
 
 struct TradeoffOptions {
-  int points = 2000;          ///< random reference points (extremes come on top)
+  int points = 2000;  ///< random reference points (extremes come on top)
   std::uint64_t seed = 1;
   double reference_tolerance = kReferenceTolerance;
   /// Called after each configuration with (rows done, rows total).

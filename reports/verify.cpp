@@ -11,11 +11,11 @@
 #include <tbb/parallel_for.h>
 
 #include "integrate/laws.h"
-#include "reports/verify_support.h"
 #include "models/kp_lobes.h"
 #include "models/mixture.h"
 #include "models/registry.h"
 #include "models/spec.h"
+#include "reports/verify_support.h"
 
 namespace ganzfeld {
 
@@ -32,7 +32,6 @@ const std::vector<double> kCosPole{-1.0, -0.999, -0.7, -0.3, 0.0, 1e-6, 0.3, 0.7
 const std::vector<double> kCosView{0.0, 1e-6, 0.25, 0.5, 0.75, 1.0};
 const std::vector<double> kPhiDeg{0.0, 45.0, 90.0, 135.0, 180.0};
 const std::vector<double> kCos{0.0, 1e-6, 0.1, 0.25, 0.5, 0.75, 0.9, 0.999, 1.0};
-
 
 Sample from_estimate(double printed, double corrected, const Estimate& e) {
   return {printed, corrected, e.value, e.error, e.converged, 1};
@@ -101,7 +100,8 @@ Maximum max_albedo(const Model& model) {
     const double golden = (std::sqrt(5.0) - 1.0) / 2.0;
     for (int it = 0; it < 60; ++it) {
       const double x1 = hi - golden * (hi - lo), x2 = lo + golden * (hi - lo);
-      if (a(x1) > a(x2)) hi = x2; else lo = x1;
+      if (a(x1) > a(x2)) hi = x2;
+      else lo = x1;
     }
     m.value = std::max(m.value, a(0.5 * (lo + hi)));
   }
@@ -111,8 +111,7 @@ Maximum max_albedo(const Model& model) {
 /// "The constant is the largest compatible with energy conservation": max_i a(i) = 1 with the
 /// printed constant; corrected: with ours.
 std::vector<Job> norm_jobs(const std::string& name, const std::vector<double>& params,
-                           std::function<double(double)> printed_constant,
-                           std::function<double(double)> our_constant) {
+                           std::function<double(double)> printed_constant, std::function<double(double)> our_constant) {
   std::vector<Job> jobs;
   for (double p : params)
     jobs.push_back([=] {
@@ -135,8 +134,7 @@ std::string list(const std::vector<double>& v, const std::string& key) {
 std::vector<CheckResult> lambert_checks() {
   const ModelPtr m = parse_model("lambert");
   return {
-      run_check(meta("lambert.g", "Extended Sources, hemispherical diffuse beam", "lambert",
-                     "g_L = (1 + i·n)/2"),
+      run_check(meta("lambert.g", "Extended Sources, hemispherical diffuse beam", "lambert", "g_L = (1 + i·n)/2"),
                 vignetting_jobs(m, [](const Vec3& i, const Vec3&) { return lambert::g(i.z); })),
       run_check(meta("lambert.h", "Extended Sources, Ganzfeld", "lambert", "h_L = 1"),
                 cos_jobs(m, Law::h, [](double) { return 1.0; })),
@@ -171,44 +169,50 @@ std::vector<CheckResult> minnaert_checks() {
   return {
       run_check(meta("minnaert.g.xi1", "Bulk Scattering, g_d for xi = 1", "minnaert:xi=1",
                      "g_d = (j·n)/pi (pi - arccos(i·n) + (i·n) sqrt(1 - (i·n)^2))"),
-                vignetting_jobs(parse_model("minnaert:xi=1"), [](const Vec3& i, const Vec3& j) {
-                  return minnaert::g_xi1_printed(i.z, j.z);
-                })),
-      run_check(meta("minnaert.g.hyp2f1", "Bulk Scattering, g_d with 2F1", list(xis, "minnaert:xi"),
-                     "g_d = Gamma((3+xi)/2)/(sqrt(pi) Gamma(1+xi/2)) (i·n) (j·n)^xi 2F1(1/2, -xi/2; 3/2; (i·n)^2)",
-                     corrected_g, why_g),
-                for_each_xi(xis, [](double xi, ModelPtr m) {
-                  return vignetting_jobs(
-                      m, [xi](const Vec3& i, const Vec3& j) { return minnaert::g_hyp2f1_printed(i.z, j.z, xi); },
-                      [xi](const Vec3& i, const Vec3& j) { return minnaert::g(i.z, j.z, xi); });
-                })),
-      run_check(meta("minnaert.g.betainc", "Bulk Scattering, g_d with the incomplete beta function",
-                     list(xis, "minnaert:xi"),
-                     "g_d = Gamma((3+xi)/2)/(xi sqrt(pi) Gamma(xi/2)) (j·n)^xi B_{(i·n)^2}(1/2, 1 + xi/2)",
-                     "g_d = (j·n)^xi [1/2 + sign(i·n) Gamma((3+xi)/2)/(xi sqrt(pi) Gamma(xi/2)) B_{(i·n)^2}(1/2, 1 + xi/2)]",
-                     "The same missing half-hemisphere term 1/2 as minnaert.g.hyp2f1 (the printed coefficient is right: "
-                     "B_{z^2}(1/2, 1+xi/2) = 2 z 2F1(1/2, -xi/2; 3/2; z^2) and xi Gamma(xi/2) = 2 Gamma(1+xi/2)); in addition "
-                     "B_{(i·n)^2} is even in i·n, so for a sky pole below the horizon the odd part needs the factor "
-                     "sign(i·n). The text's 'for integer alpha' is a slip: the form holds for every real xi >= 0."),
-                for_each_xi(xis, [](double xi, ModelPtr m) {
-                  return vignetting_jobs(
-                      m, [xi](const Vec3& i, const Vec3& j) { return minnaert::g_betainc_printed(i.z, j.z, xi); },
-                      [xi](const Vec3& i, const Vec3& j) { return minnaert::g(i.z, j.z, xi); });
-                })),
+                vignetting_jobs(parse_model("minnaert:xi=1"),
+                                [](const Vec3& i, const Vec3& j) { return minnaert::g_xi1_printed(i.z, j.z); })),
+      run_check(
+          meta("minnaert.g.hyp2f1", "Bulk Scattering, g_d with 2F1", list(xis, "minnaert:xi"),
+               "g_d = Gamma((3+xi)/2)/(sqrt(pi) Gamma(1+xi/2)) (i·n) (j·n)^xi 2F1(1/2, -xi/2; 3/2; (i·n)^2)",
+               corrected_g, why_g),
+          for_each_xi(xis,
+                      [](double xi, ModelPtr m) {
+                        return vignetting_jobs(
+                            m, [xi](const Vec3& i, const Vec3& j) { return minnaert::g_hyp2f1_printed(i.z, j.z, xi); },
+                            [xi](const Vec3& i, const Vec3& j) { return minnaert::g(i.z, j.z, xi); });
+                      })),
+      run_check(
+          meta(
+              "minnaert.g.betainc", "Bulk Scattering, g_d with the incomplete beta function", list(xis, "minnaert:xi"),
+              "g_d = Gamma((3+xi)/2)/(xi sqrt(pi) Gamma(xi/2)) (j·n)^xi B_{(i·n)^2}(1/2, 1 + xi/2)",
+              "g_d = (j·n)^xi [1/2 + sign(i·n) Gamma((3+xi)/2)/(xi sqrt(pi) Gamma(xi/2)) B_{(i·n)^2}(1/2, 1 + xi/2)]",
+              "The same missing half-hemisphere term 1/2 as minnaert.g.hyp2f1 (the printed coefficient is right: "
+              "B_{z^2}(1/2, 1+xi/2) = 2 z 2F1(1/2, -xi/2; 3/2; z^2) and xi Gamma(xi/2) = 2 Gamma(1+xi/2)); in addition "
+              "B_{(i·n)^2} is even in i·n, so for a sky pole below the horizon the odd part needs the factor "
+              "sign(i·n). The text's 'for integer alpha' is a slip: the form holds for every real xi >= 0."),
+          for_each_xi(xis,
+                      [](double xi, ModelPtr m) {
+                        return vignetting_jobs(
+                            m, [xi](const Vec3& i, const Vec3& j) { return minnaert::g_betainc_printed(i.z, j.z, xi); },
+                            [xi](const Vec3& i, const Vec3& j) { return minnaert::g(i.z, j.z, xi); });
+                      })),
       run_check(meta("minnaert.h", "Bulk Scattering", list(xis_wide, "minnaert:xi"), "h_d = (j·n)^xi"),
-                for_each_xi(xis_wide, [](double xi, ModelPtr m) {
-                  return cos_jobs(m, Law::h, [xi](double mu) { return minnaert::h(mu, xi); });
-                })),
+                for_each_xi(xis_wide,
+                            [](double xi, ModelPtr m) {
+                              return cos_jobs(m, Law::h, [xi](double mu) { return minnaert::h(mu, xi); });
+                            })),
       run_check(meta("minnaert.a", "Bulk Scattering", list(xis_wide, "minnaert:xi"), "a_d = (i·n)^xi"),
-                for_each_xi(xis_wide, [](double xi, ModelPtr m) {
-                  return cos_jobs(m, Law::a, [xi](double mu) { return minnaert::a(mu, xi); });
-                })),
+                for_each_xi(xis_wide,
+                            [](double xi, ModelPtr m) {
+                              return cos_jobs(m, Law::a, [xi](double mu) { return minnaert::a(mu, xi); });
+                            })),
       run_check(meta("minnaert.r", "Bulk Scattering", list(xis_wide, "minnaert:xi"), "r_d = 2/(2 + xi)"),
-                for_each_xi(xis_wide, [](double xi, ModelPtr m) {
-                  return std::vector<Job>{[xi, m] {
-                    return from_estimate(minnaert::r(xi), kNaN, double_diffuse(*m, reference_options()));
-                  }};
-                })),
+                for_each_xi(xis_wide,
+                            [](double xi, ModelPtr m) {
+                              return std::vector<Job>{[xi, m] {
+                                return from_estimate(minnaert::r(xi), kNaN, double_diffuse(*m, reference_options()));
+                              }};
+                            })),
       run_check(meta("minnaert.norm", "Bulk Scattering", list({0.5, 1.0, 2.0}, "minnaert:xi"),
                      "C_d = (2 + xi)/(2 pi) is the largest constant compatible with energy conservation (max_i a = 1)"),
                 norm_jobs("minnaert", {0.5, 1.0, 2.0}, minnaert::C_d, minnaert::C_d)),
@@ -235,16 +239,20 @@ std::vector<CheckResult> backscatter_checks() {
   const std::vector<double> alphas{1, 2, 3, 4, 8};
   return {
       run_check(
-          meta("backscatter.g.alpha1", "Backscattering, g_b for alpha = 1", "backscatter:alpha=1",
-               "g_b = 3/10 (1 + cos theta) + 1/(5 pi) (cos eta - cos(eta + 2 theta) + 2 (pi - theta) sin eta sin zeta), "
-               "i·n = cos theta, j·n = sin eta sin zeta, [i,j,n] = -cos zeta sin theta",
-               "g_b = 3/10 (1 + cos theta) + sin zeta/(5 pi) (cos eta - cos(eta + 2 theta) + 2 (pi - theta) sin eta)",
-               "With i = (sin theta, 0, cos theta) the printed angles put j = (sin zeta cos eta, -cos zeta, sin zeta sin eta): "
-               "zeta is measured from the lune's edge axis and eta is the longitude about it. By linearity g_b = C/2 "
-               "[∫_lune (k·n) dk + j·∫_lune (k·n) k dk] with ∫_lune (k·n) dk = pi (1 + cos theta)/2 and ∫_lune (k·n) k dk "
-               "= (2/3 sin^2 theta, 0, 2/3 (pi - theta) + 1/3 sin 2 theta); with C = 6/(5 pi) (see backscatter.norm) this "
-               "is the corrected form. The printed one drops the factor sin zeta from the first two bracket terms, so "
-               "it is right only for j in the plane of i and n."),
+          meta(
+              "backscatter.g.alpha1", "Backscattering, g_b for alpha = 1", "backscatter:alpha=1",
+              "g_b = 3/10 (1 + cos theta) + 1/(5 pi) (cos eta - cos(eta + 2 theta) + 2 (pi - theta) sin eta sin zeta), "
+              "i·n = cos theta, j·n = sin eta sin zeta, [i,j,n] = -cos zeta sin theta",
+              "g_b = 3/10 (1 + cos theta) + sin zeta/(5 pi) (cos eta - cos(eta + 2 theta) + 2 (pi - theta) sin eta)",
+              "With i = (sin theta, 0, cos theta) the printed angles put j = (sin zeta cos eta, -cos zeta, sin zeta "
+              "sin eta): "
+              "zeta is measured from the lune's edge axis and eta is the longitude about it. By linearity g_b = C/2 "
+              "[∫_lune (k·n) dk + j·∫_lune (k·n) k dk] with ∫_lune (k·n) dk = pi (1 + cos theta)/2 and ∫_lune (k·n) k "
+              "dk "
+              "= (2/3 sin^2 theta, 0, 2/3 (pi - theta) + 1/3 sin 2 theta); with C = 6/(5 pi) (see backscatter.norm) "
+              "this "
+              "is the corrected form. The printed one drops the factor sin zeta from the first two bracket terms, so "
+              "it is right only for j in the plane of i and n."),
           vignetting_jobs(parse_model("backscatter:alpha=1"), backscatter::g_alpha1_printed, backscatter::g_alpha1)),
       run_check(meta("backscatter.h.alpha1", "Backscattering", "backscatter:alpha=1", "h_b = (3 + 2 j·n)/5"),
                 cos_jobs(parse_model("backscatter:alpha=1"), Law::h, backscatter::h_alpha1_printed)),
@@ -252,10 +260,14 @@ std::vector<CheckResult> backscatter_checks() {
           meta("backscatter.norm", "Backscattering", list(alphas, "backscatter:alpha"),
                "C_b = 6/(5 pi 2^alpha) maximizes the reflectance (max_i a = 1)",
                "C_b = (1 + alpha)(2 + alpha)/(2 pi (2 alpha + 2^-alpha)), the same constant as C_s",
-               "The printed constant gives a maximal albedo of 1/2 at alpha = 1 (a_b = (3 + 2 i·n)/10) and less for larger "
-               "alpha, contradicting the paper's own alpha = 1 results h_b = (3 + 2 j·n)/5 and 3/10 (1 + cos theta) in g_b, "
-               "which need C = 6/(5 pi): the factor 2^-alpha is counted twice (it is already inside ((1 + i·j)/2)^alpha; the "
-               "printed constant fits (1 + i·j)^alpha). At normal incidence the backscatter lobe coincides with the specular "
+               "The printed constant gives a maximal albedo of 1/2 at alpha = 1 (a_b = (3 + 2 i·n)/10) and less for "
+               "larger "
+               "alpha, contradicting the paper's own alpha = 1 results h_b = (3 + 2 j·n)/5 and 3/10 (1 + cos theta) in "
+               "g_b, "
+               "which need C = 6/(5 pi): the factor 2^-alpha is counted twice (it is already inside ((1 + "
+               "i·j)/2)^alpha; the "
+               "printed constant fits (1 + i·j)^alpha). At normal incidence the backscatter lobe coincides with the "
+               "specular "
                "lobe and the albedo peaks there (this check finds the maximum over i·n), so the largest admissible "
                "constant equals C_s. ganzfeld implements the corrected constant."),
           norm_jobs("backscatter", alphas, backscatter::C_b_printed, backscatter::C_b)),
@@ -275,11 +287,12 @@ std::vector<CheckResult> perfect_backscatter_checks() {
       });
     }
   return {
-      run_check(meta("perfect-backscatter.norm", "Backscattering, perfect backscatterer",
-                     list(alphas, "perfect-backscatter:alpha") + " (alpha = 1 is outside the paper's integer alpha >= 2)",
-                     "C_pb = (1 + alpha)/(2^(1+alpha) pi) is the largest constant compatible with energy conservation"),
-                norm_jobs("perfect-backscatter", alphas, perfect_backscatter::C_pb_printed,
-                          perfect_backscatter::C_pb_printed)),
+      run_check(
+          meta("perfect-backscatter.norm", "Backscattering, perfect backscatterer",
+               list(alphas, "perfect-backscatter:alpha") + " (alpha = 1 is outside the paper's integer alpha >= 2)",
+               "C_pb = (1 + alpha)/(2^(1+alpha) pi) is the largest constant compatible with energy conservation"),
+          norm_jobs("perfect-backscatter", alphas, perfect_backscatter::C_pb_printed,
+                    perfect_backscatter::C_pb_printed)),
       run_check(meta("perfect-backscatter.retro", "Backscattering, perfect backscatterer",
                      list(alphas, "perfect-backscatter:alpha"),
                      "the radiance (i·n) f(i, i) scattered back towards the source does not depend on i"),
@@ -290,31 +303,44 @@ std::vector<CheckResult> perfect_backscatter_checks() {
 std::vector<CheckResult> asperity_checks() {
   const std::vector<double> alphas{1, 2, 3, 4, 8};
   return {
-      run_check(
-          meta("asperity.g.alpha1", "Asperity Scattering, g_a for alpha = 1", "asperity:alpha=1",
-               "g_a = (1 + i·n)/2 - 4 (j·n)/(3 pi) (pi - arccos(i·n) + (i·n) sqrt(1 - (i·n)^2)) - 1/8 (j·n)^2 (i·n - 2)(i·n + 1)^2",
-               "g_a = (1 + i·n)/2 - 2 (j·n)/(3 pi) (pi - arccos(i·n) + (i·n) sqrt(1 - (i·n)^2))",
-               "The printed expression is g_a for alpha = 2, not alpha = 1 (tests/verify_test checks it against alpha = 2 "
-               "cubature): (1 - (k·n)(j·n))^2 integrates to ∫_lune (k·n) - 2 (j·n) ∫_lune (k·n)^2 + (j·n)^2 ∫_lune (k·n)^3 "
-               "with ∫_lune (k·n)^2 dk = 2/3 (pi - arccos c + c sqrt(1 - c^2)) and ∫_lune (k·n)^3 dk = -pi/8 (c - 2)(c + 1)^2, "
-               "term for term the printed form. For alpha = 1 only the first two integrals appear, giving the corrected form; "
-               "it is consistent with the printed h_a = 1 - 2 (j·n)/3 at i·n = 1."),
-          vignetting_jobs(parse_model("asperity:alpha=1"),
-                          [](const Vec3& i, const Vec3& j) { return asperity::g_alpha1_printed(i.z, j.z); },
-                          [](const Vec3& i, const Vec3& j) { return asperity::g_alpha1(i.z, j.z); })),
+      run_check(meta("asperity.g.alpha1", "Asperity Scattering, g_a for alpha = 1", "asperity:alpha=1",
+                     "g_a = (1 + i·n)/2 - 4 (j·n)/(3 pi) (pi - arccos(i·n) + (i·n) sqrt(1 - (i·n)^2)) - 1/8 (j·n)^2 "
+                     "(i·n - 2)(i·n + 1)^2",
+                     "g_a = (1 + i·n)/2 - 2 (j·n)/(3 pi) (pi - arccos(i·n) + (i·n) sqrt(1 - (i·n)^2))",
+                     "The printed expression is g_a for alpha = 2, not alpha = 1 (tests/verify_test checks it against "
+                     "alpha = 2 "
+                     "cubature): (1 - (k·n)(j·n))^2 integrates to ∫_lune (k·n) - 2 (j·n) ∫_lune (k·n)^2 + (j·n)^2 "
+                     "∫_lune (k·n)^3 "
+                     "with ∫_lune (k·n)^2 dk = 2/3 (pi - arccos c + c sqrt(1 - c^2)) and ∫_lune (k·n)^3 dk = -pi/8 (c "
+                     "- 2)(c + 1)^2, "
+                     "term for term the printed form. For alpha = 1 only the first two integrals appear, giving the "
+                     "corrected form; "
+                     "it is consistent with the printed h_a = 1 - 2 (j·n)/3 at i·n = 1."),
+                vignetting_jobs(
+                    parse_model("asperity:alpha=1"),
+                    [](const Vec3& i, const Vec3& j) { return asperity::g_alpha1_printed(i.z, j.z); },
+                    [](const Vec3& i, const Vec3& j) { return asperity::g_alpha1(i.z, j.z); })),
       run_check(meta("asperity.h.alpha1", "Asperity Scattering", "asperity:alpha=1", "h_a = 1 - 2 (j·n)/3"),
                 cos_jobs(parse_model("asperity:alpha=1"), Law::h, asperity::h_alpha1_printed)),
       run_check(meta("asperity.norm", "Asperity Scattering", list(alphas, "asperity:alpha"),
                      "C_a = 1/pi is as large as is compatible with the plausibility constraints"),
-                norm_jobs("asperity", alphas, [](double) { return asperity::C_a_printed(); },
-                          [](double) { return std::numbers::inv_pi; })),
+                norm_jobs(
+                    "asperity", alphas, [](double) { return asperity::C_a_printed(); },
+                    [](double) { return std::numbers::inv_pi; })),
   };
 }
 
-const std::vector<std::string> kReciprocalSpecs{
-    "lambert", "minnaert:xi=0.3", "minnaert:xi=2", "specular:alpha=1", "specular:alpha=8", "backscatter:alpha=1",
-    "backscatter:alpha=8", "perfect-backscatter:alpha=2", "perfect-backscatter:alpha=5", "asperity:alpha=1",
-    "asperity:alpha=4"};
+const std::vector<std::string> kReciprocalSpecs{"lambert",
+                                                "minnaert:xi=0.3",
+                                                "minnaert:xi=2",
+                                                "specular:alpha=1",
+                                                "specular:alpha=8",
+                                                "backscatter:alpha=1",
+                                                "backscatter:alpha=8",
+                                                "perfect-backscatter:alpha=2",
+                                                "perfect-backscatter:alpha=5",
+                                                "asperity:alpha=1",
+                                                "asperity:alpha=4"};
 
 const std::vector<std::string> kMixtureSpecs{
     "0.7*minnaert:xi=1 + 0.3*specular:alpha=8",
@@ -430,11 +456,12 @@ Estimate integrate_over_lune(const Vec3& pole, const std::function<double(const 
       }
   PanelIntegrand<2> integrand = [&](const std::array<std::span<const double>, 2>& x, std::span<double> out) {
     for (int a = 0; a < kRuleNodes; ++a)
-      for (int b = 0; b < kRuleNodes; ++b) out[a * kRuleNodes + b] = F(fr.direction(x[0][a], x[1][b])) * std::cos(x[0][a]);
+      for (int b = 0; b < kRuleNodes; ++b)
+        out[a * kRuleNodes + b] = F(fr.direction(x[0][a], x[1][b])) * std::cos(x[0][a]);
   };
   const double gap = 1e-3 * scales.front();
-  return adaptive_cubature<2>(integrand, {tidy_cuts(t_lines, -pi / 2, pi / 2, gap), tidy_cuts(phi_lines, fr.phi_lo, pi / 2, gap)},
-                              options);
+  return adaptive_cubature<2>(
+      integrand, {tidy_cuts(t_lines, -pi / 2, pi / 2, gap), tidy_cuts(phi_lines, fr.phi_lo, pi / 2, gap)}, options);
 }
 
 Job hemisphere_job(std::function<double(const Vec3&)> F, std::vector<double> scales, double printed, double corrected,
@@ -499,7 +526,9 @@ nlohmann::ordered_json verify_json(const std::vector<CheckResult>& checks) {
   nlohmann::ordered_json doc;
   doc["checks"] = nlohmann::ordered_json::array();
   for (const auto& c : checks) {
-    nlohmann::ordered_json item{{"id", c.id}, {"source", c.source}, {"status", c.erratum ? "erratum" : "matches"},
+    nlohmann::ordered_json item{{"id", c.id},
+                                {"source", c.source},
+                                {"status", c.erratum ? "erratum" : "matches"},
                                 {"max_abs_error", c.max_abs_error}};
     item["corrected_max_abs_error"] =
         c.corrected_max_abs_error ? nlohmann::ordered_json(*c.corrected_max_abs_error) : nlohmann::ordered_json();
@@ -528,7 +557,8 @@ std::string errata_markdown(const std::vector<CheckResult>& checks, const std::s
      << "# Errata and verification of the printed closed forms\n\n"
      << "Every closed form printed in Koenderink & Pont, *Material Properties and Extended Sources for Surface "
         "Rendering*, is compared with ganzfeld's adaptive cubature (absolute tolerance "
-     << sci(kReferenceTolerance) << ") on a grid that includes the extremes: sky pole i·n ∈ {-1, -0.999, -0.7, -0.3, "
+     << sci(kReferenceTolerance)
+     << ") on a grid that includes the extremes: sky pole i·n ∈ {-1, -0.999, -0.7, -0.3, "
         "0, 1e-6, 0.3, 0.7, 0.999, 1}, view j·n ∈ {0, 1e-6, 0.25, 0.5, 0.75, 1}, relative azimuth ∈ {0°, 45°, 90°, "
         "135°, 180°} for g; i·n or j·n ∈ {0, 1e-6, 0.1, 0.25, 0.5, 0.75, 0.9, 0.999, 1} for h and a. A form *matches* "
         "when its largest absolute difference is ≤ "
@@ -538,7 +568,8 @@ std::string errata_markdown(const std::vector<CheckResult>& checks, const std::s
         "classifies a form while that error is ≤ "
      << sci(kReferenceResolution) << ".\n\n"
      << "Regenerate with `" << command << "`.\n\n"
-     << "| id | status | max abs error (printed) | max abs error (corrected) | points | max reference error estimate |\n"
+     << "| id | status | max abs error (printed) | max abs error (corrected) | points | max reference error estimate "
+        "|\n"
      << "|---|---|---|---|---|---|\n";
   for (const auto& c : checks)
     md << "| `" << c.id << "` | " << (c.erratum ? "**erratum**" : "matches") << " | " << sci(c.max_abs_error) << " | "

@@ -40,7 +40,8 @@ struct Exponents {
 };
 
 CheckResult as_pdf_check() {
-  const std::vector<Exponents> cases{{0, 0}, {1, 1}, {10, 10}, {100, 100}, {1000, 1000}, {10, 1000}, {0, 10000}, {10000, 10000}};
+  const std::vector<Exponents> cases{{0, 0},       {1, 1},     {10, 10},   {100, 100},
+                                     {1000, 1000}, {10, 1000}, {0, 10000}, {10000, 10000}};
   std::vector<Job> jobs;
   std::string models;
   for (const Exponents& e : cases) {
@@ -48,15 +49,16 @@ CheckResult as_pdf_check() {
     append_model(models, model.spec());
     const double narrow = 1.0 / std::sqrt(std::max(e.nu, e.nv) + 1.0);
     const double wide = 1.0 / std::sqrt(std::min(e.nu, e.nv) + 1.0);
-    jobs.push_back(hemisphere_job([model](const Vec3& h) { return model.halfway_pdf(h); }, {narrow / 4, wide / 4},
-                                  1.0));
+    jobs.push_back(
+        hemisphere_job([model](const Vec3& h) { return model.halfway_pdf(h); }, {narrow / 4, wide / 4}, 1.0));
   }
-  return run_check(check_meta("ashikhmin-shirley.pdf", std::string(kAshikhminShirley) + ", Monte Carlo sampling", models,
-                              "the halfway vectors drawn by phi = atan(sqrt((n_u+1)/(n_v+1)) tan(pi xi_1/2)), "
-                              "cos theta = (1 - xi_2)^(1/(n_u cos^2 phi + n_v sin^2 phi + 1)) have the density "
-                              "p_h(h) = sqrt((n_u+1)(n_v+1))/(2 pi) (h.n)^(n_u cos^2 phi + n_v sin^2 phi), which "
-                              "integrates to 1 over the hemisphere"),
-                   jobs);
+  return run_check(
+      check_meta("ashikhmin-shirley.pdf", std::string(kAshikhminShirley) + ", Monte Carlo sampling", models,
+                 "the halfway vectors drawn by phi = atan(sqrt((n_u+1)/(n_v+1)) tan(pi xi_1/2)), "
+                 "cos theta = (1 - xi_2)^(1/(n_u cos^2 phi + n_v sin^2 phi + 1)) have the density "
+                 "p_h(h) = sqrt((n_u+1)(n_v+1))/(2 pi) (h.n)^(n_u cos^2 phi + n_v sin^2 phi), which "
+                 "integrates to 1 over the hemisphere"),
+      jobs);
 }
 
 CheckResult as_diffuse_check() {
@@ -73,11 +75,12 @@ CheckResult as_diffuse_check() {
                                     (1.0 - rs) * (1.0 - x * x * x * x * x)));
     }
   }
-  return run_check(check_meta("ashikhmin-shirley.diffuse", std::string(kAshikhminShirley) + ", the diffuse term", models,
-                              "rho_d = 28 R_d/(23 pi) (1 - R_s)(1 - (1 - i.n/2)^5)(1 - (1 - j.n/2)^5) reflects "
-                              "R_d (1 - R_s)(1 - (1 - i.n/2)^5) of the light from i: 28/(23 pi) is 1/(2 pi "
-                              "integral_0^1 (1 - (1 - mu/2)^5) mu d mu) (R_d = 1, i.n = 1 ... 0)"),
-                   jobs);
+  return run_check(
+      check_meta("ashikhmin-shirley.diffuse", std::string(kAshikhminShirley) + ", the diffuse term", models,
+                 "rho_d = 28 R_d/(23 pi) (1 - R_s)(1 - (1 - i.n/2)^5)(1 - (1 - j.n/2)^5) reflects "
+                 "R_d (1 - R_s)(1 - (1 - i.n/2)^5) of the light from i: 28/(23 pi) is 1/(2 pi "
+                 "integral_0^1 (1 - (1 - mu/2)^5) mu d mu) (R_d = 1, i.n = 1 ... 0)"),
+      jobs);
 }
 
 CheckResult schlick_z_check() {
@@ -138,19 +141,20 @@ CheckResult kajiya_cylinder_check() {
         for (double c : {psi_0 - pi / 2, psi_0 + pi / 2, psi_0 - 1.5 * pi, psi_0 + 1.5 * pi})
           if (c > -pi && c < pi) lines.push_back(c);
         PanelIntegrand<1> integrand = [&](const std::array<std::span<const double>, 1>& x, std::span<double> out) {
-          for (int k = 0; k < kRuleNodes; ++k) out[k] = std::max(0.0, l.y * std::sin(x[0][k]) + l.z * std::cos(x[0][k]));
+          for (int k = 0; k < kRuleNodes; ++k)
+            out[k] = std::max(0.0, l.y * std::sin(x[0][k]) + l.z * std::cos(x[0][k]));
         };
         const Estimate e = adaptive_cubature<1>(integrand, {tidy_cuts(lines, -pi, pi, 1e-12)}, reference_options());
         return Sample{2.0 * std::hypot(l.y, l.z), kNaN, e.value, e.error, e.converged, 1};
       });
     }
-  return run_check(check_meta("kajiya.cylinder",
-                              "Kajiya & Kay 1989, Rendering Fur with Three Dimensional Textures, section 3.3 (diffuse)",
-                              models,
-                              "a Lambertian cylinder of unit radius along t lit from l intercepts integral over its "
-                              "circumference of max(0, N.l) = 2 sin(t, l): the diffuse term is proportional to "
-                              "sin(t, l) (t.l = cos 0 ... 90 deg, three azimuths about t)"),
-                   jobs);
+  return run_check(
+      check_meta("kajiya.cylinder",
+                 "Kajiya & Kay 1989, Rendering Fur with Three Dimensional Textures, section 3.3 (diffuse)", models,
+                 "a Lambertian cylinder of unit radius along t lit from l intercepts integral over its "
+                 "circumference of max(0, N.l) = 2 sin(t, l): the diffuse term is proportional to "
+                 "sin(t, l) (t.l = cos 0 ... 90 deg, three azimuths about t)"),
+      jobs);
 }
 
 }  // namespace

@@ -11,12 +11,12 @@
 #include <numbers>
 
 #include "integrate/laws.h"
-#include "reports/verify.h"
-#include "reports/verify_support.h"
 #include "models/charlie.h"
 #include "models/ggx.h"
 #include "models/registry.h"
 #include "models/spec.h"
+#include "reports/verify.h"
+#include "reports/verify_support.h"
 
 namespace ganzfeld {
 
@@ -33,8 +33,8 @@ struct AlphaCase {
   }
 };
 
-const std::vector<AlphaCase> kAlphas{{{1.0, 1.0}}, {{0.5, 0.5}}, {{0.1, 0.1}}, {{0.01, 0.01}}, {{0.001, 0.001}},
-                                     {{0.05, 0.5}}, {{0.001, 1.0}}};
+const std::vector<AlphaCase> kAlphas{{{1.0, 1.0}},     {{0.5, 0.5}},  {{0.1, 0.1}},  {{0.01, 0.01}},
+                                     {{0.001, 0.001}}, {{0.05, 0.5}}, {{0.001, 1.0}}};
 
 std::string alpha_list(const std::vector<AlphaCase>& cases) {
   std::string s;
@@ -47,10 +47,11 @@ CheckResult norm_check() {
   for (const auto& c : kAlphas)
     jobs.push_back(hemisphere_job([c](const Vec3& m) { return ggx::D(m, c.alpha) * m.z; },
                                   {std::min(c.alpha.x, c.alpha.y) / 4, std::max(c.alpha.x, c.alpha.y) / 4}, 1.0));
-  return run_check(check_meta("ggx.norm", "Walter et al. 2007, eq. 33; Heitz 2014, anisotropic GGX", alpha_list(kAlphas),
-                        "the GGX distribution D = 1/(pi alpha_x alpha_y (m_x^2/alpha_x^2 + m_y^2/alpha_y^2 + m_z^2)^2) "
-                        "is normalized, integral of D(m)(m.n) dm = 1"),
-                   jobs);
+  return run_check(
+      check_meta("ggx.norm", "Walter et al. 2007, eq. 33; Heitz 2014, anisotropic GGX", alpha_list(kAlphas),
+                 "the GGX distribution D = 1/(pi alpha_x alpha_y (m_x^2/alpha_x^2 + m_y^2/alpha_y^2 + m_z^2)^2) "
+                 "is normalized, integral of D(m)(m.n) dm = 1"),
+      jobs);
 }
 
 /// Walter eq. 34 with Heitz eq. 80's projected roughness α_w² = cos²φ α_x² + sin²φ α_y².
@@ -73,9 +74,9 @@ CheckResult g1_check() {
         jobs.push_back([c, w] {
           CubatureOptions options = reference_options();
           options.abs_tol *= w.z;
-          const Estimate e = integrate_over_lune(w, [&](const Vec3& m) { return glm::dot(w, m) * ggx::D(m, c.alpha); },
-                                                 {std::min(c.alpha.x, c.alpha.y) / 4, std::max(c.alpha.x, c.alpha.y) / 4},
-                                                 false, options);
+          const Estimate e = integrate_over_lune(
+              w, [&](const Vec3& m) { return glm::dot(w, m) * ggx::D(m, c.alpha); },
+              {std::min(c.alpha.x, c.alpha.y) / 4, std::max(c.alpha.x, c.alpha.y) / 4}, false, options);
           const double G1 = w.z / e.value;
           return Sample{g1_printed(w, c.alpha), kNaN, G1, G1 * e.error / e.value, e.converged, 1};
         });
@@ -83,11 +84,12 @@ CheckResult g1_check() {
           return Sample{g1_printed(w, c.alpha), kNaN, 1.0 / (1.0 + ggx::Lambda(w, c.alpha)), 0.0, true, 1};
         });
       }
-  return run_check(check_meta("ggx.g1", "Walter et al. 2007, eq. 34; Heitz 2014, eq. 80 and 86", alpha_list(alphas),
-                        "Smith's G1(w) = (w.n) / integral of max(0, w.m) D(m) dm equals 2/(1 + sqrt(1 + alpha_w^2 "
-                        "tan^2 theta_w)), alpha_w^2 = cos^2 phi_w alpha_x^2 + sin^2 phi_w alpha_y^2, and 1/(1 + Lambda(w)) "
-                        "(theta_w = 0 ... 89.9 deg, phi_w = 0, 40 deg)"),
-                   jobs);
+  return run_check(
+      check_meta("ggx.g1", "Walter et al. 2007, eq. 34; Heitz 2014, eq. 80 and 86", alpha_list(alphas),
+                 "Smith's G1(w) = (w.n) / integral of max(0, w.m) D(m) dm equals 2/(1 + sqrt(1 + alpha_w^2 "
+                 "tan^2 theta_w)), alpha_w^2 = cos^2 phi_w alpha_x^2 + sin^2 phi_w alpha_y^2, and 1/(1 + Lambda(w)) "
+                 "(theta_w = 0 ... 89.9 deg, phi_w = 0, 40 deg)"),
+      jobs);
 }
 
 CheckResult furnace_check() {
@@ -98,11 +100,12 @@ CheckResult furnace_check() {
       const Estimate e = albedo(*parse_model(spec), Vec3{0.0, 0.0, 1.0}, reference_options());
       return Sample{1.0 - std::log(2.0), kNaN, e.value, e.error, e.converged, 1};
     });
-  return run_check(check_meta("ggx.furnace.e11", "white furnace", specs[0] + "; " + specs[1],
-                        "E(mu = 1, alpha = 1) = integral of f(n, o)(o.n) do = 1 - ln 2 with F = 1: at i = n, Lambda(i) = 0, "
-                        "so both G2 forms are G1(o) = 2 mu/(1 + mu); alpha = 1 makes D = 1/pi, and E = (1/(4 pi)) 2 pi "
-                        "integral_0^1 2 mu/(1 + mu) d mu = 1 - ln 2"),
-                   jobs);
+  return run_check(
+      check_meta("ggx.furnace.e11", "white furnace", specs[0] + "; " + specs[1],
+                 "E(mu = 1, alpha = 1) = integral of f(n, o)(o.n) do = 1 - ln 2 with F = 1: at i = n, Lambda(i) = 0, "
+                 "so both G2 forms are G1(o) = 2 mu/(1 + mu); alpha = 1 makes D = 1/pi, and E = (1/(4 pi)) 2 pi "
+                 "integral_0^1 2 mu/(1 + mu) d mu = 1 - ln 2"),
+      jobs);
 }
 
 CheckResult charlie_norm_check() {
@@ -117,8 +120,8 @@ CheckResult charlie_norm_check() {
                                   {std::sqrt(a) / 4}, 1.0, kNaN, true));
   }
   return run_check(check_meta("charlie.norm", "Estevez & Kulla 2017, Production Friendly Microfacet Sheen BRDF", models,
-                        "the sheen distribution D = (2 + 1/alpha) sin^(1/alpha)(theta)/(2 pi) is normalized, "
-                        "integral of D(m)(m.n) dm = 1"),
+                              "the sheen distribution D = (2 + 1/alpha) sin^(1/alpha)(theta)/(2 pi) is normalized, "
+                              "integral of D(m)(m.n) dm = 1"),
                    jobs);
 }
 

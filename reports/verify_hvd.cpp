@@ -14,11 +14,11 @@
 #include <tbb/parallel_for.h>
 
 #include "integrate/laws.h"
-#include "reports/verify.h"
-#include "reports/verify_support.h"
 #include "models/hvd.h"
 #include "models/registry.h"
 #include "models/spec.h"
+#include "reports/verify.h"
+#include "reports/verify_support.h"
 
 namespace ganzfeld {
 
@@ -43,9 +43,7 @@ std::string sci(double x) {
   return s.str();
 }
 
-Vec3 view(double theta_deg, double phi_deg = 0.0) {
-  return direction(theta_deg * pi / 180.0, phi_deg * pi / 180.0);
-}
+Vec3 view(double theta_deg, double phi_deg = 0.0) { return direction(theta_deg * pi / 180.0, phi_deg * pi / 180.0); }
 
 /// ∫ lump dA over its ellipse in the lump's polar coordinates u = c_u + R_u r cos ψ,
 /// v = c_v + R_v r sin ψ, dA = R_u R_v r dr dψ (cuts in r at the lump's scale 1/√(n+1)).
@@ -63,7 +61,9 @@ Estimate lump_volume(const hvd::Lump& lump) {
         out[a * kRuleNodes + b] = lump.pdf(h) * lump.R_u * lump.R_v * r;
       }
   };
-  return adaptive_cubature<2>(F, std::array<std::vector<double>, 2>{r_cuts, std::vector<double>{0.0, 0.5 * pi, pi, 1.5 * pi, 2 * pi}}, reference_options());
+  return adaptive_cubature<2>(
+      F, std::array<std::vector<double>, 2>{r_cuts, std::vector<double>{0.0, 0.5 * pi, pi, 1.5 * pi, 2 * pi}},
+      reference_options());
 }
 
 /// Volume of a circular lump (radius R, exponent n) at the origin that lies inside the unit disk
@@ -100,7 +100,8 @@ Estimate lump_volume_on_disk(double R, double n, double s) {
         out[k] = p(r) * r * alpha * dr;
       }
     };
-    const Estimate e = adaptive_cubature<1>(G, std::array<std::vector<double>, 1>{std::vector<double>{0.0, 0.5, 1.0}}, reference_options());
+    const Estimate e = adaptive_cubature<1>(G, std::array<std::vector<double>, 1>{std::vector<double>{0.0, 0.5, 1.0}},
+                                            reference_options());
     total.value += e.value;
     total.error += e.error;
     total.evaluations += e.evaluations;
@@ -136,14 +137,15 @@ CheckResult lump_volume_check() {
             double far = 0.0;
             for (int m = 0; m < 3600; ++m) {
               const double psi = 2 * pi * m / 3600.0;
-              far = std::max(far, std::hypot(L.centre.u + L.R_u * std::cos(psi) - j.x,
-                                             L.centre.v + L.R_v * std::sin(psi) - j.y));
+              far = std::max(
+                  far, std::hypot(L.centre.u + L.R_u * std::cos(psi) - j.x, L.centre.v + L.R_v * std::sin(psi) - j.y));
             }
             s.printed = std::max(s.printed, std::max(0.0, far - 1.0));
           }
           return s;
         });
-  return run_check(meta("hvd.lump.volume", "section 4, eq. 26-27", "lumps of hvd-empirical, n in {0, 1, 2.5, 20, 1000}, "
+  return run_check(meta("hvd.lump.volume", "section 4, eq. 26-27",
+                        "lumps of hvd-empirical, n in {0, 1, 2.5, 20, 1000}, "
                         "theta_o in {0, 45, 89} deg, radii fractions (1,1), (1,0.3), (0.05,0.7)",
                         "the lump (n+1)/(pi R_u R_v)[1 - du^2/R_u^2 - dv^2/R_v^2]^n has unit volume, and with "
                         "R_s <= 1 - sin theta_o, R_r <= 1 it lies inside the disk (reported: |volume - 1| and "
@@ -208,19 +210,23 @@ CheckResult energy_orthogonal_check() {
       const double predicted = (1.0 - F) + F * ((1.0 - fit.k) * V1.value + fit.k * V2.value);
       const Estimate h = darkening(*m, view(theta, 20.0), reference_options());
       losses[q] = 1.0 - h.value;
-      return Sample{predicted, kNaN, h.value, h.error + V1.error + V2.error,
-                    h.converged && V1.converged && V2.converged, 3};
+      return Sample{
+          predicted, kNaN, h.value, h.error + V1.error + V2.error, h.converged && V1.converged && V2.converged, 3};
     });
   CheckResult c = run_check(meta("hvd.energy.orthogonal", "sections 3.2 and 5, eq. 22-24, 35-36", "", ""), jobs);
   std::string measured;
   for (std::size_t q = 0; q < kThetaO.size(); ++q)
     measured += (measured.empty() ? "" : ", ") + format_number(kThetaO[q]) + " deg: " + sci(losses[q]);
-  c.models = "hvd-fit:cd=1,f0=0.2,f90=0.9,k=0.4,n1=20,r1=1-sin(theta_o),n2=5,r2=(1-sin(theta_o))/2 (one model per "
-             "theta_o up to 89 deg); " + outside;
-  c.printed = "orthogonal projection: rho (omega_i.N) d omega_i = p dA (eq. 24 is rho_s = p(h), since "
-              "|omega_i + omega_o|^2 = 4 (omega_i.H)^2), so with the lumps inside the disk h = 1; when they leave it "
-              "(hvd-fit, radii unconstrained) h = 1 - F_fit (1 - V), V the lumps' volume on the disk. Measured "
-              "energy loss 1 - h of " + outside + " at theta_o = " + measured;
+  c.models =
+      "hvd-fit:cd=1,f0=0.2,f90=0.9,k=0.4,n1=20,r1=1-sin(theta_o),n2=5,r2=(1-sin(theta_o))/2 (one model per "
+      "theta_o up to 89 deg); " +
+      outside;
+  c.printed =
+      "orthogonal projection: rho (omega_i.N) d omega_i = p dA (eq. 24 is rho_s = p(h), since "
+      "|omega_i + omega_o|^2 = 4 (omega_i.H)^2), so with the lumps inside the disk h = 1; when they leave it "
+      "(hvd-fit, radii unconstrained) h = 1 - F_fit (1 - V), V the lumps' volume on the disk. Measured "
+      "energy loss 1 - h of " +
+      outside + " at theta_o = " + measured;
   return c;
 }
 

@@ -30,7 +30,8 @@ constexpr long long kMaxImageSide = 16384;
 constexpr double kMaxFovDeg = 180.0;
 
 std::string one_line(std::string text) {
-  std::replace_if(text.begin(), text.end(), [](char c) { return c == '\n' || c == '\r'; }, ' ');
+  std::replace_if(
+      text.begin(), text.end(), [](char c) { return c == '\n' || c == '\r'; }, ' ');
   return text;
 }
 
@@ -86,7 +87,9 @@ class Parser {
   std::string path_;
   std::optional<std::string> text_;  ///< the file's text when parsed from memory
 
-  [[noreturn]] void refuse(const std::string& why) const { throw InputError("scene '" + path_ + "': " + one_line(why)); }
+  [[noreturn]] void refuse(const std::string& why) const {
+    throw InputError("scene '" + path_ + "': " + one_line(why));
+  }
   [[noreturn]] void fail(const std::string& key, const Json& value, const std::string& allowed) const {
     refuse((key.empty() ? std::string("top level") : key) + " = " + quote(value) + " is not allowed; " + allowed);
   }
@@ -97,8 +100,8 @@ class Parser {
     for (const auto& item : object.items()) {
       const std::string& key = item.key();  // not a structured binding: clang < 16 cannot capture those
       if (std::none_of(allowed.begin(), allowed.end(), [&](const char* a) { return key == a; }))
-        refuse((where.empty() ? "unknown top-level key '" : "unknown key '" + where + ".") + key + "'; allowed: " +
-               join(allowed));
+        refuse((where.empty() ? "unknown top-level key '" : "unknown key '" + where + ".") + key +
+               "'; allowed: " + join(allowed));
     }
   }
 
@@ -125,7 +128,8 @@ class Parser {
   Vec3 direction(const Json& value, const std::string& key) const {
     const Vec3 v = point(value, key);
     const double length = glm::length(v);
-    if (!(length > 0.0) || !std::isfinite(length)) fail(key, value, "expected a direction [x, y, z] of non-zero length");
+    if (!(length > 0.0) || !std::isfinite(length))
+      fail(key, value, "expected a direction [x, y, z] of non-zero length");
     return v / length;
   }
 
@@ -163,9 +167,10 @@ class Parser {
       const std::string k = key + "." + name;
       const std::string allowed = "expected an integer in [1, " + std::to_string(kMaxImageSide) + "]";
       if (!v.is_number_integer()) fail(k, v, allowed);
-      const long long n = v.is_number_unsigned() ? static_cast<long long>(std::min<std::uint64_t>(
-                                                       v.get<std::uint64_t>(), kMaxImageSide + 1))
-                                                 : v.get<long long>();
+      const long long n =
+          v.is_number_unsigned()
+              ? static_cast<long long>(std::min<std::uint64_t>(v.get<std::uint64_t>(), kMaxImageSide + 1))
+              : v.get<long long>();
       if (n < 1 || n > kMaxImageSide) fail(k, v, allowed);
       out = static_cast<int>(n);
     };
@@ -195,9 +200,7 @@ class Parser {
     std::vector<Lobe> lobes;
     try {
       lobes = parse_lobes(spec.get<std::string>());
-    } catch (const InputError& e) {
-      refuse(key + " = " + quote(spec) + ": " + e.what());
-    }
+    } catch (const InputError& e) { refuse(key + " = " + quote(spec) + ": " + e.what()); }
     for (const Lobe& lobe : lobes) {
       MaterialLobe out;
       out.weight = weight * lobe.weight;
@@ -214,8 +217,9 @@ class Parser {
     m.name = name;
     const bool has_model = value.contains("model"), has_lobes = value.contains("lobes");
     if (has_model == has_lobes)
-      refuse(key + " needs exactly one of \"model\" (a spec, with optional \"color\") or \"lobes\" (a list of "
-                   "{weight, model, color})");
+      refuse(key +
+             " needs exactly one of \"model\" (a spec, with optional \"color\") or \"lobes\" (a list of "
+             "{weight, model, color})");
     if (has_model) {
       check_keys(value, key, {"model", "color"});
       const Rgb color = value.contains("color") ? rgb(value["color"], key + ".color") : Rgb{1, 1, 1};
@@ -234,7 +238,8 @@ class Parser {
         double weight = 1.0;
         if (lobe.contains("weight")) {
           weight = number(lobe["weight"], lkey + ".weight");
-          if (!std::isfinite(weight) || weight <= 0.0) fail(lkey + ".weight", lobe["weight"], "expected a finite number > 0");
+          if (!std::isfinite(weight) || weight <= 0.0)
+            fail(lkey + ".weight", lobe["weight"], "expected a finite number > 0");
         }
         const Rgb color = lobe.contains("color") ? rgb(lobe["color"], lkey + ".color") : Rgb{1, 1, 1};
         add_lobes(m, lobe["model"], weight, color, lkey + ".model");
@@ -243,12 +248,14 @@ class Parser {
     // Partitive mixture (K&P): the weights of a material sum to 1.
     double total = 0.0;
     for (const MaterialLobe& l : m.lobes) total += l.weight;
-    if (!(total > 0.0) || !std::isfinite(total)) refuse(key + ": the lobe weights do not sum to a finite positive number");
+    if (!(total > 0.0) || !std::isfinite(total))
+      refuse(key + ": the lobe weights do not sum to a finite positive number");
     for (MaterialLobe& l : m.lobes) l.weight /= total;
     return m;
   }
 
-  SceneObject object(const Json& value, const std::string& key, const std::map<std::string, std::size_t>& materials) const {
+  SceneObject object(const Json& value, const std::string& key,
+                     const std::map<std::string, std::size_t>& materials) const {
     object_at(value, key, "an object {\"shape\": \"sphere\"|\"mesh\", ..., \"material\": NAME}");
     SceneObject o;
     if (!value.contains("shape")) refuse(key + " has no \"shape\"; allowed: sphere, mesh");
@@ -281,8 +288,8 @@ class Parser {
     if (found == materials.end()) {
       std::string defined;
       for (const auto& [n, index] : materials) defined += (defined.empty() ? "" : ", ") + n;
-      refuse(key + ".material = " + quote(name) + " is not defined; defined materials: " +
-             (defined.empty() ? "none" : defined));
+      refuse(key + ".material = " + quote(name) +
+             " is not defined; defined materials: " + (defined.empty() ? "none" : defined));
     }
     o.material = found->second;
     if (value.contains("tangent")) o.tangent = tangent(value["tangent"], key + ".tangent");

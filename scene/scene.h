@@ -52,7 +52,7 @@ struct SceneObject {
   enum class Shape { sphere, mesh } shape = Shape::sphere;
   Vec3 center{0, 0, 0};
   double radius = 1.0;
-  std::string mesh_path;  ///< resolved relative to the scene file's directory
+  std::string mesh_path;     ///< resolved relative to the scene file's directory
   std::size_t material = 0;  ///< index into Scene::materials
   TangentRule tangent;       ///< "tangent": {"axis": [x, y, z], "along": "latitude" | "longitude"}
 };

@@ -110,9 +110,7 @@ void Bakery::work() {
     } catch (const Cancelled&) {
       flight.promise.set_exception(
           std::make_exception_ptr(Cancelled(stop_message(flight.why.load(), budget_seconds_))));
-    } catch (...) {
-      flight.promise.set_exception(std::current_exception());
-    }
+    } catch (...) { flight.promise.set_exception(std::current_exception()); }
     lock.lock();
     --stats_.running;
     if (flight.cancel) ++stats_.cancelled;

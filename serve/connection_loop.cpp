@@ -1,7 +1,6 @@
 #include "serve/connection_loop.h"
 
 #include <arpa/inet.h>
-#include <cerrno>
 #include <fcntl.h>
 #include <netinet/in.h>
 #include <netinet/tcp.h>
@@ -9,6 +8,7 @@
 #include <sys/eventfd.h>
 #include <sys/socket.h>
 #include <unistd.h>
+#include <cerrno>
 
 #include <stdexcept>
 
@@ -206,16 +206,13 @@ void ConnectionLoop::on_event(Connection& c, std::uint32_t events) {
       }
       break;
     case State::writing:
-      if (events & EPOLLERR)
-        close(c);
-      else
-        flush(c);
+      if (events & EPOLLERR) close(c);
+      else flush(c);
       break;
     case State::lingering: {
       char scratch[16384];
       ssize_t n;
-      while ((n = ::recv(c.fd, scratch, sizeof scratch, 0)) > 0) {
-      }
+      while ((n = ::recv(c.fd, scratch, sizeof scratch, 0)) > 0) {}
       if (n == 0 || (errno != EAGAIN && errno != EWOULDBLOCK && errno != EINTR)) close(c);
       break;
     }
@@ -407,8 +404,7 @@ void ConnectionLoop::sweep() {
                          "the request head did not arrive whole within " +
                              std::to_string(static_cast<int>(options_.header_seconds)) + " s",
                          false, scan_head(c.in, options_.max_head_bytes).request_line);
-        else
-          close(c);  // idle beyond the keep-alive time
+        else close(c);  // idle beyond the keep-alive time
         break;
       case State::working:
         c.cancel->cancel(StopReason::deadline);

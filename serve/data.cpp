@@ -42,7 +42,8 @@ std::string read_bytes(const fs::path& path) {
 DataFiles DataFiles::scan(const std::string& dir) {
   std::error_code ec;
   if (!fs::is_directory(dir, ec))
-    throw InputError({Named{"data", dir}, " is not a directory; expected a directory of measured data files "
+    throw InputError({Named{"data", dir},
+                      " is not a directory; expected a directory of measured data files "
                       "(MERL, tabulated, Beard-Maxwell first-surface tables)"});
   DataFiles out;
   out.enabled_ = true;
@@ -71,9 +72,7 @@ DataFiles DataFiles::scan(const std::string& dir) {
       const ModelPtr m = parse_model(model + ":file=" + path.string());
       out.files_.push_back(
           {name, model, path.string(), util::content_digest_of(bytes), bytes.size(), m->traits().isotropic});
-    } catch (const InputError& e) {
-      out.skipped_.push_back(name + ": " + e.what());
-    }
+    } catch (const InputError& e) { out.skipped_.push_back(name + ": " + e.what()); }
   }
   return out;
 }
@@ -82,9 +81,10 @@ Spec DataFiles::resolve(Spec spec) const {
   for (SpecTerm& term : spec.terms) {
     if (term.model.file.empty()) continue;
     if (!enabled_)
-      throw RequestError(400, "model '" + spec_text(spec) + "' names a data file; this service reads no file "
-                              "outside its cache (one started with a data directory serves the measured files in "
-                              "it by name): allowed: analytic models and mixtures (see /api/models)");
+      throw RequestError(400, "model '" + spec_text(spec) +
+                                  "' names a data file; this service reads no file "
+                                  "outside its cache (one started with a data directory serves the measured files in "
+                                  "it by name): allowed: analytic models and mixtures (see /api/models)");
     const std::string& name = term.model.file;
     const auto found = std::find_if(files_.begin(), files_.end(), [&](const DataFile& f) { return f.name == name; });
     if (found == files_.end()) {

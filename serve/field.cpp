@@ -26,8 +26,9 @@ double in_range(const Query& query, const std::string& name, double lo, double h
 
 int integer_in(const Query& query, const std::string& name, int lo, int hi, int fallback) {
   const double x = in_range(query, name, lo, hi, fallback);
-  if (x != std::floor(x)) throw bad(name + "=" + format_number(x) + " is not an integer; allowed: " +
-                                    std::to_string(lo) + " to " + std::to_string(hi));
+  if (x != std::floor(x))
+    throw bad(name + "=" + format_number(x) + " is not an integer; allowed: " + std::to_string(lo) + " to " +
+              std::to_string(hi));
   return static_cast<int>(x);
 }
 
@@ -127,8 +128,12 @@ nlohmann::ordered_json sphere_json(const SphereQuery& q, const DataFiles& data) 
       value[k] = image.at(x, y)[0];
       mask[k] = f.mesh == raster::Fragment::kNone ? 0.0f : glm::dot(f.normal, f.view) > 0.05 ? 1.0f : 0.5f;
     }
-  return {{"model", data.display(q.model->spec())}, {"law", to_string(q.law)}, {"width", q.size},
-          {"height", q.size}, {"value", value}, {"mask", mask}};
+  return {{"model", data.display(q.model->spec())},
+          {"law", to_string(q.law)},
+          {"width", q.size},
+          {"height", q.size},
+          {"value", value},
+          {"mask", mask}};
 }
 
 }  // namespace ganzfeld::serve

@@ -100,9 +100,9 @@ std::pair<int, int> listen_on(const std::string& bind, int port) {
   hints.ai_flags = AI_PASSIVE | AI_NUMERICSERV;
   addrinfo* found = nullptr;
   const std::string service = std::to_string(port);
-  const InputError refusal({"cannot listen on " + bind + ":" + service +
-                                 " (address in use, not local, or not allowed); choose another ",
-                             Named{"bind"}, " or ", Named{"port"}});
+  const InputError refusal(
+      {"cannot listen on " + bind + ":" + service + " (address in use, not local, or not allowed); choose another ",
+       Named{"bind"}, " or ", Named{"port"}});
   if (getaddrinfo(bind.c_str(), service.c_str(), &hints, &found) != 0) throw refusal;
   int listener = -1;
   for (addrinfo* a = found; a && listener < 0; a = a->ai_next) {
@@ -110,10 +110,8 @@ std::pair<int, int> listen_on(const std::string& bind, int port) {
     if (fd < 0) continue;
     const int yes = 1;
     setsockopt(fd, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof yes);
-    if (::bind(fd, a->ai_addr, a->ai_addrlen) == 0 && ::listen(fd, kListenBacklog) == 0)
-      listener = fd;
-    else
-      ::close(fd);
+    if (::bind(fd, a->ai_addr, a->ai_addrlen) == 0 && ::listen(fd, kListenBacklog) == 0) listener = fd;
+    else ::close(fd);
   }
   freeaddrinfo(found);
   if (listener < 0) throw refusal;
@@ -241,8 +239,8 @@ int run(const ServiceOptions& service_options, const ServerOptions& options) {
     }
   });
   router.set_logger([](const httplib::Request& req, const httplib::Response& res) {
-    std::string line = req.remote_addr + " " + req.method + " " + req.target + " " + std::to_string(res.status) +
-                       " " + std::to_string(res.body.size()) + " bytes";
+    std::string line = req.remote_addr + " " + req.method + " " + req.target + " " + std::to_string(res.status) + " " +
+                       std::to_string(res.body.size()) + " bytes";
     for (const char* header : {"X-Ganzfeld-Table", "Server-Timing"}) {
       if (!res.has_header(header)) continue;
       line += ' ';

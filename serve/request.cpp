@@ -45,9 +45,7 @@ template <class F>
 auto as_request(F&& f) -> decltype(f()) {
   try {
     return f();
-  } catch (const InputError& e) {
-    throw bad(e.worded(InputError::query_spelling));
-  }
+  } catch (const InputError& e) { throw bad(e.worded(InputError::query_spelling)); }
 }
 
 int hex_digit(char c) {
@@ -129,7 +127,8 @@ namespace {
 /// Refuses (400) a parsed spec with a data file item (file=PATH); nothing has read it yet.
 void refuse_data_file(const Spec& spec, const std::string& text) {
   if (spec.names_file())
-    throw bad("model '" + text + "' names a data file; the service reads no file outside its cache: allowed: "
+    throw bad("model '" + text +
+              "' names a data file; the service reads no file outside its cache: allowed: "
               "analytic models and mixtures (see /api/models)");
 }
 
@@ -141,8 +140,7 @@ void refuse_data_files(const nlohmann::json& value) {
     std::optional<Spec> spec;
     try {
       spec = parse_spec(text);
-    } catch (const InputError&) {
-    }
+    } catch (const InputError&) {}
     if (spec) refuse_data_file(*spec, text);
   }
   if (value.is_structured())
@@ -233,9 +231,9 @@ TableQuery parse_table(const Query& query, const Limits& limits, TableEndpoint e
   q.model = parse_served_model(required(query, "model", "specular:alpha=8"), limits, data);
   if (!q.model->traits().isotropic)
     throw bad("model '" + q.model->spec() + "' is anisotropic; tables hold isotropic models only");
-  const tables::Encoding encoding = text_of(query, "encoding")
-                                        ? as_request([&] { return tables::parse_encoding(*text_of(query, "encoding")); })
-                                        : defaults.encoding;
+  const tables::Encoding encoding =
+      text_of(query, "encoding") ? as_request([&] { return tables::parse_encoding(*text_of(query, "encoding")); })
+                                 : defaults.encoding;
   const Law grid_law = q.law == Law::g ? Law::g : Law::h;  // a: h's grid
   if (const auto max_error = number(query, "max_error")) {
     // As `bake model --max-error`: the smallest table whose validated lookup error is <= max_error,
@@ -277,8 +275,8 @@ TableQuery parse_table(const Query& query, const Limits& limits, TableEndpoint e
   common.max_evaluations = limits.max_evaluations;
   common.encoding = encoding;
   if (const auto format = text_of(query, "format")) {
-    const auto known = std::find_if(std::begin(kFormats), std::end(kFormats),
-                                    [&](const FormatInfo& f) { return *format == f.name; });
+    const auto known =
+        std::find_if(std::begin(kFormats), std::end(kFormats), [&](const FormatInfo& f) { return *format == f.name; });
     if (known == std::end(kFormats)) throw bad("unknown format '" + *format + "'; allowed: exr, ktx2, json");
     q.format = known->format;
   }

@@ -13,11 +13,11 @@
 #include <string_view>
 
 #include "integrate/cubature.h"
-#include "serve/data.h"
 #include "integrate/laws.h"
 #include "models/spec.h"
 #include "scene/plan.h"
 #include "scene/scene.h"
+#include "serve/data.h"
 #include "tables/bake.h"
 
 namespace ganzfeld::serve {
@@ -76,8 +76,8 @@ struct EvalQuery {
 EvalQuery parse_eval(const Query& query, const Limits& limits, const DataFiles& data = {});
 
 enum class TableFormat { exr, ktx2, json };
-const char* to_string(TableFormat format);         ///< "exr", "ktx2", "json"
-const char* content_type(TableFormat format);      ///< the media type of the body
+const char* to_string(TableFormat format);     ///< "exr", "ktx2", "json"
+const char* content_type(TableFormat format);  ///< the media type of the body
 
 /// GET /api/table?model=SPEC&law=g|h|a[&res=N[xNxN]][&tol=T][&encoding=float|half][&format=exr|ktx2|json]
 /// and GET /api/glsl with the same parameters but format: with res or tol, a fixed grid

@@ -22,7 +22,9 @@ namespace ganzfeld::serve {
 
 namespace {
 
-Reply json_reply(int status, const nlohmann::ordered_json& doc) { return {status, "application/json", doc.dump() + "\n", {}}; }
+Reply json_reply(int status, const nlohmann::ordered_json& doc) {
+  return {status, "application/json", doc.dump() + "\n", {}};
+}
 
 Reply error_reply(int status, const std::string& message) {
   return {status, "application/json", error_body(message), {}};
@@ -171,9 +173,7 @@ Reply Service::handle(const std::string& path, std::string_view query, const std
                       const Cancellation* cancel) {
   try {
     return handle(Request{path, parse_query(query), if_none_match, cancel});
-  } catch (const RequestError& e) {
-    return error_reply(e.status(), e.what());
-  }
+  } catch (const RequestError& e) { return error_reply(e.status(), e.what()); }
 }
 
 std::string Service::without_paths(std::string message) const {
@@ -195,7 +195,8 @@ Reply Service::handle(const Request& request) {
     const std::string& path = request.path;
     const Query& query = request.query;
     // The viewer's files (serve/assets.h); the page reads its own query (model, light, test mode).
-    if (const Asset* asset = find_asset(path)) return {200, std::string(asset->media_type), std::string(asset->body), {}};
+    if (const Asset* asset = find_asset(path))
+      return {200, std::string(asset->media_type), std::string(asset->body), {}};
     const bool fixed = path == "/healthz" || path == "/api/models" || path == "/api/data";
     if (fixed && !query.empty()) return error_reply(400, path + " takes no parameters");
     if (path == "/healthz") return json_reply(draining_ ? 503 : 200, health());
@@ -219,13 +220,9 @@ Reply Service::handle(const Request& request) {
     return error_reply(404, "no endpoint '" + path +
                                 "'; allowed: /, /viewer.js, /healthz, /api/models, /api/data, /api/spec, /api/eval, "
                                 "/api/fgrid, /api/sphere, /api/table, /api/glsl");
-  } catch (const RequestError& e) {
-    return error_reply(e.status(), e.what());
-  } catch (const Busy& e) {
+  } catch (const RequestError& e) { return error_reply(e.status(), e.what()); } catch (const Busy& e) {
     return unavailable(e.what(), true);
-  } catch (const Cancelled& e) {
-    return stopped(request.cancel, e.what());
-  } catch (const InputError& e) {
+  } catch (const Cancelled& e) { return stopped(request.cancel, e.what()); } catch (const InputError& e) {
     return error_reply(400, without_paths(e.worded(InputError::query_spelling)));
   } catch (const std::exception& e) {
     if (options_.log) options_.log("internal error on " + request.path + ": " + e.what());
@@ -242,8 +239,8 @@ Reply Service::eval(const Request& request) {
   const Estimate e = evaluate_law(*q.model, q.law, q.i.value_or(Vec3{0, 0, 1}), q.j.value_or(Vec3{0, 0, 1}), options);
   if (request.cancel && request.cancel->cancelled())
     return stopped(request.cancel, stop_message(request.cancel->reason(), options_.max_request_seconds));
-  return json_reply(200, shapes::eval_json(options_.data.display(q.model->spec()), q.law, e, q.tolerance, q.i, q.j,
-                                           watch.seconds()));
+  return json_reply(
+      200, shapes::eval_json(options_.data.display(q.model->spec()), q.law, e, q.tolerance, q.i, q.j, watch.seconds()));
 }
 
 std::optional<tables::Table> Service::cached(const TableQuery& q, const std::string& path) {
@@ -260,7 +257,8 @@ Bakery::Result Service::obtain(const TableQuery& q, std::string& status, const C
   if (std::optional<tables::Table> table = cached(q, path)) {
     ++reused_;
     status = "reused";
-    return std::make_shared<const tables::CacheResult>(tables::CacheResult{path, tables::CacheStatus::reused, std::move(*table), 0.0});
+    return std::make_shared<const tables::CacheResult>(
+        tables::CacheResult{path, tables::CacheStatus::reused, std::move(*table), 0.0});
   }
   const ComputingSlot slot(*this);
   const Bakery::Ticket ticket = bakery_.submit(q.key, [this, q, path](const std::atomic<bool>& stop) {
@@ -321,7 +319,8 @@ Reply Service::scene_glsl(const Request& request) {
   const std::size_t needed = scene::tables_needed(q.scene, options_.defaults).size();
   if (needed > options_.limits.max_scene_tables)
     throw RequestError(413, "the scene needs " + std::to_string(needed) + " tables; this service bakes at most " +
-                                std::to_string(options_.limits.max_scene_tables) + " for one scene (use `ganzfeld "
+                                std::to_string(options_.limits.max_scene_tables) +
+                                " for one scene (use `ganzfeld "
                                 "export-glsl --scene`)");
   scene::TableStore store;
   std::string statuses;  // "baked", "reused", "joined" of each table, comma-separated
@@ -330,8 +329,8 @@ Reply Service::scene_glsl(const Request& request) {
     tables::common(r.options).max_evaluations = options_.limits.max_evaluations;
     const Bakery::Result result = obtain(table_query(r.model, r.law, r.options), status, request.cancel);
     statuses += (statuses.empty() ? "" : ",") + status;
-    scene::PlannedTable planned{std::move(r), std::shared_ptr<const tables::Table>(result, &result->table), result->path,
-                                result->status, result->seconds};
+    scene::PlannedTable planned{std::move(r), std::shared_ptr<const tables::Table>(result, &result->table),
+                                result->path, result->status, result->seconds};
     return planned;
   };
   const scene::ShadingPlan plan = scene::plan_shading(q.scene, options_.defaults, store);

@@ -45,7 +45,7 @@ struct ServiceOptions {
   int max_computing = 28;
   Limits limits;
   scene::TableOptions defaults = scene::TableOptions::scene_defaults();  ///< what unset table parameters mean
-  DataFiles data;                 ///< `--data DIR`: the measured files requests may name (serve/data.h)
+  DataFiles data;  ///< `--data DIR`: the measured files requests may name (serve/data.h)
   /// Joins the words of the equivalent `ganzfeld bake` into the line stamped into each table.
   std::function<std::string(const std::vector<std::string>&)> command_line;
   /// One line for the operator's log (cache entries refused and baked again, internal errors

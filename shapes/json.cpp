@@ -21,7 +21,7 @@ const char* type_name(ParamType t) {
 nlohmann::ordered_json model_json(const ModelInfo& m) {
   nlohmann::ordered_json params = nlohmann::ordered_json::array();
   ModelSpec example{m.name};  // every parameter at its default; a required data file as DATA
-  if (m.make_with_file) {  // file=PATH comes first; required unless the model has a default
+  if (m.make_with_file) {     // file=PATH comes first; required unless the model has a default
     params.push_back({{"name", "file"},
                       {"type", "path"},
                       {"required", !m.file_optional},
@@ -29,9 +29,8 @@ nlohmann::ordered_json model_json(const ModelInfo& m) {
     if (!m.file_optional) example.file = "DATA";
   }
   for (const auto& p : m.parameters) {
-    nlohmann::ordered_json param{{"name", p.name},         {"type", type_name(p.type)}, {"min", p.min},
-                                 {"max", p.max},           {"default", p.default_value},
-                                 {"meaning", p.meaning}};
+    nlohmann::ordered_json param{{"name", p.name}, {"type", type_name(p.type)},  {"min", p.min},
+                                 {"max", p.max},   {"default", p.default_value}, {"meaning", p.meaning}};
     if (p.type == ParamType::choice) {
       param["choices"] = p.choices;
       param["default"] = value_text(p, p.default_value);  // the name, as a spec gives it
@@ -70,10 +69,8 @@ nlohmann::ordered_json spec_json(const Spec& spec, const std::string& canonical)
     for (const ParamInfo& p : find_model(term.model.name).parameters) {
       const auto given = term.model.values.find(p.name);
       if (given == term.model.values.end()) continue;
-      if (p.type == ParamType::choice)
-        parameters[p.name] = value_text(p, given->second);
-      else
-        parameters[p.name] = given->second;
+      if (p.type == ParamType::choice) parameters[p.name] = value_text(p, given->second);
+      else parameters[p.name] = given->second;
     }
     nlohmann::ordered_json t{{"weight", term.weight}, {"model", term.model.name}, {"parameters", parameters}};
     if (!term.model.file.empty()) t["file"] = term.model.file;
@@ -84,9 +81,8 @@ nlohmann::ordered_json spec_json(const Spec& spec, const std::string& canonical)
 
 nlohmann::ordered_json eval_json(const std::string& spec, Law law, const Estimate& e, double tolerance,
                                  const std::optional<Vec3>& i, const std::optional<Vec3>& j, double seconds) {
-  nlohmann::ordered_json doc{{"model", spec},           {"law", to_string(law)},
-                             {"value", e.value},        {"error", e.error},
-                             {"evaluations", e.evaluations}, {"converged", e.converged},
+  nlohmann::ordered_json doc{{"model", spec},         {"law", to_string(law)},        {"value", e.value},
+                             {"error", e.error},      {"evaluations", e.evaluations}, {"converged", e.converged},
                              {"tolerance", tolerance}};
   if (i) doc["i"] = {i->x, i->y, i->z};
   if (j) doc["j"] = {j->x, j->y, j->z};

@@ -14,10 +14,10 @@
 #include <tbb/parallel_for.h>
 
 #include "integrate/laws.h"
-#include "util/error.h"
 #include "models/registry.h"
 #include "tables/sample.h"
 #include "tables/to_error.h"
+#include "util/error.h"
 
 namespace ganzfeld::tables {
 
@@ -52,15 +52,14 @@ std::vector<int> parse_resolution(const std::string& text, Law law) {
   const std::string form = law == Law::g ? "N or NIxNJxNPHI" : "N";
   const auto bad = [&](const std::string& more = "") {
     return InputError({Named{"res", "'" + text + "'"}, " is not a resolution for law " + std::string(to_string(law)) +
-                                                          "; expected " + form + " with integers >= 2" + more});
+                                                           "; expected " + form + " with integers >= 2" + more});
   };
   std::vector<int> counts;
   std::size_t start = 0;
   while (true) {
     const std::size_t x = text.find('x', start);
     const std::string part = text.substr(start, x == std::string::npos ? std::string::npos : x - start);
-    if (part.empty() || part.size() > 9 || part.find_first_not_of("0123456789") != std::string::npos)
-      throw bad();
+    if (part.empty() || part.size() > 9 || part.find_first_not_of("0123456789") != std::string::npos) throw bad();
     counts.push_back(std::stoi(part));
     if (x == std::string::npos) break;
     start = x + 1;
@@ -105,8 +104,10 @@ std::vector<Axis> bake_axes(Law law, const BakeOptions& options) {
     if (options.warped) return warped_axes(options.resolution, kWarpedThetaWidths * options.lobe->width);
     return lobe_axes(options.resolution, options.lobe->width);
   }
-  if (options.warped) throw InputError("the warped frame needs a lobe frame (a model whose lobe peaks at the mirror "
-                                       "direction or at j)");
+  if (options.warped)
+    throw InputError(
+        "the warped frame needs a lobe frame (a model whose lobe peaks at the mirror "
+        "direction or at j)");
   return make_axes(law, options.resolution, options.mappings);
 }
 
@@ -141,7 +142,8 @@ std::vector<Axis> checked_axes(const Model& model, Law law, const BakeOptions& o
   const std::uint64_t bytes = table_bytes(options.resolution);
   if (bytes > kMaxTableBytes)
     throw InputError("resolution " + resolution_text(options.resolution) + " would need " + std::to_string(bytes) +
-                     " bytes (" + gib(bytes) + " GiB); the limit is " + std::to_string(kMaxTableBytes) + " bytes (2 GiB)");
+                     " bytes (" + gib(bytes) + " GiB); the limit is " + std::to_string(kMaxTableBytes) +
+                     " bytes (2 GiB)");
   return axes;
 }
 
@@ -296,7 +298,8 @@ double node_bound(const Table& table) {
   double worst = 0.0;
   const std::size_t plane = table.entries() / table.axes[0].count;
   for (std::size_t m = 0; m < table.error.size(); ++m)
-    worst = std::max(worst, table.error[m] * warp_envelope(table.warp, table.axes[0].node(static_cast<int>(m / plane))));
+    worst =
+        std::max(worst, table.error[m] * warp_envelope(table.warp, table.axes[0].node(static_cast<int>(m / plane))));
   return worst;
 }
 
@@ -312,12 +315,14 @@ void validate(Table& table, const LawAt& law_at, const BakeOptions& options, con
     cells *= cell_counts.back();
   }
   const std::uint64_t n = table.value.size();
-  const std::uint64_t centres = std::min<std::uint64_t>(cells, std::max<std::uint64_t>(kMinInterpolationChecks, n / 16));
+  const std::uint64_t centres =
+      std::min<std::uint64_t>(cells, std::max<std::uint64_t>(kMinInterpolationChecks, n / 16));
   std::vector<std::uint64_t> chosen(centres);
   std::mt19937_64 rng(kInterpolationSeed);
   for (std::uint64_t c = 0; c < centres; ++c)
     chosen[c] = centres == cells ? c : std::uniform_int_distribution<std::uint64_t>(0, cells - 1)(rng);
-  const std::vector<double> random = validation_points(table.law, options.random_checks, kValidationSeed, table.min_cos_j);
+  const std::vector<double> random =
+      validation_points(table.law, options.random_checks, kValidationSeed, table.min_cos_j);
   const std::size_t dims = table.axes.size();
   const std::uint64_t checks = centres + options.random_checks;
   std::vector<double> check_error(checks, 0.0);

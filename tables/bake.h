@@ -41,7 +41,7 @@ struct BakeOptions : BakeCommon {
   std::vector<int> resolution;  ///< nodes per axis (g: 3 counts; h, a: 1)
   /// Mapping per axis (same count as `resolution`); empty = the law's defaults (default_axes).
   std::vector<Mapping> mappings;
-  double tolerance = 1e-9;      ///< absolute tolerance of every entry's cubature
+  double tolerance = 1e-9;  ///< absolute tolerance of every entry's cubature
   Interpolation interpolation = Interpolation::linear;
   /// g only: bake in the lobe frame with this peak and width (tables/frame.h); nothing: the
   /// cosines frame (version 1's axes; `mappings` apply).

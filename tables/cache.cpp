@@ -1,15 +1,15 @@
-#include "util/atomic_file.h"
 #include "tables/cache.h"
+#include "util/atomic_file.h"
 
 #include <cstdio>
 #include <filesystem>
 
-#include "util/error.h"
 #include "models/registry.h"
 #include "models/spec.h"
-#include "util/hash.h"
 #include "tables/exr_io.h"
 #include "tables/to_error.h"
+#include "util/error.h"
+#include "util/hash.h"
 #include "util/timing.h"
 
 namespace ganzfeld::tables {
@@ -96,8 +96,8 @@ std::string key_text(const TableKey& key) {
 std::string cache_file_name(const TableKey& key) {
   std::string name;
   for (char c : key.model.substr(0, kMaxNameSpec)) {
-    const bool keep = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '=' ||
-                      c == '.' || c == '-';
+    const bool keep =
+        (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '=' || c == '.' || c == '-';
     name += keep ? c : '_';
   }
   return name + "." + to_string(key.law) + "." + util::hex16(util::fnv1a_64(key_text(key))) + ".exr";
@@ -107,8 +107,8 @@ bool same_key(const TableKey& a, const TableKey& b) noexcept {
   return a.model == b.model && a.content == b.content && a.law == b.law && a.tolerance == b.tolerance &&
          a.encoding == b.encoding && a.format_version == b.format_version && a.axes == b.axes &&
          a.interpolation == b.interpolation && a.frame == b.frame && a.peak == b.peak &&
-         a.target_error == b.target_error && a.target_bytes == b.target_bytes &&
-         a.target_fetches == b.target_fetches && a.filter == b.filter;
+         a.target_error == b.target_error && a.target_bytes == b.target_bytes && a.target_fetches == b.target_fetches &&
+         a.filter == b.filter;
 }
 
 bool same_model(const Table& table, const Model& model) {
@@ -125,14 +125,11 @@ std::optional<Table> read_if_matching(const std::string& path, const TableKey& k
   std::string reason;
   try {
     Table table = read_table(path);
-    if (!same_key(table_key(table), key))
-      reason = "it holds another table (its metadata is not the key)";
+    if (!same_key(table_key(table), key)) reason = "it holds another table (its metadata is not the key)";
     else if (!key.best_effort && misses_target(table))
       reason = "it misses its target error (a best-effort bake's table)";
-    else if (table.values_digest.empty())
-      reason = "it has no ganzfeld.values_digest to verify its numbers by";
-    else
-      return table;
+    else if (table.values_digest.empty()) reason = "it has no ganzfeld.values_digest to verify its numbers by";
+    else return table;
   } catch (const InputError& e) {  // corrupt, truncated or not a table: re-baked by the caller
     reason = e.what();
   }

@@ -74,7 +74,7 @@ const char* to_string(CacheStatus status);  ///< "baked" or "reused"
 struct CacheResult {
   std::string path;
   CacheStatus status = CacheStatus::baked;
-  Table table;        ///< the table now at `path`
+  Table table;           ///< the table now at `path`
   double seconds = 0.0;  ///< baking time (0 when reused)
 };
 

@@ -62,7 +62,8 @@ class HeaderWalk {
       if (c == std::char_traits<char>::eof()) refuse("cannot be read (truncated file)");
       ++pos_;
       if (c == 0) return out;
-      if (out.size() == max) refuse(std::string("header ") + what + " longer than " + std::to_string(max) + " characters");
+      if (out.size() == max)
+        refuse(std::string("header ") + what + " longer than " + std::to_string(max) + " characters");
       out.push_back(static_cast<char>(c));
     }
   }
@@ -88,7 +89,9 @@ std::uint64_t bytes_per_pixel(const std::string& v, const HeaderWalk& walk) {
     const auto end = v.find('\0', at);
     if (end == std::string::npos || end + 17 > v.size()) walk.refuse("attribute 'channels' is malformed");
     const std::int32_t type = HeaderWalk::i32(v, end + 1);
-    if (type < 0 || type > 2) walk.refuse("channel '" + printable(v.substr(at, end - at)) + "' has pixel type " + std::to_string(type) + "; allowed: 0, 1, 2");
+    if (type < 0 || type > 2)
+      walk.refuse("channel '" + printable(v.substr(at, end - at)) + "' has pixel type " + std::to_string(type) +
+                  "; allowed: 0, 1, 2");
     bytes += type == 1 ? 2 : 4;
     at = end + 17;
   }
@@ -100,12 +103,30 @@ std::uint64_t bytes_per_pixel(const std::string& v, const HeaderWalk& walk) {
 /// size says (ImfHeader.cpp registers them); a declared size that differs would make OpenEXR's walk
 /// and ours part. string, floatvector and unknown (opaque) types are read with the declared size.
 std::optional<std::int32_t> fixed_size(const std::string& type) {
-  static const std::map<std::string, std::int32_t> sizes{
-      {"box2i", 16}, {"box2f", 16}, {"chromaticities", 32}, {"compression", 1}, {"deepImageState", 1},
-      {"double", 8}, {"envmap", 1},  {"float", 4},           {"int", 4},          {"keycode", 28},
-      {"lineOrder", 1}, {"m33f", 36}, {"m33d", 72},        {"m44f", 64},        {"m44d", 128},
-      {"rational", 8}, {"tiledesc", 9}, {"timecode", 8},   {"v2i", 8},          {"v2f", 8},
-      {"v2d", 16},   {"v3i", 12},    {"v3f", 12},           {"v3d", 24}};
+  static const std::map<std::string, std::int32_t> sizes{{"box2i", 16},
+                                                         {"box2f", 16},
+                                                         {"chromaticities", 32},
+                                                         {"compression", 1},
+                                                         {"deepImageState", 1},
+                                                         {"double", 8},
+                                                         {"envmap", 1},
+                                                         {"float", 4},
+                                                         {"int", 4},
+                                                         {"keycode", 28},
+                                                         {"lineOrder", 1},
+                                                         {"m33f", 36},
+                                                         {"m33d", 72},
+                                                         {"m44f", 64},
+                                                         {"m44d", 128},
+                                                         {"rational", 8},
+                                                         {"tiledesc", 9},
+                                                         {"timecode", 8},
+                                                         {"v2i", 8},
+                                                         {"v2f", 8},
+                                                         {"v2d", 16},
+                                                         {"v3i", 12},
+                                                         {"v3f", 12},
+                                                         {"v3d", 24}};
   const auto it = sizes.find(type);
   return it == sizes.end() ? std::nullopt : std::optional<std::int32_t>(it->second);
 }

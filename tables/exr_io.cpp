@@ -17,11 +17,11 @@
 #include <OpenEXR/ImfTestFile.h>
 #include <nlohmann/json.hpp>
 
+#include "models/registry.h"
 #include "tables/exr_attributes.h"
 #include "tables/exr_guard.h"
-#include "util/error.h"
 #include "util/atomic_file.h"
-#include "models/registry.h"
+#include "util/error.h"
 
 namespace ganzfeld::tables {
 
@@ -51,8 +51,8 @@ constexpr const char* kAttrFrame = "ganzfeld.frame";
 constexpr const char* kAttrPeak = "ganzfeld.peak";  // lobe frame only
 constexpr const char* kAttrInterpolation = "ganzfeld.interpolation";
 constexpr const char* kAttrLookupError = "ganzfeld.lookup_error";
-constexpr const char* kAttrTargetError = "ganzfeld.target_error";  // optional: --max-error bakes
-constexpr const char* kAttrTargetBytes = "ganzfeld.target_bytes";  // with target_error
+constexpr const char* kAttrTargetError = "ganzfeld.target_error";      // optional: --max-error bakes
+constexpr const char* kAttrTargetBytes = "ganzfeld.target_bytes";      // with target_error
 constexpr const char* kAttrTargetFetches = "ganzfeld.target_fetches";  // optional: --fetches bakes
 // Version 4: the lookup the bound covers, the validated domain, and a warped table's warp.
 constexpr const char* kAttrFilter = "ganzfeld.filter";
@@ -156,8 +156,8 @@ void write_table(const Table& table, const std::string& path) {
   if (unorm) {
     for (float v : table.value) codes.push_back(table.unorm.code(v));  // exact: check_table above
     frame.insert(kValueChannel, Imf::Slice(Imf::UINT, reinterpret_cast<char*>(codes.data()), stride, stride * width));
-    frame.insert(kErrorChannel,
-                 Imf::Slice(type, reinterpret_cast<char*>(const_cast<float*>(table.error.data())), stride, stride * width));
+    frame.insert(kErrorChannel, Imf::Slice(type, reinterpret_cast<char*>(const_cast<float*>(table.error.data())),
+                                           stride, stride * width));
   } else if (half) {
     value_half.assign(table.value.begin(), table.value.end());
     error_half.assign(table.error.begin(), table.error.end());
@@ -165,10 +165,10 @@ void write_table(const Table& table, const std::string& path) {
     frame.insert(kErrorChannel, Imf::Slice(type, reinterpret_cast<char*>(error_half.data()), stride, stride * width));
   } else {
     // OpenEXR's Slice takes a non-const pointer but only reads from it when writing.
-    frame.insert(kValueChannel,
-                 Imf::Slice(type, reinterpret_cast<char*>(const_cast<float*>(table.value.data())), stride, stride * width));
-    frame.insert(kErrorChannel,
-                 Imf::Slice(type, reinterpret_cast<char*>(const_cast<float*>(table.error.data())), stride, stride * width));
+    frame.insert(kValueChannel, Imf::Slice(type, reinterpret_cast<char*>(const_cast<float*>(table.value.data())),
+                                           stride, stride * width));
+    frame.insert(kErrorChannel, Imf::Slice(type, reinterpret_cast<char*>(const_cast<float*>(table.error.data())),
+                                           stride, stride * width));
   }
 
   write_atomically(path, [&, height = height](const std::string& temp) {  // clang < 16: no captured bindings
@@ -188,7 +188,6 @@ void write_table(const Table& table, const std::string& path) {
 namespace {
 
 struct Reader : ExrAttributes {
-
   /// A finite number that a float holds exactly (the unorm16 offset and scale).
   float float_attribute(const Imf::Header& header, const char* name) const {
     const std::string text = attribute(header, name);
@@ -203,9 +202,7 @@ struct Reader : ExrAttributes {
     nlohmann::json doc;
     try {
       doc = nlohmann::json::parse(text);
-    } catch (const nlohmann::json::exception&) {
-      refuse(std::string(kAttrAxes) + " is not valid JSON");
-    }
+    } catch (const nlohmann::json::exception&) { refuse(std::string(kAttrAxes) + " is not valid JSON"); }
     if (!doc.is_array()) refuse(std::string(kAttrAxes) + " is not a JSON array of axes");
     std::vector<Axis> out;
     for (const auto& a : doc) {
@@ -226,9 +223,7 @@ struct Reader : ExrAttributes {
       axis.count = static_cast<int>(count);
       try {
         axis.mapping = parse_mapping(a["mapping"].get<std::string>());
-      } catch (const InputError& e) {
-        refuse(e.what());
-      }
+      } catch (const InputError& e) { refuse(e.what()); }
       if (a.contains("width")) {
         if (!a["width"].is_number()) refuse("axis " + axis.name + " has a width that is not a number");
         axis.width = a["width"].get<double>();
@@ -247,9 +242,7 @@ struct Reader : ExrAttributes {
     nlohmann::json doc;
     try {
       doc = nlohmann::json::parse(text);
-    } catch (const nlohmann::json::exception&) {
-      refuse(bad);
-    }
+    } catch (const nlohmann::json::exception&) { refuse(bad); }
     if (!doc.is_object() || !doc.contains("mix") || !doc["mix"].is_number() || !doc.contains("envelope") ||
         !doc["envelope"].is_number() || !doc.contains("samples") || !doc["samples"].is_array() ||
         doc["samples"].size() > 4096 || (doc.contains("beta_whitening") && !doc["beta_whitening"].is_number()))
@@ -284,9 +277,7 @@ struct Reader : ExrAttributes {
       if (header.findTypedAttribute<Imf::StringAttribute>(kAttrModelContent))
         table.model_content = attribute(header, kAttrModelContent);
       table.encoding = parse_encoding(attribute(header, kAttrEncoding));
-    } catch (const InputError& e) {
-      refuse(std::string(e.what()));
-    }
+    } catch (const InputError& e) { refuse(std::string(e.what())); }
     if (table.encoding == Encoding::unorm16) {
       table.unorm.offset = float_attribute(header, kAttrUnormOffset);
       table.unorm.scale = float_attribute(header, kAttrUnormScale);
@@ -295,13 +286,15 @@ struct Reader : ExrAttributes {
     table.tolerance = number(header, kAttrTolerance);
     table.node_error = number(header, kAttrMaxError);
     const double unconverged = number(header, kAttrUnconverged);
-    if (unconverged != std::floor(unconverged) || unconverged > 9e18) refuse(std::string(kAttrUnconverged) + " is not a count");
+    if (unconverged != std::floor(unconverged) || unconverged > 9e18)
+      refuse(std::string(kAttrUnconverged) + " is not a count");
     table.unconverged = static_cast<long long>(unconverged);
     if (header.findTypedAttribute<Imf::StringAttribute>(kAttrInterpolationChecks)) {
       const double checks = number(header, kAttrInterpolationChecks);
       table.interpolation_error = number(header, kAttrInterpolationError);
       if (checks != std::floor(checks) || checks < 0 || checks > 9e18 || !(table.interpolation_error >= 0))
-        refuse(std::string(kAttrInterpolationChecks) + " / " + kAttrInterpolationError + " are not a count and an error");
+        refuse(std::string(kAttrInterpolationChecks) + " / " + kAttrInterpolationError +
+               " are not a count and an error");
       table.interpolation_checks = static_cast<long long>(checks);
     }
     if (table.format_version >= 2) read_version_2(header, table);
@@ -319,16 +312,12 @@ struct Reader : ExrAttributes {
       table.frame = parse_frame(attribute(header, kAttrFrame));
       if (table.frame != Frame::cosines) table.peak = parse_peak(attribute(header, kAttrPeak));
       table.interpolation = parse_interpolation(attribute(header, kAttrInterpolation));
-    } catch (const InputError& e) {
-      refuse(std::string(e.what()));
-    }
+    } catch (const InputError& e) { refuse(std::string(e.what())); }
     table.lookup_error = number(header, kAttrLookupError);
     if (table.format_version >= kWarpedFormatVersion) {
       try {
         table.filter = parse_filter(attribute(header, kAttrFilter));
-      } catch (const InputError& e) {
-        refuse(std::string(e.what()));
-      }
+      } catch (const InputError& e) { refuse(std::string(e.what())); }
       table.min_cos_j = number(header, kAttrMinCosJ);
       if (table.frame == Frame::warped) table.warp = warp(attribute(header, kAttrWarp));
     }
@@ -353,8 +342,8 @@ struct Reader : ExrAttributes {
       names.insert(it.name());
       const Imf::PixelType type = it.name() == std::string(kValueChannel) ? value_type(encoding) : error_type(encoding);
       if (it.channel().type != type)
-        refuse(std::string("channel '") + it.name() + "' is not " + type_name(type) + " as ganzfeld.encoding=" +
-               to_string(encoding) + " says");
+        refuse(std::string("channel '") + it.name() + "' is not " + type_name(type) +
+               " as ganzfeld.encoding=" + to_string(encoding) + " says");
       if (it.channel().xSampling != 1 || it.channel().ySampling != 1)
         refuse(std::string("channel '") + it.name() + "' is subsampled");
     }
@@ -439,9 +428,7 @@ struct Reader : ExrAttributes {
       read_pixels(file, header.dataWindow(), table.encoding, table);
       try {
         check_table(table);
-      } catch (const InputError& e) {
-        refuse(e.what());
-      }
+      } catch (const InputError& e) { refuse(e.what()); }
       if (header.findTypedAttribute<Imf::StringAttribute>(kAttrValuesDigest)) {
         table.values_digest = attribute(header, kAttrValuesDigest);
         if (table.values_digest != values_digest(table))

@@ -22,7 +22,7 @@ constexpr double kSameDirection = 1e-12;
 }  // namespace
 
 LobeComponents lobe_components(PeakKind peak, double cos_theta_i, double cos_theta_j, double cos_phi,
-                              double sin_phi) noexcept {
+                               double sin_phi) noexcept {
   const double s = sign_of(peak);
   const double ci = std::clamp(cos_theta_i, -1.0, 1.0), cj = std::clamp(cos_theta_j, 0.0, 1.0);
   const double si = std::sqrt(std::max(0.0, 1.0 - ci * ci)), sj = std::sqrt(std::max(0.0, 1.0 - cj * cj));

@@ -41,7 +41,7 @@ struct LobeComponents {
 };
 /// From cos phi and sin phi (only |sin phi| matters: the laws are even in phi).
 LobeComponents lobe_components(PeakKind peak, double cos_theta_i, double cos_theta_j, double cos_phi,
-                              double sin_phi) noexcept;
+                               double sin_phi) noexcept;
 
 /// (theta_j, psi, beta) of the g coordinates (c_i, c_j, phi) (clamped to their ranges).
 std::array<double, 3> lobe_coordinates(PeakKind peak, double cos_theta_i, double cos_theta_j, double phi) noexcept;

@@ -60,15 +60,23 @@ void write_param_table(const ParamTable& table, const std::string& path) {
   header.compression() = Imf::ZIP_COMPRESSION;
   nlohmann::ordered_json axes = nlohmann::ordered_json::array(), channels = nlohmann::ordered_json::array();
   for (const Axis& a : table.axes)
-    axes.push_back({{"name", a.name}, {"min", a.min}, {"max", a.max}, {"count", a.count},
-                    {"mapping", to_string(a.mapping)}, {"grid", to_string(table.grid)}});
+    axes.push_back({{"name", a.name},
+                    {"min", a.min},
+                    {"max", a.max},
+                    {"count", a.count},
+                    {"mapping", to_string(a.mapping)},
+                    {"grid", to_string(table.grid)}});
   for (const Channel& ch : table.channels) {
     header.channels().insert(ch.name, Imf::Channel(type));
     header.channels().insert(ch.name + kErrorSuffix, Imf::Channel(type));
-    channels.push_back({{"name", ch.name}, {"definition", ch.definition}, {"unconverged", ch.unconverged},
+    channels.push_back({{"name", ch.name},
+                        {"definition", ch.definition},
+                        {"unconverged", ch.unconverged},
                         {"lookup_error", ch.lookup_error}});
   }
-  auto attr = [&](const char* key, const std::string& v) { header.insert(attribute_name(key), Imf::StringAttribute(v)); };
+  auto attr = [&](const char* key, const std::string& v) {
+    header.insert(attribute_name(key), Imf::StringAttribute(v));
+  };
   attr(kVersion, std::to_string(kParamFormatVersion));
   attr("preset", table.preset);
   attr("layout", table.layout);
@@ -105,13 +113,11 @@ void write_param_table(const ParamTable& table, const std::string& path) {
 namespace {
 
 struct ParamReader : ExrAttributes {
-
   nlohmann::json json_array(const Imf::Header& header, const char* name) const {
     try {
       nlohmann::json doc = nlohmann::json::parse(attribute(header, name));
       if (doc.is_array()) return doc;
-    } catch (const nlohmann::json::exception&) {
-    }
+    } catch (const nlohmann::json::exception&) {}
     refuse(attribute_name(name) + " is not a JSON array");
   }
 
@@ -138,10 +144,11 @@ struct ParamReader : ExrAttributes {
     std::set<std::string> expected;
     for (const auto& c : json_array(header, "channels")) {
       const bool ok = c.is_object() && c.contains("name") && c["name"].is_string() && c.contains("definition") &&
-                      c["definition"].is_string() && c.contains("unconverged") && c["unconverged"].is_number_integer() &&
-                      c.contains("lookup_error") && c["lookup_error"].is_number();
+                      c["definition"].is_string() && c.contains("unconverged") &&
+                      c["unconverged"].is_number_integer() && c.contains("lookup_error") &&
+                      c["lookup_error"].is_number();
       if (!ok) refuse("ganzfeld.channels: each channel needs name, definition, unconverged (integer), lookup_error");
-      Channel ch{c["name"].get<std::string>(), c["definition"].get<std::string>(), {}, {},
+      Channel ch{c["name"].get<std::string>(),      c["definition"].get<std::string>(), {}, {},
                  c["unconverged"].get<long long>(), c["lookup_error"].get<double>()};
       expected.insert(ch.name);
       expected.insert(ch.name + kErrorSuffix);
@@ -152,7 +159,8 @@ struct ParamReader : ExrAttributes {
     for (auto it = header.channels().begin(); it != header.channels().end(); ++it) {
       present.insert(it.name());
       if (it.channel().type != type || it.channel().xSampling != 1 || it.channel().ySampling != 1)
-        refuse(std::string("channel '") + it.name() + "' is not an unsampled " + to_string(table.encoding) + " channel");
+        refuse(std::string("channel '") + it.name() + "' is not an unsampled " + to_string(table.encoding) +
+               " channel");
     }
     if (present != expected) refuse("the image's channels are not exactly those ganzfeld.channels lists, with _error");
   }
@@ -196,9 +204,7 @@ struct ParamReader : ExrAttributes {
     } catch (const InputError& e) {
       if (std::string(e.what()).rfind("table '", 0) == 0) throw;
       refuse(e.what());
-    } catch (const std::exception& e) {
-      refuse("unreadable or truncated OpenEXR file: " + std::string(e.what()));
-    }
+    } catch (const std::exception& e) { refuse("unreadable or truncated OpenEXR file: " + std::string(e.what())); }
   }
 };
 

@@ -51,7 +51,8 @@ std::size_t ParamTable::channel_index(const std::string& name) const {
 namespace {
 
 void check_axes(const std::vector<Axis>& axes) {
-  if (axes.size() != 2) throw InputError("a parameter table has 2 axes, the metadata lists " + std::to_string(axes.size()));
+  if (axes.size() != 2)
+    throw InputError("a parameter table has 2 axes, the metadata lists " + std::to_string(axes.size()));
   if (axes[0].name != kAxisAlpha && axes[0].name != kAxisRoughness)
     throw InputError("axis 0 is '" + axes[0].name + "'; expected alpha or roughness");
   if (axes[1].name != kAxisCosThetaI) throw InputError("axis 1 is '" + axes[1].name + "'; expected cos_theta_i");
@@ -77,7 +78,8 @@ void check_param_table(const ParamTable& table) {
   const std::size_t n = table.entries();
   double max_error = 0.0, lookup_error = 0.0;
   for (const Channel& ch : table.channels) {
-    const bool plain = !ch.name.empty() && ch.name.find_first_not_of("abcdefghijklmnopqrstuvwxyz_") == std::string::npos;
+    const bool plain =
+        !ch.name.empty() && ch.name.find_first_not_of("abcdefghijklmnopqrstuvwxyz_") == std::string::npos;
     if (!plain) throw InputError("channel name '" + ch.name + "' is not allowed; expected [a-z_]+");
     if (table.channel_index(ch.name) != static_cast<std::size_t>(&ch - table.channels.data()))
       throw InputError("channel '" + ch.name + "' appears twice");

@@ -38,8 +38,8 @@ double grid_coordinate(const Axis& axis, Grid grid, int k) noexcept;
 double grid_position(const Axis& axis, Grid grid, double x) noexcept;
 
 struct Channel {
-  std::string name;        ///< e.g. "dfg_fc"; its error channel in the file is name + "_error"
-  std::string definition;  ///< the integral it holds, one line (docs/lut-format.md)
+  std::string name;          ///< e.g. "dfg_fc"; its error channel in the file is name + "_error"
+  std::string definition;    ///< the integral it holds, one line (docs/lut-format.md)
   std::vector<float> value;  ///< entry index = k_param * n_mu + k_mu
   std::vector<float> error;  ///< per-entry bound: cubature estimate + storage rounding, rounded up
   long long unconverged = 0;
@@ -54,16 +54,16 @@ struct Channel {
 };
 
 struct ParamTable {
-  std::string preset;  ///< "dfg" or "kulla-conty"
-  std::string layout;  ///< dfg: "filament" or "ue4"; kulla-conty: "kulla-conty"
-  std::string model;   ///< the model family, canonical spec with the axis' parameter removed
+  std::string preset;      ///< "dfg" or "kulla-conty"
+  std::string layout;      ///< dfg: "filament" or "ue4"; kulla-conty: "kulla-conty"
+  std::string model;       ///< the model family, canonical spec with the axis' parameter removed
   std::vector<Axis> axes;  ///< {parameter (alpha or roughness), cos_theta_i}, slowest first
   Grid grid = Grid::texel;
   std::vector<Channel> channels;
-  double tolerance = 0.0;   ///< the cubature's absolute tolerance per integral
-  double node_error = 0.0;  ///< max over every channel's per-texel error
-  double lookup_error = 0.0;      ///< max over every channel's lookup_error: the table's headline
-  long long lookup_checks = 0;    ///< validation points behind lookup_error (per channel)
+  double tolerance = 0.0;       ///< the cubature's absolute tolerance per integral
+  double node_error = 0.0;      ///< max over every channel's per-texel error
+  double lookup_error = 0.0;    ///< max over every channel's lookup_error: the table's headline
+  long long lookup_checks = 0;  ///< validation points behind lookup_error (per channel)
   std::string command, version;
   Encoding encoding = Encoding::single;
 

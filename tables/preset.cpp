@@ -45,9 +45,10 @@ std::string preset_family(const Model& model, const PresetOptions& options) {
       for (const ParamInfo& p : find_model(parsed.terms.front().model.name).parameters)
         has_axis = has_axis || p.name == options.axis;
     if (!has_axis)
-      throw InputError({preset, " needs a ggx model: '" + spec + "' has no parameter " + options.axis +
-                                    " for the table's axis"});
-    throw InputError({preset, " is defined for ggx (its channels are GGX and Charlie albedos), not for '" + spec + "'"});
+      throw InputError(
+          {preset, " needs a ggx model: '" + spec + "' has no parameter " + options.axis + " for the table's axis"});
+    throw InputError(
+        {preset, " is defined for ggx (its channels are GGX and Charlie albedos), not for '" + spec + "'"});
   }
   if (!model.traits().isotropic)
     throw InputError({preset, " needs an isotropic ggx model, not '" + model.spec() + "'"});
@@ -55,16 +56,15 @@ std::string preset_family(const Model& model, const PresetOptions& options) {
 }
 
 std::vector<int> parse_preset_resolution(const std::string& text) {
-  const InputError bad({Named{"res", "'" + text + "'"}, " is not a preset resolution; expected N or NPxNMU (parameter x "
-                                                      "cos_theta_i samples) with integers from 2 to 4096"});
+  const InputError bad({Named{"res", "'" + text + "'"},
+                        " is not a preset resolution; expected N or NPxNMU (parameter x "
+                        "cos_theta_i samples) with integers from 2 to 4096"});
   std::vector<int> counts;
   try {  // each part is a one-axis resolution "N"
     const std::size_t x = text.find('x');
     counts.push_back(parse_resolution(text.substr(0, x), Law::a).front());
     counts.push_back(x == std::string::npos ? counts[0] : parse_resolution(text.substr(x + 1), Law::a).front());
-  } catch (const InputError&) {
-    throw bad;
-  }
+  } catch (const InputError&) { throw bad; }
   if (std::max(counts[0], counts[1]) > 4096) throw bad;
   return counts;
 }
@@ -102,14 +102,16 @@ std::vector<ChannelRecipe> recipes(const PresetOptions& options) {
   constexpr const char* kE = "integral of f1 cos (ggx:f0=1 albedo, E(mu, alpha))";
   if (options.preset == Preset::kulla_conty)
     return {{"e", kE, {{Base::e, 1.0}}},
-            {"e_avg", "E_avg(alpha) = 2 integral of E(mu) mu dmu (law r of ggx:f0=1), constant along mu",
+            {"e_avg",
+             "E_avg(alpha) = 2 integral of E(mu) mu dmu (law r of ggx:f0=1), constant along mu",
              {{Base::e_avg, 1.0}}}};
   if (options.layout == DfgLayout::ue4)
     return {{"scale", "integral of f1 (1 - (1 - v.h)^5) cos (Unreal's scale)", {{Base::e, 1.0}, {Base::fc, -1.0}}},
             {"bias", "integral of f1 (1 - v.h)^5 cos (Unreal's bias)", {{Base::fc, 1.0}}}};
-  return {{"dfg_fc", kFc, {{Base::fc, 1.0}}},
-          {"dfg_e", kE, {{Base::e, 1.0}}},
-          {"charlie", "integral of f cos of charlie:alpha=alpha (Neubelt-Pettineo visibility)", {{Base::charlie, 1.0}}}};
+  return {
+      {"dfg_fc", kFc, {{Base::fc, 1.0}}},
+      {"dfg_e", kE, {{Base::e, 1.0}}},
+      {"charlie", "integral of f cos of charlie:alpha=alpha (Neubelt-Pettineo visibility)", {{Base::charlie, 1.0}}}};
 }
 
 void check_options(const PresetOptions& options) {
@@ -208,8 +210,8 @@ bool starts_parameter(const std::vector<std::pair<double, double>>& points, std:
 
 /// Tasks for every base at every validation point (e_avg once per distinct parameter, at the
 /// slot of its first point).
-std::vector<Task> validation_tasks(const std::vector<std::pair<double, double>>& points,
-                                   const std::vector<Base>& bases, const std::string& axis) {
+std::vector<Task> validation_tasks(const std::vector<std::pair<double, double>>& points, const std::vector<Base>& bases,
+                                   const std::string& axis) {
   std::vector<Task> tasks;
   for (Base b : bases)
     for (std::size_t m = 0; m < points.size(); ++m)
@@ -234,8 +236,8 @@ void validate_lookup(ParamTable& table, const std::vector<ChannelRecipe>& channe
       bool converged = true;
       const auto [value, error] = combine(channel_recipes[c], estimates, m, m_avg, converged);
       if (!std::isfinite(value) || !std::isfinite(error))
-        throw InputError(std::string("channel ") + ch.name + " is not finite at validation point " +
-                         std::to_string(m) + " (the cubature met a non-finite integrand); nothing written");
+        throw InputError(std::string("channel ") + ch.name + " is not finite at validation point " + std::to_string(m) +
+                         " (the cubature met a non-finite integrand); nothing written");
       const double lookup = sample_param(table, c, points[m].first, points[m].second).value;
       measured = std::max(measured, std::abs(lookup - value) + error);
     }

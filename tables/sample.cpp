@@ -54,7 +54,7 @@ AxisTaps catmull_rom_taps(int count, bool even, int k, double t, WeightRounding 
                  0.5 * (t3 - t2)};
   if (k == 0) fold_missing_tap(w, 0, even);      // node -1: p[1] (even) or 3 p[0] - 3 p[1] + p[2]
   if (k == n - 2) fold_missing_tap(w, 3, even);  // node n: p[n-2] (even) or 3 p[n-1] - 3 p[n-2] + p[n-3]
-  if (rounding != WeightRounding::exact) {  // nodes k, k+1: one linear fetch at fraction w2/(w1 + w2)
+  if (rounding != WeightRounding::exact) {       // nodes k, k+1: one linear fetch at fraction w2/(w1 + w2)
     const double middle = w[1] + w[2];
     const double f = filter_weight(w[2] / middle, rounding);
     w[1] = middle * (1.0 - f);
@@ -107,9 +107,9 @@ Lookup::Site Lookup::at_law(const Point& x) const noexcept {
   const Table& t = *table_;
   if (!(t.law == Law::g && t.frame != Frame::cosines && x.size == 3 && fits_ && dims_ == 3))
     return at_axes(axis_point(t, x.span()).span());
-  const LobeComponents c =
-      x.has_azimuth_trig ? lobe_components(t.peak, x.x[0], x.x[1], x.cos_phi, x.sin_phi)
-                         : lobe_components(t.peak, x.x[0], x.x[1], std::cos(x.x[2]), std::sin(x.x[2]));
+  const LobeComponents c = x.has_azimuth_trig
+                               ? lobe_components(t.peak, x.x[0], x.x[1], x.cos_phi, x.sin_phi)
+                               : lobe_components(t.peak, x.x[0], x.x[1], std::cos(x.x[2]), std::sin(x.x[2]));
   Site site;
   site.u[0] = index_[0](c.theta_j);
   if (t.frame == Frame::warped) {

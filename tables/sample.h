@@ -102,7 +102,8 @@ inline Cell cell(const Axis& axis, double u) noexcept { return cell(axis.count, 
 inline AxisTaps axis_taps(int count, bool even, double u, Interpolation interpolation,
                           WeightRounding rounding = WeightRounding::exact) noexcept {
   const Cell c = cell(count, u);
-  if (interpolation == Interpolation::catmull_rom && count >= 4) return catmull_rom_taps(count, even, c.k, c.t, rounding);
+  if (interpolation == Interpolation::catmull_rom && count >= 4)
+    return catmull_rom_taps(count, even, c.k, c.t, rounding);
   const double t = filter_weight(c.t, rounding);
   return {2, {c.k, c.k + 1, c.k + 1, c.k + 1}, {1.0 - t, t, 0.0, 0.0}};
 }
@@ -112,7 +113,6 @@ inline AxisTaps axis_taps(const Axis& axis, double u, Interpolation interpolatio
                           WeightRounding rounding = WeightRounding::exact) noexcept {
   return axis_taps(axis.count, is_even_axis(axis), u, interpolation, rounding);
 }
-
 
 /// A table's lookup with what does not depend on the point computed once (the axes' mappings,
 /// strides, the even axes): the one definition of what a lookup blends. sample, sample_axes and
@@ -210,7 +210,8 @@ bool for_each_node(const Table& table, std::span<const double> y, Visit&& visit,
 std::vector<double> coordinates(Law law, const Vec3& i, const Vec3& j) noexcept;
 
 /// sample(table, coordinates(table.law, i, j)).
-Sample sample(const Table& table, const Vec3& i, const Vec3& j, WeightRounding rounding = WeightRounding::exact) noexcept;
+Sample sample(const Table& table, const Vec3& i, const Vec3& j,
+              WeightRounding rounding = WeightRounding::exact) noexcept;
 
 /// The lookup the table's bound is for: its filter's (hardware: 8-bit weights rounded to nearest,
 /// as `ganzfeld sample --hardware-filter` does; texel_fetch: exact).

@@ -7,8 +7,8 @@
 #include <limits>
 #include <numbers>
 
-#include "util/error.h"
 #include "models/registry.h"
+#include "util/error.h"
 #include "util/hash.h"
 #include "util/names.h"
 
@@ -39,8 +39,10 @@ constexpr std::array kFrames{EnumName<Frame>{Frame::cosines, "cosines"}, EnumNam
                              EnumName<Frame>{Frame::warped, "warped"}};
 constexpr std::array kFilters{EnumName<Filter>{Filter::texel_fetch, "texel-fetch"},
                               EnumName<Filter>{Filter::hardware, "hardware"}};
-constexpr std::array kPeaks{EnumName<PeakKind>{PeakKind::mirror, "mirror"}, EnumName<PeakKind>{PeakKind::retro, "retro"}};
-constexpr std::array kEncodings{EnumName<Encoding>{Encoding::half, "half"}, EnumName<Encoding>{Encoding::single, "float"},
+constexpr std::array kPeaks{EnumName<PeakKind>{PeakKind::mirror, "mirror"},
+                            EnumName<PeakKind>{PeakKind::retro, "retro"}};
+constexpr std::array kEncodings{EnumName<Encoding>{Encoding::half, "half"},
+                                EnumName<Encoding>{Encoding::single, "float"},
                                 EnumName<Encoding>{Encoding::unorm16, "unorm16"}};
 }  // namespace
 
@@ -345,7 +347,8 @@ void check_table(const Table& table) {
   if (table.frame != Frame::cosines && table.law != Law::g)
     throw InputError(std::string("law ") + law + " tables use the cosines frame; only g has a " +
                      to_string(table.frame) + " frame");
-  if (table.format_version < kWarpedFormatVersion && (table.frame == Frame::warped || table.filter != Filter::texel_fetch))
+  if (table.format_version < kWarpedFormatVersion &&
+      (table.frame == Frame::warped || table.filter != Filter::texel_fetch))
     throw InputError("the warped frame and hardware filtering need format version " +
                      std::to_string(kWarpedFormatVersion));
   if (table.format_version < kFormatVersion && table.warp.beta_whitening != 0.0)
@@ -392,8 +395,8 @@ void check_table(const Table& table) {
   if (!std::isfinite(table.tolerance) || !(table.tolerance > 0.0))
     throw InputError("tolerance " + format_number(table.tolerance) + " is not a positive finite number");
   if (table.unconverged < 0 || static_cast<std::uint64_t>(table.unconverged) > n)
-    throw InputError("unconverged count " + std::to_string(table.unconverged) + " is outside [0, " +
-                     std::to_string(n) + "]");
+    throw InputError("unconverged count " + std::to_string(table.unconverged) + " is outside [0, " + std::to_string(n) +
+                     "]");
   check_unorm16(table);
   double max_error = 0.0;
   for (std::size_t m = 0; m < n; ++m) {

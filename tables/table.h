@@ -251,17 +251,17 @@ inline constexpr double kWarpedMinCosJ = 0.02;
 
 struct Table {
   Law law = Law::g;
-  std::string model;           ///< canonical spec, Model::spec()
+  std::string model;  ///< canonical spec, Model::spec()
   /// Model::content_digest() of the model baked: the bytes of a measured model's data file, whose
   /// path alone (in `model`) does not say what was baked. "" for analytic models, and for tables
   /// written before the attribute existed.
   std::string model_content;
-  std::vector<Axis> axes;      ///< slowest first: entry index = ((k0 * n1) + k1) * n2 + k2
-  std::vector<float> value;    ///< exactly the stored numbers (half-encoded values are exact floats)
-  std::vector<float> error;    ///< per-entry bound: cubature estimate + storage rounding, rounded up
-  double tolerance = 0.0;      ///< absolute tolerance the cubature was asked for
-  double node_error = 0.0;     ///< max of `error`: the nodes' error (cubature + storage rounding)
-  long long unconverged = 0;   ///< entries whose cubature missed the tolerance
+  std::vector<Axis> axes;     ///< slowest first: entry index = ((k0 * n1) + k1) * n2 + k2
+  std::vector<float> value;   ///< exactly the stored numbers (half-encoded values are exact floats)
+  std::vector<float> error;   ///< per-entry bound: cubature estimate + storage rounding, rounded up
+  double tolerance = 0.0;     ///< absolute tolerance the cubature was asked for
+  double node_error = 0.0;    ///< max of `error`: the nodes' error (cubature + storage rounding)
+  long long unconverged = 0;  ///< entries whose cubature missed the tolerance
   /// Largest |lookup - cubature| + the cubature's own error measured after baking at
   /// `interpolation_checks` points the table was not built from (cell centres, and for
   /// validated bakes also seeded random points): measured, not a bound.
@@ -276,14 +276,14 @@ struct Table {
   double target_error = 0.0;
   std::uint64_t target_bytes = 0;
   int target_fetches = 0;  ///< the --fetches budget it was baked to (0: none)
-  std::string command;         ///< the command line that made the table
-  std::string version;         ///< ganzfeld version that made it
+  std::string command;     ///< the command line that made the table
+  std::string version;     ///< ganzfeld version that made it
   Encoding encoding = Encoding::single;
   Unorm16 unorm;  ///< unorm16 only: value[m] = unorm.value(code m) exactly
   Interpolation interpolation = Interpolation::linear;
   Frame frame = Frame::cosines;
-  PeakKind peak = PeakKind::mirror;  ///< lobe and warped frames
-  Warp warp;                         ///< warped frame only
+  PeakKind peak = PeakKind::mirror;     ///< lobe and warped frames
+  Warp warp;                            ///< warped frame only
   Filter filter = Filter::texel_fetch;  ///< the lookup lookup_error covers (version 4; earlier: texel_fetch)
   /// The smallest j·n (g) the bound was validated at (kWarpedMinCosJ for warped tables, else 0).
   double min_cos_j = 0.0;

@@ -7,10 +7,10 @@
 #include <utility>
 #include <vector>
 
-#include "util/error.h"
 #include "models/registry.h"
 #include "tables/frame.h"
 #include "tables/sample.h"
+#include "util/error.h"
 
 namespace ganzfeld::tables {
 
@@ -49,8 +49,9 @@ std::vector<double> axis_error_estimates(const Table& table, Interpolation inter
       double predicted;
       if (cubic) {
         if (k < 3 || k + 3 > count - 1) continue;
-        predicted = (-table.value[m - 3 * s] + 9.0 * table.value[m - s] + 9.0 * table.value[m + s] -
-                     table.value[m + 3 * s]) / 16.0;
+        predicted =
+            (-table.value[m - 3 * s] + 9.0 * table.value[m - s] + 9.0 * table.value[m + s] - table.value[m + 3 * s]) /
+            16.0;
       } else {
         if (k + 1 > count - 1) continue;
         predicted = 0.5 * (table.value[m - s] + table.value[m + s]);
@@ -134,10 +135,11 @@ void check_error_target(double max_error, std::uint64_t max_bytes, Law law, Enco
   if (!std::isfinite(max_error) || !(max_error > 0.0))
     throw InputError({target, " is not allowed; expected a positive number"});
   if (max_error < min_max_error(encoding)) {
-    std::vector<InputError::Piece> message{target, " is below what a " + std::string(to_string(encoding)) +
-                                                        " table can hold (its rounding alone); allowed: >= " +
-                                                        format_number(min_max_error(encoding))};
-    if (encoding != Encoding::single) message.insert(message.end(), {" (use ", Named{"encoding", "float"}, " for less)"});
+    std::vector<InputError::Piece> message{
+        target, " is below what a " + std::string(to_string(encoding)) +
+                    " table can hold (its rounding alone); allowed: >= " + format_number(min_max_error(encoding))};
+    if (encoding != Encoding::single)
+      message.insert(message.end(), {" (use ", Named{"encoding", "float"}, " for less)"});
     throw InputError(message);
   }
   const std::uint64_t smallest = bytes_of(std::vector<int>(law == Law::g ? 3 : 1, 4), encoding);
@@ -325,8 +327,8 @@ Table bake_to_error(const Model& model, Law law, const TargetBake& requested) {
   if (best.best_table) return finish(std::move(*best.best_table));
   throw InputError({std::string("cannot reach "), Named{"max_error", format_number(E)},
                     " for law " + std::string(to_string(law)) + " of '" + model.spec() + "' within " +
-                        std::to_string(target.max_fetches) + " texture fetch" +
-                        (target.max_fetches == 1 ? "" : "es") + " per lookup (",
+                        std::to_string(target.max_fetches) + " texture fetch" + (target.max_fetches == 1 ? "" : "es") +
+                        " per lookup (",
                     Named{"fetches"}, ") and within " + std::to_string(cap) + " value bytes (",
                     target.max_bytes ? InputError::Piece(Named{"max_bytes"}) : "the default cap",
                     "); the best found is " + format_number(best.best_error) + " at " +

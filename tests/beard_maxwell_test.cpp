@@ -16,8 +16,8 @@
 #include <string>
 #include <vector>
 
-#include <boost/math/quadrature/gauss_kronrod.hpp>
 #include <gtest/gtest.h>
+#include <boost/math/quadrature/gauss_kronrod.hpp>
 
 #include "tests/temp_dir.h"
 #include "tests/test_support.h"
@@ -25,8 +25,8 @@
 #include "integrate/laws.h"
 #include "models/beard_maxwell.h"
 #include "models/classic_models.h"
-#include "util/error.h"
 #include "models/spec.h"
+#include "util/error.h"
 
 namespace ganzfeld {
 namespace {
@@ -113,9 +113,7 @@ TEST(BeardMaxwell, ShadowingObscurationLimitsAndAValue) {
       const double so = beard_maxwell_so(theta_N, beta, 0.25, 0.7);
       EXPECT_GT(so, 0.0);
       EXPECT_LE(so, 1.0);
-      if (beta == 0.0 || theta_N == 0.0) {
-        EXPECT_EQ(so, 1.0) << theta_N << " " << beta;
-      }
+      if (beta == 0.0 || theta_N == 0.0) { EXPECT_EQ(so, 1.0) << theta_N << " " << beta; }
       // Omega -> infinity: no obscuration; tau -> infinity: no shadowing decay
       // (1 - SO = x (1 - e^{-2 beta/tau})/(1 + x) <= x = theta_N/Omega, and <= 2 beta/tau x)
       for (double big : {1e6, 1e12}) {
@@ -123,9 +121,7 @@ TEST(BeardMaxwell, ShadowingObscurationLimitsAndAValue) {
         EXPECT_LE(1.0 - beard_maxwell_so(theta_N, beta, big, 0.7), 2 * beta / big * theta_N / 0.7 + 1e-15);
       }
       // tau -> 0 with beta > 0: the full obscuration 1/(1 + theta_N/Omega)
-      if (beta > 0.0) {
-        EXPECT_NEAR(beard_maxwell_so(theta_N, beta, 1e-6, 0.7), 1.0 / (1.0 + theta_N / 0.7), 1e-15);
-      }
+      if (beta > 0.0) { EXPECT_NEAR(beard_maxwell_so(theta_N, beta, 1e-6, 0.7), 1.0 / (1.0 + theta_N / 0.7), 1e-15); }
     }
   // SCATMECH's defaults (tau = 0.25, Omega = 0.7 rad) at theta_N = 0.3, beta = 0.2, by hand
   const double x = 0.3 / 0.7;
@@ -164,8 +160,8 @@ TEST(BeardMaxwell, MonostaticGeometryReturnsTheFirstSurfaceFunction) {
 /// and beta (torrspar.cpp, Maxwell_Beard_Shadow_Function) from (theta_i, theta_s, phi_s), where
 /// the source lies at azimuth pi and phi_s = 0 is the forward specular plane, and with the
 /// dielectric Fresnel equations written out (k = 0).
-long double transcribed(double theta_i, double theta_s, double phi_s, double n, double b, double m,
-                        double tau_deg, double omega_deg, double rho_D, double rho_V) {
+long double transcribed(double theta_i, double theta_s, double phi_s, double n, double b, double m, double tau_deg,
+                        double omega_deg, double rho_D, double rho_V) {
   using L = long double;
   const L PI = std::numbers::pi_v<long double>;
   const L si = std::sin(L(theta_i)), ss = std::sin(L(theta_s)), ci = std::cos(L(theta_i)), cs = std::cos(L(theta_s));
@@ -282,16 +278,17 @@ double brute_force(const F& F_, const ThetaMax& theta_max, std::vector<double> p
 
 TEST(BeardMaxwell, LawsByTheEngineMatchBruteForceQuadrature) {
   const auto hemisphere = [](double) { return pi / 2; };
-  for (const std::string& p : {std::string(""), std::string("n=0.2,k=3,b=0.9,m=0.4,tau=5,omega=10,rho_d=0,rho_v=0.02")}) {
+  for (const std::string& p :
+       {std::string(""), std::string("n=0.2,k=3,b=0.9,m=0.4,tau=5,omega=10,rho_d=0,rho_v=0.02")}) {
     const auto m = bm(p);
     const double theta = 60 * pi / 180;
     const Vec3 fixed = direction(theta, 0.0);
     // h(j) = ∫ f(k, j)(k.n) dk and a(i) = ∫ f(i, k)(k.n) dk; the mirror (phi = pi) and retro
     // (phi = 0) kinks lie on the phi cuts, the lobe's latitude on the theta cut.
-    const double h_ref = brute_force([&](const Vec3& k) { return m->f(k, fixed) * k.z; }, hemisphere,
-                                     {0.0, pi, 2 * pi}, theta);
-    const double a_ref = brute_force([&](const Vec3& k) { return m->f(fixed, k) * k.z; }, hemisphere,
-                                     {0.0, pi, 2 * pi}, theta);
+    const double h_ref =
+        brute_force([&](const Vec3& k) { return m->f(k, fixed) * k.z; }, hemisphere, {0.0, pi, 2 * pi}, theta);
+    const double a_ref =
+        brute_force([&](const Vec3& k) { return m->f(fixed, k) * k.z; }, hemisphere, {0.0, pi, 2 * pi}, theta);
     const Estimate h = darkening(*m, fixed, engine()), a = albedo(*m, fixed, engine());
     ASSERT_TRUE(h.converged && a.converged);
     EXPECT_NEAR(h.value, h_ref, kLawTol) << p;
@@ -332,8 +329,8 @@ TEST(BeardMaxwell, NotPlausibleTheFirstSurfaceAlbedoGrowsAtGrazingIncidence) {
     a_of.push_back(a.value);
     std::printf("beard-maxwell defaults, first surface only: albedo at cos theta_i = %g: %.6f\n", mu, a.value);
   }
-  EXPECT_GT(a_of[2], 1.0 + kAlbedoTol);                   // the counter-example to plausibility
-  EXPECT_NEAR(a_of[2] / a_of[1], 10.0, 1.0);               // ~ 1/mu
+  EXPECT_GT(a_of[2], 1.0 + kAlbedoTol);       // the counter-example to plausibility
+  EXPECT_NEAR(a_of[2] / a_of[1], 10.0, 1.0);  // ~ 1/mu
   // the defaults themselves stay below 1 away from grazing
   const auto d = bm();
   for (double mu : {1.0, 0.7, 0.3}) {
@@ -484,8 +481,8 @@ TEST(BeardMaxwell, FirstSurfaceTableInterpolatesMonotoneCubicAndClamps) {
     }
   }
   EXPECT_NEAR(rho(1e-3) - rho(0.0), 0.0, 1e-6);  // slope 0 at theta_N = 0: O(eps^2)
-  EXPECT_EQ(rho(60.0), 0.0);                       // held at the last value
-  for (double node : {2.0, 5.0, 10.0, 20.0}) {     // C^1: one-sided slopes agree at the nodes
+  EXPECT_EQ(rho(60.0), 0.0);                     // held at the last value
+  for (double node : {2.0, 5.0, 10.0, 20.0}) {   // C^1: one-sided slopes agree at the nodes
     const double e = 1e-5;
     const double left = (rho(node) - rho(node - e)) / e, right = (rho(node + e) - rho(node)) / e;
     EXPECT_NEAR(left, right, 1e-3 * std::max(1.0, std::abs(left))) << node;

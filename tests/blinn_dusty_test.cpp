@@ -11,18 +11,18 @@
 #include <string>
 #include <vector>
 
-#include <boost/math/quadrature/gauss_kronrod.hpp>
 #include <gtest/gtest.h>
+#include <boost/math/quadrature/gauss_kronrod.hpp>
 
 #include "tests/test_support.h"
 
 #include "integrate/laws.h"
 #include "models/blinn_dusty.h"
 #include "models/classic_models.h"
-#include "util/error.h"
 #include "models/mixture.h"
 #include "models/registry.h"
 #include "models/spec.h"
+#include "util/error.h"
 
 namespace ganzfeld {
 namespace {
@@ -140,10 +140,10 @@ TEST(BlinnDusty, RegisteredWithADocumentedParameterTable) {
 
 TEST(BlinnDusty, OutOfRangeParametersThrowInputError) {
   const double nan = std::numeric_limits<double>::quiet_NaN();
-  const std::vector<ParamValues> bad{{{"w", -0.1}},  {{"w", 1.5}},     {{"tau", -1}},   {{"tau", 1e4}},
-                                     {{"phase", -1}}, {{"phase", 6}},  {{"phase", 2.5}}, {{"x", 1.5}},
-                                     {{"x", -1.01}},  {{"g", 1}},      {{"g", -0.995}}, {{"g2", 0.999}},
-                                     {{"m", 2}},      {{"m", -0.5}},   {{"w", nan}},    {{"tau", INFINITY}}};
+  const std::vector<ParamValues> bad{{{"w", -0.1}},   {{"w", 1.5}},   {{"tau", -1}},    {{"tau", 1e4}},
+                                     {{"phase", -1}}, {{"phase", 6}}, {{"phase", 2.5}}, {{"x", 1.5}},
+                                     {{"x", -1.01}},  {{"g", 1}},     {{"g", -0.995}},  {{"g2", 0.999}},
+                                     {{"m", 2}},      {{"m", -0.5}},  {{"w", nan}},     {{"tau", INFINITY}}};
   for (const auto& p : bad) EXPECT_THROW(make(p), InputError) << p.begin()->first << "=" << p.begin()->second;
   // the message names model, key, value and the allowed range
   try {
@@ -259,7 +259,8 @@ TEST(BlinnDusty, FIsBlinnsBrightnessOver4PiMu0) {
     for (double mu0 : {0.05, 0.4, 1.0})
       for (double mu : {0.1, 0.7, 1.0}) {
         const Vec3 i = direction_from_cos(mu0, 0.0), j = direction_from_cos(mu, 2.0);
-        const double B = w * m->phase()(PhaseAngle::between(i, j)) * mu0 / (mu + mu0) * (1.0 - std::exp(-tau * (1.0 / mu + 1.0 / mu0)));
+        const double B = w * m->phase()(PhaseAngle::between(i, j)) * mu0 / (mu + mu0) *
+                         (1.0 - std::exp(-tau * (1.0 / mu + 1.0 / mu0)));
         EXPECT_NEAR(4.0 * pi * mu0 * m->f(i, j), B, kFormulaRel * (1.0 + B)) << describe(p);
       }
   }
@@ -357,7 +358,8 @@ TEST(BlinnDusty, FiniteLayerAlbedoMatchesOneDimensionalQuadrature) {
       const auto integrand = [&](double mu) {
         return mu > 0.0 ? mu / (mu + c) * -std::expm1(-tau * (1.0 / mu + 1.0 / c)) : 0.0;
       };
-      const double ref = 0.45 * (GK::integrate(integrand, 0.0, std::min(tau, 0.5), 15, 1e-12) + GK::integrate(integrand, std::min(tau, 0.5), 1.0, 15, 1e-12));
+      const double ref = 0.45 * (GK::integrate(integrand, 0.0, std::min(tau, 0.5), 15, 1e-12) +
+                                 GK::integrate(integrand, std::min(tau, 0.5), 1.0, 15, 1e-12));
       EXPECT_NEAR(albedo_at(*m, c), ref, kAlbedoTol) << "tau=" << tau << " cos_i=" << c;
     }
   }
@@ -396,9 +398,7 @@ TEST(BlinnDusty, MixturesOfPhaseFunctionsAreSpecMixtures) {
       if (!(i.z > 1e-3 && j.z > 1e-3)) continue;  // away from the floored horizon
       const PhaseAngle a = PhaseAngle::between(i, j);
       const double ratio = (0.3 * lambert->phase()(a) + 0.7 * rayleigh(a)) / lambert->phase()(a);
-      if (std::isfinite(ratio)) {
-        EXPECT_NEAR(mix.f(i, j), lambert->f(i, j) * ratio, 1e-12 * mix.f(i, j));
-      }
+      if (std::isfinite(ratio)) { EXPECT_NEAR(mix.f(i, j), lambert->f(i, j) * ratio, 1e-12 * mix.f(i, j)); }
       EXPECT_NEAR(two->f(i, j), hg_mix.f(i, j), 1e-12 * two->f(i, j));
     }
 }

@@ -59,7 +59,8 @@ TEST(CatalogueModels, ValuesAgainstAnIndependentEvaluation) {
       {"kajiya:kd=0.3,ks=0.7,n=20", kJ2, kI2, 0.901910078289281045589801279862},
       {"schlick-phong:kd=0.5,ks=0.5,n=20", kI2, kJ2, 0.654909639858195928277008957778},
   };
-  for (const auto& c : cases) EXPECT_NEAR(parse_model(c.spec)->f(c.i, c.j), c.expected, kHandRelative * c.expected) << c.spec;
+  for (const auto& c : cases)
+    EXPECT_NEAR(parse_model(c.spec)->f(c.i, c.j), c.expected, kHandRelative * c.expected) << c.spec;
 }
 
 TEST(CatalogueModels, ParametersAreValidated) {
@@ -98,9 +99,7 @@ TEST(CatalogueModels, FiniteNonNegativeAndTraitsAsMeasured) {
         const double f = m->f(i, j);
         ASSERT_TRUE(std::isfinite(f)) << spec;
         ASSERT_GE(f, 0.0) << spec;
-        if (traits.reciprocal) {
-          ASSERT_EQ(f, m->f(j, i)) << spec << ": reciprocal to the bit";
-        }
+        if (traits.reciprocal) { ASSERT_EQ(f, m->f(j, i)) << spec << ": reciprocal to the bit"; }
         const double scale = std::max({f, m->f(j, i), 1e-6});
         asymmetry = std::max(asymmetry, std::abs(f - m->f(j, i)) / scale);
         // A rotation of the pair by 0.7 rad about n.
@@ -109,9 +108,7 @@ TEST(CatalogueModels, FiniteNonNegativeAndTraitsAsMeasured) {
         const double fr = m->f(ri, rj);
         if (i.z > 1e-3 && j.z > 1e-3) anisotropy = std::max(anisotropy, std::abs(f - fr) / std::max({f, fr, 1e-6}));
       }
-    if (!traits.reciprocal) {
-      EXPECT_GT(asymmetry, kEvidence) << spec;
-    }
+    if (!traits.reciprocal) { EXPECT_GT(asymmetry, kEvidence) << spec; }
     if (traits.isotropic) {
       EXPECT_LT(anisotropy, 1e-9) << spec;
     } else {
@@ -199,7 +196,8 @@ TEST(Schlick, NormalizedAzimuthKeepsZsEnergy) {
           out[k * kRuleNodes + l] = schlick::zenith(h.z, 0.2) * schlick::azimuth(w, p) / a * h.z * std::cos(x[0][k]);
         }
     };
-    const Estimate e = adaptive_cubature<2>(integrand, {tidy_cuts(lines, -pi / 2, pi / 2, 1e-6), tidy_cuts(lines, -pi / 2, pi / 2, 1e-6)}, o);
+    const Estimate e = adaptive_cubature<2>(
+        integrand, {tidy_cuts(lines, -pi / 2, pi / 2, 1e-6), tidy_cuts(lines, -pi / 2, pi / 2, 1e-6)}, o);
     EXPECT_NEAR(e.value, pi, 10 * e.error + 1e-9) << p;
   }
   EXPECT_NEAR(schlick::azimuth_mean(0.5), 0.970773111746018, 1e-14);  // mpmath: (2/pi) sqrt(p) K(1 - p^2)

@@ -9,16 +9,16 @@
 #include <string>
 #include <vector>
 
-#include <boost/math/quadrature/gauss_kronrod.hpp>
 #include <gtest/gtest.h>
+#include <boost/math/quadrature/gauss_kronrod.hpp>
 
 #include "tests/test_support.h"
 
 #include "integrate/laws.h"
 #include "models/classic_models.h"
-#include "util/error.h"
 #include "models/registry.h"
 #include "models/spec.h"
+#include "util/error.h"
 
 namespace ganzfeld {
 namespace {
@@ -59,20 +59,42 @@ double max_albedo(const Model& m) {
 }
 
 // Every classic model at defaults and at the extremes of its parameters.
-const std::vector<std::string> kSpecs{
-    "phong", "phong:kd=0,ks=1,n=1", "phong:n=10000", "phong-lewis", "phong-lewis:kd=0,ks=1,n=1",
-    "phong-lewis:n=10000", "blinn-phong", "blinn-phong:kd=0,ks=1,n=1", "blinn-phong:n=10000",
-    "cook-torrance", "cook-torrance:m=0.01,eta=0.01,k=20", "cook-torrance:m=1,eta=10,k=0",
-    "cook-torrance:eta=1,k=0", "cook-torrance-gaussian", "cook-torrance-gaussian:m=0.01",
-    "cook-torrance-gaussian:m=1,eta=0.2,k=3", "ward", "ward:alpha=0.01", "ward:alpha=1,rho_d=0,rho_s=1",
-    "ward-aniso", "ward-aniso:alpha_x=0.01,alpha_y=1", "oren-nayar", "oren-nayar:sigma=0",
-    "oren-nayar:sigma=0.6,rho=1", "oren-nayar:sigma=0.6,rho=0.01", "lafortune",
-    "lafortune:Cx=10,Cy=-3,Cz=0.5,n=250", "lafortune:Cx=0.8,Cy=0.8,Cz=0.8,n=1", "lafortune:Cx=-1,Cy=-1,Cz=-1",
-    "hapke", "hapke:g=0.01,rho=1", "hapke:g=10,phase=1", "hapke:phase=2"};
+const std::vector<std::string> kSpecs{"phong",
+                                      "phong:kd=0,ks=1,n=1",
+                                      "phong:n=10000",
+                                      "phong-lewis",
+                                      "phong-lewis:kd=0,ks=1,n=1",
+                                      "phong-lewis:n=10000",
+                                      "blinn-phong",
+                                      "blinn-phong:kd=0,ks=1,n=1",
+                                      "blinn-phong:n=10000",
+                                      "cook-torrance",
+                                      "cook-torrance:m=0.01,eta=0.01,k=20",
+                                      "cook-torrance:m=1,eta=10,k=0",
+                                      "cook-torrance:eta=1,k=0",
+                                      "cook-torrance-gaussian",
+                                      "cook-torrance-gaussian:m=0.01",
+                                      "cook-torrance-gaussian:m=1,eta=0.2,k=3",
+                                      "ward",
+                                      "ward:alpha=0.01",
+                                      "ward:alpha=1,rho_d=0,rho_s=1",
+                                      "ward-aniso",
+                                      "ward-aniso:alpha_x=0.01,alpha_y=1",
+                                      "oren-nayar",
+                                      "oren-nayar:sigma=0",
+                                      "oren-nayar:sigma=0.6,rho=1",
+                                      "oren-nayar:sigma=0.6,rho=0.01",
+                                      "lafortune",
+                                      "lafortune:Cx=10,Cy=-3,Cz=0.5,n=250",
+                                      "lafortune:Cx=0.8,Cy=0.8,Cz=0.8,n=1",
+                                      "lafortune:Cx=-1,Cy=-1,Cz=-1",
+                                      "hapke",
+                                      "hapke:g=0.01,rho=1",
+                                      "hapke:g=10,phase=1",
+                                      "hapke:phase=2"};
 
-const std::vector<std::string> kNames{"phong",      "phong-lewis", "blinn-phong", "cook-torrance",
-                                      "cook-torrance-gaussian", "ward", "ward-aniso", "oren-nayar",
-                                      "lafortune", "hapke"};
+const std::vector<std::string> kNames{"phong", "phong-lewis", "blinn-phong", "cook-torrance", "cook-torrance-gaussian",
+                                      "ward",  "ward-aniso",  "oren-nayar",  "lafortune",     "hapke"};
 
 Vec3 from_cos(double c, double phi) { return direction_from_cos(c, phi); }
 
@@ -139,10 +161,8 @@ TEST(ClassicModels, MeasuredReciprocityMatchesTraits) {
   for (const auto& spec : kSpecs) {
     const ModelPtr m = parse_model(spec);
     const double worst = worst_relative_difference(*m, [&](const Vec3& i, const Vec3& j) { return m->f(j, i); });
-    if (m->traits().reciprocal)
-      EXPECT_LE(worst, kSymmetricRel) << spec;
-    else
-      EXPECT_GE(worst, kAsymmetryEvidence) << spec;
+    if (m->traits().reciprocal) EXPECT_LE(worst, kSymmetricRel) << spec;
+    else EXPECT_GE(worst, kAsymmetryEvidence) << spec;
   }
 }
 
@@ -151,10 +171,8 @@ TEST(ClassicModels, MeasuredIsotropyMatchesTraits) {
     const ModelPtr m = parse_model(spec);
     const double worst = worst_relative_difference(
         *m, [&](const Vec3& i, const Vec3& j) { return m->f(rotate_z(i, 0.7), rotate_z(j, 0.7)); });
-    if (m->traits().isotropic)
-      EXPECT_LE(worst, kRotationRel) << spec;
-    else
-      EXPECT_GE(worst, kAnisotropyEvidence) << spec;
+    if (m->traits().isotropic) EXPECT_LE(worst, kRotationRel) << spec;
+    else EXPECT_GE(worst, kAnisotropyEvidence) << spec;
   }
 }
 
@@ -176,9 +194,9 @@ TEST(ClassicModels, PlausibleModelsHaveAlbedoAtMostOneAtTheExtremes) {
 TEST(ClassicModels, NotPlausibleModelsHaveACounterExample) {
   // Each declared not_plausible: an albedo above 1 (all are non-negative; phong also fails
   // reciprocity, checked above).
-  for (const std::string spec : {"phong:kd=0,ks=1,n=20", "ward:rho_d=0,rho_s=1,alpha=1",
-                                 "ward-aniso:rho_d=0,rho_s=1,alpha_x=1,alpha_y=1", "oren-nayar:sigma=0.3,rho=1",
-                                 "lafortune:kd=0,Cx=-5,Cy=-5,Cz=5,n=1", "hapke:rho=1"}) {
+  for (const std::string spec :
+       {"phong:kd=0,ks=1,n=20", "ward:rho_d=0,rho_s=1,alpha=1", "ward-aniso:rho_d=0,rho_s=1,alpha_x=1,alpha_y=1",
+        "oren-nayar:sigma=0.3,rho=1", "lafortune:kd=0,Cx=-5,Cy=-5,Cz=5,n=1", "hapke:rho=1"}) {
     const ModelPtr m = parse_model(spec);
     ASSERT_EQ(m->traits().energy, EnergyClass::not_plausible) << spec;
     EXPECT_GT(max_albedo(*m), 1.0 + kAlbedoTol) << spec;
@@ -199,8 +217,7 @@ TEST(ClassicModels, PhongIsLewisWithoutNormalizationDividedByCosThetaI) {
   const PhongLewis lewis(0.2, 0.5, 10.0);
   const Vec3 i = from_cos(0.4, 0.1), j = from_cos(0.5, pi + 0.2);
   const double spec_lewis = lewis.f(i, j) - 0.2 / pi;
-  EXPECT_NEAR(phong.f(i, j) - 0.2 / pi, spec_lewis / ((10.0 + 2.0) / (2 * pi)) / 0.4,
-              kSymmetricRel * phong.f(i, j));
+  EXPECT_NEAR(phong.f(i, j) - 0.2 / pi, spec_lewis / ((10.0 + 2.0) / (2 * pi)) / 0.4, kSymmetricRel * phong.f(i, j));
 }
 
 TEST(ClassicModels, BlinnPhongNormalizationAndHalfwaySymmetry) {
@@ -245,8 +262,8 @@ TEST(ClassicModels, FacetDistributionsAreNormalized) {
     for (double m_rough : {0.05, 0.3, 1.0}) {
       const CookTorrance ct(d, 0.0, 1.0, m_rough, 1.5, 0.0);
       const auto integrand = [&](double delta) { return ct.D(std::cos(delta)) * std::cos(delta) * std::sin(delta); };
-      const double I = 2 * pi * boost::math::quadrature::gauss_kronrod<double, 61>::integrate(
-                                     integrand, 0.0, pi / 2, 15, 1e-12);
+      const double I =
+          2 * pi * boost::math::quadrature::gauss_kronrod<double, 61>::integrate(integrand, 0.0, pi / 2, 15, 1e-12);
       EXPECT_NEAR(I, 1.0, kNormalizationTol) << static_cast<int>(d) << " m=" << m_rough;
     }
 }
@@ -308,7 +325,7 @@ TEST(ClassicModels, OrenNayarAtNormalIncidenceAndView) {
 TEST(ClassicModels, HapkeOppositionSurgeAndPhaseLaws) {
   // B(0) = 2 (full surge), continuous to 1 at alpha = pi/2 (expm1 keeps it so), 1 beyond.
   EXPECT_EQ(Hapke::B(0.0, 1.0, 0.6), 2.0);
-  EXPECT_NEAR(Hapke::B(1e-6, 1.0, 0.6), 2.0, 1e-5);  // B ~ 2 - 3 tan(alpha)/(2g)
+  EXPECT_NEAR(Hapke::B(1e-6, 1.0, 0.6), 2.0, 1e-5);    // B ~ 2 - 3 tan(alpha)/(2g)
   EXPECT_NEAR(Hapke::B(1e12, 1e-12, 0.6), 1.0, 1e-9);  // B ~ 1 + g^2/(3 tan^2 alpha) -> 1
   EXPECT_EQ(Hapke::B(0.0, -0.5, 0.6), 1.0);
   // Retroreflection: at i = j = n, f = rho S(0) B(0)/(2 pi) with S(0) = 1, 1/4, 1.
@@ -355,8 +372,8 @@ TEST(ClassicModels, LafortunePaintPresetIsTheThreeLobeSum) {
   EXPECT_EQ(blue->spec(), "lafortune-paint:channel=2");
   const Vec3 i{std::sin(0.5), 0.0, std::cos(0.5)}, j{-std::sin(0.3), 0.1, std::cos(0.3)};
   double expected = 0.70837 / std::numbers::pi;
-  const double lobes[3][3] = {{0.670982, 0.586674, 7.472717}, {-0.477976, 0.227295, 3.677653},
-                              {-1.026588, 0.687715, 57.489181}};
+  const double lobes[3][3] = {
+      {0.670982, 0.586674, 7.472717}, {-0.477976, 0.227295, 3.677653}, {-1.026588, 0.687715, 57.489181}};
   for (const auto& lobe : lobes) {
     const double x = lobe[0] * (i.x * j.x + i.y * j.y) + lobe[1] * i.z * j.z;
     if (x > 0.0) expected += std::pow(x, lobe[2]);

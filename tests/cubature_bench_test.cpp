@@ -61,7 +61,8 @@ TEST(CubatureBenchVerdict, ErrorAboveTheToleranceIsMissed) {
 
 TEST(CubatureBenchVerdict, ReferencesDoubtIsNotBlamed) {
   // The same miss, on a case whose references differ by more than the miss: not a verdict.
-  const auto run = measured("ours", kValue - 2 * kRealError, 0.5 * kRealError, kRealError, Reference{kValue, 5 * kRealError});
+  const auto run =
+      measured("ours", kValue - 2 * kRealError, 0.5 * kRealError, kRealError, Reference{kValue, 5 * kRealError});
   const Verdict v = judge(run);
   EXPECT_FALSE(v.missed);
   EXPECT_FALSE(v.dishonest);
@@ -69,8 +70,8 @@ TEST(CubatureBenchVerdict, ReferencesDoubtIsNotBlamed) {
 
 TEST(CubatureBenchVerdict, ReferencesOwnErrorIsNotBlamed) {
   // The same miss, on a case whose reference states an error larger than the miss.
-  const auto run = measured("ours", kValue - 2 * kRealError, 0.5 * kRealError, kRealError,
-                            Reference{kValue, 0.0, 5 * kRealError});
+  const auto run =
+      measured("ours", kValue - 2 * kRealError, 0.5 * kRealError, kRealError, Reference{kValue, 0.0, 5 * kRealError});
   const Verdict v = judge(run);
   EXPECT_FALSE(v.missed);
   EXPECT_FALSE(v.dishonest);

@@ -47,8 +47,8 @@ TEST(Extremes, CornersOfTheGridAreFiniteAndHonest) {
   ExtremesOptions options;
   options.engine_tolerance = kEngineTol;
   options.quick = true;
-  options.models = {"lambert", "minnaert", "asperity", "hvd-fit", "phong-lewis", "blinn-phong", "lafortune",
-                    "lafortune-paint"};
+  options.models = {"lambert",     "minnaert",    "asperity",  "hvd-fit",
+                    "phong-lewis", "blinn-phong", "lafortune", "lafortune-paint"};
   const auto rows = extremes_report(options);
   ASSERT_EQ(rows.size(), options.models.size());
   for (const ExtremesRow& row : rows) {
@@ -161,7 +161,8 @@ TEST(Extremes, PhongGrazingLayerIsJudgedByTheGridsReference) {
     const ExtremesCase c = judge_case(*model, Law::g, direction_from_cos(0.0, 0.0),
                                       direction_from_cos(cos_j, std::numbers::pi), kEngineTol);
     EXPECT_TRUE(c.converged && c.finite);
-    EXPECT_FALSE(c.reference_unresolved) << "j·n=" << cos_j << ": reference " << c.reference << " ± " << c.reference_error;
+    EXPECT_FALSE(c.reference_unresolved) << "j·n=" << cos_j << ": reference " << c.reference << " ± "
+                                         << c.reference_error;
     EXPECT_FALSE(c.dishonest) << "j·n=" << cos_j << ": engine " << c.engine.value << " ± " << c.engine.error
                               << ", reference " << c.reference << " ± " << c.reference_error;
   }
@@ -224,10 +225,10 @@ TEST(Extremes, GgxGrazingVisibilityLayerIsHonest) {
     std::vector<double> psi_cut{lune.psi_lo};
     for (double depth = 1e-2; depth >= 1e-13; depth /= 10) psi_cut.push_back(pi / 2 - depth);
     psi_cut.push_back(pi / 2);
-    expect_honest_g(*model, i, j,
-                    reference::lune_integral([&](const Vec3& k) { return model->f(k, j); }, lune, t_cut, psi_cut,
-                                             options),
-                    "j·n=" + std::to_string(cos_j));
+    expect_honest_g(
+        *model, i, j,
+        reference::lune_integral([&](const Vec3& k) { return model->f(k, j); }, lune, t_cut, psi_cut, options),
+        "j·n=" + std::to_string(cos_j));
   }
 }
 
@@ -267,7 +268,8 @@ TEST(Extremes, GgxThinArcAtAGrazingViewIsHonest) {
 TEST(Extremes, MixtureKeepsEveryPartsLayer) {
   const ModelPtr model = parse_model(
       "0.3*hvd-empirical:cd=0.5,f0=0.04,k=0.5,ns=100,nr=10,rs=1,rr=1 + 0.4*ggx:alpha=0.01 + 0.3*asperity:alpha=1000");
-  const ExtremesCase c = judge_case(*model, Law::g, direction_from_cos(0.0, 0.0), direction_from_cos(1e-6, 0.0), kEngineTol);
+  const ExtremesCase c =
+      judge_case(*model, Law::g, direction_from_cos(0.0, 0.0), direction_from_cos(1e-6, 0.0), kEngineTol);
   EXPECT_TRUE(c.converged && c.finite);
   EXPECT_FALSE(c.reference_unresolved);
   EXPECT_FALSE(c.dishonest) << "engine " << c.engine.value << " ± " << c.engine.error << ", reference " << c.reference
@@ -287,8 +289,8 @@ TEST(Extremes, LobeAtThePoleSpansEveryLongitudeScale) {
     EXPECT_TRUE(c.converged && c.finite) << "i·n=" << cos_i;
     EXPECT_FALSE(c.reference_unresolved) << "i·n=" << cos_i;
     EXPECT_FALSE(c.dishonest) << "i·n=" << cos_i << ": engine " << c.engine.value << " ± " << c.engine.error
-                              << ", reference " << c.reference << " ± " << c.reference_error << " ("
-                              << c.reference_rule << ")";
+                              << ", reference " << c.reference << " ± " << c.reference_error << " (" << c.reference_rule
+                              << ")";
   }
 }
 
@@ -317,8 +319,8 @@ TEST(Extremes, GrazingFloorsOfHapkeAndBlinnDustyAreHonest) {
   for (const Case& k : {Case{"hapke:rho=0.5,g=0.6,phase=0", 1e-6, std::numbers::pi / 2},
                         Case{"blinn-dusty:w=0.5,tau=1,phase=0,x=0.5,g=0.5,g2=-0.5,m=0.596", 1e-6, 0.0}}) {
     const ModelPtr model = parse_model(k.spec);
-    const ExtremesCase c = judge_case(*model, Law::g, direction_from_cos(k.cos_i, 0.0), direction_from_cos(0.0, k.phi),
-                                      kEngineTol);
+    const ExtremesCase c =
+        judge_case(*model, Law::g, direction_from_cos(k.cos_i, 0.0), direction_from_cos(0.0, k.phi), kEngineTol);
     EXPECT_TRUE(c.converged && c.finite) << k.spec;
     EXPECT_FALSE(c.reference_unresolved) << k.spec << ": reference " << c.reference << " ± " << c.reference_error;
     EXPECT_FALSE(c.dishonest) << k.spec << ": engine " << c.engine.value << " ± " << c.engine.error << ", reference "

@@ -155,13 +155,13 @@ TEST(FitParameters, MappingsRoundTripInsideTheBounds) {
 }
 
 TEST(FitParameters, RefusesBadInput) {
-  EXPECT_THROW(ParameterSpace("lambert", {}), InputError);                 // no parameter at all
-  EXPECT_THROW(ParameterSpace("perfect-backscatter", {}), InputError);     // an integer only
-  EXPECT_THROW(ParameterSpace("ward", {"beta=1"}), InputError);            // unknown
-  EXPECT_THROW(ParameterSpace("ward", {"alpha=3"}), InputError);           // out of range
-  EXPECT_THROW(ParameterSpace("ward", {"alpha"}), InputError);             // not KEY=VALUE
+  EXPECT_THROW(ParameterSpace("lambert", {}), InputError);                                    // no parameter at all
+  EXPECT_THROW(ParameterSpace("perfect-backscatter", {}), InputError);                        // an integer only
+  EXPECT_THROW(ParameterSpace("ward", {"beta=1"}), InputError);                               // unknown
+  EXPECT_THROW(ParameterSpace("ward", {"alpha=3"}), InputError);                              // out of range
+  EXPECT_THROW(ParameterSpace("ward", {"alpha"}), InputError);                                // not KEY=VALUE
   EXPECT_THROW(ParameterSpace("ward", {"rho_d=0.5", "rho_s=0.1", "alpha=0.2"}), InputError);  // nothing left
-  EXPECT_THROW(ParameterSpace("ggx", {"roughness=0.5"}), InputError);      // contradicts alpha
+  EXPECT_THROW(ParameterSpace("ggx", {"roughness=0.5"}), InputError);                         // contradicts alpha
 }
 
 /// Fits `truth`'s model from its registry defaults to `data` and returns the largest relative
@@ -180,8 +180,8 @@ double recovery_error(const std::string& truth, const FitData& data, FitResult* 
 }
 
 TEST(FitRecovery, KnownParametersFromAnalyticData) {
-  for (const char* truth : {"ward:rho_d=0.4,rho_s=0.2,alpha=0.15", "ggx:alpha=0.2,f0=0.6", "oren-nayar:sigma=0.4,rho=0.7",
-                            "blinn-phong:kd=0.4,ks=0.3,n=50"})
+  for (const char* truth : {"ward:rho_d=0.4,rho_s=0.2,alpha=0.15", "ggx:alpha=0.2,f0=0.6",
+                            "oren-nayar:sigma=0.4,rho=0.7", "blinn-phong:kd=0.4,ks=0.3,n=50"})
     EXPECT_LE(recovery_error(truth, sample_data(*parse_model(truth), coarse_grid())), kRecoveryRelative) << truth;
 }
 
@@ -190,7 +190,8 @@ TEST(FitRecovery, TwoLumpsThroughAMerlFile) {
   const std::string path = temp_dir() + "/hvd.binary";
   exporting::write_merl(*parse_model(truth), path);
   FitResult r;
-  EXPECT_LE(recovery_error(truth, sample_data(*parse_model("merl:file=" + path), coarse_grid()), &r), kRecoveryRelative);
+  EXPECT_LE(recovery_error(truth, sample_data(*parse_model("merl:file=" + path), coarse_grid()), &r),
+            kRecoveryRelative);
   EXPECT_LT(r.metrics.ngan_relative, 1e-6);
 }
 
@@ -198,9 +199,9 @@ TEST(FitRecovery, AMixtureWeight) {
   const std::string truth = "0.6*lambert + 0.4*ggx:alpha=0.3,f0=0.8";
   const FitResult r = fit_model(sample_data(*parse_model(truth), coarse_grid()), "lambert + ggx", {});
   ASSERT_EQ(r.parameters.size(), 3u);
-  EXPECT_NEAR(r.parameters[0].second, 0.3, 0.3 * kRecoveryRelative);       // ggx.alpha
-  EXPECT_NEAR(r.parameters[1].second, 0.8, 0.8 * kRecoveryRelative);       // ggx.f0
-  EXPECT_NEAR(r.parameters[2].second, 0.4 / 0.6, kRecoveryRelative);       // ggx.weight, relative to lambert's
+  EXPECT_NEAR(r.parameters[0].second, 0.3, 0.3 * kRecoveryRelative);  // ggx.alpha
+  EXPECT_NEAR(r.parameters[1].second, 0.8, 0.8 * kRecoveryRelative);  // ggx.f0
+  EXPECT_NEAR(r.parameters[2].second, 0.4 / 0.6, kRecoveryRelative);  // ggx.weight, relative to lambert's
 }
 
 TEST(FitRecovery, TheLogMetricFindsTheSameParameters) {

@@ -5,8 +5,8 @@
 #include <limits>
 #include <random>
 
-#include <boost/math/quadrature/gauss_kronrod.hpp>
 #include <gtest/gtest.h>
+#include <boost/math/quadrature/gauss_kronrod.hpp>
 
 #include "bench/genz_bench.h"
 #include "util/error.h"
@@ -28,7 +28,12 @@ double numerical(const GenzInstance& in) {
   if (in.dimension == 1) return split([&](double x) { return in(&x); }, in.u[0]);
   return split(
       [&](double x) {
-        return split([&](double y) { const double p[2] = {x, y}; return in(p); }, in.u[1]);
+        return split(
+            [&](double y) {
+              const double p[2] = {x, y};
+              return in(p);
+            },
+            in.u[1]);
       },
       in.u[0]);
 }

@@ -47,9 +47,14 @@ std::vector<Vec3> test_directions() {
   return dirs;
 }
 
-const std::vector<std::string> kSpecs{
-    "ggx",  "ggx:alpha=0.001", "ggx:alpha=1,g2=separable", "ggx:roughness=0.3,f0=0.04", "ggx:alpha=1e-200",
-    "ggx:alpha_x=0.05,alpha_y=0.6,f0=0.5,g2=separable", "charlie:alpha=0.3", "charlie:alpha=1e-3"};
+const std::vector<std::string> kSpecs{"ggx",
+                                      "ggx:alpha=0.001",
+                                      "ggx:alpha=1,g2=separable",
+                                      "ggx:roughness=0.3,f0=0.04",
+                                      "ggx:alpha=1e-200",
+                                      "ggx:alpha_x=0.05,alpha_y=0.6,f0=0.5,g2=separable",
+                                      "charlie:alpha=0.3",
+                                      "charlie:alpha=1e-3"};
 
 TEST(Microfacet, FiniteNonNegativeAndReciprocalToTheBit) {
   const auto dirs = test_directions();
@@ -88,11 +93,11 @@ TEST(Microfacet, GgxMatchesHandComputedValues) {
     const char* spec;
     double f;
   };
-  for (const Case& c : {Case{"ggx:alpha=0.5,f0=0.04", 0.010582336872287598},
-                        Case{"ggx:alpha=0.5,f0=0.04,g2=separable", 0.01055561815631517},
-                        Case{"ggx:alpha=0.5", 0.26148999557529561},
-                        Case{"ggx:alpha_x=0.3,alpha_y=0.6,f0=0.04", 0.018254837583924498},
-                        Case{"ggx:alpha_x=0.3,alpha_y=0.6,f0=0.04,g2=separable", 0.01823725849517244}})
+  for (const Case& c :
+       {Case{"ggx:alpha=0.5,f0=0.04", 0.010582336872287598},
+        Case{"ggx:alpha=0.5,f0=0.04,g2=separable", 0.01055561815631517}, Case{"ggx:alpha=0.5", 0.26148999557529561},
+        Case{"ggx:alpha_x=0.3,alpha_y=0.6,f0=0.04", 0.018254837583924498},
+        Case{"ggx:alpha_x=0.3,alpha_y=0.6,f0=0.04,g2=separable", 0.01823725849517244}})
     EXPECT_NEAR(parse_model(c.spec)->f(kI, kJ), c.f, kHandRelative * c.f) << c.spec;
 }
 
@@ -184,9 +189,9 @@ TEST(Microfacet, VisibleNormalDensityIntegratesToOne) {
           for (int q = 0; q < kRuleNodes; ++q)
             out[p * kRuleNodes + q] = ggx::D_visible(w, fr.direction(x[0][p], x[1][q]), a) * std::cos(x[0][p]);
       };
-      const Estimate e = adaptive_cubature<2>(
-          F, {tidy_cuts(lines, -pi / 2, pi / 2, 1e-6), tidy_cuts(lines, fr.phi_lo, pi / 2, 1e-6)},
-          testing_support::cubature_options(kDensityTol * 0.1));
+      const Estimate e =
+          adaptive_cubature<2>(F, {tidy_cuts(lines, -pi / 2, pi / 2, 1e-6), tidy_cuts(lines, fr.phi_lo, pi / 2, 1e-6)},
+                               testing_support::cubature_options(kDensityTol * 0.1));
       EXPECT_NEAR(e.value, 1.0, kDensityTol) << a.x << "," << a.y << " at " << theta;
     }
 }

@@ -59,7 +59,7 @@ constexpr int kPointsSide = 32;  // 1024 direction pairs per corner
 constexpr std::uint64_t kSeed = 33;
 
 struct Points {
-  std::vector<float> i, j;       // RGBA per point (texture texels)
+  std::vector<float> i, j;         // RGBA per point (texture texels)
   std::vector<Vec3> i_cpu, j_cpu;  // the same, normalized in double
 };
 
@@ -113,10 +113,10 @@ Points points() {
 /// defaults when name is empty.
 std::string corner_spec(const ModelInfo& info, const std::string& name, double value) {
   if (name.empty()) return info.name;
-  const ParamInfo& param = *std::find_if(info.parameters.begin(), info.parameters.end(),
-                                         [&](const ParamInfo& p) { return p.name == name; });
-  const std::string text = param.type == ParamType::choice ? param.choices.at(static_cast<std::size_t>(value))
-                                                           : format_number(value);
+  const ParamInfo& param =
+      *std::find_if(info.parameters.begin(), info.parameters.end(), [&](const ParamInfo& p) { return p.name == name; });
+  const std::string text =
+      param.type == ParamType::choice ? param.choices.at(static_cast<std::size_t>(value)) : format_number(value);
   return info.name + ":" + name + "=" + text;
 }
 
@@ -285,7 +285,8 @@ struct ModelReport {
   std::vector<std::string> skipped;  ///< "spec: why"
 };
 
-std::string markdown(const std::vector<ModelReport>& reports, const std::vector<std::string>& without, const char* renderer) {
+std::string markdown(const std::vector<ModelReport>& reports, const std::vector<std::string>& without,
+                     const char* renderer) {
   std::ostringstream s;
   int models = 0, met = 0;
   long points = 0;
@@ -296,14 +297,15 @@ std::string markdown(const std::vector<ModelReport>& reports, const std::vector<
     for (const CornerResult& c : m.corners) worst = std::max(worst, c.max_relative_conditioned), points += c.points;
     met += worst <= kRelative;
   }
-  s << "On " << renderer << " (GLSL ES 3.00): " << models << " models with a GLSL f, " << points
-    << " direction pairs (" << kPointsSide * kPointsSide << " per corner; corners: the defaults and each parameter "
+  s << "On " << renderer << " (GLSL ES 3.00): " << models << " models with a GLSL f, " << points << " direction pairs ("
+    << kPointsSide * kPointsSide << " per corner; corners: the defaults and each parameter "
     << "at each end of its range, others at their defaults). Relative error = |GPU - CPU| / max(|CPU|, floor), "
     << "floor = 2^-20 of the corner's largest f; *well-conditioned* points are those where turning i or j by 4 "
     << "float ulps (2.4e-7 rad) moves f by at most 1e-6 relative, i.e. where a float direction determines f to the "
     << "target at all. Every point (well-conditioned or not) is also held to the float bound 1e-6 relative + floor "
     << "+ that change of f (+ n x 4 ulps for a declared power n, Lafortune's; + 16 ulps / (sin beta_i sin beta_j) "
-       "for Poulin-Fournier's arcs, beta the elevation of a direction across the cylinders); the test fails beyond it.\n\n"
+       "for Poulin-Fournier's arcs, beta the elevation of a direction across the cylinders); the test fails beyond "
+       "it.\n\n"
     << "**Target: every model's GLSL f within 1e-6 relative of the CPU f: " << (met == models ? "met" : "missed")
     << "** at the well-conditioned points for " << met << " of " << models << " models.\n\n"
     << "| model | corners | largest relative error, well-conditioned points | largest, all points | "
@@ -379,7 +381,8 @@ TEST(GlslF, EveryRegisteredModelMatchesItsCpuF) {
     EXPECT_FALSE(report.corners.empty()) << info.name << ": no corner could be made";
     reports.push_back(std::move(report));
   }
-  if (const char* path = std::getenv("GANZFELD_GLSL_F_REPORT")) std::ofstream(path) << markdown(reports, without, renderer);
+  if (const char* path = std::getenv("GANZFELD_GLSL_F_REPORT"))
+    std::ofstream(path) << markdown(reports, without, renderer);
 }
 
 /// The reflectance of the mirror delta (Model::glsl_mirror_reflectance, gz_mirror_<spec>) against

@@ -31,19 +31,19 @@
 
 #include <Imath/half.h>
 
+#include "export/glsl.h"
 #include "export/param_export.h"
+#include "export/texture_file.h"
+#include "gl/draw.h"
 #include "models/spec.h"
+#include "rasterizer/raster.h"
+#include "rasterizer/shading.h"
+#include "scene/plan.h"
+#include "scene/scene.h"
 #include "tables/bake.h"
 #include "tables/frame.h"
 #include "tables/preset.h"
 #include "tables/sample.h"
-#include "export/glsl.h"
-#include "scene/plan.h"
-#include "scene/scene.h"
-#include "export/texture_file.h"
-#include "gl/draw.h"
-#include "rasterizer/raster.h"
-#include "rasterizer/shading.h"
 #include "tests/temp_dir.h"
 
 namespace ganzfeld {
@@ -79,8 +79,9 @@ constexpr const char* kSceneJson = R"({
 /// g cannot reach 1e-2 in the default byte cap, so the chalk becomes xi = 1.
 std::string lobe_scene_json() {
   std::string json = kSceneJson;
-  for (auto [from, to] : {std::pair{"specular:alpha=8", "specular:alpha=100"}, std::pair{"backscatter:alpha=2", "backscatter:alpha=8"},
-                          std::pair{"minnaert:xi=0.3", "minnaert:xi=1"}})
+  for (auto [from, to] :
+       {std::pair{"specular:alpha=8", "specular:alpha=100"}, std::pair{"backscatter:alpha=2", "backscatter:alpha=8"},
+        std::pair{"minnaert:xi=0.3", "minnaert:xi=1"}})
     json.replace(json.find(from), std::string(from).size(), to);
   return json;
 }
@@ -93,7 +94,8 @@ constexpr double kLobeSceneMaxError = 1e-2;
 /// measured on), GLSL 4.30 core or ES 3.00.
 std::unique_ptr<gl::Context> make_context(bool es, std::string& error) {
   auto context = gl::make_context(es ? gl::Api::es30 : gl::Api::core43, gl::Platform::surfaceless, error);
-  if (context) std::printf("GL renderer: %s | %s\n", context->info().gl_renderer.c_str(), context->info().gl_version.c_str());
+  if (context)
+    std::printf("GL renderer: %s | %s\n", context->info().gl_renderer.c_str(), context->info().gl_version.c_str());
   return context;
 }
 
@@ -167,7 +169,8 @@ struct Baked {
 
 /// The scene's tables at the test's resolutions, or baked to `max_error` (> 0) as bake scene
 /// --max-error does.
-Baked bake_scene(const std::filesystem::path& dir, tables::Encoding encoding, const std::string& json, double max_error) {
+Baked bake_scene(const std::filesystem::path& dir, tables::Encoding encoding, const std::string& json,
+                 double max_error) {
   const auto scene_path = dir / "scene.json";
   std::ofstream(scene_path) << json;
   Baked out{load_scene(scene_path.string()), {}, {}};
@@ -227,8 +230,8 @@ struct Comparison {
 /// hardware_filter: the GPU's own linear filter (export/glsl.h) instead of texelFetch; it blends
 /// with low-precision weights, so only the stated bound is asserted and the difference reported.
 /// json, max_error: the scene and bake_scene's max_error.
-void run_gl_comparison(bool es, tables::Encoding encoding, bool hardware_filter = false, const std::string& json = kSceneJson,
-                       double max_error = 0.0) {
+void run_gl_comparison(bool es, tables::Encoding encoding, bool hardware_filter = false,
+                       const std::string& json = kSceneJson, double max_error = 0.0) {
   std::string error;
   auto gl = make_context(es, error);
   ASSERT_TRUE(gl) << error;
@@ -243,8 +246,8 @@ void run_gl_comparison(bool es, tables::Encoding encoding, bool hardware_filter 
   const std::string scene_glsl = exporting::glsl_scene_shader(baked.scene, baked.plan, "gl_shader_test scene");
 
   std::string log;
-  const gl::Program program =
-      gl::link_program(vertex_source(es), fragment_source(es ? "300 es" : "430 core", hardware_filter, scene_glsl), log);
+  const gl::Program program = gl::link_program(
+      vertex_source(es), fragment_source(es ? "300 es" : "430 core", hardware_filter, scene_glsl), log);
   ASSERT_TRUE(program) << log;
   glUseProgram(program.id());
 
@@ -315,21 +318,19 @@ void run_gl_comparison(bool es, tables::Encoding encoding, bool hardware_filter 
         c.over_float += difference > floating;
         if (difference > stated + floating) {
           if (c.over_bound < 5)
-            ADD_FAILURE() << "pixel (" << x << ", " << y << ") channel " << k << ": GPU " << gpu[k] << ", CPU " << expected
-                          << ", difference " << difference << " > bound " << stated + floating;
+            ADD_FAILURE() << "pixel (" << x << ", " << y << ") channel " << k << ": GPU " << gpu[k] << ", CPU "
+                          << expected << ", difference " << difference << " > bound " << stated + floating;
           ++c.over_bound;
         }
       }
     }
-  std::printf("%s, %s tables%s: %d pixels compared, max |GPU - CPU| = %.3g (relative %.3g, %.3g of the stated table "
-              "error); coverage differs at %d of %d silhouette-ring pixels\n",
-              es ? "GLSL ES 3.00" : "GLSL 4.30 core", to_string(encoding),
-              hardware_filter ? ", hardware filtering" : "", c.compared, c.max_difference,
-              c.max_relative, c.max_over_stated, c.coverage_mismatch, c.covered_cpu);
+  std::printf(
+      "%s, %s tables%s: %d pixels compared, max |GPU - CPU| = %.3g (relative %.3g, %.3g of the stated table "
+      "error); coverage differs at %d of %d silhouette-ring pixels\n",
+      es ? "GLSL ES 3.00" : "GLSL 4.30 core", to_string(encoding), hardware_filter ? ", hardware filtering" : "",
+      c.compared, c.max_difference, c.max_relative, c.max_over_stated, c.coverage_mismatch, c.covered_cpu);
   EXPECT_EQ(c.over_bound, 0);
-  if (!hardware_filter) {
-    EXPECT_EQ(c.over_float, 0) << "pixels whose GPU value differs by more than float precision";
-  }
+  if (!hardware_filter) { EXPECT_EQ(c.over_float, 0) << "pixels whose GPU value differs by more than float precision"; }
   EXPECT_GT(c.compared, camera.width * camera.height / 3);  // the four spheres fill most of the frame
   // The two pictures cover the same spheres: they may differ only on the silhouette (the CPU's
   // coverage is the inscribed 128-gon mesh, the GPU's the exact sphere).
@@ -385,8 +386,8 @@ double float_bound(const tables::Table& table, std::span<const double> x) {
     const double u = axis.index_coordinate(y[d]);
     const double moved_by = coordinate_error(table, d);
     double worst = 0.0;
-    for (double moved : {y[d] - moved_by, y[d] + moved_by, axis.coordinate(u - kIndexError),
-                         axis.coordinate(u + kIndexError)}) {
+    for (double moved :
+         {y[d] - moved_by, y[d] + moved_by, axis.coordinate(u - kIndexError), axis.coordinate(u + kIndexError)}) {
       std::vector<double> z = y;
       z[d] = moved;
       worst = std::max(worst, std::abs(tables::sample_axes(table, z).value - at));
@@ -448,28 +449,34 @@ void compare_lookups(const tables::Table& table, bool es, bool hardware_filter =
         if (std::abs(gpu[p] - emulated) < std::abs(gpu[p] - cpu)) cpu = emulated;
       }
     const double difference = std::abs(gpu[p] - cpu);
-    const double bound = hardware_filter && !filtered && !exact_filter ? table.lookup_error : float_bound(table, points.x[p]);
+    const double bound =
+        hardware_filter && !filtered && !exact_filter ? table.lookup_error : float_bound(table, points.x[p]);
     largest = std::max(largest, difference);
     largest_bound = std::max(largest_bound, difference / bound);
     if (difference > bound && over++ < 5)
-      ADD_FAILURE() << "point " << p << " (" << points.x[p][0] << (points.x[p].size() > 1 ? ", " + std::to_string(points.x[p][1]) + ", " + std::to_string(points.x[p][2]) : "")
+      ADD_FAILURE() << "point " << p << " (" << points.x[p][0]
+                    << (points.x[p].size() > 1
+                            ? ", " + std::to_string(points.x[p][1]) + ", " + std::to_string(points.x[p][2])
+                            : "")
                     << "): GPU " << gpu[p] << ", CPU " << cpu << ", difference " << difference << " > " << bound;
   }
   std::printf("%s, law %s of %s, %s frame, %s%s: %zu points, max |GPU - CPU| = %.3g, %.3g of the bound\n",
-              es ? "GLSL ES 3.00" : "GLSL 4.30 core", to_string(table.law), table.model.c_str(),
-              to_string(table.frame), to_string(table.interpolation), hardware_filter || filtered ? " (hardware filter)" : "",
-              gpu.size(), largest, largest_bound);
+              es ? "GLSL ES 3.00" : "GLSL 4.30 core", to_string(table.law), table.model.c_str(), to_string(table.frame),
+              to_string(table.interpolation), hardware_filter || filtered ? " (hardware filter)" : "", gpu.size(),
+              largest, largest_bound);
   EXPECT_EQ(over, 0);
 }
 
 TEST(GlShaderLookup, LobeFrameCatmullRomSpecularG) {
-  const tables::Table table = small_table("specular:alpha=100", Law::g, {10, 24, 8}, tables::Interpolation::catmull_rom, true);
+  const tables::Table table =
+      small_table("specular:alpha=100", Law::g, {10, 24, 8}, tables::Interpolation::catmull_rom, true);
   compare_lookups(table, false);
   compare_lookups(table, true);
   compare_lookups(table, false, true);
 }
 TEST(GlShaderLookup, LobeFrameCatmullRomBackscatterG) {
-  compare_lookups(small_table("backscatter:alpha=100", Law::g, {10, 24, 8}, tables::Interpolation::catmull_rom, true), false);
+  compare_lookups(small_table("backscatter:alpha=100", Law::g, {10, 24, 8}, tables::Interpolation::catmull_rom, true),
+                  false);
 }
 TEST(GlShaderLookup, LobeFrameLinearSpecularG) {
   compare_lookups(small_table("specular:alpha=100", Law::g, {10, 24, 8}, tables::Interpolation::linear, true), true);
@@ -517,12 +524,13 @@ TEST(GlShaderLookup, Unorm16LobeFrameCatmullRomSpecularG) {
   compare_lookups(table, false, true);
 }
 TEST(GlShaderLookup, Unorm16LinearH) {
-  compare_lookups(small_table("specular:alpha=100", Law::h, {12}, tables::Interpolation::linear, false,
-                              tables::Encoding::unorm16),
-                  false);
+  compare_lookups(
+      small_table("specular:alpha=100", Law::h, {12}, tables::Interpolation::linear, false, tables::Encoding::unorm16),
+      false);
 }
 TEST(GlShaderLookup, CatmullRomH) {
-  const tables::Table table = small_table("specular:alpha=100", Law::h, {12}, tables::Interpolation::catmull_rom, false);
+  const tables::Table table =
+      small_table("specular:alpha=100", Law::h, {12}, tables::Interpolation::catmull_rom, false);
   compare_lookups(table, false);
   compare_lookups(table, false, true);
 }
@@ -552,13 +560,14 @@ TEST(GlShaderLookup, FetchesPerLookupAreCounted) {
                    tables::Encoding::single, true, tables::Filter::hardware),
        1, 1}};
   for (const Case& c : cases) {
-    EXPECT_EQ(tables::fetches(c.table), c.table.filter == tables::Filter::hardware ? c.filtered_fetches : c.texel_fetches)
+    EXPECT_EQ(tables::fetches(c.table),
+              c.table.filter == tables::Filter::hardware ? c.filtered_fetches : c.texel_fetches)
         << c.table.model;
     const gl::LookupPoints points = gl::lookup_points(c.table.law, 16, kPointSeed);
     for (bool filtered : {false, true}) {
-      const gl::Lookups lookups = gl::table_function_at_points(
-          c.table, points, gl::Api::core43, filtered ? "GANZFELD_HARDWARE_FILTER" : "",
-          filtered || c.table.filter == tables::Filter::hardware, error);
+      const gl::Lookups lookups =
+          gl::table_function_at_points(c.table, points, gl::Api::core43, filtered ? "GANZFELD_HARDWARE_FILTER" : "",
+                                       filtered || c.table.filter == tables::Filter::hardware, error);
       ASSERT_EQ(lookups.fetches.size(), points.x.size()) << error;
       for (int fetches : lookups.fetches)
         ASSERT_EQ(fetches, filtered ? c.filtered_fetches : c.texel_fetches)
@@ -582,7 +591,9 @@ TEST(GlShader, CountTextureFetchesWrapsEveryCallOutsideComments) {
 TEST(GlShader, Glsl430CoreFloatTablesMatchTheSoftwareRasterizer) { run_gl_comparison(false, tables::Encoding::single); }
 TEST(GlShader, Glsl430CoreHalfTablesMatchTheSoftwareRasterizer) { run_gl_comparison(false, tables::Encoding::half); }
 TEST(GlShader, GlslEs300FloatTablesMatchTheSoftwareRasterizer) { run_gl_comparison(true, tables::Encoding::single); }
-TEST(GlShader, Glsl430CoreUnorm16TablesMatchTheSoftwareRasterizer) { run_gl_comparison(false, tables::Encoding::unorm16); }
+TEST(GlShader, Glsl430CoreUnorm16TablesMatchTheSoftwareRasterizer) {
+  run_gl_comparison(false, tables::Encoding::unorm16);
+}
 // Format version 2 scene tables (lobe frame, Catmull–Rom), with texelFetch and hardware filtering.
 TEST(GlShader, MaxErrorTablesMatchTheSoftwareRasterizer) {
   run_gl_comparison(false, tables::Encoding::single, false, lobe_scene_json(), kLobeSceneMaxError);
@@ -612,7 +623,8 @@ void run_param_comparison(bool es, const tables::ParamTable& table) {
   ASSERT_TRUE(gl) << error;
   const std::string name = exporting::glsl_param_function_name(table);
   const std::vector<std::uint16_t> bits = header_texels(exporting::param_c_header(table, name));
-  const int channels = static_cast<int>(table.channels.size()), width = table.axes[1].count, height = table.axes[0].count;
+  const int channels = static_cast<int>(table.channels.size()), width = table.axes[1].count,
+            height = table.axes[0].count;
   ASSERT_EQ(bits.size(), static_cast<std::size_t>(width * height * channels));
   // The CPU lookup of exactly the header's values.
   tables::ParamTable halfed = table;
@@ -670,8 +682,9 @@ void main() {
         EXPECT_LE(std::abs(gpu - cpu), kFloatRelative * std::abs(cpu) + kFloatAbsolute)
             << table.channels[c].name << " at mu " << mu << ", " << table.axes[0].name << " " << p;
       }
-  std::printf("%s, %s (%s grid): max |GPU - CPU| = %.3g over %d points x %d channels\n", es ? "GLSL ES 3.00" : "GLSL 4.30 core",
-              name.c_str(), to_string(table.grid), max_difference, kSize * kSize, channels);
+  std::printf("%s, %s (%s grid): max |GPU - CPU| = %.3g over %d points x %d channels\n",
+              es ? "GLSL ES 3.00" : "GLSL 4.30 core", name.c_str(), to_string(table.grid), max_difference,
+              kSize * kSize, channels);
 }
 
 tables::ParamTable small_preset(tables::Preset preset, tables::Grid grid, const char* axis) {

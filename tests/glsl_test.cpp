@@ -9,14 +9,14 @@
 
 #include <gtest/gtest.h>
 
-#include "util/error.h"
-#include "models/spec.h"
-#include "tables/bake.h"
-#include "tables/frame.h"
 #include "export/glsl.h"
 #include "export/glsl_f.h"
 #include "export/texture_file.h"
+#include "models/spec.h"
+#include "tables/bake.h"
+#include "tables/frame.h"
 #include "tests/temp_dir.h"
+#include "util/error.h"
 
 namespace ganzfeld {
 using namespace ganzfeld::tables;
@@ -116,16 +116,17 @@ TEST(Ktx2, CarriesTheVersion2LookupAndItsError) {
       << data.key_values.at("ganzfeld.axes");
   const std::string glsl = glsl_table_snippet(table);
   EXPECT_NE(glsl.find("gz_lobe_coordinates(i, j, n, 1.0)"), std::string::npos);  // retro: s = +1
-  EXPECT_NE(glsl.find("gz_lookup3_catmull_rom(table, u, ivec3(5, 6, 4), bvec3(false, false, true))"), std::string::npos);
+  EXPECT_NE(glsl.find("gz_lookup3_catmull_rom(table, u, ivec3(5, 6, 4), bvec3(false, false, true))"),
+            std::string::npos);
 }
 
 TEST(Ktx2, LayoutFollowsTheSpecification) {
   const Table table = small_table("asperity:alpha=2", Law::g, Encoding::single);
   const std::vector<std::uint8_t> bytes = ktx2_bytes(table);
   EXPECT_EQ(u32(bytes, 12), kVkFormatR32Sfloat);
-  EXPECT_EQ(u32(bytes, 20), 3u);  // width = phi nodes
-  EXPECT_EQ(u32(bytes, 24), 4u);  // height = cos_theta_j nodes
-  EXPECT_EQ(u32(bytes, 28), 5u);  // depth = cos_theta_i nodes
+  EXPECT_EQ(u32(bytes, 20), 3u);         // width = phi nodes
+  EXPECT_EQ(u32(bytes, 24), 4u);         // height = cos_theta_j nodes
+  EXPECT_EQ(u32(bytes, 28), 5u);         // depth = cos_theta_i nodes
   EXPECT_EQ(u32(bytes, 48), 80u + 24u);  // dfdByteOffset: after header, index and one level index entry
   EXPECT_EQ(u32(bytes, 52), 44u);        // dfdByteLength: total size + basic block with one sample
   EXPECT_EQ(u32(bytes, 104), 44u);       // dfdTotalSize
@@ -150,7 +151,8 @@ TEST(Ktx2, MalformedFilesAreRefused) {
   const std::vector<std::uint8_t> good = ktx2_bytes(table);
   auto refused = [&](std::vector<std::uint8_t> bytes, const std::string& name) {
     const std::string path = temp_file(name);
-    std::ofstream(path, std::ios::binary).write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+    std::ofstream(path, std::ios::binary)
+        .write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
     EXPECT_THROW(read_ktx2(path), InputError) << name;
   };
   refused(std::vector<std::uint8_t>(good.begin(), good.end() - 4), "truncated.ktx2");
@@ -234,7 +236,8 @@ TEST(GlslExport, FOfAMixtureIsTheWeightedSumOfItsLobes) {
   EXPECT_NE(f.find("return 0.25 * gz_f_specular_alpha_8(i, j, n, t) + 0.75 * gz_f_minnaert_xi_1(i, j, n, t);"),
             std::string::npos)
       << f;
-  EXPECT_NE(f.find("return 0.25 * gz_f_specular_alpha_8(i, j, n) + 0.75 * gz_f_minnaert_xi_1(i, j, n);"), std::string::npos)
+  EXPECT_NE(f.find("return 0.25 * gz_f_specular_alpha_8(i, j, n) + 0.75 * gz_f_minnaert_xi_1(i, j, n);"),
+            std::string::npos)
       << f;
   const std::string twice = glsl_model_f(*parse_model("0.5*specular:alpha=8 + 0.5*specular:alpha=8"));
   EXPECT_EQ(count(twice, "float gz_f_specular_alpha_8(vec3 i, vec3 j, vec3 n, vec3 t)"), 1u) << twice;

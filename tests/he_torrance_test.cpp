@@ -11,16 +11,16 @@
 #include <string>
 #include <vector>
 
-#include <boost/math/special_functions/expint.hpp>
 #include <gtest/gtest.h>
+#include <boost/math/special_functions/expint.hpp>
 
 #include "tests/test_support.h"
 
 #include "integrate/laws.h"
 #include "models/classic_models.h"
-#include "util/error.h"
 #include "models/he_torrance.h"
 #include "models/registry.h"
+#include "util/error.h"
 
 namespace ganzfeld {
 namespace {
@@ -61,12 +61,12 @@ HeTorrance figure24() { return HeTorrance(0.15, 1.5, 0.55, 1.6, 0.2, 0.0); }
 const std::vector<HeTorrance>& test_models() {
   static const std::vector<HeTorrance> models{
       figure24(),
-      HeTorrance(0.15, 1.5, 0.55, 1.6, 0.2, 0.3),     // with uniform diffuse
-      HeTorrance(0.01, 2.0, 0.55, 1.5, 0.0, 0.0),     // nearly smooth dielectric (g << 1)
-      HeTorrance(1.0, 3.0, 0.4, 0.2, 3.0, 0.0),       // rough metal (g ~ 1000)
-      HeTorrance(0.05, 100.0, 0.2, 1.6, 0.2, 0.0),    // sharp diffraction spike (tau/lambda = 500)
-      HeTorrance(3.0, 6.0, 20.0, 10.0, 0.0, 1.0),     // extremes: slope 1, IR, a = 1
-      HeTorrance(0.0, 1.5, 0.55, 1.6, 0.2, 0.0),      // smooth
+      HeTorrance(0.15, 1.5, 0.55, 1.6, 0.2, 0.3),   // with uniform diffuse
+      HeTorrance(0.01, 2.0, 0.55, 1.5, 0.0, 0.0),   // nearly smooth dielectric (g << 1)
+      HeTorrance(1.0, 3.0, 0.4, 0.2, 3.0, 0.0),     // rough metal (g ~ 1000)
+      HeTorrance(0.05, 100.0, 0.2, 1.6, 0.2, 0.0),  // sharp diffraction spike (tau/lambda = 500)
+      HeTorrance(3.0, 6.0, 20.0, 10.0, 0.0, 1.0),   // extremes: slope 1, IR, a = 1
+      HeTorrance(0.0, 1.5, 0.55, 1.6, 0.2, 0.0),    // smooth
   };
   return models;
 }
@@ -282,7 +282,9 @@ long double transcribed_rho_dd(long double sigma0, long double tau, long double 
 TEST(HeTorrance, DirectionalDiffuseMatchesAStraightTranscriptionOfEquation71) {
   std::mt19937_64 rng(5);
   std::uniform_real_distribution<double> u(0.0, 1.0);
-  struct P { double s0, tau, lam, eta, k; };
+  struct P {
+    double s0, tau, lam, eta, k;
+  };
   for (const P p : {P{0.15, 1.5, 0.55, 1.6, 0.2}, P{0.01, 2.0, 0.55, 1.5, 0.0}, P{1.0, 3.0, 0.4, 0.2, 3.0},
                     P{0.3, 20.0, 0.5, 1.3, 0.0}}) {
     const HeTorrance m(p.s0, p.tau, p.lam, p.eta, p.k, 0.0);
@@ -470,8 +472,9 @@ constexpr double kAlbedoTol = 1e-7;
 
 TEST(HeTorrance, AlbedoBelowOneForTheFigure24SurfaceAndARoughConductor) {
   // a = 0. (Near-smooth conductors at oblique incidence exceed 1: see NotPlausible... below.)
-  for (const HeTorrance& m : {figure24(), HeTorrance(0.15, 1.5, 0.55, 0.2, 3.0, 0.0),
-                              HeTorrance(1.0, 2.0, 0.4, 0.01, 20.0, 0.0), HeTorrance(3.0, 6.0, 0.55, 0.01, 20.0, 0.0)}) {
+  for (const HeTorrance& m :
+       {figure24(), HeTorrance(0.15, 1.5, 0.55, 0.2, 3.0, 0.0), HeTorrance(1.0, 2.0, 0.4, 0.01, 20.0, 0.0),
+        HeTorrance(3.0, 6.0, 0.55, 0.01, 20.0, 0.0)}) {
     for (double c : {1.0, 0.9, 0.7, 0.5, 0.3, 0.1, 0.03, 0.01, 1e-3}) {
       const double a = total_albedo(m, c);
       EXPECT_GT(a, 0.0);

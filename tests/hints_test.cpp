@@ -55,11 +55,13 @@ struct KnownDishonest {
   const char* why;
 };
 constexpr KnownDishonest kKnownDishonest[] = {
-    {"kajiya", {Law::h, 1.0, 1.0, 0.0},
+    {"kajiya",
+     {Law::h, 1.0, 1.0, 0.0},
      "3x: the floor's kink curve k·n = kGrazingCosFloor crosses the hemisphere frame's coordinate poles "
      "±y, where the highlight ridge meets the horizon (a 2-D quadrature at 25 digits agrees with the "
      "reference: 1.6599046898)"},
-    {"cook-torrance:m=1", {Law::g, -0.999, 1e-6, pi / 2},
+    {"cook-torrance:m=1",
+     {Law::g, -0.999, 1e-6, pi / 2},
      "the specular mass within ~1e-6 of the thin lune's tip at -j (~1e-10: h = (k + j)/|k + j| turns "
      "up there) is met by none of the engine's 450 nodes, which state 1.8e-18; the two references "
      "disagree with each other there (6.4e-11 and 2.8e-10 above the diffuse part)"},
@@ -88,9 +90,7 @@ class EveryModelsHints : public testing::TestWithParam<ExtremesSpec> {
   ModelPtr model() const {
     try {
       return parse_model(GetParam().spec);
-    } catch (const InputError&) {
-      return nullptr;
-    }
+    } catch (const InputError&) { return nullptr; }
   }
 };
 

@@ -7,9 +7,9 @@
 #include "tests/test_support.h"
 
 #include "integrate/laws.h"
-#include "util/error.h"
 #include "models/hvd.h"
 #include "models/spec.h"
+#include "util/error.h"
 
 namespace ganzfeld {
 namespace {
@@ -30,10 +30,10 @@ CubatureOptions options() {
 using testing_support::direction_deg;
 
 TEST(Hvd, RejectsBadParameters) {
-  for (const char* bad : {"hvd-empirical:k=1.5", "hvd-empirical:k=-0.1", "hvd-empirical:rs=1.2",
-                          "hvd-empirical:rr=2", "hvd-empirical:ns=-1", "hvd-empirical:nr=-3",
-                          "hvd-empirical:rsu=0.0001", "hvd-empirical:bogus=1", "hvd-fit:k=2", "hvd-fit:n1=-1",
-                          "hvd-fit:r1=0", "hvd-empirical:eta=1.5,f0=0.5"})
+  for (const char* bad :
+       {"hvd-empirical:k=1.5", "hvd-empirical:k=-0.1", "hvd-empirical:rs=1.2", "hvd-empirical:rr=2",
+        "hvd-empirical:ns=-1", "hvd-empirical:nr=-3", "hvd-empirical:rsu=0.0001", "hvd-empirical:bogus=1",
+        "hvd-fit:k=2", "hvd-fit:n1=-1", "hvd-fit:r1=0", "hvd-empirical:eta=1.5,f0=0.5"})
     EXPECT_THROW(parse_model(bad), InputError) << bad;
   try {
     parse_model("hvd-empirical:k=1.5");
@@ -62,8 +62,8 @@ TEST(Hvd, LumpHasUnitVolume) {
   for (int a = 0; a < nr; ++a)
     for (int b = 0; b < np; ++b) {
       const double r = (a + 0.5) / nr, psi = 2 * pi * (b + 0.5) / np;
-      sum += L.pdf({L.centre.u + L.R_u * r * std::cos(psi), L.centre.v + L.R_v * r * std::sin(psi)}) * L.R_u *
-             L.R_v * r * (1.0 / nr) * (2 * pi / np);
+      sum += L.pdf({L.centre.u + L.R_u * r * std::cos(psi), L.centre.v + L.R_v * r * std::sin(psi)}) * L.R_u * L.R_v *
+             r * (1.0 / nr) * (2 * pi / np);
     }
   EXPECT_NEAR(sum, 1.0, kMidpointTolerance);
 }

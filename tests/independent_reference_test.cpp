@@ -37,11 +37,22 @@ reference::Options pinned_reference_options() {
 }
 
 const std::vector<std::string>& models() {
-  static const std::vector<std::string> specs{
-      "lambert", "minnaert:xi=0.3", "minnaert:xi=2", "specular:alpha=8", "specular:alpha=100", "backscatter:alpha=8",
-      "perfect-backscatter:alpha=3", "asperity:alpha=4", "hvd-empirical:cd=0.5,f0=0.3,k=0.3,ns=20,nr=10",
-      "hvd-fit:cd=0.5,f0=0.05,f90=1,k=0.4,n1=20,r1=0.3,n2=10,r2=0.4", "phong-lewis", "blinn-phong", "cook-torrance",
-      "oren-nayar", "ward", "ggx:alpha=0.3"};
+  static const std::vector<std::string> specs{"lambert",
+                                              "minnaert:xi=0.3",
+                                              "minnaert:xi=2",
+                                              "specular:alpha=8",
+                                              "specular:alpha=100",
+                                              "backscatter:alpha=8",
+                                              "perfect-backscatter:alpha=3",
+                                              "asperity:alpha=4",
+                                              "hvd-empirical:cd=0.5,f0=0.3,k=0.3,ns=20,nr=10",
+                                              "hvd-fit:cd=0.5,f0=0.05,f90=1,k=0.4,n1=20,r1=0.3,n2=10,r2=0.4",
+                                              "phong-lewis",
+                                              "blinn-phong",
+                                              "cook-torrance",
+                                              "oren-nayar",
+                                              "ward",
+                                              "ggx:alpha=0.3"};
   return specs;
 }
 
@@ -100,10 +111,9 @@ std::set<std::string> dishonest_cases(Law law, const std::vector<std::array<doub
       const Vec3 j = direction(theta_j * pi / 180, phi * pi / 180);
       if (law == Law::g) {
         const Vec3 i = direction(theta_i * pi / 180, 0.0);
-        check_agreement(spec + " g at theta_i " + degrees(theta_i) + ", theta_j " + degrees(theta_j) + ", phi " +
-                            degrees(phi),
-                        vignetting(*model, i, j, options), reference::vignetting(*model, i, j, reference_options),
-                        dishonest);
+        check_agreement(
+            spec + " g at theta_i " + degrees(theta_i) + ", theta_j " + degrees(theta_j) + ", phi " + degrees(phi),
+            vignetting(*model, i, j, options), reference::vignetting(*model, i, j, reference_options), dishonest);
       } else {
         check_agreement(spec + " h at theta_j " + degrees(theta_j), darkening(*model, j, options),
                         reference::darkening(*model, j, reference_options), dishonest);

@@ -8,10 +8,10 @@
 #include <random>
 #include <span>
 
-#include <boost/math/quadrature/gauss_kronrod.hpp>
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
+#include <boost/math/quadrature/gauss_kronrod.hpp>
 
 #include "integrate/laws.h"
 #include "models/kp_lobes.h"
@@ -32,7 +32,6 @@ CubatureOptions options(double tol = kTol) {
   o.abs_tol = tol;
   return o;
 }
-
 
 // ---------------------------------------------------------------------------------------------
 // Closed forms (the ones verified correct or corrected in docs/errata.md), on random geometry.
@@ -85,7 +84,8 @@ TEST(LawIntegrals, DarkeningAlbedoAndReflectanceMatchClosedForms) {
     EXPECT_NEAR(r.value, minnaert::r(xi), kTol) << xi;
   }
   const Specular s1(1);
-  for (double mu : {0.0, 0.5, 1.0}) EXPECT_NEAR(albedo(s1, direction_from_cos(mu), options()).value, specular::a_alpha1_printed(mu), kTol);
+  for (double mu : {0.0, 0.5, 1.0})
+    EXPECT_NEAR(albedo(s1, direction_from_cos(mu), options()).value, specular::a_alpha1_printed(mu), kTol);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -114,7 +114,8 @@ double reference_vignetting(const Model& model, const Vec3& i, const Vec3& j, co
   auto integrate = [](auto&& f, const std::vector<double>& b) {
     double sum = 0.0;
     for (std::size_t k = 0; k + 1 < b.size(); ++k)
-      sum += gauss_kronrod<double, 61>::integrate(f, b[k], b[k + 1], 6, 1e-12);  // relative to |f|_1; agrees to ~1e-15 here
+      sum += gauss_kronrod<double, 61>::integrate(f, b[k], b[k + 1], 6,
+                                                  1e-12);  // relative to |f|_1; agrees to ~1e-15 here
     return sum;
   };
   const auto t_breaks = breaks(-pi / 2, pi / 2, t_lobe);
@@ -136,17 +137,18 @@ TEST(LawIntegrals, SharpLobesAgreeWithAnIndependentReference) {
     std::string spec;
     bool mirror_lobe;  // lobe about the mirror of j (specular) or about j itself (backscatter)
   };
-  const std::vector<Sharp> models{{"specular:alpha=100", true}, {"specular:alpha=1000", true},
-                                  {"backscatter:alpha=1000", false}};
+  const std::vector<Sharp> models{
+      {"specular:alpha=100", true}, {"specular:alpha=1000", true}, {"backscatter:alpha=1000", false}};
   // Lobe inside the lune, at its sky edge (j's mirror perpendicular to i), and outside it.
-  const std::vector<std::pair<double, double>> geometry{
-      {60, 30}, {0, 45}, {120, 30}, {150, 60}, {91, 1}, {179.9, 80}, {45, 89.9999}};
+  const std::vector<std::pair<double, double>> geometry{{60, 30}, {0, 45},     {120, 30},    {150, 60},
+                                                        {91, 1},  {179.9, 80}, {45, 89.9999}};
   int cases = 0, dishonest = 0;
   for (const auto& model : models) {
     const ModelPtr m = parse_model(model.spec);
     for (auto [theta_i, theta_j] : geometry)
       for (double phi_deg : {0.0, 90.0, 180.0}) {
-        const Vec3 i = direction_from_cos(std::cos(theta_i * pi / 180)), j = direction_from_cos(std::cos(theta_j * pi / 180), phi_deg * pi / 180);
+        const Vec3 i = direction_from_cos(std::cos(theta_i * pi / 180)),
+                   j = direction_from_cos(std::cos(theta_j * pi / 180), phi_deg * pi / 180);
         const Estimate e = vignetting(*m, i, j, options());
         const double ref = reference_vignetting(*m, i, j, model.mirror_lobe ? mirror(j) : j);
         ASSERT_TRUE(e.converged) << model.spec << " " << theta_i << " " << theta_j << " " << phi_deg;
@@ -169,7 +171,8 @@ TEST(LawIntegrals, ComplementarySkiesMakeAGanzfeld) {
                                  "perfect-backscatter:alpha=2", "asperity:alpha=4", "asperity:alpha=1000"}) {
     const ModelPtr m = parse_model(spec);
     for (int k = 0; k < 8; ++k) {
-      const Vec3 i = direction_from_cos(2 * u(rng) - 1, 2 * pi * u(rng)), j = direction_from_cos(u(rng), 2 * pi * u(rng));
+      const Vec3 i = direction_from_cos(2 * u(rng) - 1, 2 * pi * u(rng)),
+                 j = direction_from_cos(u(rng), 2 * pi * u(rng));
       const Estimate up = vignetting(*m, i, j, options()), down = vignetting(*m, -i, j, options());
       const Estimate h = darkening(*m, j, options());
       EXPECT_NEAR(up.value + down.value, h.value, up.error + down.error + h.error + 1e-14) << spec;
@@ -180,7 +183,7 @@ TEST(LawIntegrals, ComplementarySkiesMakeAGanzfeld) {
 TEST(LawIntegrals, PoleLimits) {
   const Specular m(8);
   const Vec3 j = direction_from_cos(0.4, 1.0);
-  EXPECT_EQ(vignetting(m, {0, 0, -1}, j, options()).value, 0.0);                 // the sky below: nothing
+  EXPECT_EQ(vignetting(m, {0, 0, -1}, j, options()).value, 0.0);  // the sky below: nothing
   EXPECT_NEAR(vignetting(m, {0, 0, 1}, j, options()).value, darkening(m, j, options()).value, 2 * kTol);
   EXPECT_NEAR(vignetting(m, direction_from_cos(1 - 1e-15), j, options()).value, darkening(m, j, options()).value, 1e-7);
   EXPECT_LT(vignetting(m, direction_from_cos(-0.999), j, options()).value, 1e-3);
@@ -189,9 +192,13 @@ TEST(LawIntegrals, PoleLimits) {
 // ---------------------------------------------------------------------------------------------
 // Extreme geometries: converged, finite, never NaN/Inf, for every law.
 TEST(LawIntegrals, ConvergesAtTheExtremes) {
-  const std::vector<std::string> specs{"minnaert:xi=1e-6", "minnaert:xi=0.3", "minnaert:xi=50",
-                                       "specular:alpha=1000", "backscatter:alpha=1000",
-                                       "perfect-backscatter:alpha=2", "perfect-backscatter:alpha=50",
+  const std::vector<std::string> specs{"minnaert:xi=1e-6",
+                                       "minnaert:xi=0.3",
+                                       "minnaert:xi=50",
+                                       "specular:alpha=1000",
+                                       "backscatter:alpha=1000",
+                                       "perfect-backscatter:alpha=2",
+                                       "perfect-backscatter:alpha=50",
                                        "asperity:alpha=1000"};
   const std::vector<double> cos_i{-1.0, -0.999, 0.0, 1e-6, 0.5, 1.0};
   const std::vector<double> cos_j{0.0, 1e-6, 0.5, 1.0};
@@ -307,8 +314,10 @@ const double kRungeIntegral = std::atan(5.0) / 5.0;
 
 TEST(LawIntegrals, NonFinitePointsAreBisectedPastIn1D) {
   const std::vector<double> unit{0.0, 1.0};
-  const Estimate nan_at = adaptive_cubature<1>(panel_1d([](double x) { return on_grid(x, 8) ? kNaN : runge(x); }), {unit}, options(1e-12));
-  const Estimate inf_at = adaptive_cubature<1>(panel_1d([](double x) { return on_grid(x, 8) ? kInf : runge(x); }), {unit}, options(1e-12));
+  const Estimate nan_at =
+      adaptive_cubature<1>(panel_1d([](double x) { return on_grid(x, 8) ? kNaN : runge(x); }), {unit}, options(1e-12));
+  const Estimate inf_at =
+      adaptive_cubature<1>(panel_1d([](double x) { return on_grid(x, 8) ? kInf : runge(x); }), {unit}, options(1e-12));
   for (const Estimate& e : {nan_at, inf_at}) {
     EXPECT_TRUE(e.converged);
     EXPECT_LE(e.error, 1e-12);
@@ -337,10 +346,13 @@ TEST(LawIntegrals, NonFiniteRegionsAreReportedNotConverged) {
   const std::vector<double> unit{0.0, 1.0};
   CubatureOptions o = options(1e-12);
   o.max_evaluations = 1'000'000;
-  const Estimate nan_1d = adaptive_cubature<1>(panel_1d([](double x) { return x > 0.25 && x < 0.5 ? kNaN : 1.0; }), {unit}, o);
-  const Estimate inf_1d = adaptive_cubature<1>(panel_1d([](double x) { return x > 0.25 && x < 0.5 ? kInf : 1.0; }), {unit}, o);
+  const Estimate nan_1d =
+      adaptive_cubature<1>(panel_1d([](double x) { return x > 0.25 && x < 0.5 ? kNaN : 1.0; }), {unit}, o);
+  const Estimate inf_1d =
+      adaptive_cubature<1>(panel_1d([](double x) { return x > 0.25 && x < 0.5 ? kInf : 1.0; }), {unit}, o);
   const Estimate nan_2d = adaptive_cubature<2>(
-      panel_2d([](double x, double y) { return x > 0.2 && x < 0.3 && y > 0.6 && y < 0.7 ? kNaN : x * y; }), {unit, unit}, o);
+      panel_2d([](double x, double y) { return x > 0.2 && x < 0.3 && y > 0.6 && y < 0.7 ? kNaN : x * y; }),
+      {unit, unit}, o);
   for (const Estimate& e : {nan_1d, inf_1d, nan_2d}) {
     EXPECT_FALSE(e.converged);
     EXPECT_EQ(e.error, kInf);  // not NaN: an error estimate stays comparable
@@ -377,7 +389,8 @@ void expect_honest_without_hints(F f, double exact, const std::string& label) {
     Estimate e;
     if constexpr (D == 1) e = adaptive_cubature<1>(panel_1d(f), box, o);
     else e = adaptive_cubature<2>(panel_2d(f), box, o);
-    EXPECT_LE(std::abs(e.value - exact), e.error + kRoundingUlps * std::numeric_limits<double>::epsilon() * std::abs(exact))
+    EXPECT_LE(std::abs(e.value - exact),
+              e.error + kRoundingUlps * std::numeric_limits<double>::epsilon() * std::abs(exact))
         << label << " at relative tolerance " << tolerance << ": " << e.value << " ± " << e.error << ", exact " << exact
         << (e.converged ? "" : " (not converged)");
   }
@@ -436,7 +449,9 @@ TEST(EstimateWithoutHints, ProductPeakIn2D) {
   const double a0 = 44.519019105311337, a1 = 105.48098089468867, u0 = 0.34575263373924253, u1 = 0.5660047561260122;
   auto factor = [](double a, double u) { return a * (std::atan(a * (1.0 - u)) + std::atan(a * u)); };
   expect_honest_without_hints<2>(
-      [=](double x, double y) { return 1.0 / ((1.0 / (a0 * a0) + (x - u0) * (x - u0)) * (1.0 / (a1 * a1) + (y - u1) * (y - u1))); },
+      [=](double x, double y) {
+        return 1.0 / ((1.0 / (a0 * a0) + (x - u0) * (x - u0)) * (1.0 / (a1 * a1) + (y - u1) * (y - u1)));
+      },
       factor(a0, u0) * factor(a1, u1), "product peak");
 }
 
@@ -464,12 +479,14 @@ TEST(LawIntegrals, DeterministicWhateverTheThreadCount) {
   std::vector<std::pair<Vec3, Vec3>> points;
   std::mt19937_64 rng(3);
   std::uniform_real_distribution<double> u(0.0, 1.0);
-  for (int k = 0; k < 64; ++k) points.push_back({direction_from_cos(2 * u(rng) - 1, 0), direction_from_cos(u(rng), pi * u(rng))});
+  for (int k = 0; k < 64; ++k)
+    points.push_back({direction_from_cos(2 * u(rng) - 1, 0), direction_from_cos(u(rng), pi * u(rng))});
   auto run = [&](int threads) {
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
     std::vector<double> out(points.size());
-    tbb::parallel_for(std::size_t{0}, points.size(),
-                      [&](std::size_t k) { out[k] = vignetting(*m, points[k].first, points[k].second, options()).value; });
+    tbb::parallel_for(std::size_t{0}, points.size(), [&](std::size_t k) {
+      out[k] = vignetting(*m, points[k].first, points[k].second, options()).value;
+    });
     out.push_back(double_diffuse(*m, options()).value);
     return out;
   };
@@ -492,9 +509,7 @@ class CreasedStep final : public Model {
   double w(const Vec3& k) const { return longitude(k) < crease_ ? below_ : above_; }
   std::string spec() const override { return "creased-step"; }
   Traits traits() const override { return {false, true, EnergyClass::not_plausible}; }
-  double f(const Vec3& i, const Vec3& j) const noexcept override {
-    return i.z < 0.0 || j.z < 0.0 ? 0.0 : w(i) * w(j);
-  }
+  double f(const Vec3& i, const Vec3& j) const noexcept override { return i.z < 0.0 || j.z < 0.0 ? 0.0 : w(i) * w(j); }
   MassHints mass_hints(const Vec3&, Varying) const override {
     HintBuilder h;
     if (hinted_) h.creases({1.0, 0.0, 0.0}, {crease_});

@@ -10,8 +10,7 @@ std::atomic<std::size_t> ganzfeld::testing_support::largest_allocation{0};
 void* operator new(std::size_t size) {
   auto& largest = ganzfeld::testing_support::largest_allocation;
   std::size_t seen = largest.load(std::memory_order_relaxed);
-  while (size > seen && !largest.compare_exchange_weak(seen, size)) {
-  }
+  while (size > seen && !largest.compare_exchange_weak(seen, size)) {}
   if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
   throw std::bad_alloc();
 }

@@ -13,16 +13,16 @@
 
 #include <gtest/gtest.h>
 
+#include "export/brdf_export.h"
 #include "integrate/laws.h"
-#include "util/error.h"
-#include "util/hash.h"
 #include "models/measured.h"
 #include "models/spec.h"
 #include "tables/bake.h"
 #include "tables/exr_io.h"
 #include "tables/sample.h"
-#include "export/brdf_export.h"
 #include "tests/temp_dir.h"
+#include "util/error.h"
+#include "util/hash.h"
 
 namespace ganzfeld {
 namespace {
@@ -52,9 +52,7 @@ TEST(MerlAngles, HalfDiffAndDirectionsAreInverse) {
     const merl::HalfDiff b = merl::half_diff(i, j);
     EXPECT_NEAR(b.theta_h, a.theta_h, 1e-9);
     EXPECT_NEAR(b.theta_d, a.theta_d, 1e-9);
-    if (a.theta_d > 1e-3) {
-      EXPECT_NEAR(b.phi_d, a.phi_d, 1e-7);
-    }
+    if (a.theta_d > 1e-3) { EXPECT_NEAR(b.phi_d, a.phi_d, 1e-7); }
     EXPECT_NEAR(glm::length(i), 1.0, 1e-12);
     EXPECT_NEAR(glm::length(j), 1.0, 1e-12);
   }
@@ -141,9 +139,7 @@ TEST(MerlReader, RefusesMalformedFiles) {
     try {
       parse_model("merl:file=" + path);
       ADD_FAILURE() << name << " accepted";
-    } catch (const InputError& e) {
-      EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
-    }
+    } catch (const InputError& e) { EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what(); }
   };
   refused(std::vector<char>(bytes.begin(), bytes.end() - 8), "truncated.binary", "bytes");
   std::vector<char> dims = bytes;
@@ -156,9 +152,9 @@ TEST(MerlReader, RefusesMalformedFiles) {
   refused(nan, "nan.binary", "non-finite");
   refused({}, "empty.binary", "bytes");
   EXPECT_THROW(parse_model("merl:file=" + temp_file("missing.binary")), InputError);
-  EXPECT_THROW(parse_model("merl"), InputError);                  // file= is required
+  EXPECT_THROW(parse_model("merl"), InputError);  // file= is required
   EXPECT_THROW(parse_model("merl:channel=1"), InputError);
-  EXPECT_THROW(parse_model("merl:file=a,file=b"), InputError);    // twice
+  EXPECT_THROW(parse_model("merl:file=a,file=b"), InputError);     // twice
   EXPECT_THROW(parse_model("merl:file=x,channel=4"), InputError);  // out of range before reading
 }
 
@@ -193,7 +189,7 @@ TEST(Tabulated, RoundTripsAndInterpolates) {
   std::mt19937_64 rng(6);
   for (int n = 0; n < 500; ++n) {
     const Vec3 i = random_direction(rng), j = random_direction(rng);
-    if (i.z < 0.1 || j.z < 0.1) continue;  // (mu_i mu_j)^0.5 is steep at grazing: no claim there
+    if (i.z < 0.1 || j.z < 0.1) continue;                 // (mu_i mu_j)^0.5 is steep at grazing: no claim there
     EXPECT_NEAR(table->f(i, j), model->f(i, j), 1.5e-3);  // measured worst 7.5e-4 on these 500 pairs
   }
 }
@@ -205,9 +201,7 @@ TEST(Tabulated, RefusesMalformedText) {
     try {
       parse_tabulated(text, "t");
       ADD_FAILURE() << "accepted: " << text;
-    } catch (const InputError& e) {
-      EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
-    }
+    } catch (const InputError& e) { EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what(); }
   };
   refused("brdf 1\n", "first line");
   refused("ganzfeld-tabulated-brdf 1\ntheta_i: 0 90\ntheta_r: 90 0\nphi: 0 180\n1 1 1 1 1 1 1 1\n", "increase");
@@ -229,7 +223,8 @@ TEST(MeasuredContent, DigestIsTheFileBytes) {
   exporting::write_tabulated(*parse_model("lambert"), {3, 3, 3}, tab);
   std::ofstream(bm) << "ganzfeld-beard-maxwell-first-surface 1\ntheta_N: 0 30\nrho_fs: 2 1\n";
   for (const std::string& spec : {"merl:file=" + merl, "tabulated:file=" + tab, "beard-maxwell:file=" + bm}) {
-    EXPECT_EQ(parse_model(spec)->content_digest(), util::content_digest_of(file_bytes(parse_spec(spec).terms[0].model.file)))
+    EXPECT_EQ(parse_model(spec)->content_digest(),
+              util::content_digest_of(file_bytes(parse_spec(spec).terms[0].model.file)))
         << spec;
   }
   EXPECT_EQ(parse_model("lambert")->content_digest(), "");

@@ -7,11 +7,11 @@
 
 #include "tests/test_support.h"
 
-#include "util/error.h"
 #include "models/kp_lobes.h"
 #include "models/mixture.h"
 #include "models/registry.h"
 #include "models/spec.h"
+#include "util/error.h"
 
 namespace ganzfeld {
 namespace {
@@ -19,12 +19,22 @@ namespace {
 using std::numbers::pi;
 
 // Every registered model at its defaults and at the extremes of its parameters.
-const std::vector<std::string> kSpecs{
-    "lambert", "minnaert:xi=0", "minnaert:xi=1e-6", "minnaert:xi=0.3", "minnaert:xi=50",
-    "specular:alpha=1", "specular:alpha=8", "specular:alpha=1000", "specular:alpha=2.5",
-    "backscatter:alpha=1", "backscatter:alpha=1000", "perfect-backscatter:alpha=2",
-    "perfect-backscatter:alpha=1000", "asperity:alpha=1", "asperity:alpha=1000",
-    "0.7*minnaert:xi=1 + 0.3*specular:alpha=8"};
+const std::vector<std::string> kSpecs{"lambert",
+                                      "minnaert:xi=0",
+                                      "minnaert:xi=1e-6",
+                                      "minnaert:xi=0.3",
+                                      "minnaert:xi=50",
+                                      "specular:alpha=1",
+                                      "specular:alpha=8",
+                                      "specular:alpha=1000",
+                                      "specular:alpha=2.5",
+                                      "backscatter:alpha=1",
+                                      "backscatter:alpha=1000",
+                                      "perfect-backscatter:alpha=2",
+                                      "perfect-backscatter:alpha=1000",
+                                      "asperity:alpha=1",
+                                      "asperity:alpha=1000",
+                                      "0.7*minnaert:xi=1 + 0.3*specular:alpha=8"};
 
 Vec3 from_cos(double c, double phi) {
   const double s = std::sqrt(std::max(0.0, 1.0 - c * c));
@@ -43,7 +53,8 @@ std::vector<Vec3> test_directions() {
 
 TEST(Models, EveryModelIsFiniteNonNegativeReciprocalAndZeroBelowTheHorizon) {
   const auto dirs = test_directions();
-  for (const auto& spec : kSpecs) testing_support::expect_finite_non_negative_reciprocal(*parse_model(spec), dirs, spec);
+  for (const auto& spec : kSpecs)
+    testing_support::expect_finite_non_negative_reciprocal(*parse_model(spec), dirs, spec);
 }
 
 TEST(Models, MinnaertWithZeroExponentIsLambert) {
@@ -97,9 +108,9 @@ std::vector<ModelSpec> registry_specs(const ModelInfo& info, bool ends) {
     std::vector<double> values;
     if (p.type == ParamType::choice)
       for (std::size_t k = 0; k < p.choices.size(); ++k) values.push_back(static_cast<double>(k));
-    else
-      values = {p.type == ParamType::integer ? std::floor(0.5 * (p.min + p.max)) : 0.5 * (p.min + p.max)};
-    if (ends && p.type != ParamType::choice) values.insert(values.end(), {p.min_exclusive ? std::nextafter(p.min, p.max) : p.min, p.max});
+    else values = {p.type == ParamType::integer ? std::floor(0.5 * (p.min + p.max)) : 0.5 * (p.min + p.max)};
+    if (ends && p.type != ParamType::choice)
+      values.insert(values.end(), {p.min_exclusive ? std::nextafter(p.min, p.max) : p.min, p.max});
     for (const double value : values) specs.push_back({info.name, {{p.name, value}}, example.file});
   }
   return specs;
@@ -150,7 +161,8 @@ TEST(Spec, AlternativesAreWrittenInTheirParametersPlace) {
             "hvd-empirical:eta=1.5,k=0.3,rsu=1,rsv=0.2,rr=1");
   EXPECT_EQ(parse_model("hvd-empirical:cd=1,f0=0.5,k=0.4,ns=50,nr=10,rsu=1,rsv=0.2")->spec(),
             "hvd-empirical:cd=1,f0=0.5,k=0.4,ns=50,nr=10,rsu=1,rsv=0.2,rr=1");
-  EXPECT_EQ(parse_model("ggx:f0=0.5,alpha_y=0.3,alpha_x=0.1")->spec(), "ggx:alpha_x=0.1,alpha_y=0.3,f0=0.5,g2=height-correlated");
+  EXPECT_EQ(parse_model("ggx:f0=0.5,alpha_y=0.3,alpha_x=0.1")->spec(),
+            "ggx:alpha_x=0.1,alpha_y=0.3,f0=0.5,g2=height-correlated");
 }
 
 /// Expects an InputError whose one-line message contains every fragment.

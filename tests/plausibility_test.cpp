@@ -8,8 +8,8 @@
 
 #include <gtest/gtest.h>
 
-#include "reports/plausibility.h"
 #include "models/spec.h"
+#include "reports/plausibility.h"
 
 namespace ganzfeld {
 namespace {
@@ -24,8 +24,9 @@ TEST(Plausibility, DeclaredTraitsAgreeWithMeasurements) {
   const auto rows = plausibility_report(1e-6);
   ASSERT_GE(rows.size(), 30u);
   for (const auto& r : rows) {
-    EXPECT_TRUE(r.traits_consistent()) << r.spec << ": declared " << (r.declared.reciprocal ? "reciprocal" : "not reciprocal")
-                                       << "/" << to_string(r.declared.energy) << ", measured violation "
+    EXPECT_TRUE(r.traits_consistent()) << r.spec << ": declared "
+                                       << (r.declared.reciprocal ? "reciprocal" : "not reciprocal") << "/"
+                                       << to_string(r.declared.energy) << ", measured violation "
                                        << r.reciprocity_violation << ", max albedo " << r.max_albedo;
     EXPECT_TRUE(r.non_negative()) << r.spec << " min f " << r.min_f << " at " << r.min_f_at;
     EXPECT_TRUE(r.converged) << r.spec;

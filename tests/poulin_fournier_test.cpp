@@ -5,26 +5,26 @@
 // a dense grid including grazing, the creases (scanning f along longitudes about the tangent),
 // the mass hints, parameter validation, and the albedo by cubature (integrate/laws.h).
 #include <algorithm>
-#include <functional>
-#include <tuple>
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <numbers>
 #include <random>
 #include <string>
+#include <tuple>
 #include <vector>
 
-#include <boost/math/quadrature/gauss_kronrod.hpp>
 #include <gtest/gtest.h>
+#include <boost/math/quadrature/gauss_kronrod.hpp>
 
 #include "tests/test_support.h"
 
 #include "integrate/laws.h"
 #include "models/classic_models.h"
-#include "util/error.h"
 #include "models/poulin_fournier.h"
 #include "models/registry.h"
 #include "models/spec.h"
+#include "util/error.h"
 
 namespace ganzfeld {
 namespace {
@@ -53,7 +53,8 @@ constexpr double kValueFloor = 1e-12;
 struct Geometry {
   double d, h;
 };
-const std::vector<Geometry> kGeometries{{2.5, 0.2}, {2.0, 0.0}, {1.5, 0.0}, {4.0, 0.5}, {1.0, 0.9}, {2.2, 0.8}, {12.0, 0.3}};
+const std::vector<Geometry> kGeometries{{2.5, 0.2}, {2.0, 0.0}, {1.5, 0.0}, {4.0, 0.5},
+                                        {1.0, 0.9}, {2.2, 0.8}, {12.0, 0.3}};
 
 /// A unit direction with polar angle theta from n and azimuth phi from +x (degrees).
 Vec3 dir_deg(double theta, double phi) { return direction(theta * pi / 180, phi * pi / 180); }
@@ -63,8 +64,7 @@ std::vector<Vec3> test_directions(unsigned seed, int random_count) {
   std::uniform_real_distribution<double> u(0.0, 1.0);
   std::vector<Vec3> dirs;
   for (double c : {0.0, 1e-300, 1e-12, 1e-6, 1e-3, 0.05, 0.3, 0.7, 1.0 - 1e-12, 1.0})
-    for (double phi : {0.0, 0.1, 0.5 * pi, 0.8, pi, 1.5 * pi, 2.0})
-      dirs.push_back(direction_from_cos(c, phi));
+    for (double phi : {0.0, 0.1, 0.5 * pi, 0.8, pi, 1.5 * pi, 2.0}) dirs.push_back(direction_from_cos(c, phi));
   dirs.push_back({1, 0, 0});
   dirs.push_back({-1, 0, 0});
   dirs.push_back({0, 1, 0});
@@ -108,7 +108,8 @@ double ray_cast_f(double kd, double ks, double n, double d, double h, const Vec3
     const Vec3 N{0.0, py, pz};
     // local frame of N: f_mu depends on i, j only through N.i, N.j, N.h (blinn-phong)
     const Vec3 t1{1.0, 0.0, 0.0}, t2 = glm::cross(N, t1);
-    const Vec3 il{glm::dot(i, t1), glm::dot(i, t2), glm::dot(i, N)}, jl{glm::dot(j, t1), glm::dot(j, t2), glm::dot(j, N)};
+    const Vec3 il{glm::dot(i, t1), glm::dot(i, t2), glm::dot(i, N)},
+        jl{glm::dot(j, t1), glm::dot(j, t2), glm::dot(j, N)};
     sum += local.f(il, jl) * glm::dot(N, i) * glm::dot(N, j) / (i.z * j.z) * dpsi;
   }
   if (w > 0.0) {
@@ -138,14 +139,13 @@ TEST(PoulinFournier, ShadowingPseudoCodeMatchesRayCasting) {
         const double rel = std::abs(ours - ref) / std::max(ref, 1e-3);
         worst = std::max(worst, rel);
         ++compared;
-        EXPECT_LE(rel, kRayCastRel) << m.spec() << " i=(" << i.x << "," << i.y << "," << i.z << ") j=(" << j.x
-                                    << "," << j.y << "," << j.z << ") ours=" << ours << " ref=" << ref;
+        EXPECT_LE(rel, kRayCastRel) << m.spec() << " i=(" << i.x << "," << i.y << "," << i.z << ") j=(" << j.x << ","
+                                    << j.y << "," << j.z << ") ours=" << ours << " ref=" << ref;
       }
     }
   }
   std::printf("ray casting: %d cases, worst relative difference %.3g\n", compared, worst);
 }
-
 
 // --- the closed forms ----------------------------------------------------------------------------
 double gk(const std::function<double(double)>& g, double a, double b) {
@@ -153,8 +153,9 @@ double gk(const std::function<double(double)>& g, double a, double b) {
 }
 
 TEST(PoulinFournier, CosPowerIntegralIsTheIncompleteBetaClosedForm) {
-  const std::vector<std::pair<double, double>> intervals{
-      {0.0, 0.3}, {-0.2, 0.1}, {0.1, 1.5}, {-1.5, -0.01}, {-pi / 2, pi / 2}, {0.0, 1e-9}, {1.2, 1.5}, {-0.6, 0.7}, {0.4, 0.41}};
+  const std::vector<std::pair<double, double>> intervals{{0.0, 0.3},    {-0.2, 0.1},       {0.1, 1.5},
+                                                         {-1.5, -0.01}, {-pi / 2, pi / 2}, {0.0, 1e-9},
+                                                         {1.2, 1.5},    {-0.6, 0.7},       {0.4, 0.41}};
   for (double m : {1.0, 2.0, 2.5, 20.0, 137.3, 1000.0, 10002.0})
     for (auto [a, b] : intervals) {
       const double ours = cos_power_integral(m, a, b);
@@ -182,7 +183,7 @@ TEST(PoulinFournier, CosPowerIntegralIsTheIncompleteBetaClosedForm) {
 TEST(PoulinFournier, IntegralOfSinSquaredIsAccurateForSmallArguments) {
   for (double x : {1e-100, 1e-8, 1e-4, 0.01, 0.3, 0.49, 0.5, 0.51, 1.0, 2.0, 3.0}) {
     const long double X = x;
-    const long double ref = (X - std::sin(X) * std::cos(X)) / 2;  // long double: fine above ~1e-4
+    const long double ref = (X - std::sin(X) * std::cos(X)) / 2;        // long double: fine above ~1e-4
     const long double series = X * X * X / 3 - X * X * X * X * X / 15;  // (2x)^3/24 - (2x)^5/480
     const long double expected = x < 1e-3 ? series : ref;
     EXPECT_NEAR(integral_sin_squared(x) / expected, 1.0, 1e-14) << x;
@@ -214,10 +215,8 @@ TEST(PoulinFournier, ArcIntegralsMatchQuadratureOfTheirIntegrands) {
     const double ref_d = gk(cosines, a, b);
     const double theta_H = std::atan2(h.y, h.z);
     double ref_s = 0.0;
-    if (theta_H > a && theta_H < b)
-      ref_s = gk(highlight, a, theta_H) + gk(highlight, theta_H, b);
-    else
-      ref_s = gk(highlight, a, b);
+    if (theta_H > a && theta_H < b) ref_s = gk(highlight, a, theta_H) + gk(highlight, theta_H, b);
+    else ref_s = gk(highlight, a, b);
     EXPECT_NEAR(m.arc_cosine_product(pi_, pj, a, b), ref_d, kClosedFormRel * std::max(ref_d, 1.0));
     EXPECT_NEAR(m.arc_specular(pi_, pj, a, b, h), ref_s, kClosedFormRel * std::max(ref_d, 1.0));
   }
@@ -240,7 +239,8 @@ TEST(PoulinFournier, ProjectedLengthsOfThePeriodSumToD) {
       auto projected = [&](double psi) { return std::sin(psi - theta_E) / std::cos(theta_E); };
       const double l_v = projected(fr.arc_hi) - projected(fr.arc_lo);
       const double f_v = fr.floor_hi - fr.floor_lo;
-      EXPECT_NEAR(l_v + f_v, g.d, kTilingAbs / std::cos(theta_E) * g.d) << "d=" << g.d << " h=" << g.h << " theta_E=" << theta_E;
+      EXPECT_NEAR(l_v + f_v, g.d, kTilingAbs / std::cos(theta_E) * g.d)
+          << "d=" << g.d << " h=" << g.h << " theta_E=" << theta_E;
     }
   }
 }
@@ -364,7 +364,8 @@ TEST(PoulinFournier, FiniteNonNegativeEverywhereAndZeroBelowTheHorizon) {
   const Vec3 below{0.3, 0.4, -0.866}, up{0, 0, 1};
   double largest = 0.0;
   std::vector<Geometry> geometries = kGeometries;
-  for (Geometry extreme : {Geometry{100.0, 0.0}, Geometry{1e-12, 0.0}, Geometry{2.0, 1.0 - 1e-15}, Geometry{2.0, 1e-15}})
+  for (Geometry extreme :
+       {Geometry{100.0, 0.0}, Geometry{1e-12, 0.0}, Geometry{2.0, 1.0 - 1e-15}, Geometry{2.0, 1e-15}})
     geometries.push_back(extreme);
   for (Geometry g : geometries)
     for (auto [kd, ks, n] : {std::tuple{1.0, 0.0, 1.0}, std::tuple{0.0, 1.0, 10000.0}, std::tuple{0.5, 0.5, 1.0}}) {
@@ -508,9 +509,10 @@ TEST(PoulinFournier, EveryKinkLiesOnAListedCreaseAndEveryListedCreaseIsReal) {
       for (double t : {0.0, 0.6})
         for (Varying varying : {Varying::incident, Varying::outgoing}) scan(m, fixed, varying, t, r);
   }
-  std::printf("creases: %d kinks detected (all on listed creases); listed kinks %d (weakest f' jump %.3g max f/rad), "
-              "listed C1 creases %d (largest f' jump %.3g); jumps %d\n",
-              r.kinks_detected, r.kinks_listed, r.weakest_listed_kink, r.c1_listed, r.strongest_c1, r.jumps);
+  std::printf(
+      "creases: %d kinks detected (all on listed creases); listed kinks %d (weakest f' jump %.3g max f/rad), "
+      "listed C1 creases %d (largest f' jump %.3g); jumps %d\n",
+      r.kinks_detected, r.kinks_listed, r.weakest_listed_kink, r.c1_listed, r.strongest_c1, r.jumps);
   EXPECT_GT(r.kinks_detected, 0);
   EXPECT_EQ(r.jumps, 0);  // f is continuous: its creases are kinks
 }
@@ -604,7 +606,8 @@ TEST(PoulinFournier, DiffuseAlbedoReducesToOneDimensionAndTheEngineIsHonest) {
       cuts.push_back(pi / 2);
       double reference = 0.0;
       for (std::size_t k = 0; k + 1 < cuts.size(); ++k)
-        reference += gk([&](double phi) { return m.f(i, on_longitude(phi, 0.0)) * std::cos(phi); }, cuts[k], cuts[k + 1]);
+        reference +=
+            gk([&](double phi) { return m.f(i, on_longitude(phi, 0.0)) * std::cos(phi); }, cuts[k], cuts[k + 1]);
       reference *= pi / 2;
       const Estimate e = albedo(m, i, testing_support::cubature_options(kEngineTol));
       std::printf("%s i.z=%.3f: albedo %.12f (1-D), engine %.12f +- %.1e in %lld evaluations\n", m.spec().c_str(), i.z,

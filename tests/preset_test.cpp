@@ -8,8 +8,8 @@
 #include <random>
 #include <vector>
 
-#include <boost/math/quadrature/gauss.hpp>
 #include <gtest/gtest.h>
+#include <boost/math/quadrature/gauss.hpp>
 
 #include "integrate/laws.h"
 #include "models/charlie.h"
@@ -140,9 +140,9 @@ TEST(TablePreset, GridConventions) {
   const Axis axis{kAxisCosThetaI, 0.0, 1.0, 4, Mapping::linear};
   EXPECT_DOUBLE_EQ(grid_coordinate(axis, Grid::texel, 0), 0.125);  // (k + 0.5)/N
   EXPECT_DOUBLE_EQ(grid_coordinate(axis, Grid::texel, 3), 0.875);
-  EXPECT_DOUBLE_EQ(grid_coordinate(axis, Grid::node, 3), 1.0);      // k/(N - 1)
+  EXPECT_DOUBLE_EQ(grid_coordinate(axis, Grid::node, 3), 1.0);  // k/(N - 1)
   EXPECT_DOUBLE_EQ(grid_position(axis, Grid::texel, 0.125), 0.0);
-  EXPECT_DOUBLE_EQ(grid_position(axis, Grid::texel, 0.0), 0.0);     // clamp to edge
+  EXPECT_DOUBLE_EQ(grid_position(axis, Grid::texel, 0.0), 0.0);  // clamp to edge
   EXPECT_DOUBLE_EQ(grid_position(axis, Grid::texel, 0.5), 1.5);
   EXPECT_DOUBLE_EQ(grid_position(axis, Grid::node, 0.5), 1.5);
   EXPECT_DOUBLE_EQ(alpha_of(kAxisRoughness, 0.5), 0.25);
@@ -161,8 +161,8 @@ ParamTable linear_table() {
   Channel ch{"e", "test", {}, {}, 0};
   for (int r = 0; r < 3; ++r)
     for (int k = 0; k < 4; ++k) {
-      ch.value.push_back(static_cast<float>(grid_coordinate(t.axes[0], t.grid, r) +
-                                            10.0 * grid_coordinate(t.axes[1], t.grid, k)));
+      ch.value.push_back(
+          static_cast<float>(grid_coordinate(t.axes[0], t.grid, r) + 10.0 * grid_coordinate(t.axes[1], t.grid, k)));
       ch.error.push_back(1e-7f);
     }
   ch.lookup_error = 2e-7;
@@ -218,9 +218,9 @@ TEST(TablePreset, FileRoundTripAndVersionSeparation) {
   EXPECT_FALSE(std::filesystem::exists(testing_support::temp_dir() + "/nan.exr"));
 }
 
-// The headline of a parameter table is its validated lookup error (as for every table): at fresh seeded points over the validated domain, |bilinear lookup - independent
-// reference| stays within each channel's lookup_error at >= 99.9% of them (all of them, in
-// practice). A coarse 8 x 8 table so that interpolation, not the cubature, dominates.
+// The headline of a parameter table is its validated lookup error (as for every table): at fresh seeded points over the
+// validated domain, |bilinear lookup - independent reference| stays within each channel's lookup_error at >= 99.9% of
+// them (all of them, in practice). A coarse 8 x 8 table so that interpolation, not the cubature, dominates.
 TEST(TablePreset, LookupErrorBoundsFreshPoints) {
   constexpr int kPoints = 300;
   constexpr double kCoverage = 0.999;  // the promise: the bound holds at >= 99.9% of fresh points
@@ -233,7 +233,8 @@ TEST(TablePreset, LookupErrorBoundsFreshPoints) {
     for (int p = 0; p < kPoints; ++p) {
       const double r = roughness(rng), m = mu(rng), alpha = r * r;
       const ggx::ReferenceValue refs[] = {ggx_albedo_reference(m, alpha, 0.0, false),
-                                          ggx_albedo_reference(m, alpha, 1.0, false), charlie_albedo_reference(m, alpha)};
+                                          ggx_albedo_reference(m, alpha, 1.0, false),
+                                          charlie_albedo_reference(m, alpha)};
       for (std::size_t c = 0; c < t.channels.size(); ++c) {
         const double actual = std::abs(sample_param(t, c, r, m).value - refs[c].value);
         largest_ratio = std::max(largest_ratio, actual / t.channels[c].lookup_error);
@@ -241,7 +242,8 @@ TEST(TablePreset, LookupErrorBoundsFreshPoints) {
       }
     }
     for (std::size_t c = 0; c < t.channels.size(); ++c) {
-      EXPECT_LE(outside[c], kPoints * (1.0 - kCoverage)) << t.channels[c].name << " on the " << to_string(grid) << " grid";
+      EXPECT_LE(outside[c], kPoints * (1.0 - kCoverage))
+          << t.channels[c].name << " on the " << to_string(grid) << " grid";
       // The bound is a bound of this table's interpolation, not the per-texel cubature error.
       EXPECT_GT(t.channels[c].lookup_error, 100 * t.node_error) << t.channels[c].name;
     }
@@ -268,7 +270,8 @@ TEST(TablePreset, Refusals) {
   EXPECT_THROW(with_parameter(parse_spec("specular:alpha=8"), "alpha", 0.5), InputError);  // alpha in [1, 10000]
   EXPECT_THROW(with_parameter(parse_spec("0.5*ggx + 0.5*lambert"), "alpha", 0.5), InputError);
   EXPECT_EQ(spec_text(with_parameter(parse_spec("ggx:roughness=0.2,f0=0.04"), "alpha", 0.5)), "ggx:alpha=0.5,f0=0.04");
-  EXPECT_EQ(spec_text(with_parameter(parse_spec("ggx:alpha_x=0.1,alpha_y=0.3"), "roughness", 0.5)), "ggx:roughness=0.5");
+  EXPECT_EQ(spec_text(with_parameter(parse_spec("ggx:alpha_x=0.1,alpha_y=0.3"), "roughness", 0.5)),
+            "ggx:roughness=0.5");
 }
 
 }  // namespace

@@ -1,5 +1,6 @@
 // rasterizer/: geometry, the three light fields of K&P against their closed forms per pixel,
 // tables against the direct reference, image files.
+#include <unistd.h>
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -7,20 +8,19 @@
 #include <fstream>
 #include <optional>
 #include <random>
-#include <unistd.h>
 
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 
-#include "util/error.h"
 #include "models/spec.h"
-#include "tables/bake.h"
-#include "tables/sample.h"
 #include "rasterizer/figure.h"
 #include "rasterizer/image.h"
 #include "rasterizer/mesh.h"
 #include "rasterizer/raster.h"
 #include "rasterizer/shading.h"
+#include "tables/bake.h"
+#include "tables/sample.h"
+#include "util/error.h"
 
 namespace ganzfeld::raster {
 namespace {
@@ -53,7 +53,6 @@ std::string text(double x) {
   std::snprintf(buffer, sizeof buffer, "%.3g", x);
   return buffer;
 }
-
 
 ShadingMaterial one_lobe(const std::string& spec, LawSourcePtr laws, const Rgb& color = {1, 1, 1}) {
   ShadingLobe lobe;
@@ -106,9 +105,7 @@ void expect_sphere_pixels(const RenderScene& scene, Expected expected, double bo
       if (gb.at(x, y).mesh == Fragment::kNone) {
         // The UV sphere (128 segments) is inscribed in the sphere; it misses only rays within
         // 1 - cos(pi/128) = 3e-4 of the silhouette, where j·n is tiny.
-        if (n) {
-          EXPECT_LT(glm::dot(*n, j), 0.05) << "uncovered sphere pixel " << x << "," << y;
-        }
+        if (n) { EXPECT_LT(glm::dot(*n, j), 0.05) << "uncovered sphere pixel " << x << "," << y; }
         for (int c = 0; c < 3; ++c) EXPECT_EQ(p[c], static_cast<float>(scene.camera.background[c]));
         continue;
       }
@@ -134,7 +131,8 @@ TEST(Rasterizer, WhiteLambertSphereIsInvisibleInGanzfeld) {
   constexpr double N = 0.6, kTol = 1e-10;
   const RenderScene scene = sphere_scene(one_lobe("lambert", direct_laws(parse_model("lambert"), kTol)),
                                          {grey_light(Light::Type::ganzfeld, {0, 1, 0}, N)}, N);
-  expect_sphere_pixels(scene, [](const Vec3&, const Vec3&) { return N; }, N * kTol + kFloatRounding);
+  expect_sphere_pixels(
+      scene, [](const Vec3&, const Vec3&) { return N; }, N * kTol + kFloatRounding);
 }
 
 TEST(Rasterizer, WhiteLambertSphereFromTableIsInvisibleInGanzfeld) {
@@ -147,7 +145,8 @@ TEST(Rasterizer, WhiteLambertSphereFromTableIsInvisibleInGanzfeld) {
   auto h = std::make_shared<const tables::Table>(tables::bake(*parse_model("lambert"), Law::h, options));
   const RenderScene scene =
       sphere_scene(one_lobe("lambert", table_laws(nullptr, h)), {grey_light(Light::Type::ganzfeld, {0, 1, 0}, N)}, N);
-  expect_sphere_pixels(scene, [](const Vec3&, const Vec3&) { return N; }, N * h->node_error + kFloatRounding);
+  expect_sphere_pixels(
+      scene, [](const Vec3&, const Vec3&) { return N; }, N * h->node_error + kFloatRounding);
 }
 
 TEST(Rasterizer, WhiteHvdEmpiricalSphereIsInvisibleInGanzfeld) {
@@ -184,18 +183,17 @@ TEST(Rasterizer, WhiteHvdEmpiricalSphereIsInvisibleInGanzfeld) {
   const RenderScene scene = sphere_scene(material, {grey_light(Light::Type::ganzfeld, {0, 1, 0}, N)}, N);
   const GBuffer gb = rasterize(scene.camera, scene.meshes);
   for (const Fragment& f : gb.pixels)
-    if (f.mesh != Fragment::kNone) {
-      ASSERT_GT(glm::dot(f.normal, f.view), first_node);
-    }
-  expect_sphere_pixels(scene, [](const Vec3&, const Vec3&) { return N; }, N * h->node_error + kFloatRounding);
+    if (f.mesh != Fragment::kNone) { ASSERT_GT(glm::dot(f.normal, f.view), first_node); }
+  expect_sphere_pixels(
+      scene, [](const Vec3&, const Vec3&) { return N; }, N * h->node_error + kFloatRounding);
 }
 
 TEST(Rasterizer, LambertSphereUnderSkyIsHalfOnePlusCos) {
   // K&P: g_L = (1 + i·n)/2 with i the sky's pole, per pixel with n from the exact sphere.
   // Bound: the closed form is exact; float storage and the normal's rounding remain.
   const Vec3 pole = glm::normalize(Vec3{0.3, 0.8, 0.4});
-  const RenderScene scene = sphere_scene(one_lobe("lambert", lambert_laws()),
-                                         {grey_light(Light::Type::hemispherical, pole, 1.0)}, 0.0);
+  const RenderScene scene =
+      sphere_scene(one_lobe("lambert", lambert_laws()), {grey_light(Light::Type::hemispherical, pole, 1.0)}, 0.0);
   expect_sphere_pixels(
       scene, [&](const Vec3& n, const Vec3&) { return 0.5 * (1.0 + glm::dot(pole, n)); },
       kFloatRounding + kNormalRounding);
@@ -298,11 +296,12 @@ TEST(Rasterizer, TablesAgreeWithDirectWithinTableErrorPlusInterpolation) {
   tables.camera.width = tables.camera.height = direct.camera.width = direct.camera.height = 48;
   const Image a = render(tables), b = render(direct);
   double worst = 0;
-  for (std::size_t k = 0; k < a.rgb.size(); ++k) worst = std::max(worst, static_cast<double>(std::abs(a.rgb[k] - b.rgb[k])));
+  for (std::size_t k = 0; k < a.rgb.size(); ++k)
+    worst = std::max(worst, static_cast<double>(std::abs(a.rgb[k] - b.rgb[k])));
   RecordProperty("bound", text(bound));
   RecordProperty("max_abs_difference", text(worst));
   EXPECT_LE(worst, bound);
-  EXPECT_GT(worst, 0.0);  // the two sources really differ: the comparison is not vacuous
+  EXPECT_GT(worst, 0.0);   // the two sources really differ: the comparison is not vacuous
   EXPECT_LT(bound, 0.02);  // and the bound is tight enough to mean something
 }
 
@@ -328,12 +327,8 @@ TEST(Rasterizer, NearerSphereWinsWhateverTheOrder) {
           ++both;
           EXPECT_EQ(got, tb < ta ? b_index : a_index) << x << "," << y;
         }
-        if (got == a_index) {
-          EXPECT_TRUE(hit_a);
-        }
-        if (got == b_index) {
-          EXPECT_TRUE(hit_b);
-        }
+        if (got == a_index) { EXPECT_TRUE(hit_a); }
+        if (got == b_index) { EXPECT_TRUE(hit_b); }
       }
     EXPECT_GT(both, 100);  // the spheres overlap on screen
   }
@@ -453,9 +448,7 @@ TEST(Rasterizer, RefusesMissingAndMalformedObj) {
     if (!text.empty()) write_text(path, text);
     try {
       load_obj(path.string());
-    } catch (const InputError& e) {
-      return e.what();
-    }
+    } catch (const InputError& e) { return e.what(); }
     return "no error";
   };
   const std::string missing = message("missing.obj", "");
@@ -519,7 +512,8 @@ TEST(Rasterizer, RefusesBadOutputAndLeavesNoFile) {
 
 /// A material's radiance summed lobe by lobe, light by light, from tables::sample (what shade()
 /// computed before materials were prepared: rasterizer/shading.h).
-Rgb lobe_by_lobe(const ShadingMaterial& material, const std::vector<Light>& lights, const Vec3& n, const Vec3& j_world) {
+Rgb lobe_by_lobe(const ShadingMaterial& material, const std::vector<Light>& lights, const Vec3& n,
+                 const Vec3& j_world) {
   const TangentFrame frame(n);
   const Vec3 j = frame.local(j_world);
   Vec3 jc = j;
@@ -581,7 +575,8 @@ TEST(Rasterizer, PreparedMaterialSumsTheTablesOfLobesThatShareALookup) {
     const Rgb expected = lobe_by_lobe(material, lights, n, j), got = shader.radiance(n, j, TangentFrame(n).t);
     for (int c = 0; c < 3; ++c) {
       largest = std::max(largest, std::abs(got[c] - expected[c]));
-      EXPECT_NEAR(got[c], expected[c], kSumRounding * (1.0 + std::abs(expected[c]))) << "point " << k << " channel " << c;
+      EXPECT_NEAR(got[c], expected[c], kSumRounding * (1.0 + std::abs(expected[c])))
+          << "point " << k << " channel " << c;
     }
   }
   std::printf("prepared material against lobe by lobe: max difference %.3g\n", largest);

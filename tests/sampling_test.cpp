@@ -19,8 +19,8 @@
 #include <string>
 #include <vector>
 
-#include <boost/math/distributions/chi_squared.hpp>
 #include <gtest/gtest.h>
+#include <boost/math/distributions/chi_squared.hpp>
 
 #include "integrate/cubature.h"
 #include "integrate/laws.h"
@@ -278,12 +278,10 @@ TEST(SamplingWeights, HvdWeightIsConstantUpToGrazing) {
         ++drawn;
         ASSERT_NEAR(model->pdf_incident(j, draw->i), draw->pdf, 1e-12 * draw->pdf);
         const double weight = model->f(draw->i, j) * draw->i.z / draw->pdf;
-        ASSERT_NEAR(weight, expected, 1e-9 * expected) << spec << " theta_o " << theta << " i = (" << draw->i.x << ", "
-                                                       << draw->i.y << ", " << draw->i.z << ")";
+        ASSERT_NEAR(weight, expected, 1e-9 * expected)
+            << spec << " theta_o " << theta << " i = (" << draw->i.x << ", " << draw->i.y << ", " << draw->i.z << ")";
       }
-      if (!fit) {
-        EXPECT_EQ(drawn, 20000) << spec << " at " << theta << " deg: the lumps lie on the disk";
-      }
+      if (!fit) { EXPECT_EQ(drawn, 20000) << spec << " at " << theta << " deg: the lumps lie on the disk"; }
     }
   }
 }
@@ -291,10 +289,11 @@ TEST(SamplingWeights, HvdWeightIsConstantUpToGrazing) {
 TEST(SamplingWeights, MeanWeightEstimatesTheLawOfDarkening) {
   std::mt19937_64 rng(5);
   std::uniform_real_distribution<double> uniform(0.0, 1.0);
-  for (const std::string spec : {"specular:alpha=8", "minnaert:xi=0.5", "asperity:alpha=2", "ward:rho_d=0.3,rho_s=0.5,alpha=0.15",
-                                 "ggx:alpha=0.3,f0=0.04", "ggx:alpha_x=0.1,alpha_y=0.5,g2=separable", "charlie:alpha=0.3", "ggx-ms:alpha=0.5",
-                                 "ashikhmin-shirley:rd=0.3,rs=0.2,nu=10,nv=300", "schlick:c=0.3,r=0.2,p=0.3",
-                                 "0.6*minnaert:xi=1 + 0.4*hvd-empirical:cd=0.5,f0=0.2,k=0.5,ns=20,nr=10"}) {
+  for (const std::string spec :
+       {"specular:alpha=8", "minnaert:xi=0.5", "asperity:alpha=2", "ward:rho_d=0.3,rho_s=0.5,alpha=0.15",
+        "ggx:alpha=0.3,f0=0.04", "ggx:alpha_x=0.1,alpha_y=0.5,g2=separable", "charlie:alpha=0.3", "ggx-ms:alpha=0.5",
+        "ashikhmin-shirley:rd=0.3,rs=0.2,nu=10,nv=300", "schlick:c=0.3,r=0.2,p=0.3",
+        "0.6*minnaert:xi=1 + 0.4*hvd-empirical:cd=0.5,f0=0.2,k=0.5,ns=20,nr=10"}) {
     const ModelPtr model = parse_model(spec);
     const Vec3 j = outgoing(50.0, 10.0);
     const int n = 200000;

@@ -1,23 +1,23 @@
 // Scenes (scene/scene.h), the tables they need (scene/plan.h) and the table cache (tables/cache.h):
 // parsing with defaults, every refusal of a bad scene, the plan per light field, reuse of a
 // cached table and re-baking of a corrupt or mismatching one.
+#include <unistd.h>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <string>
-#include <unistd.h>
 
 #include <gtest/gtest.h>
 
 #include "tests/temp_dir.h"
 
-#include "util/error.h"
-#include "util/hash.h"
 #include "models/spec.h"
-#include "tables/cache.h"
-#include "tables/exr_io.h"
 #include "scene/plan.h"
 #include "scene/scene.h"
+#include "tables/cache.h"
+#include "tables/exr_io.h"
+#include "util/error.h"
+#include "util/hash.h"
 
 // Suite names start with lower-case "scene" so that `ctest -R scene` selects exactly these.
 namespace ganzfeld {
@@ -38,7 +38,6 @@ constexpr double kWeightTol = 1e-15;
 
 using testing_support::temp_dir;
 
-
 /// Writes `text` to a fresh file in the temporary directory and returns its path.
 std::string write_scene(const std::string& text) {
   static int counter = 0;
@@ -53,9 +52,7 @@ Scene scene_from(const std::string& text) { return load_scene(write_scene(text))
 std::string refusal(const std::string& text) {
   try {
     load_scene(write_scene(text));
-  } catch (const InputError& e) {
-    return e.what();
-  }
+  } catch (const InputError& e) { return e.what(); }
   return "";
 }
 
@@ -236,9 +233,9 @@ TEST(Scene, SkyAndGanzfeldNeedGAndHOfEachLobeDeduplicated) {
                 {"shape": "sphere", "material": "a"}],
     "lights": [{"type": "ganzfeld"}, {"type": "hemispherical"}, {"type": "collimated"}, {"type": "ganzfeld"}]
   })");
-  const std::vector<std::pair<std::string, Law>> want = {
-      {"minnaert:xi=2", Law::g}, {"specular:alpha=8", Law::g}, {"asperity:alpha=4", Law::g},
-      {"minnaert:xi=2", Law::h}, {"specular:alpha=8", Law::h}, {"asperity:alpha=4", Law::h}};
+  const std::vector<std::pair<std::string, Law>> want = {{"minnaert:xi=2", Law::g},    {"specular:alpha=8", Law::g},
+                                                         {"asperity:alpha=4", Law::g}, {"minnaert:xi=2", Law::h},
+                                                         {"specular:alpha=8", Law::h}, {"asperity:alpha=4", Law::h}};
   EXPECT_EQ(plan_of(s), want);
 }
 
@@ -294,8 +291,8 @@ TEST(Scene, CacheKeyAndFileName) {
   EXPECT_NE(cache_file_name(table_key(*m, Law::h, o)), name);
   EXPECT_NE(cache_file_name(table_key(*m, Law::a, tiny(Law::a))), name);
   EXPECT_NE(cache_file_name(table_key(*parse_model("specular:alpha=9"), Law::h, tiny(Law::h))), name);
-  EXPECT_EQ(util::fnv1a_64(""), 0xcbf29ce484222325ull);  // the FNV-1a offset basis
-  EXPECT_EQ(util::fnv1a_64("a"), 0xaf63dc4c8601ec8cull);  // published test vector
+  EXPECT_EQ(util::fnv1a_64(""), 0xcbf29ce484222325ull);                       // the FNV-1a offset basis
+  EXPECT_EQ(util::fnv1a_64("a"), 0xaf63dc4c8601ec8cull);                      // published test vector
   EXPECT_EQ(util::fnv1a_64("b", util::fnv1a_64("a")), util::fnv1a_64("ab"));  // in pieces
   EXPECT_EQ(util::content_digest_of("a"), "fnv1a64:af63dc4c8601ec8c");
   EXPECT_TRUE(util::is_content_digest("fnv1a64:af63dc4c8601ec8c"));
@@ -315,7 +312,9 @@ TEST(Scene, CacheReusesAMatchingTable) {
   EXPECT_EQ(second.path, first.path);
   EXPECT_EQ(second.table.value, first.table.value);
   EXPECT_EQ(fs::last_write_time(first.path), written);
-  EXPECT_EQ(bake_or_reuse(cache_path(dir, *m, Law::g, tiny(Law::g)), *m, Law::g, tiny(Law::g), "test", /*force=*/true).status, CacheStatus::baked);
+  EXPECT_EQ(
+      bake_or_reuse(cache_path(dir, *m, Law::g, tiny(Law::g)), *m, Law::g, tiny(Law::g), "test", /*force=*/true).status,
+      CacheStatus::baked);
   // A different key is a different file.
   BakeOptions o = tiny(Law::g);
   o.encoding = Encoding::half;
@@ -355,13 +354,16 @@ TEST(Scene, CacheRebakesACorruptFile) {
   const CacheResult good = bake_or_reuse(cache_path(dir, *m, Law::h, tiny(Law::h)), *m, Law::h, tiny(Law::h), "test");
   const auto size = fs::file_size(path);
   fs::resize_file(path, size / 2);
-  const CacheResult truncated = bake_or_reuse(cache_path(dir, *m, Law::h, tiny(Law::h)), *m, Law::h, tiny(Law::h), "test");
+  const CacheResult truncated =
+      bake_or_reuse(cache_path(dir, *m, Law::h, tiny(Law::h)), *m, Law::h, tiny(Law::h), "test");
   EXPECT_EQ(truncated.status, CacheStatus::baked);
   EXPECT_EQ(read_table(path).value, good.table.value);
   // Not an EXR at all.
   std::ofstream(path, std::ios::trunc) << "garbage";
-  EXPECT_EQ(bake_or_reuse(cache_path(dir, *m, Law::h, tiny(Law::h)), *m, Law::h, tiny(Law::h), "test").status, CacheStatus::baked);
-  EXPECT_EQ(bake_or_reuse(cache_path(dir, *m, Law::h, tiny(Law::h)), *m, Law::h, tiny(Law::h), "test").status, CacheStatus::reused);
+  EXPECT_EQ(bake_or_reuse(cache_path(dir, *m, Law::h, tiny(Law::h)), *m, Law::h, tiny(Law::h), "test").status,
+            CacheStatus::baked);
+  EXPECT_EQ(bake_or_reuse(cache_path(dir, *m, Law::h, tiny(Law::h)), *m, Law::h, tiny(Law::h), "test").status,
+            CacheStatus::reused);
 }
 
 TEST(Scene, CacheRebakesAMismatchingFile) {
@@ -379,7 +381,8 @@ TEST(Scene, CacheRebakesAMismatchingFile) {
   // And another model, same law and axes.
   EXPECT_EQ(bake_or_reuse(path, *parse_model("specular:alpha=9"), Law::h, tiny(Law::h), "test").status,
             CacheStatus::baked);
-  EXPECT_EQ(bake_or_reuse(cache_path(dir, *m, Law::h, tiny(Law::h)), *m, Law::h, tiny(Law::h), "test").status, CacheStatus::baked);
+  EXPECT_EQ(bake_or_reuse(cache_path(dir, *m, Law::h, tiny(Law::h)), *m, Law::h, tiny(Law::h), "test").status,
+            CacheStatus::baked);
   EXPECT_EQ(read_table(path).model, "specular:alpha=8");
 }
 

@@ -56,8 +56,8 @@ scene::TableOptions small_tables() {
 class ServeScene : public ::testing::Test {
  protected:
   std::string cache = [] {  // one per test: each starts from an empty cache
-    const std::string dir = testing_support::temp_dir() + "/serve-scene-" +
-                            ::testing::UnitTest::GetInstance()->current_test_info()->name();
+    const std::string dir =
+        testing_support::temp_dir() + "/serve-scene-" + ::testing::UnitTest::GetInstance()->current_test_info()->name();
     std::filesystem::create_directories(dir);
     return dir;
   }();
@@ -82,7 +82,8 @@ TEST_F(ServeScene, ShaderIsExportGlslsForTheSameSceneAndCache) {
   EXPECT_EQ(header(first, "X-Ganzfeld-Table"), "baked,baked,baked,baked");
   // export-glsl --scene's path: the same planner over the same cache, now filled by the service
   const Scene scene = load_scene_text(kScene, "scene");
-  const scene::ShadingPlan plan = scene::plan_shading(scene, small_tables(), scene::TableStore{cache, false, {}, {}, {}});
+  const scene::ShadingPlan plan =
+      scene::plan_shading(scene, small_tables(), scene::TableStore{cache, false, {}, {}, {}});
   ASSERT_EQ(plan.tables.size(), kSceneTables);
   for (const scene::PlannedTable& t : plan.tables) EXPECT_EQ(t.status, tables::CacheStatus::reused) << t.path;
   EXPECT_EQ(first.body, exporting::glsl_scene_shader(scene, plan, kSceneShaderSource));
@@ -102,7 +103,8 @@ TEST_F(ServeScene, JsonListsTheSamplersAndTheirCacheFiles) {
   for (const auto& t : doc["textures"]) {
     const std::string sampler = t["sampler"];
     EXPECT_NE(doc["glsl"].get<std::string>().find(t["type"].get<std::string>() + " " + sampler + ";"),
-              std::string::npos) << sampler;
+              std::string::npos)
+        << sampler;
     EXPECT_TRUE(std::filesystem::exists(std::filesystem::path(cache) / t["file"].get<std::string>())) << t["file"];
   }
 }

@@ -15,8 +15,8 @@
 #include "serve/bakery.h"
 #include "serve/etag.h"
 #include "serve/http.h"
-#include "serve/request_head.h"
 #include "serve/request.h"
+#include "serve/request_head.h"
 #include "serve/service.h"
 #include "tests/temp_dir.h"
 #include "util/error.h"
@@ -33,9 +33,7 @@ template <class F>
 std::pair<int, std::string> refusal(F&& f) {
   try {
     f();
-  } catch (const RequestError& e) {
-    return {e.status(), e.what()};
-  }
+  } catch (const RequestError& e) { return {e.status(), e.what()}; }
   return {0, ""};
 }
 
@@ -67,7 +65,8 @@ TEST(ServeQuery, SplitsAtTheFirstEqualsAndDecodes) {
 }
 
 TEST(ServeRequest, EvalAcceptsAnglesToleranceAndASkyBelowTheHorizon) {
-  const EvalQuery q = parse_eval(parse_query("model=specular:alpha=8&law=g&theta_i=120&theta_j=30&phi=180&tol=1e-8"), Limits{});
+  const EvalQuery q =
+      parse_eval(parse_query("model=specular:alpha=8&law=g&theta_i=120&theta_j=30&phi=180&tol=1e-8"), Limits{});
   EXPECT_EQ(q.law, Law::g);
   EXPECT_EQ(q.model->spec(), "specular:alpha=8");
   ASSERT_TRUE(q.i && q.j);
@@ -134,8 +133,8 @@ TEST(ServeRequest, MixturesOfMoreLobesThanTheLimitAre413) {
 }
 
 TEST(ServeRequest, TableUsesTheCacheKeysOfBake) {
-  const TableQuery q = parse_table(parse_query("model=minnaert:xi=1&law=g&res=8x6x4&encoding=half&format=ktx2"), Limits{},
-                                   TableEndpoint::table);
+  const TableQuery q = parse_table(parse_query("model=minnaert:xi=1&law=g&res=8x6x4&encoding=half&format=ktx2"),
+                                   Limits{}, TableEndpoint::table);
   EXPECT_EQ(std::get<tables::BakeOptions>(q.options).resolution, (std::vector<int>{8, 6, 4}));
   EXPECT_EQ(tables::common(q.options).encoding, tables::Encoding::half);
   EXPECT_EQ(q.format, TableFormat::ktx2);
@@ -225,7 +224,8 @@ TEST(ServeRequest, TableRefusals) {
     EXPECT_EQ(got, 400) << query;
     EXPECT_NE(message.find(fragment), std::string::npos) << query << " -> " << message;
   }
-  const auto [status, message] = refusal([] { parse_table(parse_query("model=lambert&law=h&format=exr"), Limits{}, TableEndpoint::glsl); });
+  const auto [status, message] =
+      refusal([] { parse_table(parse_query("model=lambert&law=h&format=exr"), Limits{}, TableEndpoint::glsl); });
   EXPECT_EQ(status, 400) << "/api/glsl has no format";
   EXPECT_NE(message.find("unknown parameter 'format' for /api/glsl"), std::string::npos) << message;
 }
@@ -313,9 +313,7 @@ Burst burst(Bakery& bakery, int threads, bool same_key) {
         });
         joined += ticket.joined;
         bakery.wait(ticket, nullptr);
-      } catch (const Busy&) {
-        ++refused;
-      }
+      } catch (const Busy&) { ++refused; }
     });
   for (std::thread& t : pool) t.join();
   return {bakes.load(), refused.load(), joined.load()};
@@ -469,12 +467,12 @@ TEST_F(ServeService, TableIsBakedOnceThenServedWithItsEtag) {
 }
 
 TEST_F(ServeService, ErrorsAreOneLineJson) {
-  for (const auto& [path, query, status] : std::vector<std::tuple<std::string, std::string, int>>{
-           {"/api/eval", "model=lambert&law=q", 400},
-           {"/api/table", "model=lambert&law=g&res=1000", 413},
-           {"/etc/passwd", "", 404},
-           {"/api/models", "x=1", 400},
-           {"/api/eval", "model=%", 400}}) {
+  for (const auto& [path, query, status] :
+       std::vector<std::tuple<std::string, std::string, int>>{{"/api/eval", "model=lambert&law=q", 400},
+                                                              {"/api/table", "model=lambert&law=g&res=1000", 413},
+                                                              {"/etc/passwd", "", 404},
+                                                              {"/api/models", "x=1", 400},
+                                                              {"/api/eval", "model=%", 400}}) {
     const Reply r = get(path, query);
     EXPECT_EQ(r.status, status) << path << "?" << query;
     const auto doc = nlohmann::json::parse(r.body);
@@ -506,7 +504,8 @@ TEST_F(ServeService, SpecIsParsedByTheOneParser) {
            {"model=lambert&law=h", "unknown parameter 'law' for /api/spec; allowed: model"}}) {
     const Reply bad = get("/api/spec", query);
     EXPECT_EQ(bad.status, 400) << query;
-    EXPECT_NE(nlohmann::json::parse(bad.body)["error"].get<std::string>().find(fragment), std::string::npos) << bad.body;
+    EXPECT_NE(nlohmann::json::parse(bad.body)["error"].get<std::string>().find(fragment), std::string::npos)
+        << bad.body;
   }
 }
 

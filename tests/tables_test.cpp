@@ -1,5 +1,6 @@
 // Tables (tables/): bake -> write -> read -> sample against closed forms and the integrator, the
 // storage encodings, and every refusal of the reader and the baker.
+#include <unistd.h>
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -14,15 +15,14 @@
 #include <set>
 #include <string>
 #include <tuple>
-#include <unistd.h>
 
 #include <gtest/gtest.h>
 
-#include "util/atomic_file.h"
-#include "tests/largest_allocation.h"
-#include "tests/temp_dir.h"
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
+#include "tests/largest_allocation.h"
+#include "tests/temp_dir.h"
+#include "util/atomic_file.h"
 
 #include <OpenEXR/ImfChannelList.h>
 #include <OpenEXR/ImfFrameBuffer.h>
@@ -32,16 +32,16 @@
 #include <OpenEXR/ImfStringAttribute.h>
 
 #include "integrate/laws.h"
-#include "util/error.h"
-#include "util/hash.h"
 #include "models/spec.h"
 #include "tables/bake.h"
 #include "tables/cache.h"
 #include "tables/exr_io.h"
-#include "tables/sample.h"
 #include "tables/frame.h"
+#include "tables/sample.h"
 #include "tables/table.h"
 #include "tables/to_error.h"
+#include "util/error.h"
+#include "util/hash.h"
 
 // Suite names start with lower-case "lut" so that `ctest -R lut` selects exactly these tests.
 namespace ganzfeld {
@@ -77,7 +77,6 @@ constexpr std::uint64_t kSeed = 20240601;
 
 using testing_support::temp_dir;
 std::string temp_file(const std::string& name) { return (fs::path(temp_dir()) / name).string(); }
-
 
 Table bake_table(const std::string& spec, Law law, std::vector<int> res, Encoding enc = Encoding::single) {
   BakeOptions options;
@@ -127,11 +126,10 @@ TEST(Table, MappingsRoundTripAndEndsAreExact) {
 // and its warped nodes, tables/frame.h) is the same double as the quotient's. Elsewhere it divides.
 TEST(Table, IndexCoordinateIsTheQuotientToTheLastBit) {
   std::mt19937_64 random(11);
-  const Axis axes[] = {{"x", -1.0, 1.0, 9, Mapping::cos},  {"x", 0.0, 1.0, 9, Mapping::cos},
-                       {"x", 0.0, 1.0, 9, Mapping::sqrt},  {"x", 0.0, 1.0, 9, Mapping::linear},
-                       {"x", -3.0, 5.0, 9, Mapping::linear}, {"x", 0.0, pi, 9, Mapping::linear},
-                       {"x", 0.0, pi / 2, 9, Mapping::cos}, {"x", 0.1, 0.85, 9, Mapping::sqrt},
-                       {"x", -1.0, 2.0, 9, Mapping::linear}};
+  const Axis axes[] = {
+      {"x", -1.0, 1.0, 9, Mapping::cos},   {"x", 0.0, 1.0, 9, Mapping::cos},     {"x", 0.0, 1.0, 9, Mapping::sqrt},
+      {"x", 0.0, 1.0, 9, Mapping::linear}, {"x", -3.0, 5.0, 9, Mapping::linear}, {"x", 0.0, pi, 9, Mapping::linear},
+      {"x", 0.0, pi / 2, 9, Mapping::cos}, {"x", 0.1, 0.85, 9, Mapping::sqrt},   {"x", -1.0, 2.0, 9, Mapping::linear}};
   for (const Axis& axis : axes) {
     std::uniform_real_distribution<double> inside(axis.min, axis.max);
     for (int k = 0; k < 20000; ++k) {
@@ -140,8 +138,8 @@ TEST(Table, IndexCoordinateIsTheQuotientToTheLastBit) {
       const double u = axis.mapping == Mapping::linear ? t
                        : axis.mapping == Mapping::sqrt ? std::sqrt(t)
                                                        : std::acos(1.0 - 2.0 * t) / pi;
-      ASSERT_EQ(axis.index_coordinate(x), u) << to_string(axis.mapping) << " on [" << axis.min << ", " << axis.max
-                                             << "] at x = " << x;
+      ASSERT_EQ(axis.index_coordinate(x), u)
+          << to_string(axis.mapping) << " on [" << axis.min << ", " << axis.max << "] at x = " << x;
     }
   }
 }
@@ -393,8 +391,8 @@ struct RawExr {
     for (const char* name : {"value", "error"}) {
       auto& data = raw.channels[name];
       data.resize(static_cast<std::size_t>(raw.width) * raw.height);
-      frame.insert(name, Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(data.data()), sizeof(float),
-                                    sizeof(float) * raw.width));
+      frame.insert(
+          name, Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(data.data()), sizeof(float), sizeof(float) * raw.width));
     }
     in.setFrameBuffer(frame);
     in.readPixels(0, raw.height - 1);
@@ -409,8 +407,8 @@ struct RawExr {
     Imf::FrameBuffer frame;
     for (auto& [name, data] : channels) {
       h.channels().insert(name, Imf::Channel(Imf::FLOAT));
-      frame.insert(name, Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(data.data()), sizeof(float),
-                                    sizeof(float) * width));
+      frame.insert(name,
+                   Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(data.data()), sizeof(float), sizeof(float) * width));
     }
     Imf::OutputFile out(path.c_str(), h);
     out.setFrameBuffer(frame);
@@ -513,7 +511,8 @@ TEST_F(TableRefusal, ModelSpecIsNotParsed) {
 
 TEST_F(TableRefusal, ModelSpecBlankOrMultiLine) {
   for (const char* spec : {"", " ", "minnaert:xi=1\nlambert"})
-    expect_refused(valid_with("ganzfeld.model", spec, "bad_model.exr"), "expected one non-empty line of printable text");
+    expect_refused(valid_with("ganzfeld.model", spec, "bad_model.exr"),
+                   "expected one non-empty line of printable text");
 }
 
 // ganzfeld.model_content: optional, so tables written before it existed still read.
@@ -572,10 +571,8 @@ TEST(Table, CacheRebakesNumbersItCannotVerify) {
   EXPECT_EQ(why, "");
   for (const bool drop_digest : {false, true}) {
     RawExr raw = RawExr::load(path);
-    if (drop_digest)
-      raw.dropped.insert("ganzfeld.values_digest");
-    else
-      raw.channels["value"][4] *= 1.0f + 1e-6f;
+    if (drop_digest) raw.dropped.insert("ganzfeld.values_digest");
+    else raw.channels["value"][4] *= 1.0f + 1e-6f;
     raw.save(path);
     EXPECT_FALSE(read_if_matching(path, key, &why));
     EXPECT_NE(why.find(drop_digest ? "no ganzfeld.values_digest" : "do not match ganzfeld.values_digest"),
@@ -628,7 +625,8 @@ TEST_F(TableRefusal, ForgedSizesAreRefusedBeforeAllocating) {
     const std::string path = temp_file("forged.exr");
     std::ofstream(path, std::ios::binary | std::ios::trunc) << forge(attribute, offset, value);
     const auto start = std::chrono::steady_clock::now();
-    const std::size_t largest = testing_support::largest_allocation_during([&path, reason = reason] { expect_refused(path, reason); });
+    const std::size_t largest =
+        testing_support::largest_allocation_during([&path, reason = reason] { expect_refused(path, reason); });
     EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), kMaxSeconds);
     EXPECT_LT(largest, kMaxAllocationPerFileByte * bytes.size()) << attribute;
   }
@@ -718,7 +716,6 @@ TEST(Table, ReportedErrorCoversInterpolationBetweenNodes) {
     EXPECT_LE(misses, kAllowedMissFraction * kPoints) << c.spec;
   }
 }
-
 
 // --- Format version 2: the lobe frame, Catmull–Rom, baking to a lookup error -----------------
 
@@ -861,7 +858,8 @@ TEST(Table, Version1FilesStillRead) {
   write_table(bake_table("minnaert:xi=1", Law::h, {9}), path);
   RawExr raw = RawExr::load(path);
   raw.set("ganzfeld.format_version", "1");
-  for (const char* name : {"ganzfeld.frame", "ganzfeld.interpolation", "ganzfeld.lookup_error"}) raw.dropped.insert(name);
+  for (const char* name : {"ganzfeld.frame", "ganzfeld.interpolation", "ganzfeld.lookup_error"})
+    raw.dropped.insert(name);
   raw.save(path);
   const Table t = read_table(path);
   EXPECT_EQ(t.format_version, 1);
@@ -912,9 +910,9 @@ TEST(Table, MaxErrorBakeReportsAnHonestLookupError) {
     Encoding encoding = Encoding::single;
   };
   // unorm16 at 5e-5: its rounding (<= 7.6e-6 for a range of 1) is a visible part of E.
-  for (const Case& c : {Case{"specular:alpha=100", Law::g, 1e-3}, Case{"backscatter:alpha=20", Law::g, 1e-3},
-                        Case{"specular:alpha=1000", Law::h, 1e-6},
-                        Case{"specular:alpha=1000", Law::h, 5e-5, Encoding::unorm16}}) {
+  for (const Case& c :
+       {Case{"specular:alpha=100", Law::g, 1e-3}, Case{"backscatter:alpha=20", Law::g, 1e-3},
+        Case{"specular:alpha=1000", Law::h, 1e-6}, Case{"specular:alpha=1000", Law::h, 5e-5, Encoding::unorm16}}) {
     const ModelPtr model = parse_model(c.spec);
     TargetBake options;
     options.target.lookup_error = c.max_error;
@@ -929,11 +927,13 @@ TEST(Table, MaxErrorBakeReportsAnHonestLookupError) {
     EXPECT_EQ(table.encoding, c.encoding) << c.spec;
     const auto [misses, worst] = fresh_misses(*model, c.law, table, /*seed=*/4242, {WeightRounding::exact});
     std::printf("%s %s: %s nodes, lookup error %.3g, largest fresh error %.3g, %g misses of %d\n", c.spec,
-                to_string(c.law), resolution_text([&] {
+                to_string(c.law),
+                resolution_text([&] {
                   std::vector<int> r;
                   for (const Axis& a : table.axes) r.push_back(a.count);
                   return r;
-                }()).c_str(),
+                }())
+                    .c_str(),
                 table.lookup_error, worst, misses, kFreshPoints);
     EXPECT_LE(misses, kAllowedFreshMisses * kFreshPoints) << c.spec;
   }
@@ -961,15 +961,15 @@ TEST(Table, WarpedCoordinatesInvertWarpedDirections) {
   std::uniform_real_distribution<double> u(0.0, 1.0);
   warp.samples.back().across = 0.01;  // a thin arc at grazing: the whitened beta turns fast near pi/2
   for (double whitening : {0.0, kWarpBetaWhitening})
-  for (PeakKind peak : {PeakKind::mirror, PeakKind::retro})
-    for (int k = 0; k < 300; ++k) {
-      warp.beta_whitening = whitening;
-      const double y[3] = {0.01 + 1.5 * u(rng), 0.001 + 0.998 * u(rng), 0.01 + 3.1 * u(rng)};
-      const auto [i, j] = warped_directions(peak, warp, axes[0], y[0], y[1], y[2]);
-      const std::vector<double> x = coordinates(Law::g, i, j);
-      const std::array<double, 3> back = warped_coordinates(peak, warp, axes[0], x[0], x[1], x[2]);
-      for (int d = 0; d < 3; ++d) EXPECT_NEAR(back[d], y[d], kWarpRoundTrip) << to_string(peak) << " axis " << d;
-    }
+    for (PeakKind peak : {PeakKind::mirror, PeakKind::retro})
+      for (int k = 0; k < 300; ++k) {
+        warp.beta_whitening = whitening;
+        const double y[3] = {0.01 + 1.5 * u(rng), 0.001 + 0.998 * u(rng), 0.01 + 3.1 * u(rng)};
+        const auto [i, j] = warped_directions(peak, warp, axes[0], y[0], y[1], y[2]);
+        const std::vector<double> x = coordinates(Law::g, i, j);
+        const std::array<double, 3> back = warped_coordinates(peak, warp, axes[0], x[0], x[1], x[2]);
+        for (int d = 0; d < 3; ++d) EXPECT_NEAR(back[d], y[d], kWarpRoundTrip) << to_string(peak) << " axis " << d;
+      }
   // The whitened beta keeps the ends and pi/2, and rises faster than beta at pi/2 where along > across.
   WarpSample thin{0.0, 1.0, 0.1};
   EXPECT_DOUBLE_EQ(warped_beta(thin, 0.8, 1.0, 0.0, 0.0), 0.0);
@@ -1078,7 +1078,6 @@ TEST(Table, WarpedGgxTableErrsLessWithTheWhitenedBeta) {
   EXPECT_LT(whitened.lookup_error, 0.5 * plain.lookup_error);
 }
 
-
 // The 8-bit emulation: linear weights rounded to multiples of 1/256 (nearest, or down), which
 // moves a lookup by at most half (one) step of a cell's difference per axis, and never at nodes.
 TEST(Table, HardwareFilterEmulationRoundsTheWeights) {
@@ -1122,8 +1121,9 @@ TEST(Table, FetchBudgetBakeIsOneFilteredFetchWithAnHonestBound) {
     EXPECT_EQ(table.filter, Filter::hardware) << c.spec;
     EXPECT_EQ(table.target_fetches, 1) << c.spec;
     EXPECT_EQ(table.frame, c.law == Law::g ? Frame::warped : Frame::cosines) << c.spec;
-    const auto [misses, worst] = fresh_misses(
-        *model, c.law, table, /*seed=*/4243, {WeightRounding::exact, WeightRounding::nearest, WeightRounding::truncate});
+    const auto [misses, worst] =
+        fresh_misses(*model, c.law, table, /*seed=*/4243,
+                     {WeightRounding::exact, WeightRounding::nearest, WeightRounding::truncate});
     std::printf("%s %s --fetches 1: lookup error %.3g, largest fresh error %.3g, %zu value bytes, %g misses of %d\n",
                 c.spec, to_string(c.law), table.lookup_error, worst, static_cast<std::size_t>(value_bytes(table)),
                 misses, kFreshPoints);
@@ -1146,9 +1146,10 @@ TEST(Table, FetchBudgetFallsBackToTexelFetchWhereFilterWeightsCannotReach) {
   EXPECT_EQ(fetches(table), 2);
   EXPECT_EQ(table.target_fetches, 2);
   const auto [misses, worst] = fresh_misses(*model, Law::h, table, /*seed=*/4244, {WeightRounding::exact});
-  std::printf("h --max-error 1e-5 --fetches 2 --max-bytes 1024: lookup error %.3g, largest fresh error %.3g, %zu "
-              "value bytes, %g misses of %d\n", table.lookup_error, worst, static_cast<std::size_t>(value_bytes(table)),
-              misses, kFreshPoints);
+  std::printf(
+      "h --max-error 1e-5 --fetches 2 --max-bytes 1024: lookup error %.3g, largest fresh error %.3g, %zu "
+      "value bytes, %g misses of %d\n",
+      table.lookup_error, worst, static_cast<std::size_t>(value_bytes(table)), misses, kFreshPoints);
   EXPECT_LE(misses, kAllowedFreshMisses * kFreshPoints);
   // One fetch cannot: the refusal names the best it found at one fetch.
   options.target.max_fetches = 1;
@@ -1182,7 +1183,8 @@ TEST(Table, GgxLawsAreAffineInF0) {
   const ModelPtr mid = parse_model("ggx:roughness=0.4,f0=0.3");
   CubatureOptions options;
   options.abs_tol = kLinearityTol;
-  for (const auto& [ci, cj, phi] : {std::tuple{0.3, 0.8, 0.5}, std::tuple{-0.2, 0.1, 2.5}, std::tuple{0.9, 0.05, 0.0}}) {
+  for (const auto& [ci, cj, phi] :
+       {std::tuple{0.3, 0.8, 0.5}, std::tuple{-0.2, 0.1, 2.5}, std::tuple{0.9, 0.05, 0.0}}) {
     const Vec3 i = direction_from_cos(ci), j = direction_from_cos(cj, phi);
     const double want = 0.7 * vignetting(*g0, i, j, options).value + 0.3 * vignetting(*g1, i, j, options).value;
     EXPECT_NEAR(vignetting(*mid, i, j, options).value, want, 4 * kLinearityTol);

@@ -1,9 +1,9 @@
 // A per-process temporary directory for a test binary, removed after the last test.
 #pragma once
 
+#include <unistd.h>
 #include <filesystem>
 #include <string>
-#include <unistd.h>
 
 #include <gtest/gtest.h>
 
@@ -12,7 +12,8 @@ namespace ganzfeld::testing_support {
 /// <system temp>/ganzfeld_test-<pid> (one per test process), created on first use.
 inline std::string temp_dir() {
   static const std::string dir = [] {
-    const std::filesystem::path d = std::filesystem::temp_directory_path() / ("ganzfeld_test-" + std::to_string(::getpid()));
+    const std::filesystem::path d =
+        std::filesystem::temp_directory_path() / ("ganzfeld_test-" + std::to_string(::getpid()));
     std::filesystem::create_directories(d);
     return d.string();
   }();

@@ -10,8 +10,8 @@
 
 #include "integrate/cubature.h"
 #include "integrate/laws.h"
-#include "util/error.h"
 #include "models/spec.h"
+#include "util/error.h"
 
 namespace ganzfeld::testing_support {
 

@@ -66,10 +66,12 @@ nlohmann::json page_result(const std::string& path) {
     throw std::runtime_error("no <pre id=\"result\"> in the page");
   std::string text = dom.substr(begin + 1, end - begin - 1);
   for (const auto& [escape, c] : {std::pair{"&lt;", "<"}, std::pair{"&gt;", ">"}, std::pair{"&amp;", "&"}})
-    for (std::size_t at; (at = text.find(escape)) != std::string::npos;) text.replace(at, std::string(escape).size(), c);
+    for (std::size_t at; (at = text.find(escape)) != std::string::npos;)
+      text.replace(at, std::string(escape).size(), c);
   nlohmann::json page = nlohmann::json::parse(text);
   if (page.contains("error")) throw std::runtime_error("the page failed: " + page["error"].get<std::string>());
-  if (!page.value("webgl2", false)) throw std::runtime_error("the page reports no WebGL2: " + page.dump().substr(0, 200));
+  if (!page.value("webgl2", false))
+    throw std::runtime_error("the page reports no WebGL2: " + page.dump().substr(0, 200));
   return page;
 }
 
@@ -98,7 +100,8 @@ int compare_pixels(const std::string& reference_path, const std::string& page_pa
     throw std::runtime_error("page " + std::to_string(w) + "x" + std::to_string(h) + " but reference " +
                              std::to_string(reference.width) + "x" + std::to_string(reference.height));
   const std::vector<std::uint8_t> rgba = base64(page.at("rgba").get<std::string>());
-  if (rgba.size() != 4u * w * h) throw std::runtime_error("the page's pixels are not " + std::to_string(4 * w * h) + " bytes");
+  if (rgba.size() != 4u * w * h)
+    throw std::runtime_error("the page's pixels are not " + std::to_string(4 * w * h) + " bytes");
   int compared = 0, within = 0, coverage = 0, worst = 0;
   std::map<int, int> histogram;  // largest channel difference -> pixels
   std::vector<std::string> beyond;
@@ -111,7 +114,11 @@ int compare_pixels(const std::string& reference_path, const std::string& page_pa
       ++compared;
       int difference = 0;
       for (int c = 0; c < 3; ++c) difference = std::max(difference, std::abs(int{p[c]} - int{r[c]}));
-      ++histogram[difference <= kLsb ? difference : difference <= 4 ? 4 : difference <= 8 ? 8 : difference <= 16 ? 16 : 255];
+      ++histogram[difference <= kLsb ? difference
+                  : difference <= 4  ? 4
+                  : difference <= 8  ? 8
+                  : difference <= 16 ? 16
+                                     : 255];
       worst = std::max(worst, difference);
       if (difference <= kLsb) {
         ++within;
@@ -126,16 +133,23 @@ int compare_pixels(const std::string& reference_path, const std::string& page_pa
     }
   if (compared == 0) throw std::runtime_error("no pixel covered by either image");
   const double fraction = static_cast<double>(within) / compared;
-  std::printf("%s vs %s: %d pixels covered, %d (%.3f%%) within %d LSB in every channel, %d beyond (%d at the silhouette's "
-              "coverage, %d shading), largest %d LSB\n",
-              page_path.c_str(), reference_path.c_str(), compared, within, 100.0 * fraction, kLsb,
-              compared - within, coverage, compared - within - coverage, worst);
+  std::printf(
+      "%s vs %s: %d pixels covered, %d (%.3f%%) within %d LSB in every channel, %d beyond (%d at the silhouette's "
+      "coverage, %d shading), largest %d LSB\n",
+      page_path.c_str(), reference_path.c_str(), compared, within, 100.0 * fraction, kLsb, compared - within, coverage,
+      compared - within - coverage, worst);
   for (const std::string& line : beyond) std::printf("%s\n", line.c_str());
   nlohmann::json counts = nlohmann::json::object();
   for (const auto& [d, n] : histogram) counts[std::to_string(d)] = n;
-  std::printf("json: %s\n", nlohmann::json{{"page", page_path}, {"covered", compared}, {"within", within},
-                                           {"fraction", fraction}, {"coverage", coverage}, {"largest", worst},
-                                           {"histogram", counts}}.dump().c_str());
+  std::printf("json: %s\n", nlohmann::json{{"page", page_path},
+                                           {"covered", compared},
+                                           {"within", within},
+                                           {"fraction", fraction},
+                                           {"coverage", coverage},
+                                           {"largest", worst},
+                                           {"histogram", counts}}
+                                .dump()
+                                .c_str());
   if (mode == "--report") return 0;
   if (mode == "--expect-mismatch") return fraction < kMismatchFraction ? 0 : 1;
   return fraction >= kTargetFraction ? 0 : 1;
@@ -180,12 +194,18 @@ int compare_lookups(const std::string& cache, const std::string& page_path) {
         if (!(difference <= bound)) ++beyond;
         if (!(difference <= worst)) worst = difference, worst_at = p;
       }
-      std::printf("%s law %s: %zu points, max |GPU - sample| %.3g at point %zu (%.2f of the bound %.3g = %.0e x the "
-                  "table's largest value %.3g + %.0e; the table's lookup error %.3g), %zu beyond\n",
-                  model.c_str(), k < 2 ? "g" : "h", points.size(), worst, worst_at, worst / bound, bound, kFloatRelative,
-                  scale, kFloatAbsolute, table.lookup_error, beyond);
-      summary.push_back({{"model", model}, {"law", k < 2 ? "g" : "h"}, {"points", points.size()}, {"max", worst},
-                         {"bound", bound}, {"lookup_error", table.lookup_error}, {"beyond", beyond}});
+      std::printf(
+          "%s law %s: %zu points, max |GPU - sample| %.3g at point %zu (%.2f of the bound %.3g = %.0e x the "
+          "table's largest value %.3g + %.0e; the table's lookup error %.3g), %zu beyond\n",
+          model.c_str(), k < 2 ? "g" : "h", points.size(), worst, worst_at, worst / bound, bound, kFloatRelative, scale,
+          kFloatAbsolute, table.lookup_error, beyond);
+      summary.push_back({{"model", model},
+                         {"law", k < 2 ? "g" : "h"},
+                         {"points", points.size()},
+                         {"max", worst},
+                         {"bound", bound},
+                         {"lookup_error", table.lookup_error},
+                         {"beyond", beyond}});
       failures += beyond > 0;
     }
   }
@@ -202,8 +222,9 @@ int main(int argc, char** argv) {
         (args.size() == 3 || args[3] == "--expect-mismatch" || args[3] == "--report"))
       return compare_pixels(args[1], args[2], args.size() == 4 ? args[3] : "");
     if (args.size() == 3 && args[0] == "lookups") return compare_lookups(args[1], args[2]);
-    std::fprintf(stderr, "usage: threejs_compare pixels REF.png PAGE.html [--expect-mismatch | --report]\n"
-                         "       threejs_compare lookups CACHE_DIR PAGE.html\n");
+    std::fprintf(stderr,
+                 "usage: threejs_compare pixels REF.png PAGE.html [--expect-mismatch | --report]\n"
+                 "       threejs_compare lookups CACHE_DIR PAGE.html\n");
     return 2;
   } catch (const std::exception& e) {
     std::printf("%s: %s\n", args.size() > 2 ? args[2].c_str() : "threejs_compare", e.what());

@@ -3,6 +3,7 @@
 // at the reference points (and, within a measured margin, at fresh points) through the file and
 // the lookup that `ganzfeld sample` uses, and docs/tradeoff.md is not stale.
 // Suite names start with "tradeoff" so that `ctest -R tradeoff` selects exactly these tests.
+#include <unistd.h>
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -10,18 +11,17 @@
 #include <fstream>
 #include <sstream>
 #include <string>
-#include <unistd.h>
 
 #include <gtest/gtest.h>
 
 #include "integrate/laws.h"
-#include "util/error.h"
 #include "models/spec.h"
+#include "reports/schemes.h"
+#include "reports/tradeoff.h"
 #include "tables/bake.h"
 #include "tables/exr_io.h"
 #include "tables/sample.h"
-#include "reports/schemes.h"
-#include "reports/tradeoff.h"
+#include "util/error.h"
 
 namespace ganzfeld {
 using namespace ganzfeld::tables;
@@ -70,7 +70,7 @@ const TradeoffReport& quick_report() {
     options.points = kQuickPoints;
     options.seed = kDocsSeed;
     TradeoffPlan plan = quick_plan(Law::g);  // 3 resolutions x 2 mapping sets x half, float
-    plan.tolerances = {kTolerance};           // each test binary process recomputes this: keep it ~1 s
+    plan.tolerances = {kTolerance};          // each test binary process recomputes this: keep it ~1 s
     return measure_tradeoff(*model, Law::g, plan, options);
   }();
   return report;

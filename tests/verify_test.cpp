@@ -9,8 +9,8 @@
 #include <gtest/gtest.h>
 
 #include "integrate/laws.h"
-#include "reports/verify.h"
 #include "models/kp_lobes.h"
+#include "reports/verify.h"
 
 namespace ganzfeld {
 namespace {
@@ -22,11 +22,11 @@ const std::vector<CheckResult>& report() {
 
 TEST(Verify, ChecksEveryPrintedClaimOfThePapers) {
   const std::set<std::string> required{
-      "lambert.g", "lambert.h", "lambert.a", "lambert.r", "minnaert.g.xi1", "minnaert.g.hyp2f1",
-      "minnaert.g.betainc", "minnaert.h", "minnaert.a", "minnaert.r", "minnaert.norm", "specular.a.alpha1",
-      "specular.a.alpha8", "specular.norm", "backscatter.g.alpha1", "backscatter.h.alpha1", "backscatter.norm",
-      "perfect-backscatter.norm", "perfect-backscatter.retro", "asperity.g.alpha1", "asperity.h.alpha1",
-      "asperity.norm", "reciprocity.a_equals_h", "mixture.plausible",
+      "lambert.g", "lambert.h", "lambert.a", "lambert.r", "minnaert.g.xi1", "minnaert.g.hyp2f1", "minnaert.g.betainc",
+      "minnaert.h", "minnaert.a", "minnaert.r", "minnaert.norm", "specular.a.alpha1", "specular.a.alpha8",
+      "specular.norm", "backscatter.g.alpha1", "backscatter.h.alpha1", "backscatter.norm", "perfect-backscatter.norm",
+      "perfect-backscatter.retro", "asperity.g.alpha1", "asperity.h.alpha1", "asperity.norm", "reciprocity.a_equals_h",
+      "mixture.plausible",
       // the microfacet models (reports/verify_ggx.cpp)
       "ggx.norm", "ggx.g1", "ggx.furnace.e11", "charlie.norm",
       // the catalogue's later models (reports/verify_catalogue.cpp)
@@ -65,7 +65,7 @@ TEST(Verify, EveryMatchingOrCorrectedFormAgreesToTheReferenceError) {
 // decide for itself: exactly these six, every other check matches.
 TEST(Verify, TheErrataAreExactlyTheSixFound) {
   const std::set<std::string> errata{"minnaert.g.hyp2f1", "minnaert.g.betainc", "backscatter.g.alpha1",
-                                     "backscatter.norm", "asperity.g.alpha1", "schlick.a.norm"};
+                                     "backscatter.norm",  "asperity.g.alpha1",  "schlick.a.norm"};
   std::set<std::string> found;
   for (const auto& c : report())
     if (c.erratum) found.insert(c.id);
@@ -88,9 +88,7 @@ TEST(Verify, PrintedAsperityVignettingIsTheAlphaTwoResult) {
 // the albedo at alpha = 1, i.e. the check is not vacuous.
 TEST(Verify, ErrataAreRealDisagreements) {
   for (const auto& c : report())
-    if (c.erratum) {
-      EXPECT_GT(c.max_abs_error, 100 * kAgreement) << c.id;
-    }
+    if (c.erratum) { EXPECT_GT(c.max_abs_error, 100 * kAgreement) << c.id; }
 }
 
 TEST(Verify, CommittedErrataAreUpToDate) {

@@ -19,13 +19,13 @@
 // --expect-mismatch, when more than kMinMismatchFraction of them are not: a parameter change
 // must change the image), 1 otherwise; one summary line either way.
 #include <algorithm>
-#include <cstdlib>
-#include <vector>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <iterator>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -49,10 +49,12 @@ std::string read_file(const char* path) {
 nlohmann::json page_result(const std::string& dom) {
   const std::string open = "<pre id=\"result\">";
   const std::size_t begin = dom.find(open), end = dom.find("</pre>", begin);
-  if (begin == std::string::npos || end == std::string::npos) throw std::runtime_error("no <pre id=\"result\"> in the page");
+  if (begin == std::string::npos || end == std::string::npos)
+    throw std::runtime_error("no <pre id=\"result\"> in the page");
   std::string text = dom.substr(begin + open.size(), end - begin - open.size());
   for (const auto& [escape, c] : {std::pair{"&lt;", "<"}, std::pair{"&gt;", ">"}, std::pair{"&amp;", "&"}})
-    for (std::size_t at; (at = text.find(escape)) != std::string::npos;) text.replace(at, std::string(escape).size(), c);
+    for (std::size_t at; (at = text.find(escape)) != std::string::npos;)
+      text.replace(at, std::string(escape).size(), c);
   return nlohmann::json::parse(text);
 }
 
@@ -77,7 +79,8 @@ int main(int argc, char** argv) {
     const ganzfeld::raster::Image reference = ganzfeld::raster::read_image(argv[1]);
     const nlohmann::json page = page_result(read_file(argv[2]));
     if (page.contains("error")) throw std::runtime_error("the page failed: " + page["error"].get<std::string>());
-    if (!page.value("webgl2", false)) throw std::runtime_error("the page reports no WebGL2: " + page.dump().substr(0, 200));
+    if (!page.value("webgl2", false))
+      throw std::runtime_error("the page reports no WebGL2: " + page.dump().substr(0, 200));
     const int w = page.at("width"), h = page.at("height");
     if (w != reference.width || h != reference.height)
       throw std::runtime_error("page " + std::to_string(w) + "x" + std::to_string(h) + " but reference " +
@@ -98,9 +101,10 @@ int main(int argc, char** argv) {
           worst = std::max(worst, difference);
           beyond += difference > lsb;
         }
-      std::printf("%s: %d pixels compared as shown (8-bit sRGB): largest difference %d LSB (%d at 0, %d at 1, %d at 2, "
-                  "%d beyond); allowed %d\n",
-                  argv[2], compared, worst, histogram[0], histogram[1], histogram[2], histogram[3], lsb);
+      std::printf(
+          "%s: %d pixels compared as shown (8-bit sRGB): largest difference %d LSB (%d at 0, %d at 1, %d at 2, "
+          "%d beyond); allowed %d\n",
+          argv[2], compared, worst, histogram[0], histogram[1], histogram[2], histogram[3], lsb);
       if (compared < kMinCompared) throw std::runtime_error("too few sphere pixels compared");
       return beyond == 0 ? 0 : 1;
     }
@@ -119,11 +123,12 @@ int main(int argc, char** argv) {
         worst = std::max(worst, difference);
         worst_relative = std::max(worst_relative, difference / std::max(std::abs(cpu), 1e-12));
       }
-    std::printf("%s: %d pixels compared, %d beyond %.0e relative + %.0e; max |page - render| %.3g (%.3g relative); "
-                "nearest the bound: pixel (%d, %d), page %.9g, render %.9g (%.2f of the bound)\n",
-                argv[2], compared, beyond, kFloatRelative, absolute, worst, worst_relative, worst_x, worst_y,
-                value[static_cast<std::size_t>(worst_y) * w + worst_x].get<double>(), reference.at(worst_x, worst_y)[0],
-                worst_excess);
+    std::printf(
+        "%s: %d pixels compared, %d beyond %.0e relative + %.0e; max |page - render| %.3g (%.3g relative); "
+        "nearest the bound: pixel (%d, %d), page %.9g, render %.9g (%.2f of the bound)\n",
+        argv[2], compared, beyond, kFloatRelative, absolute, worst, worst_relative, worst_x, worst_y,
+        value[static_cast<std::size_t>(worst_y) * w + worst_x].get<double>(), reference.at(worst_x, worst_y)[0],
+        worst_excess);
     if (compared < kMinCompared) throw std::runtime_error("too few sphere pixels compared");
     const bool mismatch = beyond > kMinMismatchFraction * compared;
     return (expect_mismatch ? mismatch : beyond == 0) ? 0 : 1;

@@ -1,10 +1,10 @@
 #include "util/atomic_file.h"
 
+#include <unistd.h>
 #include <atomic>
 #include <filesystem>
 #include <fstream>
 #include <stdexcept>
-#include <unistd.h>
 
 #include "util/error.h"
 
@@ -46,9 +46,7 @@ void write_atomically(const std::string& path, const std::function<void(const st
   } catch (const InputError&) {
     remove_temp();
     throw;
-  } catch (const std::exception& e) {
-    refuse(e.what());
-  }
+  } catch (const std::exception& e) { refuse(e.what()); }
   std::error_code ec;
   fs::rename(temp, path, ec);
   if (ec) refuse(ec.message());

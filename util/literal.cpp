@@ -8,7 +8,8 @@
 namespace ganzfeld {
 
 std::string decimal_literal(double x) {
-  if (!std::isfinite(x)) throw InputError("cannot write the non-finite number " + std::to_string(x) + " into source code");
+  if (!std::isfinite(x))
+    throw InputError("cannot write the non-finite number " + std::to_string(x) + " into source code");
   char buffer[40];
   std::snprintf(buffer, sizeof buffer, "%.9g", x);
   std::string text = buffer;

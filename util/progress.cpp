@@ -1,8 +1,8 @@
 #include "util/progress.h"
 
+#include <unistd.h>
 #include <cstdio>
 #include <memory>
-#include <unistd.h>
 
 #include "util/timing.h"
 
