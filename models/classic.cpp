@@ -460,14 +460,25 @@ double Lafortune::f(const Vec3& i, const Vec3& j) const noexcept {
 }
 
 std::optional<GlslF> Lafortune::glsl_f() const {
-  std::string body = std::string(kGlslBelowHorizon) + "  float sum = " + decimal_literal(kd_ / pi) + ";\n  float x;\n";
+  // As f, for the directions î, ĵ of i, j (the CPU's are unit): x = (C∘ĵ)·î = |C∘ĵ| cos, with
+  // cos = î·û, û = C∘ĵ/|C∘ĵ|, so x^n = (1 + s)^(n/2) cos^n, s = Σ (C_k² − 1) ĵ_k² / |ĵ|² (0 for a mirror,
+  // every |C_k| = 1), and 1 − cos = |î − û|²/2 formed without cancellation (gz_pow_pair): x^n rounded
+  // from x itself errs by n ulps (n up to 10^4).
+  std::string body = std::string(kGlslBelowHorizon) + "  float sum = " + decimal_literal(kd_ / pi) +
+                     ";\n  vec3 in_ = normalize(i), jn = normalize(j), u, d;\n";
   double power = 0.0;
   for (const Lobe& l : lobes_) {
-    body += "  x = " + decimal_literal(l.C_x) + " * i.x * j.x + " + decimal_literal(l.C_y) + " * i.y * j.y + " +
-            decimal_literal(l.C_z) + " * i.z * j.z;\n  if (x > 0.0) sum += pow(x, " + decimal_literal(l.n) + ");\n";
+    const std::string c =
+        "vec3(" + decimal_literal(l.C_x) + ", " + decimal_literal(l.C_y) + ", " + decimal_literal(l.C_z) + ")";
+    const std::string c2m1 = "vec3(" + decimal_literal(l.C_x * l.C_x - 1.0) + ", " +
+                             decimal_literal(l.C_y * l.C_y - 1.0) + ", " + decimal_literal(l.C_z * l.C_z - 1.0) + ")";
+    body += "  u = " + c + " * jn;\n  if (dot(in_, u) > 0.0) {\n    u = normalize(u);\n    d = in_ - u;\n" +
+            "    sum += exp(" + decimal_literal(0.5 * l.n) + " * gz_log1p(dot(" + c2m1 +
+            " * jn, jn) / dot(jn, jn))) * gz_pow_pair(dot(in_, u), 0.5 * dot(d, d), " + decimal_literal(l.n) +
+            ");\n  }\n";
     power = std::max(power, l.n);
   }
-  return GlslF{body + "  return sum;\n", {}, power};
+  return GlslF{body + "  return sum;\n", {"gz_log1p", "gz_pow_pair"}, power};
 }
 
 MassHints Lafortune::mass_hints(const Vec3& fixed, Varying) const {
