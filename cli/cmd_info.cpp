@@ -23,14 +23,8 @@ struct InfoArgs {
 /// info of a format version 3 table: preset, axes with their grid, channels with definitions.
 int param_info(const std::string& path, bool json) {
   const tables::ParamTable table = tables::read_param_table(path);
-  nlohmann::ordered_json axes = nlohmann::ordered_json::array(), channels = nlohmann::ordered_json::array();
-  for (const tables::Axis& a : table.axes)
-    axes.push_back({{"name", a.name},
-                    {"min", a.min},
-                    {"max", a.max},
-                    {"count", a.count},
-                    {"mapping", to_string(a.mapping)},
-                    {"grid", to_string(table.grid)}});
+  const nlohmann::ordered_json axes = tables::param_axes_json(table);
+  nlohmann::ordered_json channels = nlohmann::ordered_json::array();
   for (const tables::Channel& ch : table.channels) {
     const double max_error = ch.node_error();
     channels.push_back({{"name", ch.name},

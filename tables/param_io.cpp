@@ -52,13 +52,8 @@ Imf::FrameBuffer frame_buffer(ParamTable& table) {
 
 }  // namespace
 
-void write_param_table(const ParamTable& table, const std::string& path) {
-  check_param_table(table);
-  const int width = table.axes[1].count, height = table.axes[0].count;
-  const Imf::PixelType type = table.encoding == Encoding::half ? Imf::HALF : Imf::FLOAT;
-  Imf::Header header(width, height);
-  header.compression() = Imf::ZIP_COMPRESSION;
-  nlohmann::ordered_json axes = nlohmann::ordered_json::array(), channels = nlohmann::ordered_json::array();
+nlohmann::ordered_json param_axes_json(const ParamTable& table) {
+  nlohmann::ordered_json axes = nlohmann::ordered_json::array();
   for (const Axis& a : table.axes)
     axes.push_back({{"name", a.name},
                     {"min", a.min},
@@ -66,6 +61,17 @@ void write_param_table(const ParamTable& table, const std::string& path) {
                     {"count", a.count},
                     {"mapping", to_string(a.mapping)},
                     {"grid", to_string(table.grid)}});
+  return axes;
+}
+
+void write_param_table(const ParamTable& table, const std::string& path) {
+  check_param_table(table);
+  const int width = table.axes[1].count, height = table.axes[0].count;
+  const Imf::PixelType type = table.encoding == Encoding::half ? Imf::HALF : Imf::FLOAT;
+  Imf::Header header(width, height);
+  header.compression() = Imf::ZIP_COMPRESSION;
+  const nlohmann::ordered_json axes = param_axes_json(table);
+  nlohmann::ordered_json channels = nlohmann::ordered_json::array();
   for (const Channel& ch : table.channels) {
     header.channels().insert(ch.name, Imf::Channel(type));
     header.channels().insert(ch.name + kErrorSuffix, Imf::Channel(type));

@@ -10,6 +10,8 @@
 #include <utility>
 #include <vector>
 
+#include <nlohmann/json_fwd.hpp>
+
 #include "tables/table.h"
 
 namespace ganzfeld::tables {
@@ -101,6 +103,9 @@ std::vector<std::pair<double, double>> param_validation_points(const ParamTable&
 /// Writes the table as an OpenEXR file of format version 3 (docs/lut-format.md), atomically;
 /// check_param_table first, so nothing read_param_table refuses is ever written.
 void write_param_table(const ParamTable& table, const std::string& path);
+/// The table's axes as the JSON array the file's `ganzfeld.axes` attribute and `info --json` hold:
+/// [{name, min, max, count, mapping, grid}, ...], slowest first (docs/lut-format.md).
+nlohmann::ordered_json param_axes_json(const ParamTable& table);
 /// Reads a version 3 table; refuses (InputError "table 'PATH': ...", one line) anything else.
 ParamTable read_param_table(const std::string& path);
 /// The ganzfeld.format_version of a file that is an OpenEXR file with that attribute (and sizes
