@@ -4,12 +4,15 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <tuple>
+#include <utility>
 
 #include <nlohmann/json.hpp>
 
 #include "cli/args.h"
 #include "cli/commands.h"
 #include "models/registry.h"
+#include "models/text_data.h"
 #include "reports/extremes.h"
 #include "util/atomic_file.h"
 #include "util/progress.h"
@@ -23,10 +26,8 @@ struct ExtremesArgs {
   bool json = false, markdown = false, quick = false, defaults_only = false;
   double tol = 1e-8;
   std::vector<std::string> models;
-  std::string csv;
+  std::string csv, keep;
 };
-
-nlohmann::ordered_json vector_json(const Vec3& v) { return {v.x, v.y, v.z}; }
 
 nlohmann::ordered_json extremes_json(const std::vector<ExtremesRow>& rows, const ExtremesOptions& options,
                                      double seconds) {
@@ -34,22 +35,7 @@ nlohmann::ordered_json extremes_json(const std::vector<ExtremesRow>& rows, const
       {"tolerance", options.engine_tolerance}, {"seconds", seconds}, {"models", nlohmann::ordered_json::array()}};
   for (const auto& r : rows) {
     nlohmann::ordered_json flagged = nlohmann::ordered_json::array();
-    for (const ExtremesCase& c : r.flagged)
-      flagged.push_back({{"spec", c.spec},
-                         {"law", to_string(c.law)},
-                         {"i", vector_json(c.i)},
-                         {"j", vector_json(c.j)},
-                         {"value", c.engine.value},
-                         {"error", c.engine.error},
-                         {"converged", c.converged},
-                         {"finite", c.finite},
-                         {"reference", c.reference},
-                         {"reference_error", c.reference_error},
-                         {"second_reference", c.second_reference},
-                         {"second_reference_error", c.second_reference_error},
-                         {"dishonest", c.dishonest},
-                         {"references_disagree", c.references_disagree},
-                         {"reference_unresolved", c.reference_unresolved}});
+    for (const ExtremesCase& c : r.flagged) flagged.push_back(extremes_case_json(c));
     doc["models"].push_back({{"model", r.model},
                              {"specs", r.specs},
                              {"refused", r.refused},
@@ -63,6 +49,37 @@ nlohmann::ordered_json extremes_json(const std::vector<ExtremesRow>& rows, const
                              {"flagged", flagged}});
   }
   return doc;
+}
+
+/// The grid model by model, each model's row kept in DIR/MODEL.json once measured and read back
+/// instead of measured again: a run cut off after hours resumes where it stopped. Returns the rows
+/// and the summed wall time of the runs that measured them.
+std::pair<std::vector<ExtremesRow>, double> kept_extremes_report(const ExtremesOptions& options,
+                                                                 const std::string& dir) {
+  std::filesystem::create_directories(dir);
+  std::vector<ExtremesRow> rows;
+  double wall_seconds = 0.0;
+  for (const std::string& model : extremes_models(options)) {
+    const std::string path = (std::filesystem::path(dir) / (model + ".json")).string();
+    if (std::filesystem::exists(path)) {
+      KeptExtremesRow kept =
+          extremes_row_from_json(read_text_file(path, "kept extremes row '" + path + "'"), options, path);
+      wall_seconds += kept.wall_seconds;
+      rows.push_back(std::move(kept.row));
+      continue;
+    }
+    ExtremesOptions one = options;
+    one.models = {model};
+    const util::Stopwatch watch;
+    std::vector<ExtremesRow> measured = extremes_report(one);
+    const double seconds = watch.seconds();
+    for (ExtremesRow& row : measured) {  // one row, or none when every spec of the model is refused
+      write_text_atomically(path, extremes_row_json(row, options, seconds));
+      rows.push_back(std::move(row));
+    }
+    wall_seconds += seconds;
+  }
+  return {std::move(rows), wall_seconds};
 }
 
 /// The progress bar (on a terminal) and, at once, one line per dishonest or non-finite case.
@@ -94,6 +111,9 @@ void add_extremes_command(CLI::App& app, Action& action) {
   cmd->add_option("--csv", args->csv,
                   "also write every case of the grid to FILE (CSV; with --markdown the section "
                   "links it by its file name, so put it beside the document)");
+  cmd->add_option("--keep", args->keep,
+                  "keep each model's cases in DIR/MODEL.json and reuse those an earlier run with the same "
+                  "options measured (the whole grid runs for hours; empty DIR after changing the engine)");
   cmd->callback([&action, args] {
     action = [args] {
       validate_tolerance(args->tol);
@@ -106,8 +126,14 @@ void add_extremes_command(CLI::App& app, Action& action) {
       options.defaults_only = args->defaults_only;
       options.on_case = extremes_progress();
       const util::Stopwatch watch;
-      const auto rows = extremes_report(options);
-      const double seconds = watch.seconds();
+      std::vector<ExtremesRow> rows;
+      double seconds = 0.0;
+      if (args->keep.empty()) {
+        rows = extremes_report(options);
+        seconds = watch.seconds();
+      } else {
+        std::tie(rows, seconds) = kept_extremes_report(options, args->keep);
+      }
       std::vector<std::string> words{"ganzfeld", "extremes"};
       if (args->markdown) words.push_back("--markdown");
       if (args->quick) words.push_back("--quick");
@@ -115,11 +141,12 @@ void add_extremes_command(CLI::App& app, Action& action) {
       if (args->tol != 1e-8) words.insert(words.end(), {"--tol", format_number(args->tol)});
       for (const std::string& name : args->models) words.insert(words.end(), {"--model", name});
       if (!args->csv.empty()) words.insert(words.end(), {"--csv", args->csv});
+      if (!args->keep.empty()) words.insert(words.end(), {"--keep", "DIR"});
       const std::string command = shell_line(words);
       if (!args->csv.empty()) write_text_atomically(args->csv, extremes_csv(rows, command));
       if (args->markdown) {
         const std::string csv_name = args->csv.empty() ? "" : std::filesystem::path(args->csv).filename().string();
-        std::cout << extremes_markdown(rows, options, command, seconds, csv_name);
+        std::cout << extremes_markdown(rows, options, command, seconds, csv_name, !args->keep.empty());
       } else if (args->json) {
         std::cout << extremes_json(rows, options, seconds).dump(2) << "\n";
       } else {

@@ -10,9 +10,11 @@
 #include <optional>
 #include <set>
 #include <sstream>
+#include <utility>
 
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
+#include <nlohmann/json.hpp>
 
 #include "models/registry.h"
 #include "models/spec.h"
@@ -256,6 +258,23 @@ void add_jobs(std::size_t spec, const ModelPtr& model, bool hvd, bool quick, std
   }
 }
 
+/// Counts one case into its model's row (and keeps it among the flagged when it is not plainly honest).
+void add_case(ExtremesRow& row, ExtremesCase c, double seconds) {
+  c.seconds = seconds;
+  ++row.cases;
+  row.seconds += seconds;
+  row.non_finite += !c.finite;
+  row.not_converged += c.finite && !c.converged;
+  row.dishonest += c.dishonest;
+  row.references_disagree += c.references_disagree;
+  row.unresolved += c.reference_unresolved;
+  row.judged_by_fallback +=
+      !c.reference_unresolved && c.finite && c.converged && c.law != Law::f && c.reference_rule != "gauss_kronrod<61>";
+  if (!c.finite || !c.converged || c.dishonest || c.references_disagree || c.reference_unresolved)
+    row.flagged.push_back(c);
+  row.all.push_back(std::move(c));
+}
+
 }  // namespace
 
 std::vector<ExtremesRow> extremes_report(const ExtremesOptions& options) {
@@ -290,23 +309,100 @@ std::vector<ExtremesRow> extremes_report(const ExtremesOptions& options) {
     const std::lock_guard lock(reporting);
     options.on_case(results[k], ++done, jobs.size());
   });
-  for (std::size_t k = 0; k < jobs.size(); ++k) {
-    ExtremesRow& row = rows[row_of[specs[jobs[k].spec].model]];
-    const ExtremesCase& c = results[k];
-    ++row.cases;
-    row.seconds += seconds[k];
-    row.non_finite += !c.finite;
-    row.not_converged += c.finite && !c.converged;
-    row.dishonest += c.dishonest;
-    row.references_disagree += c.references_disagree;
-    row.unresolved += c.reference_unresolved;
-    row.judged_by_fallback += !c.reference_unresolved && c.finite && c.converged && c.law != Law::f &&
-                              c.reference_rule != "gauss_kronrod<61>";
-    if (!c.finite || !c.converged || c.dishonest || c.references_disagree || c.reference_unresolved)
-      row.flagged.push_back(c);
-    row.all.push_back(c);
-  }
+  for (std::size_t k = 0; k < jobs.size(); ++k)
+    add_case(rows[row_of[specs[jobs[k].spec].model]], results[k], seconds[k]);
   return rows;
+}
+
+std::vector<std::string> extremes_models(const ExtremesOptions& options) {
+  std::vector<std::string> models;
+  for (const ExtremesSpec& s : extremes_specs(options))
+    if (std::find(models.begin(), models.end(), s.model) == models.end()) models.push_back(s.model);
+  return models;
+}
+
+namespace {
+
+nlohmann::ordered_json vector_json(const Vec3& v) { return {v.x, v.y, v.z}; }
+Vec3 vector_of(const nlohmann::json& v) {
+  return {v.at(0).get<double>(), v.at(1).get<double>(), v.at(2).get<double>()};
+}
+
+nlohmann::ordered_json options_json(const ExtremesOptions& options) {
+  return {{"tolerance", options.engine_tolerance}, {"quick", options.quick}, {"defaults_only", options.defaults_only}};
+}
+
+}  // namespace
+
+nlohmann::ordered_json extremes_case_json(const ExtremesCase& c) {
+  return {{"spec", c.spec},
+          {"law", to_string(c.law)},
+          {"i", vector_json(c.i)},
+          {"j", vector_json(c.j)},
+          {"where", c.where},
+          {"value", c.engine.value},
+          {"error", c.engine.error},
+          {"evaluations", c.engine.evaluations},
+          {"engine_converged", c.engine.converged},
+          {"reference", c.reference},
+          {"reference_error", c.reference_error},
+          {"reference_rule", c.reference_rule},
+          {"second_reference", c.second_reference},
+          {"second_reference_error", c.second_reference_error},
+          {"finite", c.finite},
+          {"converged", c.converged},
+          {"dishonest", c.dishonest},
+          {"references_disagree", c.references_disagree},
+          {"reference_unresolved", c.reference_unresolved},
+          {"seconds", c.seconds}};
+}
+
+std::string extremes_row_json(const ExtremesRow& row, const ExtremesOptions& options, double wall_seconds) {
+  nlohmann::ordered_json cases = nlohmann::ordered_json::array();
+  for (const ExtremesCase& c : row.all) cases.push_back(extremes_case_json(c));
+  const nlohmann::ordered_json doc{{"model", row.model},     {"options", options_json(options)}, {"specs", row.specs},
+                                   {"refused", row.refused}, {"wall_seconds", wall_seconds},     {"cases", cases}};
+  return doc.dump(1) + "\n";
+}
+
+KeptExtremesRow extremes_row_from_json(const std::string& text, const ExtremesOptions& options,
+                                       const std::string& path) {
+  auto refuse = [&](const std::string& why) {
+    throw InputError("kept extremes row '" + path + "': " + why + " (delete it to measure the model again)");
+  };
+  KeptExtremesRow kept;
+  try {
+    const nlohmann::json doc = nlohmann::json::parse(text);
+    if (doc.at("options") != nlohmann::json(options_json(options)))
+      refuse("measured with options " + doc.at("options").dump() + ", this run's are " + options_json(options).dump());
+    kept.row.model = doc.at("model").get<std::string>();
+    kept.row.specs = doc.at("specs").get<int>();
+    kept.row.refused = doc.at("refused").get<std::vector<std::string>>();
+    kept.wall_seconds = doc.at("wall_seconds").get<double>();
+    for (const auto& j : doc.at("cases")) {
+      ExtremesCase c;
+      c.spec = j.at("spec").get<std::string>();
+      c.law = parse_law(j.at("law").get<std::string>());
+      c.i = vector_of(j.at("i"));
+      c.j = vector_of(j.at("j"));
+      c.where = j.at("where").get<std::string>();
+      c.engine = {j.at("value").get<double>(), j.at("error").get<double>(), j.at("evaluations").get<long long>(),
+                  j.at("engine_converged").get<bool>()};
+      c.reference = j.at("reference").get<double>();
+      c.reference_error = j.at("reference_error").get<double>();
+      c.reference_rule = j.at("reference_rule").get<std::string>();
+      c.second_reference = j.at("second_reference").get<double>();
+      c.second_reference_error = j.at("second_reference_error").get<double>();
+      c.finite = j.at("finite").get<bool>();
+      c.converged = j.at("converged").get<bool>();
+      c.dishonest = j.at("dishonest").get<bool>();
+      c.references_disagree = j.at("references_disagree").get<bool>();
+      c.reference_unresolved = j.at("reference_unresolved").get<bool>();
+      c.seconds = j.at("seconds").get<double>();
+      add_case(kept.row, c, c.seconds);
+    }
+  } catch (const nlohmann::json::exception& e) { refuse(std::string("not an extremes row: ") + e.what()); }
+  return kept;
 }
 
 namespace {
@@ -429,11 +525,12 @@ std::string extremes_csv(const std::vector<ExtremesRow>& rows, const std::string
 }
 
 std::string extremes_markdown(const std::vector<ExtremesRow>& rows, const ExtremesOptions& options,
-                              const std::string& command, double seconds, const std::string& csv_file) {
+                              const std::string& command, double seconds, const std::string& csv_file, bool resumed) {
   std::ostringstream md;
   md << "## Extremes grid: every model at its extremes\n\n"
      << "Generated by `" << command << "` (do not edit by hand); the run took " << number(seconds)
      << " s of wall time on " << tbb_threads() << " threads"
+     << (resumed ? " (summed over the runs that measured its models)" : "")
      << (csv_file.empty() ? std::string(".")
                           : "; every case, judged or not, is in [" + csv_file + "](" + csv_file + ").")
      << "\n\n"

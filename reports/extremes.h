@@ -15,6 +15,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json_fwd.hpp>
+
 #include "integrate/laws.h"
 
 namespace ganzfeld {
@@ -68,6 +70,7 @@ struct ExtremesCase {
   /// The reference ran out of its budget or its error exceeds the engine's tolerance: this case
   /// is not judged (counted and listed, not dropped).
   bool reference_unresolved = false;
+  double seconds = 0.0;  ///< wall time of the case (engine and references)
 };
 
 struct ExtremesRow {
@@ -84,6 +87,25 @@ struct ExtremesRow {
 /// Runs the grid (cases in parallel; rows in catalogue order).
 std::vector<ExtremesRow> extremes_report(const ExtremesOptions& options);
 
+/// The model names of the grid in catalogue order ("mixture" for the mixtures), as its rows are.
+std::vector<std::string> extremes_models(const ExtremesOptions& options);
+
+/// One case as JSON: its spec, law, directions, the engine's estimate, the references and the
+/// verdict's flags (extremes --json's flagged cases and the kept rows).
+nlohmann::ordered_json extremes_case_json(const ExtremesCase& c);
+/// One model's row with every case, as JSON (with the options it was measured with and its wall
+/// time), and back: a grid that runs for hours is resumed model by model (extremes --keep DIR).
+std::string extremes_row_json(const ExtremesRow& row, const ExtremesOptions& options, double wall_seconds);
+struct KeptExtremesRow {
+  ExtremesRow row;
+  double wall_seconds = 0.0;
+};
+/// Reads extremes_row_json's text (counts and flagged cases recomputed from the cases); throws
+/// InputError naming `path` when it is not one, or when it was measured with other options
+/// (tolerance, quick, defaults only).
+KeptExtremesRow extremes_row_from_json(const std::string& text, const ExtremesOptions& options,
+                                       const std::string& path);
+
 /// Judges one case: engine at the tolerance against the reference (and the second reference when
 /// they disagree). Exposed for the tests, which may give the engine a smaller evaluation budget
 /// (a case that does not converge within it is not judged).
@@ -93,9 +115,10 @@ ExtremesCase judge_case(const Model& model, Law law, const Vec3& i, const Vec3& 
 /// docs/reliability-extremes.md: the method, the per-model table, the targets met or
 /// missed, every dishonest case and where the references disagree, and the worst of the other
 /// flagged cases (all of them are in the CSV named `csv_file`, when given); `command` is the
-/// stamp, `seconds` the run's wall time.
+/// stamp, `seconds` the run's wall time (`resumed`: summed over the runs that measured its rows).
 std::string extremes_markdown(const std::vector<ExtremesRow>& rows, const ExtremesOptions& options,
-                              const std::string& command, double seconds, const std::string& csv_file = "");
+                              const std::string& command, double seconds, const std::string& csv_file = "",
+                              bool resumed = false);
 
 /// Every case of the grid, one CSV row each (judged or not; `where` gives the cosines and the
 /// azimuth the directions are made from, as add_jobs in extremes.cpp makes them), stamped with

@@ -12,6 +12,7 @@
 #include "models/spec.h"
 #include "reference/lune_reference.h"
 #include "reports/extremes.h"
+#include "util/error.h"
 
 namespace ganzfeld {
 namespace {
@@ -58,6 +59,46 @@ TEST(Extremes, CornersOfTheGridAreFiniteAndHonest) {
     EXPECT_EQ(row.dishonest, 0) << describe(row);
     EXPECT_EQ(row.unresolved, 0) << describe(row);
   }
+}
+
+/// A kept row (extremes --keep DIR) reads back as the row that was measured: every case of the CSV,
+/// the counts and the flagged cases; a row measured with other options is refused, not mixed in.
+TEST(Extremes, AKeptRowReadsBackAsMeasured) {
+  ExtremesOptions options;
+  options.engine_tolerance = kEngineTol;
+  options.quick = true;
+  options.models = {"minnaert"};
+  std::vector<ExtremesRow> rows = extremes_report(options);
+  ASSERT_EQ(rows.size(), 1u);
+  // One flagged case of each kind, so the recount is checked on more than honest cases.
+  ASSERT_GE(rows[0].all.size(), 3u);
+  ExtremesRow& row = rows[0];
+  row.all[0].dishonest = true;
+  row.all[1].converged = false;
+  row.all[2].reference_unresolved = true;
+  ExtremesRow edited;
+  edited.model = row.model;
+  edited.specs = row.specs;
+  edited.refused = {"minnaert:k=9 (refused for the test)"};
+  edited.all = row.all;
+  const std::string text = extremes_row_json(edited, options, 12.5);
+  const KeptExtremesRow kept = extremes_row_from_json(text, options, "kept.json");
+  EXPECT_EQ(kept.wall_seconds, 12.5);
+  EXPECT_EQ(kept.row.model, "minnaert");
+  EXPECT_EQ(kept.row.specs, row.specs);
+  EXPECT_EQ(kept.row.refused, edited.refused);
+  EXPECT_EQ(kept.row.cases, static_cast<int>(row.all.size()));
+  EXPECT_EQ(kept.row.dishonest, 1);
+  EXPECT_EQ(kept.row.not_converged, 1);
+  EXPECT_EQ(kept.row.unresolved, 1);
+  EXPECT_EQ(kept.row.flagged.size(), 3u);
+  EXPECT_EQ(extremes_csv({kept.row}, "x"), extremes_csv({edited}, "x"));
+  EXPECT_EQ(extremes_row_json(kept.row, options, 12.5), text);
+
+  ExtremesOptions other = options;
+  other.engine_tolerance = 1e-6;
+  EXPECT_THROW(extremes_row_from_json(text, other, "kept.json"), InputError);
+  EXPECT_THROW(extremes_row_from_json("{\"model\": 1}", options, "kept.json"), InputError);
 }
 
 /// A sharp lobe at the tip of a thin lune: the sky pole 8° below the horizon (the lune of g is a
