@@ -97,7 +97,8 @@ void add_exact_lines(std::vector<double>& cuts, const std::vector<double>& lines
 /// (Peak::across); a lobe at a coordinate pole t = ±pi/2 gets ladders of latitudes towards the pole
 /// and of longitudes about its own; each horizon layer of thickness delta (MassHints::horizon_layer
 /// and thicker_layers) gets lines at kLayerLines deltas from the horizon (phi = pi/2, phi = -pi/2
-/// for the hemisphere, and the caps t = ±pi/2).
+/// for the hemisphere, and the caps t = ±pi/2) and, beside a lobe at a pole, a ladder of longitudes
+/// from the horizon inwards.
 /// `first_axis(t, phi)` maps a line at latitude t, placed for longitude phi, to the first
 /// coordinate of the rectangle (t itself on a lune; the clipped crease frame's s).
 template <typename FirstAxis>
@@ -107,6 +108,7 @@ std::array<std::vector<double>, 2> cuts_from_hints(const MassHints& hints, const
       phi_lines{0.5 * (fr.phi_lo + pi / 2)};  // 2x2 at least: a 1x1 start
   // misses asperity horizon layers below the hint threshold (measured: 6% dishonest estimates)
   double min_scale = 1.0;
+  bool lobe_at_pole = false;
   std::vector<double> pole_ladder;  // exact lines towards a coordinate pole (added after tidy_cuts)
   for (const Peak& peak : hints.peaks) {
     const double across = peak.across > 0.0 ? peak.across : peak.width;
@@ -132,6 +134,7 @@ std::array<std::vector<double>, 2> cuts_from_hints(const MassHints& hints, const
       // lines towards the pole, w/8, w/64, ... down to kPoleLadderEnd, gives the refinement a panel
       // at every scale there.
       if (at_pole) {
+        lobe_at_pole = true;
         for (double offset = w / kLadderRatio; offset > kPoleLadderEnd; offset /= kLadderRatio)
           pole_ladder.push_back(first_axis((t_d < 0.0 ? -1.0 : 1.0) * (pi / 2 - offset), phi_d));
         // There a lobe w wide spans the longitudes within w / x of its own at a distance x from
@@ -167,6 +170,16 @@ std::array<std::vector<double>, 2> cuts_from_hints(const MassHints& hints, const
       t_lines.push_back(first_axis(pi / 2 - m * delta, 0.0));
       t_lines.push_back(first_axis(-pi / 2 + m * delta, 0.0));
     }
+    // The horizon passes through the coordinates' poles (the lune's tips), where at a distance x
+    // from the pole the layer spans the longitudes within delta / x of the horizon edge: beside a
+    // lobe at the pole it holds mass at every such width (Phong's and Kajiya's grazing floor,
+    // tests/extremes_test.cpp, HorizonLayerAtALobesPoleIsHonest). A geometric ladder of longitudes
+    // from the layer towards the lune's interior meets its edge at every x, as the lobe's ladder does.
+    if (lobe_at_pole)
+      for (double offset = kLadderRatio * delta; offset < 1.0 / kLadderRatio; offset *= kLadderRatio) {
+        phi_lines.push_back(pi / 2 - offset);
+        if (fr.phi_lo <= -pi / 2) phi_lines.push_back(-pi / 2 + offset);
+      }
     min_scale = std::min(min_scale, delta);
   }
   const double gap = 0.25 * min_scale;

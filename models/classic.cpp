@@ -260,7 +260,7 @@ std::optional<GlslF> CookTorrance::glsl_f() const {
 
 MassHints CookTorrance::mass_hints(const Vec3& fixed, Varying) const {
   // exp(-tan^2 delta/m^2) ~ exp(-psi^2/(4 m^2)) near the mirror (psi ~ 2 delta): width sqrt(2) m.
-  return HintBuilder().lobe(mirror(fixed), std::sqrt(2.0) * m_).build();
+  return HintBuilder().halfway_lobe(fixed, std::sqrt(2.0) * m_).build();
 }
 
 // ---------------------------------------------------------------------------------------------

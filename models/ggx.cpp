@@ -151,13 +151,6 @@ std::optional<GlslF> Ggx::glsl_f() const {
   return GlslF{std::string(kGlslBelowHorizon) + glsl_single_scattering() + "  return ggx_value;\n", {"gz_schlick"}};
 }
 
-namespace {
-/// Above this j·n (about 89.9°) the arc across the plane of incidence needs no lines of its own:
-/// measured at 1e-9 on 102 cases of a and g, its lines cost 43% more evaluations and were no more
-/// honest (the comment in Ggx::mass_hints).
-constexpr double kThinArcView = 1e-3;
-}  // namespace
-
 MassHints Ggx::mass_hints(const Vec3& fixed, Varying) const {
   // D ~ (1 + tan²δ/α²)^-2 about the mirror direction (ψ ≈ 2δ) is half its peak at ψ ≈ 1.3 α:
   // width √2 α, as cook-torrance's √2 m. Towards grazing the lobe hugs the horizon: a layer.
@@ -166,13 +159,10 @@ MassHints Ggx::mass_hints(const Vec3& fixed, Varying) const {
   // HVD lobes) cost 43% more evaluations and was no more honest; without the layer, 1% more
   // evaluations and the worst true error reached 0.91 of the estimate (0.32 with it).
   const double w = std::sqrt(2.0) * std::min(alpha_.x, alpha_.y);
+  // Near grazing the lobe is a thin arc, which no node of the starting grid sees
+  // (tests/extremes_test.cpp, GgxThinArcAtAGrazingViewIsHonest).
   HintBuilder hints;
-  // Tilting the half vector by d across the plane of incidence moves the reflection by about
-  // 2 d (j·n) there: for a view within kThinArcView of the horizon the lobe is an arc w (j·n)
-  // across, which no node of the starting grid sees (ggx:alpha=0.001 at j·n = 1e-6 converged
-  // 2e-6 below the reference; tests/extremes_test.cpp, GgxThinArcAtAGrazingViewIsHonest).
-  const double across = fixed.z > 0.0 && fixed.z < kThinArcView ? w * fixed.z : 0.0;
-  hints.lobe(mirror(fixed), w, across).layer_where_lobe_meets_horizon(fixed.z, w);
+  hints.halfway_lobe(fixed, w);
   // The height-correlated visibility 1/(2 ((j·n) r_k + (k·n) r_j)) (ggx::visibility) holds, for a
   // fixed direction just above the horizon, a layer in k·n as thin as fixed·n: times (k·n) it is
   // (k·n)/(2 (j·n) r_k + 2 (k·n) r_j), flat above k·n ~ (j·n) r_k/r_j and falling to 0 below it,

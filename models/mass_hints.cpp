@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <utility>
 
+#include "models/model.h"
+
 namespace ganzfeld {
 
 HintBuilder& HintBuilder::lobe(const Vec3& direction, double width, double across) {
@@ -26,6 +28,11 @@ HintBuilder& HintBuilder::layer_where_lobe_meets_horizon(double elevation, doubl
   if (elevation < kReachWidths * width + kHorizonMargin)
     layer(thickness > 0.0 ? thickness : std::max(width, kThinnestLobeLayer));
   return *this;
+}
+
+HintBuilder& HintBuilder::halfway_lobe(const Vec3& fixed, double width) {
+  const double across = fixed.z > 0.0 && fixed.z < hint_rules::kThinArcView ? width * fixed.z : 0.0;
+  return lobe(mirror(fixed), width, across).layer_where_lobe_meets_horizon(fixed.z, width);
 }
 
 HintBuilder& HintBuilder::rough_horizon(bool rough) {

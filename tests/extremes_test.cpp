@@ -335,6 +335,52 @@ TEST(Extremes, LobeAtThePoleSpansEveryLongitudeScale) {
   }
 }
 
+/// Phong's lobe centred on a tip of the lune (sky pole i on the horizon, view j on the horizon 90°
+/// from it: the mirror -j is the lune's tip) with the specular part's grazing layer (k·n) /
+/// max(k·n, 1e-6) along the horizon. At a distance x from the tip that layer spans the longitudes
+/// within 1e-6 / x of the horizon edge, and the lobe holds its mass all along it. Closed form
+/// (kd = 0): g = ks (pi/42 - (1e-6 / 2) W), W = the integral of sin^20 over [0, pi/2] = (19!!/20!!) pi/2,
+/// the sky quarter of cos^20 psi less the layer's deficit. The engine converged 1.4e-8 above it with
+/// 6.2e-9 estimated until a lobe at the pole got a ladder of longitudes towards the horizon
+/// (integrate/laws_integrals.cpp).
+TEST(Extremes, HorizonLayerAtALobesPoleIsHonest) {
+  const ModelPtr model = parse_model("phong:kd=0,ks=0.5,n=20");
+  double wallis = std::numbers::pi / 2;
+  for (int k = 1; k <= 10; ++k) wallis *= (2.0 * k - 1.0) / (2.0 * k);
+  const double exact = 0.5 * (std::numbers::pi / 42 - 0.5e-6 * wallis);
+  CubatureOptions engine_options;
+  engine_options.abs_tol = kEngineTol;
+  const Estimate engine =
+      vignetting(*model, direction_from_cos(0.0, 0.0), direction_from_cos(0.0, std::numbers::pi / 2), engine_options);
+  EXPECT_TRUE(engine.converged);
+  EXPECT_LE(std::abs(engine.value - exact), engine.error + 1e-12)
+      << "engine " << engine.value << " ± " << engine.error << ", closed form " << exact;
+  // Kajiya's highlight cone meets the horizon at the tips too, with the same grazing floor.
+  const ModelPtr kajiya = parse_model("kajiya:kd=0,ks=0.7,n=20");
+  const ExtremesCase c = judge_case(*kajiya, Law::g, direction_from_cos(1e-6, 0.0),
+                                    direction_from_cos(1e-6, std::numbers::pi / 2), kEngineTol);
+  EXPECT_TRUE(c.converged && c.finite);
+  EXPECT_FALSE(c.reference_unresolved);
+  EXPECT_FALSE(c.dishonest) << "kajiya: engine " << c.engine.value << " ± " << c.engine.error << ", reference "
+                            << c.reference << " ± " << c.reference_error << " (" << c.reference_rule << ")";
+}
+
+/// Cook–Torrance's lobe, like GGX's, is a thin arc for a view near the horizon (the halfway
+/// vector's tilt across the plane of incidence moves the reflection by 2 d (j·n)): at m = 1 and
+/// j·n = 1e-6 with the sky pole on the horizon 90° away, its plain lobe hint converged 1.9 times
+/// its estimate off the reference; HintBuilder::halfway_lobe gives it the arc and the layer.
+TEST(Extremes, CookTorranceArcAtAGrazingViewIsHonest) {
+  for (const char* spec : {"cook-torrance:kd=0.3,ks=0.7,m=1", "cook-torrance-gaussian:kd=0.3,ks=0.7,m=1"}) {
+    const ModelPtr model = parse_model(spec);
+    const ExtremesCase c = judge_case(*model, Law::g, direction_from_cos(0.0, 0.0),
+                                      direction_from_cos(1e-6, std::numbers::pi / 2), kEngineTol);
+    EXPECT_TRUE(c.converged && c.finite) << spec;
+    EXPECT_FALSE(c.reference_unresolved) << spec;
+    EXPECT_FALSE(c.dishonest) << spec << ": engine " << c.engine.value << " ± " << c.engine.error << ", reference "
+                              << c.reference << " ± " << c.reference_error << " (" << c.reference_rule << ")";
+  }
+}
+
 /// Perfect backscatter's h with the view 1e-6 above the horizon: gauss_kronrod<61> ran out of its
 /// budget (the 1/((k + j)·n) layer at the horizon), the swapped gauss_kronrod<31> resolves it.
 TEST(Extremes, AFallbackReferenceJudgesWhereTheFirstRunsOut) {

@@ -138,14 +138,18 @@ TEST(IndependentReference, DarkeningOfEveryLobeFamily) {
 
 /// The later models' cases where the engine (tolerance 1e-8) and this reference disagree by more
 /// than both estimates: 2e-8 to 9e-8, listed, not hidden; the test fails if the list changes either
-/// way. For kajiya's h at j = n the reference is right (a 2-D quadrature at 25 digits agrees with it,
-/// 1.6599046898) and the engine is 3e-8 above it with 1e-8 stated (tests/hints_test.cpp,
-/// kKnownDishonest); ashikhmin-shirley's f has a kink where i·n = j·n, max(i·n, j·n), that neither
+/// way. Ashikhmin-shirley's f has a kink where i·n = j·n, max(i·n, j·n), that neither
 /// cuts at. With the null-rule estimate (integrate/cubature.h) and kajiya's kGrazingLayer,
 /// ashikhmin-shirley's g at (35, 70, 180), schlick-phong's at (35, 20, 0), two of kajiya's g and
-/// its h at 45 left the lists.
+/// its h at 45 left the lists. The ladder of longitudes from a horizon layer beside a lobe at a
+/// coordinate pole (integrate/laws_integrals.cpp) mended kajiya's h at j = n and its grazing cases of
+/// the extremes grid, and moved the panels that kajiya's kink curve crosses at three of these g
+/// (added below, 1.4-2.8x their estimates): a kink across a panel is what the estimate is weakest on.
 const std::set<std::string> kLaterDisagreeG{
+    "kajiya:kd=0.3,ks=0.7,n=20 g at theta_i 35, theta_j 20, phi 0",
     "kajiya:kd=0.3,ks=0.7,n=20 g at theta_i 35, theta_j 20, phi 180",
+    "kajiya:kd=0.3,ks=0.7,n=20 g at theta_i 35, theta_j 20, phi 250",
+    "kajiya:kd=0.3,ks=0.7,n=20 g at theta_i 120, theta_j 20, phi 0",
     "kajiya:kd=0.3,ks=0.7,n=20 g at theta_i 35, theta_j 70, phi 250",
     "kajiya:kd=0.3,ks=0.7,n=20 g at theta_i 120, theta_j 20, phi 180",
     "kajiya:kd=0.3,ks=0.7,n=20 g at theta_i 120, theta_j 20, phi 250",
@@ -154,7 +158,6 @@ const std::set<std::string> kLaterDisagreeG{
 const std::set<std::string> kLaterDisagreeH{
     "ashikhmin-shirley:rd=0.5,rs=0.05,nu=20,nv=200 h at theta_j 80",
     "schlick:c=0.5,r=0.1,p=0.3 h at theta_j 80",
-    "kajiya:kd=0.3,ks=0.7,n=20 h at theta_j 0",
 };
 
 /// The later models at the same geometries and at an azimuth off every plane of symmetry, where
