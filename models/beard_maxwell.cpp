@@ -262,8 +262,10 @@ MassHints BeardMaxwell::mass_hints(const Vec3& fixed, Varying) const {
     hints.layer(kGrazingLayer);
     if (fixed.z < 1e-3) hints.lobe(glm::normalize(Vec3{-fixed.x, -fixed.y, 0.0}), std::max(fixed.z, kGrazingCosFloor));
   }
-  // 2 rho_V/(mu + mu_fixed) switches over mu ~ mu_fixed (as Hapke's 1/(mu_i + mu_j)).
-  if (rho_V_ > 0.0) hints.layer(fixed.z);
+  // 2 rho_V/max(mu + mu_fixed, kGrazingCosFloor) switches over mu ~ mu_fixed (as Hapke's
+  // 1/(mu_i + mu_j)), and over the floor where mu_fixed is below it: (k·n) f ramps to 2 rho_V across
+  // a layer that thin (tests/beard_maxwell_test.cpp, VolumeTermLayerAtAGrazingFixedDirectionIsHonest).
+  if (rho_V_ > 0.0) hints.layer(std::max(fixed.z, kGrazingCosFloor));
   return hints.build();
 }
 

@@ -314,6 +314,25 @@ TEST(BeardMaxwell, LawsByTheEngineMatchBruteForceQuadrature) {
   }
 }
 
+/// With the first surface off (b = 0) f is rho_D + 2 rho_V / max(mu + mu_fixed, kGrazingCosFloor), so
+/// with the view on the horizon (mu_fixed = 0) (k·n) f ramps from 0 to 2 rho_V across k·n < 1e-6.
+/// On the sphere dk = d(k·n) d(azimuth); the sky of a pole on the horizon is half the azimuths:
+/// g = pi (rho_D / 2 + 2 rho_V - rho_V 1e-6) exactly. Without the layer declared the engine's
+/// estimate collapsed to 2.5e-15 and it returned pi (rho_D / 2 + 2 rho_V), 3.1e-8 off.
+TEST(BeardMaxwell, VolumeTermLayerAtAGrazingFixedDirectionIsHonest) {
+  const ModelPtr m = parse_model("beard-maxwell:b=0,rho_d=0.1,rho_v=0.01");
+  const double exact = pi * (0.1 / 2 + 2 * 0.01 - 0.01 * kGrazingCosFloor);
+  CubatureOptions options;
+  options.abs_tol = 1e-8;
+  for (const Vec3& j : {Vec3{1, 0, 0}, Vec3{0, 1, 0}}) {
+    const Estimate g = vignetting(*m, Vec3{1, 0, 0}, j, options);
+    EXPECT_TRUE(g.converged);
+    EXPECT_LE(std::abs(g.value - exact), g.error + 1e-14)
+        << "j = (" << j.x << ", " << j.y << ", " << j.z << "): engine " << g.value << " ± " << g.error
+        << ", closed form " << exact;
+  }
+}
+
 TEST(BeardMaxwell, NotPlausibleTheFirstSurfaceAlbedoGrowsAtGrazingIncidence) {
   // No shadowing that vanishes at the horizon: a_fs(mu) ~ c/mu as mu -> 0 (cos theta_i in the
   // denominator, SO -> 1 near the mirror). Measured on the first surface alone (rho = 0).
