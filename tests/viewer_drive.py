@@ -10,6 +10,7 @@ Usage: viewer_drive.py BROWSER URL OUT SIZE
 """
 import json
 import os
+import signal
 import subprocess
 import sys
 import tempfile
@@ -32,7 +33,8 @@ class Browser:
              '--disable-background-networking', '--disable-component-update', '--disable-sync', '--no-first-run',
              '--disable-quic',
              '--window-size=1400,1100', f'--user-data-dir={profile}', 'about:blank'],
-            pass_fds=(to_browser_r, from_browser_w), stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+            pass_fds=(to_browser_r, from_browser_w), stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+            start_new_session=True)  # its own process group: close() stops the helpers too
         os.close(to_browser_r)
         os.close(from_browser_w)
         self.buffer = b''
@@ -84,13 +86,31 @@ class Browser:
         self.call('Input.dispatchMouseEvent', type=kind, x=x, y=y, button='left', clickCount=1)
 
     def close(self):
-        self.process.kill()
+        # The browser's helper processes (renderer, GPU, network) share its process group; killing
+        # the main process alone leaves them writing into the profile while it is being removed.
+        try:
+            os.killpg(self.process.pid, signal.SIGKILL)
+        except ProcessLookupError:
+            pass
         self.process.wait()
+        deadline = time.monotonic() + 5
+        while time.monotonic() < deadline:
+            try:
+                os.killpg(self.process.pid, 0)
+            except ProcessLookupError:
+                break
+            time.sleep(0.05)
+
+
+def profile_directory():
+    """The browser's temporary profile; a helper that outlives close() (reparented, unreaped) must not
+    turn a finished run into a failure while the directory is removed."""
+    return tempfile.TemporaryDirectory(ignore_cleanup_errors=True)
 
 
 def main():
     binary, url, out, size = sys.argv[1], sys.argv[2], sys.argv[3], int(sys.argv[4])
-    with tempfile.TemporaryDirectory() as profile:
+    with profile_directory() as profile:
         browser = Browser(binary, profile)
         try:
             browser.open(url)

@@ -11,11 +11,10 @@ Usage: viewer_walk.py BROWSER URL   (URL: the page, with its small-size paramete
 """
 import json
 import sys
-import tempfile
 import time
 import urllib.request
 
-from viewer_drive import Browser
+from viewer_drive import Browser, profile_directory
 
 TIMEOUT_SECONDS = 300  # one model's row on a loaded 2-core machine: a few tables or cubature spheres
 
@@ -36,7 +35,7 @@ def main():
     walk, measured, files = specs(base)
     missing = [m for m in measured if m not in {f['model'] for f in files}]
     empty, rows = [], []
-    with tempfile.TemporaryDirectory() as profile:
+    with profile_directory() as profile:
         browser = Browser(browser_path, profile)
         try:
             browser.open(url, TIMEOUT_SECONDS)
