@@ -73,7 +73,7 @@ std::pair<std::vector<ExtremesRow>, double> kept_extremes_report(const ExtremesO
     const util::Stopwatch watch;
     std::vector<ExtremesRow> measured = extremes_report(one);
     const double seconds = watch.seconds();
-    for (ExtremesRow& row : measured) {  // one row, or none when every spec of the model is refused
+    for (ExtremesRow& row : measured) {  // the model's one row (its refused specs included)
       write_text_atomically(path, extremes_row_json(row, options, seconds));
       rows.push_back(std::move(row));
     }

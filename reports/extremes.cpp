@@ -259,10 +259,9 @@ void add_jobs(std::size_t spec, const ModelPtr& model, bool hvd, bool quick, std
 }
 
 /// Counts one case into its model's row (and keeps it among the flagged when it is not plainly honest).
-void add_case(ExtremesRow& row, ExtremesCase c, double seconds) {
-  c.seconds = seconds;
+void add_case(ExtremesRow& row, ExtremesCase c) {
   ++row.cases;
-  row.seconds += seconds;
+  row.seconds += c.seconds;
   row.non_finite += !c.finite;
   row.not_converged += c.finite && !c.converged;
   row.dishonest += c.dishonest;
@@ -297,20 +296,19 @@ std::vector<ExtremesRow> extremes_report(const ExtremesOptions& options) {
     } catch (const InputError& e) { row.refused.push_back(specs[s].spec + " (" + e.what() + ")"); }
   }
   std::vector<ExtremesCase> results(jobs.size());
-  std::vector<double> seconds(jobs.size());
   std::mutex reporting;
   std::size_t done = 0;
   tbb::parallel_for(std::size_t{0}, jobs.size(), [&](std::size_t k) {
     const util::Stopwatch watch;
     results[k] = judge_case(*jobs[k].model, jobs[k].law, jobs[k].i, jobs[k].j, options.engine_tolerance);
     results[k].where = jobs[k].where;
-    seconds[k] = watch.seconds();
+    results[k].seconds = watch.seconds();
     if (!options.on_case) return;
     const std::lock_guard lock(reporting);
     options.on_case(results[k], ++done, jobs.size());
   });
   for (std::size_t k = 0; k < jobs.size(); ++k)
-    add_case(rows[row_of[specs[jobs[k].spec].model]], results[k], seconds[k]);
+    add_case(rows[row_of[specs[jobs[k].spec].model]], std::move(results[k]));
   return rows;
 }
 
@@ -399,7 +397,7 @@ KeptExtremesRow extremes_row_from_json(const std::string& text, const ExtremesOp
       c.references_disagree = j.at("references_disagree").get<bool>();
       c.reference_unresolved = j.at("reference_unresolved").get<bool>();
       c.seconds = j.at("seconds").get<double>();
-      add_case(kept.row, c, c.seconds);
+      add_case(kept.row, std::move(c));
     }
   } catch (const nlohmann::json::exception& e) { refuse(std::string("not an extremes row: ") + e.what()); }
   return kept;
