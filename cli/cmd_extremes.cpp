@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <system_error>
 #include <tuple>
 #include <utility>
 
@@ -15,6 +16,7 @@
 #include "models/text_data.h"
 #include "reports/extremes.h"
 #include "util/atomic_file.h"
+#include "util/error.h"
 #include "util/progress.h"
 #include "util/timing.h"
 
@@ -56,7 +58,13 @@ nlohmann::ordered_json extremes_json(const std::vector<ExtremesRow>& rows, const
 /// and the summed wall time of the runs that measured them.
 std::pair<std::vector<ExtremesRow>, double> kept_extremes_report(const ExtremesOptions& options,
                                                                  const std::string& dir) {
-  std::filesystem::create_directories(dir);
+  std::error_code error;
+  std::filesystem::create_directories(dir, error);
+  if (error || !std::filesystem::is_directory(dir))
+    throw InputError("--keep '" + dir + "' is not a directory that can be made (" +
+                     (error ? error.message() : std::string("a file is in the way")) +
+                     "); allowed: a directory, existing or new");
+  check_writable((std::filesystem::path(dir) / "model.json").string());  // before hours of work
   std::vector<ExtremesRow> rows;
   double wall_seconds = 0.0;
   for (const std::string& model : extremes_models(options)) {

@@ -42,6 +42,12 @@ expect_bad "KEY=VALUE" eval --model specular:alpha --law h --theta-j 1
 expect_bad "unknown law 'x'" eval --model lambert --law x
 expect_bad "--theta-j=95" eval --model lambert --law h --theta-j 95
 expect_bad "--theta-i=100" eval --model lambert --law a --theta-i 100
+# extremes --keep: a file in the way is refused before the grid runs; a kept row of other options too
+: >"$tmp/keep-file"
+expect_bad "--keep '$tmp/keep-file' is not a directory" extremes --quick --model lambert --keep "$tmp/keep-file"
+"$G" extremes --quick --model lambert --keep "$tmp/kept" >/dev/null && [ -s "$tmp/kept/lambert.json" ] && ok \
+  || fail "extremes --keep keeps the model's row"
+expect_bad "measured with options" extremes --quick --model lambert --tol 1e-7 --keep "$tmp/kept"
 expect_bad "--theta-i=181" eval --model lambert --law g --theta-i 181 --theta-j 0
 expect_bad "zero length" eval --model lambert --law h --j 0,0,0
 expect_bad "three finite numbers" eval --model lambert --law h --j 1,2
