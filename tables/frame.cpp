@@ -1,6 +1,7 @@
 #include "tables/frame.h"
 
 #include "integrate/laws.h"
+#include "util/angles.h"
 
 #include <algorithm>
 #include <cmath>
@@ -30,10 +31,10 @@ LobeComponents lobe_components(PeakKind peak, double cos_theta_i, double cos_the
   const double ip = s * si * sj * cp + ci * cj;
   const double ie1 = -s * si * cj * cp + ci * sj;
   const double ie2 = si * sp;
-  const double beta = (ie1 == 0.0 && ie2 == 0.0) ? 0.0 : std::atan2(ie2, ie1);
+  const double beta = (ie1 == 0.0 && ie2 == 0.0) ? 0.0 : util::atan2_fast(ie2, ie1);
   // |(i·e1, i·e2)| as the exported GLSL's length() takes it (export/glsl.cpp): the components are at
   // most 1, so the squares cannot overflow, and hypot's care would only cost time per lookup.
-  return {std::atan2(sj, cj), std::atan2(std::sqrt(ie1 * ie1 + ie2 * ie2), ip), beta, ip, ie1, ie2, cj, sj};
+  return {util::atan2_fast(sj, cj), util::atan2_fast(std::sqrt(ie1 * ie1 + ie2 * ie2), ip), beta, ip, ie1, ie2, cj, sj};
 }
 
 namespace {
@@ -91,7 +92,7 @@ double warped_offset(const WarpSample& at, double mix, double ip, double ie1, do
 
 double warped_beta(const WarpSample& at, double whitening, double ie1, double ie2, double beta) noexcept {
   if (whitening == 0.0) return beta;
-  const double whitened = (ie1 == 0.0 && ie2 == 0.0) ? beta : std::atan2(at.across * ie2, at.along * ie1);
+  const double whitened = (ie1 == 0.0 && ie2 == 0.0) ? beta : util::atan2_fast(at.across * ie2, at.along * ie1);
   return (1.0 - whitening) * beta + whitening * whitened;
 }
 

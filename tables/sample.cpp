@@ -5,6 +5,7 @@
 #include <numbers>
 
 #include "tables/frame.h"
+#include "util/angles.h"
 
 namespace ganzfeld::tables {
 
@@ -178,7 +179,7 @@ Point law_point(Law law, const Vec3& i, const Vec3& j) noexcept {
   // in the relative azimuth.
   const bool along_n = (i.x == 0.0 && i.y == 0.0) || (j.x == 0.0 && j.y == 0.0);
   const double cross = i.x * j.y - i.y * j.x, dot = i.x * j.x + i.y * j.y;
-  const double phi = along_n ? 0.0 : std::abs(std::atan2(cross, dot));
+  const double phi = along_n ? 0.0 : std::abs(util::atan2_fast(cross, dot));
   out.x = {cos_theta(i), cos_theta(j), phi};
   out.size = 3;
   // |cross|^2 + dot^2 = |i_t|^2 |j_t|^2 > 0 off the normal (Lagrange's identity).

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "integrate/laws.h"
+#include "util/angles.h"
 
 namespace ganzfeld::tables {
 
@@ -153,7 +154,7 @@ struct AxisIndex {
     switch (mapping) {
       case Mapping::linear: return t;
       case Mapping::sqrt: return std::sqrt(t);
-      case Mapping::cos: return std::acos(1.0 - 2.0 * t) / std::numbers::pi;
+      case Mapping::cos: return util::acos_fast(1.0 - 2.0 * t) / std::numbers::pi;
       case Mapping::sinh:
         if (!(width > 0.0)) return t;
         return std::clamp(0.5 * (std::asinh((min + range * t - centre) / width) / v + 1.0), 0.0, 1.0);
