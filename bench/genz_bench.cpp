@@ -488,7 +488,14 @@ std::string genz_markdown(const std::vector<GenzCell>& cells, const GenzOptions&
       hcubature_jumps.runs ? double(hcubature_jumps.dishonest + hcubature_jumps.dishonest_unseen) / hcubature_jumps.runs
                            : 0.0;
   auto verdict = [](bool met) { return met ? "**met**" : "**missed**"; };
+  const double loosest = *std::max_element(options.tolerances.begin(), options.tolerances.end());
+  const double tightest = *std::min_element(options.tolerances.begin(), options.tolerances.end());
   md << "\n### Targets, met or missed\n\n"
+     << "- The sample: ≥ " << kGenzInstancesTarget
+     << " instances per family and dimension, each at relative tolerances 1e-3 … 1e-12: "
+     << verdict(options.instances >= kGenzInstancesTarget && loosest >= 1e-3 && tightest <= 1e-12) << " ("
+     << options.instances << " instances, " << number(loosest) << " … " << number(tightest)
+     << "). The verdicts below hold for this sample only.\n"
      << "- Oscillatory, product peak, corner peak, Gaussian and C0, 1-D and 2-D, no hints: 0 dishonest runs. "
      << "Oscillatory, product peak, corner peak, Gaussian: " << verdict(smooth.dishonest + smooth.dishonest_unseen == 0)
      << " (" << smooth.dishonest + smooth.dishonest_unseen << " of " << smooth.runs
