@@ -1,9 +1,8 @@
 // Arctangent and arccosine for code that runs once per pixel (table lookups: tables/sample.cpp,
-// tables/frame.cpp): within a few units in the last place of glibc's atan2 and acos, and cheaper
-// where it counts (one division and a degree-7 polynomial; the warped frame's lookup, four atan2,
-// went from ~220 to ~190 ns). Every lookup of a table — bake validation, `sample`, the rasterizer,
-// `serve` — goes through the same functions, so the lookup a table's bound was validated for is the
-// lookup the renderer performs.
+// tables/frame.cpp): within a few units in the last place of glibc's atan2 and acos, at the cost of
+// one division and a degree-7 polynomial. Every lookup of a table — bake validation, `sample`, the
+// rasterizer, `serve` — goes through the same functions, so the lookup a table's bound was validated
+// for is the lookup the renderer performs.
 #pragma once
 
 #include <cmath>
