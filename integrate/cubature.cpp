@@ -291,6 +291,27 @@ class Engine {
     return sides;
   }
 
+  /// The integrand on the line through side `end` of `panel` across `axis`, at the panel's nodes
+  /// along the other axis (one point in 1-D): what check_side compares the extrapolation with.
+  /// False when a value there is not finite (an integrable singularity on the box's end, say):
+  /// such a line cannot tell a hidden kink from the singularity, and the side stays unchecked.
+  bool evaluate_line(const Panel<D>& panel, int axis, int end, Line<D>& line) {
+    const Rule& r = rule();
+    std::array<std::array<double, kRuleNodes>, D> nodes;
+    std::array<std::span<const double>, D> spans;
+    const double side = end == 0 ? panel.lo[axis] : panel.hi[axis];
+    for (int d = 0; d < D; ++d) {
+      const double centre = 0.5 * (panel.lo[d] + panel.hi[d]), half = 0.5 * (panel.hi[d] - panel.lo[d]);
+      for (int m = 0; m < kRuleNodes; ++m) nodes[d][m] = centre + half * r.x[m];
+      spans[d] = d == axis ? std::span<const double>(&side, 1) : std::span<const double>(nodes[d]);
+    }
+    integrand_(spans, line);
+    evaluations_ += side_nodes(D);
+    for (double v : line)
+      if (!std::isfinite(v)) return false;
+    return true;
+  }
+
   long long evaluations() const { return evaluations_; }
 
  private:
@@ -335,7 +356,12 @@ class Refinement {
       if (!grid_cell(cuts, flat, p)) continue;
       p.side_line.fill(kNoLine);
       p.id = next_id_++;
-      engine_.evaluate(p);
+      const SideValues<D> extrapolated = engine_.evaluate(p);
+      if (options_.bisect_initial_panels && !unresolved(p)) {
+        for (int axis = 0; axis < D; ++axis)
+          for (int end = 0; end < 2; ++end) check_new_line(p, extrapolated, axis, end);
+        p.total();
+      }
       cells.push_back(p);
     }
     for (const Panel<D>& p : cells)
@@ -349,7 +375,7 @@ class Refinement {
   /// Step 3: bisect the worst panel until the tolerance is met, the budget is spent or an
   /// unresolved panel is too small to bisect (then no budget can make the result converge).
   void refine() {
-    const long long cost = 2LL * panel_nodes(D);
+    const long long cost = kBisectionEvaluations<D>;
     while (!heap_.empty() && !gave_up_ && (unresolved_ > 0 || error_ + frozen_error_ > options_.abs_tol) &&
            engine_.evaluations() + cost <= options_.max_evaluations && !cancelled()) {
       const Panel<D> worst = pop_worst();
@@ -440,15 +466,15 @@ class Refinement {
   /// The sides of a half of `parent` bisected across `axis` (`upper`: the half above the cut).
   /// Across the axis the outer side is the parent's (same line, same nodes along it; its bound
   /// halves with the gap), the cut is a new side whose line is the parent's centre line. Along
-  /// the axis the sides are half as long: their bound is shared, their line no longer matches
-  /// the half's nodes.
+  /// the axis the sides are half as long: their bound is shared, and their line, which no longer
+  /// matches the half's nodes, only marks a side still to check (bisect evaluates a new one).
   static void inherit_sides(Panel<D>& half, const Panel<D>& parent, int axis, bool upper, int cut) {
     for (int d = 0; d < D; ++d)
       for (int end = 0; end < 2; ++end) {
         const int k = 2 * d + end;
         const bool is_cut = d == axis && end == (upper ? 0 : 1);
         half.hidden[k] = is_cut ? 0.0 : 0.5 * parent.hidden[k];
-        half.side_line[k] = is_cut ? cut : d == axis ? parent.side_line[k] : kNoLine;
+        half.side_line[k] = is_cut ? cut : parent.side_line[k];
       }
   }
 
@@ -479,6 +505,21 @@ class Refinement {
     if (half.asymptotic[axis]) half.side_line[k] = kNoLine;
   }
 
+  /// check_side against a new line through the side (Engine::evaluate_line): for a side of the
+  /// initial grid, and for a side not yet settled once its line no longer meets the half's nodes
+  /// (the half is shorter along it than the panel that made the line).
+  void check_new_line(Panel<D>& panel, const SideValues<D>& extrapolated, int axis, int end) {
+    const int k = 2 * axis + end;
+    Line<D> line;
+    if (!engine_.evaluate_line(panel, axis, end, line)) {
+      panel.side_line[k] = kNoLine;
+      return;
+    }
+    lines_.push_back(line);
+    panel.side_line[k] = static_cast<int>(lines_.size() - 1);
+    check_side(panel, extrapolated, axis, end);
+  }
+
   void bisect(const Panel<D>& parent) {
     const int axis = parent.split_axis;
     const double mid = 0.5 * (parent.lo[axis] + parent.hi[axis]);
@@ -499,10 +540,22 @@ class Refinement {
       const int cut = static_cast<int>(lines_.size() - 1);
       inherit_sides(lower, parent, axis, false, cut);
       inherit_sides(upper, parent, axis, true, cut);
-      for (int end = 0; end < 2; ++end) {
-        check_side(lower, lower_sides, axis, end);
-        check_side(upper, upper_sides, axis, end);
-      }
+      // A half next to a side of the parent across the axis that is still open (a gap there
+      // may hide a strip the parent's nodes never saw) rechecks its sides along the axis even
+      // where the parent had settled them: the parent's nodes along them missed that strip too.
+      const bool lower_next_to_open = parent.side_line[2 * axis] != kNoLine;
+      const bool upper_next_to_open = parent.side_line[2 * axis + 1] != kNoLine;
+      for (int d = 0; d < D; ++d)
+        for (int end = 0; end < 2; ++end) {
+          if (d == axis) {
+            check_side(lower, lower_sides, axis, end);
+            check_side(upper, upper_sides, axis, end);
+            continue;
+          }
+          const bool open = parent.side_line[2 * d + end] != kNoLine;
+          if (open || lower_next_to_open) check_new_line(lower, lower_sides, d, end);
+          if (open || upper_next_to_open) check_new_line(upper, upper_sides, d, end);
+        }
       lower.total();
       upper.total();
     }

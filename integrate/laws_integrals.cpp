@@ -217,9 +217,11 @@ Estimate integrate_rectangle(const Model& model, const Vec3& fixed, Varying vary
   fixed_dirs.fill(fixed);
   PanelIntegrand<2> integrand = [&](const std::array<std::span<const double>, 2>& nodes, std::span<double> values) {
     place(nodes, k_dirs, weights);
-    if (varying == Varying::incident) model.f_batch(k_dirs, fixed_dirs, values);
-    else model.f_batch(fixed_dirs, k_dirs, values);
-    for (int m = 0; m < kNodes * kNodes; ++m) values[m] *= weights[m];
+    const std::size_t count = nodes[0].size() * nodes[1].size();  // a panel, or a line on its side
+    const std::span<const Vec3> k(k_dirs.data(), count), f(fixed_dirs.data(), count);
+    if (varying == Varying::incident) model.f_batch(k, f, values.first(count));
+    else model.f_batch(f, k, values.first(count));
+    for (std::size_t m = 0; m < count; ++m) values[m] *= weights[m];
   };
   return adaptive_cubature<2>(integrand, cuts, options);
 }
@@ -277,18 +279,22 @@ Estimate integrate_on_lune(const Model& model, const Lune& fr, std::array<std::v
       model, fixed, varying, cuts, options,
       [&](const std::array<std::span<const double>, 2>& nodes, PanelDirections& k_dirs, PanelWeights& weights) {
         std::array<double, kNodes> cos_t, sin_t, cos_phi, sin_phi, jt, jp;
-        for (int m = 0; m < kNodes; ++m) {
-          const double t = gt.x(nodes[0][m]), phi = gp.x(nodes[1][m]);
+        const std::size_t na = nodes[0].size(), nb = nodes[1].size();
+        for (std::size_t m = 0; m < na; ++m) {
+          const double t = gt.x(nodes[0][m]);
           jt[m] = gt.dx_ds(nodes[0][m]);
-          jp[m] = gp.dx_ds(nodes[1][m]);
           cos_t[m] = std::cos(t);
           sin_t[m] = std::sin(t);
+        }
+        for (std::size_t m = 0; m < nb; ++m) {
+          const double phi = gp.x(nodes[1][m]);
+          jp[m] = gp.dx_ds(nodes[1][m]);
           cos_phi[m] = std::cos(phi);
           sin_phi[m] = std::sin(phi);
         }
-        for (int a = 0; a < kNodes; ++a)
-          for (int b = 0; b < kNodes; ++b) {
-            const int m = a * kNodes + b;
+        for (std::size_t a = 0; a < na; ++a)
+          for (std::size_t b = 0; b < nb; ++b) {
+            const std::size_t m = a * nb + b;
             k_dirs[m] = cos_t[a] * (cos_phi[b] * kNormal + sin_phi[b] * fr.u) + sin_t[a] * fr.e;
             // (k·n) = cos t cos phi >= 0 on the rectangle; times the Jacobians cos t and the gradings'.
             weights[m] = cos_t[a] * cos_t[a] * cos_phi[b] * jt[a] * jp[b];
@@ -365,13 +371,14 @@ Estimate integrate_creased(const Model& model, const Vec3& pole, const Vec3& fix
   return integrate_rectangle(
       model, fixed, varying, cuts, options,
       [&](const std::array<std::span<const double>, 2>& nodes, PanelDirections& k_dirs, PanelWeights& weights) {
-        for (int b = 0; b < kNodes; ++b) {
+        const std::size_t na = nodes[0].size(), nb = nodes[1].size();
+        for (std::size_t b = 0; b < nb; ++b) {
           const double cos_phi = std::cos(nodes[1][b]), sin_phi = std::sin(nodes[1][b]);
           const double t_lo = t0(cos_phi, sin_phi), span = pi / 2 - t_lo;
           const Vec3 meridian = cos_phi * kNormal + sin_phi * fr.u;
-          for (int a = 0; a < kNodes; ++a) {
+          for (std::size_t a = 0; a < na; ++a) {
             const double t = t_lo + nodes[0][a] * span, cos_t = std::cos(t);
-            const int m = a * kNodes + b;
+            const std::size_t m = a * nb + b;
             k_dirs[m] = cos_t * meridian + std::sin(t) * e;
             weights[m] = cos_t * cos_t * cos_phi * span;
           }
@@ -443,24 +450,25 @@ Estimate double_diffuse(const Model& model, const CubatureOptions& options) {
   Estimate out;
   if (model.traits().isotropic) {
     PanelIntegrand<1> integrand = [&](const std::array<std::span<const double>, 1>& nodes, std::span<double> values) {
-      std::array<Vec3, kRuleNodes> dirs;
-      for (int m = 0; m < kRuleNodes; ++m) {
+      std::vector<Vec3> dirs(nodes[0].size());
+      for (std::size_t m = 0; m < dirs.size(); ++m) {
         const double mu = nodes[0][m];
         dirs[m] = {std::sqrt(std::max(0.0, 1.0 - mu * mu)), 0.0, mu};
       }
       run_inner(dirs, values);
-      for (int m = 0; m < kRuleNodes; ++m) values[m] *= 2.0 * nodes[0][m];
+      for (std::size_t m = 0; m < dirs.size(); ++m) values[m] *= 2.0 * nodes[0][m];
     };
     out = adaptive_cubature<1>(integrand, {std::vector<double>{0.0, 0.5, 1.0}}, outer);
   } else {
     PanelIntegrand<2> integrand = [&](const std::array<std::span<const double>, 2>& nodes, std::span<double> values) {
-      std::vector<Vec3> dirs(kRuleNodes * kRuleNodes);
+      const std::size_t na = nodes[0].size(), nb = nodes[1].size();
+      std::vector<Vec3> dirs(na * nb);
       std::vector<double> weight(dirs.size());
-      for (int a = 0; a < kRuleNodes; ++a)
-        for (int b = 0; b < kRuleNodes; ++b) {  // hemisphere as the lune with pole n, e = y
+      for (std::size_t a = 0; a < na; ++a)
+        for (std::size_t b = 0; b < nb; ++b) {  // hemisphere as the lune with pole n, e = y
           const double t = nodes[0][a], phi = nodes[1][b];
-          dirs[a * kRuleNodes + b] = {std::cos(t) * std::sin(phi), std::sin(t), std::cos(t) * std::cos(phi)};
-          weight[a * kRuleNodes + b] = std::cos(t) * std::cos(t) * std::cos(phi) / pi;
+          dirs[a * nb + b] = {std::cos(t) * std::sin(phi), std::sin(t), std::cos(t) * std::cos(phi)};
+          weight[a * nb + b] = std::cos(t) * std::cos(t) * std::cos(phi) / pi;
         }
       run_inner(dirs, values);
       for (std::size_t m = 0; m < dirs.size(); ++m) values[m] *= weight[m];

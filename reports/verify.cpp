@@ -454,11 +454,7 @@ Estimate integrate_over_lune(const Vec3& pole, const std::function<double(const 
         t_lines.push_back(x);
         phi_lines.push_back(x);
       }
-  PanelIntegrand<2> integrand = [&](const std::array<std::span<const double>, 2>& x, std::span<double> out) {
-    for (int a = 0; a < kRuleNodes; ++a)
-      for (int b = 0; b < kRuleNodes; ++b)
-        out[a * kRuleNodes + b] = F(fr.direction(x[0][a], x[1][b])) * std::cos(x[0][a]);
-  };
+  const auto integrand = pointwise<2>([&](double t, double phi) { return F(fr.direction(t, phi)) * std::cos(t); });
   const double gap = 1e-3 * scales.front();
   return adaptive_cubature<2>(
       integrand, {tidy_cuts(t_lines, -pi / 2, pi / 2, gap), tidy_cuts(phi_lines, fr.phi_lo, pi / 2, gap)}, options);

@@ -140,10 +140,8 @@ CheckResult kajiya_cylinder_check() {
         std::vector<double> lines{-pi, pi};
         for (double c : {psi_0 - pi / 2, psi_0 + pi / 2, psi_0 - 1.5 * pi, psi_0 + 1.5 * pi})
           if (c > -pi && c < pi) lines.push_back(c);
-        PanelIntegrand<1> integrand = [&](const std::array<std::span<const double>, 1>& x, std::span<double> out) {
-          for (int k = 0; k < kRuleNodes; ++k)
-            out[k] = std::max(0.0, l.y * std::sin(x[0][k]) + l.z * std::cos(x[0][k]));
-        };
+        const auto integrand =
+            pointwise<1>([&](double x) { return std::max(0.0, l.y * std::sin(x) + l.z * std::cos(x)); });
         const Estimate e = adaptive_cubature<1>(integrand, {tidy_cuts(lines, -pi, pi, 1e-12)}, reference_options());
         return Sample{2.0 * std::hypot(l.y, l.z), kNaN, e.value, e.error, e.converged, 1};
       });

@@ -53,14 +53,10 @@ Estimate lump_volume(const hvd::Lump& lump) {
   for (double m : {0.5, 1.0, 2.0, 4.0})
     if (m * w < 1.0) r_cuts.push_back(m * w);
   std::sort(r_cuts.begin(), r_cuts.end());
-  PanelIntegrand<2> F = [&](const std::array<std::span<const double>, 2>& x, std::span<double> out) {
-    for (int a = 0; a < kRuleNodes; ++a)
-      for (int b = 0; b < kRuleNodes; ++b) {
-        const double r = x[0][a], psi = x[1][b];
-        const hvd::Uv h{lump.centre.u + lump.R_u * r * std::cos(psi), lump.centre.v + lump.R_v * r * std::sin(psi)};
-        out[a * kRuleNodes + b] = lump.pdf(h) * lump.R_u * lump.R_v * r;
-      }
-  };
+  const auto F = pointwise<2>([&](double r, double psi) {
+    const hvd::Uv h{lump.centre.u + lump.R_u * r * std::cos(psi), lump.centre.v + lump.R_v * r * std::sin(psi)};
+    return lump.pdf(h) * lump.R_u * lump.R_v * r;
+  });
   return adaptive_cubature<2>(
       F, std::array<std::vector<double>, 2>{r_cuts, std::vector<double>{0.0, 0.5 * pi, pi, 1.5 * pi, 2 * pi}},
       reference_options());
@@ -84,22 +80,17 @@ Estimate lump_volume_on_disk(double R, double n, double s) {
     for (double m : {0.5, 1.0, 2.0})
       if (m * w < a) cuts.push_back(m * w);
     std::sort(cuts.begin(), cuts.end());
-    PanelIntegrand<1> F = [&](const std::array<std::span<const double>, 1>& x, std::span<double> out) {
-      for (int k = 0; k < kRuleNodes; ++k) out[k] = p(x[0][k]) * 2 * pi * x[0][k];
-    };
+    const auto F = pointwise<1>([&](double r) { return p(r) * 2 * pi * r; });
     if (a > 0.0) total = adaptive_cubature<1>(F, std::array<std::vector<double>, 1>{cuts}, reference_options());
   }
   const double b = std::min(R, 1.0 + s);
   if (b > a && s > 0.0) {
-    PanelIntegrand<1> G = [&](const std::array<std::span<const double>, 1>& x, std::span<double> out) {
-      for (int k = 0; k < kRuleNodes; ++k) {
-        const double t = x[0][k];
-        const double r = a + (b - a) * 0.5 * (1.0 - std::cos(pi * t));
-        const double dr = (b - a) * 0.5 * pi * std::sin(pi * t);
-        const double alpha = 2.0 * std::acos(std::clamp((r * r + s * s - 1.0) / (2.0 * r * s), -1.0, 1.0));
-        out[k] = p(r) * r * alpha * dr;
-      }
-    };
+    const auto G = pointwise<1>([&](double t) {
+      const double r = a + (b - a) * 0.5 * (1.0 - std::cos(pi * t));
+      const double dr = (b - a) * 0.5 * pi * std::sin(pi * t);
+      const double alpha = 2.0 * std::acos(std::clamp((r * r + s * s - 1.0) / (2.0 * r * s), -1.0, 1.0));
+      return p(r) * r * alpha * dr;
+    });
     const Estimate e = adaptive_cubature<1>(G, std::array<std::vector<double>, 1>{std::vector<double>{0.0, 0.5, 1.0}},
                                             reference_options());
     total.value += e.value;

@@ -188,14 +188,11 @@ TEST(Schlick, NormalizedAzimuthKeepsZsEnergy) {
     const Lune hemi = lune(Vec3{0, 0, 1}, Vec3{1, 0, 0});
     std::vector<double> lines{-pi / 2, pi / 2};
     for (double d : {p / 4, p, 4 * p, 0.1}) lines.insert(lines.end(), {std::atan(d), -std::atan(d)});
-    PanelIntegrand<2> integrand = [&](const std::array<std::span<const double>, 2>& x, std::span<double> out) {
-      for (int k = 0; k < kRuleNodes; ++k)
-        for (int l = 0; l < kRuleNodes; ++l) {
-          const Vec3 h = hemi.direction(x[0][k], x[1][l]);
-          const double s = std::hypot(h.x, h.y), w = s > 0.0 ? h.x / s : 1.0;
-          out[k * kRuleNodes + l] = schlick::zenith(h.z, 0.2) * schlick::azimuth(w, p) / a * h.z * std::cos(x[0][k]);
-        }
-    };
+    const auto integrand = pointwise<2>([&](double t, double phi) {
+      const Vec3 h = hemi.direction(t, phi);
+      const double s = std::hypot(h.x, h.y), w = s > 0.0 ? h.x / s : 1.0;
+      return schlick::zenith(h.z, 0.2) * schlick::azimuth(w, p) / a * h.z * std::cos(t);
+    });
     const Estimate e = adaptive_cubature<2>(
         integrand, {tidy_cuts(lines, -pi / 2, pi / 2, 1e-6), tidy_cuts(lines, -pi / 2, pi / 2, 1e-6)}, o);
     EXPECT_NEAR(e.value, pi, 10 * e.error + 1e-9) << p;

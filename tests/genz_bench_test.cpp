@@ -106,5 +106,27 @@ TEST(GenzBench, DishonestOnlyWhenClaimedAndBeyondTheEstimate) {
   EXPECT_FALSE(run.dishonest());
 }
 
+TEST(GenzBench, TheSampleIsMetOnlyAtEveryToleranceOfTheTarget) {
+  // The verdict on the sample: every default tolerance (1e-3, 1e-4, ..., 1e-12) and >= 500
+  // instances; the range's two ends alone are not the sample.
+  const std::string line = "instances per family and dimension, each at every relative tolerance";
+  auto sample_verdict = [&](const GenzOptions& options) {
+    const std::string md = genz_markdown({}, options, "test", 0.0);
+    const std::size_t at = md.find(line);
+    EXPECT_NE(at, std::string::npos);
+    return md.substr(at, md.find('\n', at) - at);
+  };
+  GenzOptions full;
+  EXPECT_NE(sample_verdict(full).find("**met** (500 instances; 10 of the 10 tolerances"), std::string::npos)
+      << sample_verdict(full);
+  GenzOptions ends = full;
+  ends.tolerances = {1e-3, 1e-12};
+  EXPECT_NE(sample_verdict(ends).find("**missed** (500 instances; 2 of the 10 tolerances"), std::string::npos)
+      << sample_verdict(ends);
+  GenzOptions small = full;
+  small.instances = 499;
+  EXPECT_NE(sample_verdict(small).find("**missed**"), std::string::npos) << sample_verdict(small);
+}
+
 }  // namespace
 }  // namespace ganzfeld::bench

@@ -184,11 +184,8 @@ TEST(Microfacet, VisibleNormalDensityIntegratesToOne) {
         lines.push_back(std::atan(s));
         lines.push_back(-std::atan(s));
       }
-      PanelIntegrand<2> F = [&](const std::array<std::span<const double>, 2>& x, std::span<double> out) {
-        for (int p = 0; p < kRuleNodes; ++p)
-          for (int q = 0; q < kRuleNodes; ++q)
-            out[p * kRuleNodes + q] = ggx::D_visible(w, fr.direction(x[0][p], x[1][q]), a) * std::cos(x[0][p]);
-      };
+      const auto F =
+          pointwise<2>([&](double t, double phi) { return ggx::D_visible(w, fr.direction(t, phi), a) * std::cos(t); });
       const Estimate e =
           adaptive_cubature<2>(F, {tidy_cuts(lines, -pi / 2, pi / 2, 1e-6), tidy_cuts(lines, fr.phi_lo, pi / 2, 1e-6)},
                                testing_support::cubature_options(kDensityTol * 0.1));

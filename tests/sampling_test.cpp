@@ -69,14 +69,10 @@ std::vector<double> bin_probabilities(const Model& model, const Vec3& j, double&
       for (double q : phi_lines)
         if (q > p0 && q < p1) pc.push_back(q);
       const double scale = 1e-3 * std::min(t1 - t0, p1 - p0);
-      PanelIntegrand<2> integrand = [&](const std::array<std::span<const double>, 2>& nodes, std::span<double> values) {
-        for (int x = 0; x < kRuleNodes; ++x)
-          for (int y = 0; y < kRuleNodes; ++y) {
-            const double t = nodes[0][x], q = nodes[1][y];
-            const Vec3 i{std::sin(t) * std::cos(q), std::sin(t) * std::sin(q), std::cos(t)};
-            values[x * kRuleNodes + y] = model.pdf_incident(j, i) * std::sin(t);
-          }
-      };
+      const auto integrand = pointwise<2>([&](double t, double q) {
+        const Vec3 i{std::sin(t) * std::cos(q), std::sin(t) * std::sin(q), std::cos(t)};
+        return model.pdf_incident(j, i) * std::sin(t);
+      });
       const Estimate e = adaptive_cubature<2>(
           integrand, {tidy_cuts(tc, t0, t1, 1e-3 * scale), tidy_cuts(pc, p0, p1, 1e-3 * scale)}, options);
       p[a * kPhiBins + b] = e.value;
@@ -185,14 +181,9 @@ TEST(SamplingChiSquare, HvdFitOrthogonalProjectionInsideAndOffTheDisk) {
     const Estimate success = [&] {
       std::array<std::vector<double>, 2> cuts{std::vector<double>{0.0, 0.25 * pi, 0.5 * pi},
                                               std::vector<double>{0.0, pi, 2.0 * pi}};
-      PanelIntegrand<2> f = [&](const std::array<std::span<const double>, 2>& nodes, std::span<double> values) {
-        for (int x = 0; x < kRuleNodes; ++x)
-          for (int y = 0; y < kRuleNodes; ++y) {
-            const double t = nodes[0][x], q = nodes[1][y];
-            values[x * kRuleNodes + y] =
-                off->pdf_incident(j, {std::sin(t) * std::cos(q), std::sin(t) * std::sin(q), std::cos(t)}) * std::sin(t);
-          }
-      };
+      const auto f = pointwise<2>([&](double t, double q) {
+        return off->pdf_incident(j, {std::sin(t) * std::cos(q), std::sin(t) * std::sin(q), std::cos(t)}) * std::sin(t);
+      });
       CubatureOptions o;
       o.abs_tol = 1e-10;
       return adaptive_cubature<2>(f, cuts, o);
