@@ -193,15 +193,23 @@ class Engine {
  public:
   Engine(const PanelIntegrand<D>& integrand) : integrand_(integrand) {}
 
-  SideValues<D> evaluate(Panel<D>& panel) {
+  /// The Kronrod nodes of `panel` along each axis. A line on a side (evaluate_line) uses the
+  /// same nodes along the other axis, bit for bit, so that it meets the panel's extrapolation.
+  static std::array<std::array<double, kRuleNodes>, D> nodes_of(const Panel<D>& panel) {
     const Rule& r = rule();
     std::array<std::array<double, kRuleNodes>, D> nodes;
-    std::array<double, D> half;
     for (int d = 0; d < D; ++d) {
-      const double centre = 0.5 * (panel.lo[d] + panel.hi[d]);
-      half[d] = 0.5 * (panel.hi[d] - panel.lo[d]);
-      for (int m = 0; m < kRuleNodes; ++m) nodes[d][m] = centre + half[d] * r.x[m];
+      const double centre = 0.5 * (panel.lo[d] + panel.hi[d]), half = 0.5 * (panel.hi[d] - panel.lo[d]);
+      for (int m = 0; m < kRuleNodes; ++m) nodes[d][m] = centre + half * r.x[m];
     }
+    return nodes;
+  }
+
+  SideValues<D> evaluate(Panel<D>& panel) {
+    const Rule& r = rule();
+    const std::array<std::array<double, kRuleNodes>, D> nodes = nodes_of(panel);
+    std::array<double, D> half;
+    for (int d = 0; d < D; ++d) half[d] = 0.5 * (panel.hi[d] - panel.lo[d]);
     std::array<std::span<const double>, D> spans;
     for (int d = 0; d < D; ++d) spans[d] = nodes[d];
     integrand_(spans, values_);
@@ -296,15 +304,11 @@ class Engine {
   /// False when a value there is not finite (an integrable singularity on the box's end, say):
   /// such a line cannot tell a hidden kink from the singularity, and the side stays unchecked.
   bool evaluate_line(const Panel<D>& panel, int axis, int end, Line<D>& line) {
-    const Rule& r = rule();
-    std::array<std::array<double, kRuleNodes>, D> nodes;
+    const std::array<std::array<double, kRuleNodes>, D> nodes = nodes_of(panel);
     std::array<std::span<const double>, D> spans;
     const double side = end == 0 ? panel.lo[axis] : panel.hi[axis];
-    for (int d = 0; d < D; ++d) {
-      const double centre = 0.5 * (panel.lo[d] + panel.hi[d]), half = 0.5 * (panel.hi[d] - panel.lo[d]);
-      for (int m = 0; m < kRuleNodes; ++m) nodes[d][m] = centre + half * r.x[m];
+    for (int d = 0; d < D; ++d)
       spans[d] = d == axis ? std::span<const double>(&side, 1) : std::span<const double>(nodes[d]);
-    }
     integrand_(spans, line);
     evaluations_ += side_nodes(D);
     for (double v : line)
