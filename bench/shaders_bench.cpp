@@ -162,6 +162,10 @@ std::vector<TableSet> table_sets(bool quick) {
     options.target = tables::ErrorTarget{e, 0, 0};
     out.push_back({std::string("`--max-error ") + text + "`", options});
   }
+  // Eight fetches per law: the b-spline's two hardware-filtered fetches per axis (docs/lut-format.md).
+  scene::TableOptions eight;
+  eight.target = tables::ErrorTarget{3e-4, 0, 8};
+  out.push_back({"`--max-error 3e-4 --fetches 8`", eight});
   return out;
 }
 

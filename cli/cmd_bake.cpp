@@ -158,8 +158,9 @@ tables::BakeRequest model_request(const BakeArgs& args, const Model& model, Law 
   }
   if (!args.filter.empty()) {
     grid.filter = tables::parse_filter(args.filter);
-    if (grid.filter == tables::Filter::hardware && grid.interpolation != tables::Interpolation::linear)
-      throw InputError({Named{"filter", "hardware"}, " is validated for ", Named{"interpolation", "linear"}, " only"});
+    if (grid.filter == tables::Filter::hardware && grid.interpolation == tables::Interpolation::catmull_rom)
+      throw InputError({Named{"filter", "hardware"}, " is validated for ", Named{"interpolation", "linear"}, " and ",
+                        Named{"interpolation", "b-spline"}, " only"});
   }
   if (args.checks) grid.random_checks = *args.checks;
   return grid;
@@ -340,11 +341,14 @@ void add_model_job(CLI::App& bake, Action& action, const std::shared_ptr<BakeArg
       "--frame", args->frame,
       "fixed grid: g axes, cosines (i·n, j·n, phi; default), lobe (theta_j, psi, beta about the lobe's peak) or "
       "warped (theta_j, the sky edge's warped offset from the lobe, beta; docs/lut-format.md)"));
-  grid.push_back(cmd->add_option("--filter", args->filter,
-                                 "fixed grid: the lookup its bound covers, texel-fetch (default) or hardware (one "
-                                 "GPU-filtered fetch, 8-bit weights; linear interpolation only)"));
   grid.push_back(
-      cmd->add_option("--interpolation", args->interpolation, "fixed grid: lookup, linear (default) or catmull-rom"));
+      cmd->add_option("--filter", args->filter,
+                      "fixed grid: the lookup its bound covers, texel-fetch (default) or hardware (one "
+                      "GPU-filtered fetch per linear blend, 8-bit weights; linear and b-spline interpolation)"));
+  grid.push_back(
+      cmd->add_option("--interpolation", args->interpolation,
+                      "fixed grid: lookup, linear (default), catmull-rom or b-spline (stores the cubic B-spline's "
+                      "coefficients; 2 hardware-filtered fetches per axis)"));
   grid.push_back(cmd->add_option(
       "--checks", args->checks,
       "fixed grid: seeded random validation points (besides the cell centres) against direct cubature"));

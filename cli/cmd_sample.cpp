@@ -103,7 +103,8 @@ void add_sample_command(CLI::App& app, Action& action) {
       const Vec3 i = needs_i ? args->directions.incident(law) : Vec3{0, 0, 1};
       const Vec3 j = needs_j ? args->directions.outgoing(law) : Vec3{0, 0, 1};
       if (args->hardware_filter && table.interpolation != tables::Interpolation::linear &&
-          table.interpolation != tables::Interpolation::catmull_rom)
+          table.interpolation != tables::Interpolation::catmull_rom &&
+          table.interpolation != tables::Interpolation::bspline)
         throw InputError("--hardware-filter: table '" + args->path + "' has no filtered lookup");
       const tables::WeightRounding rounding =
           args->hardware_filter ? tables::WeightRounding::nearest : tables::WeightRounding::exact;

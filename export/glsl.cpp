@@ -49,18 +49,24 @@ std::string even_flags(const Table& table) {
   return table.axes.size() == 1 ? out : "bvec3(" + out + ")";
 }
 
-/// The lookup call of `table` at index coordinates `u` (tables::sample_axes: linear or Catmull–Rom).
+/// The lookup call of `table` at index coordinates `u` (tables::sample_axes: linear, Catmull–Rom or
+/// the b-spline).
 std::string lookup_call(const Table& table, const std::string& u) {
-  const bool cubic = table.interpolation == Interpolation::catmull_rom;
   std::string count;
   for (const Axis& axis : table.axes) count += (count.empty() ? "" : ", ") + std::to_string(axis.count);
   if (table.axes.size() == 3) count = "ivec3(" + count + ")";
   const std::string dims = table.axes.size() == 3 ? "3" : "1";
-  // A hardware-filtered table's bound covers the GPU's filter (check_table: linear only): one
+  // A hardware-filtered table's bound covers the GPU's filter (check_table: linear and b-spline):
   // texture() whatever GANZFELD_HARDWARE_FILTER says.
-  const std::string kind = cubic ? "_catmull_rom" : table.filter == Filter::hardware ? "_filtered" : "";
+  const bool filtered = table.filter == Filter::hardware;
+  const std::string kind = table.interpolation == Interpolation::catmull_rom ? "_catmull_rom"
+                           : table.interpolation == Interpolation::bspline
+                               ? (filtered ? "_bspline_filtered" : "_bspline")
+                           : filtered ? "_filtered"
+                                      : "";
+  const bool even = table.interpolation == Interpolation::catmull_rom;  // only Catmull–Rom folds the ends
   const std::string call =
-      "gz_lookup" + dims + kind + "(table, " + u + ", " + count + (cubic ? ", " + even_flags(table) : "") + ")";
+      "gz_lookup" + dims + kind + "(table, " + u + ", " + count + (even ? ", " + even_flags(table) : "") + ")";
   if (table.encoding != Encoding::unorm16) return call;
   // unorm16: the texture holds u / 65535 (R16 normalized); both lookups are affine (weights sum
   // to 1), so offset + scale x lookup(codes) = lookup(offset + scale x codes), tables::sample's value.
@@ -373,6 +379,85 @@ float gz_lookup3_catmull_rom(highp sampler3D table, vec3 u, ivec3 count, bvec3 e
   }
 #endif
   return sum;
+}
+
+// The cubic b-spline (version 6, tables::bspline_taps; tables/bspline.h): the table holds the
+// spline's coefficients, one beyond each end of every axis, s = 1 + u (count - 3). Around s the four
+// weights are >= 0 and read as two pairs of neighbouring coefficients: (k - 1, k) with weight g.x,
+// the second at fraction f.x, and (k + 1, k + 2) with g.y and f.y.
+void gz_bspline(float u, int count, out int k, out vec2 g, out vec2 f) {
+  float s = 1.0 + clamp(u, 0.0, 1.0) * float(count - 3);
+  k = min(int(floor(s)), count - 3);
+  float t = s - float(k), r = 1.0 - t, t2 = t * t, t3 = t2 * t;
+  vec4 b = vec4(r * r * r, 3.0 * t3 - 6.0 * t2 + 4.0, -3.0 * t3 + 3.0 * t2 + 3.0 * t + 1.0, t3) / 6.0;
+  g = vec2(b.x + b.y, b.z + b.w);
+  f = vec2(b.y / g.x, b.w / g.y);
+}
+// For hardware filtering: the two pairs' texture coordinates (texel centre rule) and weights.
+void gz_bspline_linear(float u, int count, out vec2 x, out vec2 g) {
+  int k;
+  vec2 f;
+  gz_bspline(u, count, k, g, f);
+  x = (vec2(float(k - 1), float(k + 1)) + f + 0.5) / float(count);
+}
+// For texelFetch: the four coefficients' weights (coefficients k - 1 .. k + 2).
+void gz_bspline_taps(float u, int count, out int k, out vec4 w) {
+  vec2 g, f;
+  gz_bspline(u, count, k, g, f);
+  w = vec4(g.x * (1.0 - f.x), g.x * f.x, g.y * (1.0 - f.y), g.y * f.y);
+}
+// B-spline lookups by the GPU's filter: 2 fetches per axis (2 in 1-D, 8 in 3-D).
+float gz_lookup1_bspline_filtered(highp sampler2D table, float u, int count) {
+  vec2 x, g;
+  gz_bspline_linear(u, count, x, g);
+  return g.x * texture(table, vec2(x.x, 0.5)).r + g.y * texture(table, vec2(x.y, 0.5)).r;
+}
+float gz_lookup3_bspline_filtered(highp sampler3D table, vec3 u, ivec3 count) {
+  vec2 x0, x1, x2, g0, g1, g2;
+  gz_bspline_linear(u.x, count.x, x0, g0);
+  gz_bspline_linear(u.y, count.y, x1, g1);
+  gz_bspline_linear(u.z, count.z, x2, g2);
+  float sum = 0.0;
+  for (int a = 0; a < 2; ++a)
+    for (int b = 0; b < 2; ++b)
+      sum += g0[a] * g1[b] * dot(g2, vec2(texture(table, vec3(x2.x, x1[b], x0[a])).r,
+                                          texture(table, vec3(x2.y, x1[b], x0[a])).r));
+  return sum;
+}
+// B-spline lookups with texelFetch (4 per axis), or the filtered ones under GANZFELD_HARDWARE_FILTER.
+float gz_lookup1_bspline(highp sampler2D table, float u, int count) {
+#ifdef GANZFELD_HARDWARE_FILTER
+  return gz_lookup1_bspline_filtered(table, u, count);
+#else
+  int k;
+  vec4 w;
+  gz_bspline_taps(u, count, k, w);
+  return dot(w, vec4(texelFetch(table, ivec2(k - 1, 0), 0).r, texelFetch(table, ivec2(k, 0), 0).r,
+                     texelFetch(table, ivec2(k + 1, 0), 0).r, texelFetch(table, ivec2(k + 2, 0), 0).r));
+#endif
+}
+float gz_lookup3_bspline(highp sampler3D table, vec3 u, ivec3 count) {
+#ifdef GANZFELD_HARDWARE_FILTER
+  return gz_lookup3_bspline_filtered(table, u, count);
+#else
+  int k0, k1, k2;
+  vec4 w0, w1, w2;
+  gz_bspline_taps(u.x, count.x, k0, w0);
+  gz_bspline_taps(u.y, count.y, k1, w1);
+  gz_bspline_taps(u.z, count.z, k2, w2);
+  float sum = 0.0;
+  for (int a = 0; a < 4; ++a) {
+    float plane = 0.0;
+    for (int b = 0; b < 4; ++b) {
+      ivec2 yz = ivec2(k1 - 1 + b, k0 - 1 + a);
+      vec4 row = vec4(texelFetch(table, ivec3(k2 - 1, yz), 0).r, texelFetch(table, ivec3(k2, yz), 0).r,
+                      texelFetch(table, ivec3(k2 + 1, yz), 0).r, texelFetch(table, ivec3(k2 + 2, yz), 0).r);
+      plane += w1[b] * dot(w2, row);
+    }
+    sum += w0[a] * plane;
+  }
+  return sum;
+#endif
 }
 #endif  // GANZFELD_COMMON_GLSL
 )";

@@ -26,6 +26,7 @@ const char* to_string(SchemeKind kind) {
     case SchemeKind::half: return "half";
     case SchemeKind::trilinear: return "trilinear";
     case SchemeKind::one_fetch: return "one-fetch";
+    case SchemeKind::eight_fetch: return "eight-fetch";
   }
   return "?";
 }
@@ -35,7 +36,7 @@ namespace {
 /// What each kind bakes: fixed resolutions, --max-error targets (the last one of `targets` is
 /// the pick the swapped and half rows start from; `stretch` after it, with its byte cap).
 struct SchemePlan {
-  std::vector<std::vector<int>> today, trilinear, one_fetch;
+  std::vector<std::vector<int>> today, trilinear, one_fetch, eight_fetch;
   std::vector<double> targets;
   std::vector<double> unorm16_targets;  ///< bake --max-error E --encoding unorm16 (the 16-bit target)
   double stretch = 0.0;
@@ -53,6 +54,8 @@ SchemePlan scheme_plan(Law law, bool quick) {
                            : std::vector<std::vector<int>>{{13, 25, 9}, {17, 33, 13}, {25, 49, 17}};
     plan.one_fetch = quick ? std::vector<std::vector<int>>{{9, 17, 5}}
                            : std::vector<std::vector<int>>{{17, 33, 11}, {21, 41, 15}, {25, 49, 17}, {29, 57, 19}};
+    plan.eight_fetch = quick ? std::vector<std::vector<int>>{{9, 17, 7}}
+                             : std::vector<std::vector<int>>{{17, 33, 11}, {25, 49, 17}, {33, 65, 21}};
     plan.targets = quick ? std::vector<double>{1e-2} : std::vector<double>{1e-3, 1e-4};
     plan.unorm16_targets = quick ? std::vector<double>{1e-2} : std::vector<double>{1e-4};  // <= 128 kB in 16 bits
     if (!quick) plan.stretch = 1e-5, plan.stretch_bytes = 2'000'000;  // the stretch target: 1e-5 in 2 MB
@@ -153,13 +156,13 @@ SchemeReport measure_schemes(const Model& model, Law law, const SchemeOptions& o
     if (law != Law::g) throw InputError({Named{"one_fetch"}, " measures g tables only"});
     // The 1e-3 pick only: the 1e-4 search within 8 fetches bakes tables of ~1e5 nodes at 1e-5
     // several times (many minutes per model on 2 cores); the texelFetch row stands for it.
-    plan = SchemePlan{{}, {}, plan.one_fetch, {}, {}, 0.0, 0, {{kTrilinearTarget, 1}}};
+    plan = SchemePlan{{}, {}, plan.one_fetch, plan.eight_fetch, {}, {}, 0.0, 0, {{kTrilinearTarget, 1}}};
   }
   const std::optional<LobeFrame> lobe = law == Law::g ? lobe_frame_of(model) : std::nullopt;
   const std::size_t total = plan.today.size() + plan.targets.size() + plan.unorm16_targets.size() +
                             (plan.targets.empty() ? 0 : 2) + (plan.stretch > 0) + plan.trilinear.size() +
                             !plan.trilinear.empty() + plan.one_fetch.size() +
-                            (plan.one_fetch.empty() ? 0 : 2 + plan.fetch_targets.size());
+                            (plan.one_fetch.empty() ? 0 : 2 + plan.fetch_targets.size() + plan.eight_fetch.size());
   auto add = [&](const SchemeRow& row) {
     report.rows.push_back(row);
     if (options.progress) options.progress(report.rows.size(), total);
@@ -245,6 +248,16 @@ SchemeReport measure_schemes(const Model& model, Law law, const SchemeOptions& o
           r.max_error <= kTrilinearTarget && r.value_bytes < base->value_bytes)
         base = &r;
     one_fetch_row(std::vector<int>(base->resolution), Encoding::unorm16, Filter::hardware);
+    for (const std::vector<int>& resolution : plan.eight_fetch) {  // the b-spline: 2 filtered fetches per axis
+      SchemeRow row = row_of(SchemeKind::eight_fetch, resolution, lobe ? Frame::warped : Frame::cosines);
+      row.filter = Filter::hardware;
+      row.interpolation = Interpolation::bspline;
+      BakeOptions bake_options = fixed_options(row, nullptr);
+      bake_options.lobe = lobe;
+      bake_options.warped = lobe.has_value();
+      measure_row(model, law, bake_options, options.repeats, report.reference, row);
+      add(row);
+    }
     for (const auto& [target, budget] : plan.fetch_targets) {
       SchemeRow pick = row_of(SchemeKind::max_error, {});
       pick.target = target;
@@ -281,7 +294,8 @@ std::string scheme_label(const SchemeRow& row) {
            (row.target_bytes ? " --max-bytes " + std::to_string(row.target_bytes) : std::string()) +
            (row.target_fetches ? " --fetches " + std::to_string(row.target_fetches) : std::string()) +
            (row.encoding == Encoding::unorm16 ? " --encoding unorm16" : "");
-  if (row.kind == SchemeKind::today || row.kind == SchemeKind::trilinear || row.kind == SchemeKind::one_fetch)
+  if (row.kind == SchemeKind::today || row.kind == SchemeKind::trilinear || row.kind == SchemeKind::one_fetch ||
+      row.kind == SchemeKind::eight_fetch)
     return std::string(to_string(row.kind)) + " " + resolution_text(row.resolution) +
            (row.encoding == Encoding::half      ? " half"
             : row.encoding == Encoding::unorm16 ? " unorm16"
@@ -350,16 +364,16 @@ void write_schemes_plot(const SchemeReport& report, const std::string& path) {
   }
   int y = 600;
   for (SchemeKind kind : {SchemeKind::today, SchemeKind::max_error, SchemeKind::swapped, SchemeKind::half,
-                          SchemeKind::trilinear, SchemeKind::one_fetch}) {
+                          SchemeKind::trilinear, SchemeKind::one_fetch, SchemeKind::eight_fetch}) {
     const int k = static_cast<int>(kind);
-    cv.marker(140 + 205 * k, y + 6, k, kPalette[k % 8]);
-    cv.text(156 + 205 * k, y, to_string(kind), kBlack);
+    cv.marker(140 + 175 * k, y + 6, k, kPalette[k % 8]);
+    cv.text(156 + 175 * k, y, to_string(kind), kBlack);
   }
   cv.text(130, 650, "today: cosines frame, linear.  max-error: what bake --max-error picks.  other lookup, half: the",
           kGrey);
   cv.text(130, 674,
           "finest pick with the other interpolation or in half floats.  trilinear: lobe frame, linear.  "
-          "one-fetch: warped frame, hardware filter.",
+          "one-fetch: warped frame, hardware filter.  eight-fetch: the same, b-spline.",
           kGrey);
   write_png(cv, path);
 }

@@ -35,18 +35,20 @@ inline constexpr double kTrilinearTarget = 1e-3;
 
 /// The families of rows, in the order they are measured and listed.
 enum class SchemeKind {
-  today,      ///< version 1: cosines frame, default mappings, linear (at fixed resolutions)
-  max_error,  ///< bake --max-error E: the frame, interpolation and resolution it picks
-  swapped,    ///< the 1e-4 pick with the other interpolation (linear <-> Catmull–Rom)
-  half,       ///< the 1e-4 pick in half floats
-  trilinear,  ///< g: lobe frame (cosines when the model has none), linear, fixed resolutions; and
-              ///< the smallest within kTrilinearTarget in half floats
-  one_fetch,  ///< g: warped frame (cosines when the model has no lobe), linear, hardware filter, at
-              ///< fixed resolutions, the finest again read with texelFetch (2^D fetches, full-precision
-              ///< weights), the smallest within kTrilinearTarget again in unorm16; and bake
-              ///< --max-error 1e-3 --fetches 1 and (not with one_fetch_only) --max-error 1e-4 --fetches 8.
-              ///< Hardware-filtered rows' errors are the worst of the full-precision and both 8-bit
-              ///< filter lookups.
+  today,        ///< version 1: cosines frame, default mappings, linear (at fixed resolutions)
+  max_error,    ///< bake --max-error E: the frame, interpolation and resolution it picks
+  swapped,      ///< the 1e-4 pick with the other interpolation (linear <-> Catmull–Rom)
+  half,         ///< the 1e-4 pick in half floats
+  trilinear,    ///< g: lobe frame (cosines when the model has none), linear, fixed resolutions; and
+                ///< the smallest within kTrilinearTarget in half floats
+  one_fetch,    ///< g: warped frame (cosines when the model has no lobe), linear, hardware filter, at
+                ///< fixed resolutions, the finest again read with texelFetch (2^D fetches, full-precision
+                ///< weights), the smallest within kTrilinearTarget again in unorm16; and bake
+                ///< --max-error 1e-3 --fetches 1 and (not with one_fetch_only) --max-error 1e-4 --fetches 8.
+                ///< Hardware-filtered rows' errors are the worst of the full-precision and both 8-bit
+                ///< filter lookups.
+  eight_fetch,  ///< g, with one_fetch: the same frame with the b-spline read as 2 hardware-filtered
+                ///< fetches per axis (8), at fixed resolutions (errors as for one_fetch)
 };
 const char* to_string(SchemeKind kind);
 

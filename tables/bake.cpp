@@ -15,6 +15,7 @@
 
 #include "integrate/laws.h"
 #include "models/registry.h"
+#include "tables/bspline.h"
 #include "tables/sample.h"
 #include "tables/to_error.h"
 #include "util/error.h"
@@ -134,11 +135,16 @@ std::vector<Axis> checked_axes(const Model& model, Law law, const BakeOptions& o
   if (!std::isfinite(options.tolerance) || !(options.tolerance > 0.0))
     throw InputError("tolerance " + format_number(options.tolerance) + " is not allowed; expected a positive number");
   std::vector<Axis> axes = bake_axes(law, options);  // refuses other laws and counts < 2
-  if (options.interpolation == Interpolation::catmull_rom)
-    for (const Axis& a : axes)
-      if (a.count < 4)
-        throw InputError("resolution " + resolution_text(options.resolution) + " has " + std::to_string(a.count) +
-                         " nodes on axis " + a.name + "; catmull-rom interpolation needs at least 4 per axis");
+  const int fewest = options.interpolation == Interpolation::bspline       ? kBSplineMinCount
+                     : options.interpolation == Interpolation::catmull_rom ? 4
+                                                                           : 2;
+  for (const Axis& a : axes)
+    if (a.count < fewest)
+      throw InputError("resolution " + resolution_text(options.resolution) + " has " + std::to_string(a.count) +
+                       " nodes on axis " + a.name + "; " + to_string(options.interpolation) +
+                       " interpolation needs at least " + std::to_string(fewest) + " per axis");
+  if (options.filter == Filter::hardware && options.interpolation == Interpolation::catmull_rom)
+    throw InputError("hardware filtering is validated for linear and b-spline lookups only, not catmull-rom");
   const std::uint64_t bytes = table_bytes(options.resolution);
   if (bytes > kMaxTableBytes)
     throw InputError("resolution " + resolution_text(options.resolution) + " would need " + std::to_string(bytes) +
@@ -229,11 +235,14 @@ void throw_if_cancelled(const BakeOptions& options) {
 /// cubature estimate + that rounding, rounded up. Reports progress; refuses values the encoding
 /// cannot hold.
 void bake_nodes(Table& table, const LawAt& law_at, const BakeOptions& options, const CubatureOptions& cubature) {
-  std::vector<std::vector<double>> nodes;  // node coordinates per axis, computed once
+  // Node coordinates per axis, computed once: every entry's node, or a b-spline's count - 2 nodes
+  // (tables/bspline.h), from whose values the coefficients are solved below.
+  const bool spline = table.interpolation == Interpolation::bspline;
+  std::vector<std::vector<double>> nodes;
   for (const Axis& axis : table.axes) {
     std::vector<double> x(axis.count);
     for (int k = 0; k < axis.count; ++k) x[k] = axis.node(k);
-    nodes.push_back(std::move(x));
+    nodes.push_back(spline ? bspline_nodes(axis) : std::move(x));
   }
   // Entry m = (k_0 * n_1 + k_1) * n_2 + k_2 (g) or k (h, a).
   auto entry = [&](std::uint64_t m) -> Estimate {
@@ -249,7 +258,9 @@ void bake_nodes(Table& table, const LawAt& law_at, const BakeOptions& options, c
     const double y[3] = {nodes[0][m], 0.0, 0.0};  // h, a read y[0] only
     return law_at.axis_coordinates(std::span<const double>(y, 1), cubature);
   };
-  const std::uint64_t n = table.value.size();
+  std::uint64_t n = 1;
+  for (const std::vector<double>& x : nodes) n *= x.size();
+  std::vector<double> value(n), error(n);  // the law at the nodes and the cubature's estimates
   std::atomic<long long> unconverged{0};
   std::atomic<bool> out_of_range{false};
   std::atomic<std::uint64_t> done{0};
@@ -260,12 +271,8 @@ void bake_nodes(Table& table, const LawAt& law_at, const BakeOptions& options, c
     for (std::uint64_t m = r.begin(); m != r.end(); ++m) {
       if (cancelled(options)) return;
       const Estimate e = entry(m);
-      const float v = round_to_encoding(e.value, options.encoding);
-      if (!std::isfinite(e.value) || !std::isfinite(v)) out_of_range = true;
-      // The stored error bounds |stored value - true value|: cubature estimate + rounding.
-      const double bound = e.error + std::abs(e.value - static_cast<double>(v));
-      table.value[m] = v;
-      table.error[m] = round_up_to_encoding(bound, options.encoding);
+      value[m] = e.value;
+      error[m] = e.error;
       if (!e.converged) ++unconverged;
       const std::uint64_t d = ++done;
       if (options.progress && (d % step == 0 || d == n)) {
@@ -278,6 +285,21 @@ void bake_nodes(Table& table, const LawAt& law_at, const BakeOptions& options, c
     }
   });
   throw_if_cancelled(options);
+  // A b-spline table stores the spline's coefficients (tables/bspline.h), their error bounds from
+  // the nodes'.
+  if (spline) {
+    Coefficients c = bspline_coefficients(table.axes, value, error);
+    value = std::move(c.value);
+    error = std::move(c.error);
+  }
+  for (std::uint64_t m = 0; m < table.value.size(); ++m) {
+    const float v = round_to_encoding(value[m], options.encoding);
+    if (!std::isfinite(value[m]) || !std::isfinite(v)) out_of_range = true;
+    // The stored error bounds |stored value - true value|: cubature estimate + rounding.
+    const double bound = error[m] + std::abs(value[m] - static_cast<double>(v));
+    table.value[m] = v;
+    table.error[m] = round_up_to_encoding(bound, options.encoding);
+  }
   if (out_of_range)
     throw options.encoding == Encoding::half
         ? InputError({"law " + std::string(to_string(table.law)) + " of '" + table.model +
@@ -296,22 +318,30 @@ void bake_nodes(Table& table, const LawAt& law_at, const BakeOptions& options, c
 double node_bound(const Table& table) {
   if (table.frame != Frame::warped) return table.node_error;
   double worst = 0.0;
-  const std::size_t plane = table.entries() / table.axes[0].count;
-  for (std::size_t m = 0; m < table.error.size(); ++m)
-    worst =
-        std::max(worst, table.error[m] * warp_envelope(table.warp, table.axes[0].node(static_cast<int>(m / plane))));
+  const int count = table.axes[0].count;
+  const std::size_t plane = table.entries() / count;
+  // A b-spline's coefficient k along theta_j weighs in around its node k - 1 (tables/bspline.h).
+  const bool spline = table.interpolation == Interpolation::bspline;
+  for (std::size_t m = 0; m < table.error.size(); ++m) {
+    const int k = static_cast<int>(m / plane);
+    const double theta_j =
+        spline ? table.axes[0].coordinate(std::clamp((k - 1.0) / (count - 3), 0.0, 1.0)) : table.axes[0].node(k);
+    worst = std::max(worst, table.error[m] * warp_envelope(table.warp, theta_j));
+  }
   return worst;
 }
 
 /// Validation at points the table was not built from, against direct cubature: cell centres
-/// (where interpolation errs most), at every cell of small tables and at a seeded sample of
+/// (where linear interpolation errs most), at every cell of small tables and at a seeded sample of
 /// about 1/16 of the cells of large ones (~6% of the bake), plus options.random_checks seeded
-/// random points uniform in the law's coordinates. Sets the measured and the headline error.
+/// random points uniform in the law's coordinates (a b-spline: as many again as centres). Sets the measured and the
+/// headline error.
 void validate(Table& table, const LawAt& law_at, const BakeOptions& options, const CubatureOptions& check) {
   std::vector<std::uint64_t> cell_counts;
   std::uint64_t cells = 1;
+  const int beyond = table.interpolation == Interpolation::bspline ? 2 : 0;  // a b-spline's outer coefficients
   for (const Axis& axis : table.axes) {
-    cell_counts.push_back(static_cast<std::uint64_t>(axis.count - 1));
+    cell_counts.push_back(static_cast<std::uint64_t>(axis.count - 1 - beyond));
     cells *= cell_counts.back();
   }
   const std::uint64_t n = table.value.size();
@@ -321,10 +351,13 @@ void validate(Table& table, const LawAt& law_at, const BakeOptions& options, con
   std::mt19937_64 rng(kInterpolationSeed);
   for (std::uint64_t c = 0; c < centres; ++c)
     chosen[c] = centres == cells ? c : std::uniform_int_distribution<std::uint64_t>(0, cells - 1)(rng);
-  const std::vector<double> random =
-      validation_points(table.law, options.random_checks, kValidationSeed, table.min_cos_j);
+  // A b-spline errs most away from the cell centres (a cubic's error, and the 8-bit fetches'
+  // rounding, peak elsewhere in a cell): as many seeded random points again as it has centres.
+  const std::uint64_t random_count =
+      options.random_checks + (table.interpolation == Interpolation::bspline ? centres : 0);
+  const std::vector<double> random = validation_points(table.law, random_count, kValidationSeed, table.min_cos_j);
   const std::size_t dims = table.axes.size();
-  const std::uint64_t checks = centres + options.random_checks;
+  const std::uint64_t checks = centres + random_count;
   std::vector<double> check_error(checks, 0.0);
   // A hardware-filtered table's bound holds for full-precision, nearest-rounded and truncated
   // 8-bit weights alike: the worst of the three lookups is what is measured.

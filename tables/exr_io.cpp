@@ -262,10 +262,12 @@ struct Reader : ExrAttributes {
   /// a newer format is refused before anything else is judged.
   void read_metadata(const Imf::Header& header, Table& table) const {
     const std::string version = attribute(header, kAttrVersion);
-    if (version != "1" && version != "2" && version != std::to_string(kWarpedFormatVersion) &&
-        version != std::to_string(kFormatVersion))
+    bool known = false;
+    for (int v = kOldestFormatVersion; v <= kFormatVersion; ++v)
+      known = known || (is_law_table_version(v) && version == std::to_string(v));
+    if (!known)
       refuse("format version '" + version + "' is not supported; this ganzfeld reads law tables of versions 1, 2, " +
-             std::to_string(kWarpedFormatVersion) + " and " + std::to_string(kFormatVersion) +
+             std::to_string(kWarpedFormatVersion) + " to " + std::to_string(kFormatVersion) +
              " (version 3 is a parameter table)");
     table.format_version = std::stoi(version);
     try {

@@ -70,6 +70,27 @@ AxisTaps catmull_rom_taps(int count, bool even, int k, double t, WeightRounding 
   return out;
 }
 
+AxisTaps bspline_taps(int count, double u, WeightRounding rounding) noexcept {
+  const double s = 1.0 + std::clamp(u, 0.0, 1.0) * (count - 3);  // in [1, count - 2]
+  const int k = std::min(static_cast<int>(s), count - 3);
+  const double t = s - k, r = 1.0 - t, t2 = t * t, t3 = t2 * t;
+  // The uniform cubic B-spline's weights of coefficients k-1 .. k+2 (each >= 0, sum 1), read as two
+  // linear fetches: (k-1, k) with weight b0 + b1 >= 1/6, (k+1, k+2) with b2 + b3 >= 1/6.
+  const double b[4] = {r * r * r / 6.0, (3.0 * t3 - 6.0 * t2 + 4.0) / 6.0, (-3.0 * t3 + 3.0 * t2 + 3.0 * t + 1.0) / 6.0,
+                       t3 / 6.0};
+  AxisTaps out;
+  out.taps = 4;
+  for (int p = 0; p < 2; ++p) {
+    const double g = b[2 * p] + b[2 * p + 1];
+    const double f = filter_weight(b[2 * p + 1] / g, rounding);
+    out.node[2 * p] = k - 1 + 2 * p;
+    out.node[2 * p + 1] = k + 2 * p;
+    out.weight[2 * p] = g * (1.0 - f);
+    out.weight[2 * p + 1] = g * f;
+  }
+  return out;
+}
+
 bool same_lookup(const Table& a, const Table& b) noexcept {
   if (a.law != b.law || a.frame != b.frame || a.interpolation != b.interpolation || a.axes != b.axes) return false;
   if (a.frame != Frame::cosines && a.peak != b.peak) return false;

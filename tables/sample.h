@@ -60,7 +60,7 @@ Point axis_point(const Table& table, std::span<const double> x) noexcept;
 std::vector<double> axis_coordinates(const Table& table, std::span<const double> x) noexcept;
 
 /// Nodes and weights of one axis of a lookup at index coordinate u: `taps` nodes (2 linear, 4
-/// Catmull–Rom) at node[k] with weight[k]; the weights sum to 1. Catmull–Rom's missing node
+/// Catmull–Rom and b-spline) at node[k] with weight[k]; the weights sum to 1. Catmull–Rom's missing node
 /// beyond an axis end is the even reflection for azimuths (phi, beta: the laws are even there)
 /// and the quadratic extrapolation 3 p0 - 3 p1 + p2 otherwise, folded into the real nodes.
 struct AxisTaps {
@@ -83,6 +83,12 @@ inline double filter_weight(double t, WeightRounding rounding) noexcept {
 AxisTaps catmull_rom_taps(const Axis& axis, int k, double t, WeightRounding rounding = WeightRounding::exact) noexcept;
 /// The same on an axis of `count` nodes, even (is_even_axis) or not.
 AxisTaps catmull_rom_taps(int count, bool even, int k, double t, WeightRounding rounding) noexcept;
+/// The b-spline taps at index coordinate u of an axis of `count` >= kBSplineMinCount coefficients
+/// (tables/bspline.h: s = 1 + u (count - 3), cell k = min(floor s, count - 3), coefficients k-1 ..
+/// k+2, all stored, weights >= 0). A hardware filter reads them as two linear fetches of
+/// neighbouring coefficients, (k-1, k) at fraction b1 / (b0 + b1) and (k+1, k+2) at b3 / (b2 + b3):
+/// with `rounding`, each fraction is rounded as a hardware filter's 8-bit weights are.
+AxisTaps bspline_taps(int count, double u, WeightRounding rounding) noexcept;
 /// The cell of index coordinate u on an axis: s = u (count - 1), node k = min(floor s, count - 2),
 /// fraction t = s - k.
 struct Cell {
@@ -101,9 +107,11 @@ inline Cell cell(const Axis& axis, double u) noexcept { return cell(axis.count, 
 /// On an axis of `count` nodes, even (is_even_axis) or not.
 inline AxisTaps axis_taps(int count, bool even, double u, Interpolation interpolation,
                           WeightRounding rounding = WeightRounding::exact) noexcept {
+  if (interpolation == Interpolation::bspline && count >= 6) return bspline_taps(count, u, rounding);
   const Cell c = cell(count, u);
   if (interpolation == Interpolation::catmull_rom && count >= 4)
     return catmull_rom_taps(count, even, c.k, c.t, rounding);
+
   const double t = filter_weight(c.t, rounding);
   return {2, {c.k, c.k + 1, c.k + 1, c.k + 1}, {1.0 - t, t, 0.0, 0.0}};
 }

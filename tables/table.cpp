@@ -8,6 +8,7 @@
 #include <numbers>
 
 #include "models/registry.h"
+#include "tables/bspline.h"
 #include "util/error.h"
 #include "util/hash.h"
 #include "util/names.h"
@@ -34,7 +35,8 @@ constexpr std::array kMappings{EnumName<Mapping>{Mapping::linear, "linear"}, Enu
                                EnumName<Mapping>{Mapping::cos, "cos"}, EnumName<Mapping>{Mapping::sinh, "sinh"},
                                EnumName<Mapping>{Mapping::sinh_max, "sinh_max"}};
 constexpr std::array kInterpolations{EnumName<Interpolation>{Interpolation::linear, "linear"},
-                                     EnumName<Interpolation>{Interpolation::catmull_rom, "catmull-rom"}};
+                                     EnumName<Interpolation>{Interpolation::catmull_rom, "catmull-rom"},
+                                     EnumName<Interpolation>{Interpolation::bspline, "b-spline"}};
 constexpr std::array kFrames{EnumName<Frame>{Frame::cosines, "cosines"}, EnumName<Frame>{Frame::lobe, "lobe"},
                              EnumName<Frame>{Frame::warped, "warped"}};
 constexpr std::array kFilters{EnumName<Filter>{Filter::texel_fetch, "texel-fetch"},
@@ -55,7 +57,7 @@ Interpolation parse_interpolation(const std::string& text) {
 }
 
 bool is_law_table_version(int version) noexcept {
-  return version == 1 || version == 2 || version == kWarpedFormatVersion || version == kFormatVersion;
+  return version == 1 || version == 2 || (version >= kWarpedFormatVersion && version <= kFormatVersion);
 }
 
 const char* to_string(Frame frame) { return util::name_of(kFrames, frame); }
@@ -65,8 +67,10 @@ const char* to_string(Filter filter) { return util::name_of(kFilters, filter); }
 Filter parse_filter(const std::string& text) { return util::parse_name(kFilters, "lookup filter", text); }
 
 int fetches(Interpolation interpolation, Filter filter, std::size_t dims) noexcept {
-  const int per_axis = interpolation == Interpolation::catmull_rom ? (filter == Filter::hardware ? 3 : 4)
-                                                                   : (filter == Filter::hardware ? 1 : 2);
+  const bool hardware = filter == Filter::hardware;
+  const int per_axis = interpolation == Interpolation::catmull_rom ? (hardware ? 3 : 4)
+                       : interpolation == Interpolation::bspline   ? (hardware ? 2 : 4)
+                                                                   : (hardware ? 1 : 2);
   int n = 1;
   for (std::size_t d = 0; d < dims; ++d) n *= per_axis;
   return n;
@@ -351,19 +355,23 @@ void check_table(const Table& table) {
       (table.frame == Frame::warped || table.filter != Filter::texel_fetch))
     throw InputError("the warped frame and hardware filtering need format version " +
                      std::to_string(kWarpedFormatVersion));
-  if (table.format_version < kFormatVersion && table.warp.beta_whitening != 0.0)
-    throw InputError("a whitened beta axis needs format version " + std::to_string(kFormatVersion));
+  if (table.format_version < kWhitenedFormatVersion && table.warp.beta_whitening != 0.0)
+    throw InputError("a whitened beta axis needs format version " + std::to_string(kWhitenedFormatVersion));
+  if (table.format_version < kBSplineFormatVersion && table.interpolation == Interpolation::bspline)
+    throw InputError("b-spline interpolation needs format version " + std::to_string(kBSplineFormatVersion));
   check_warp(table);
-  if (table.filter == Filter::hardware && table.interpolation != Interpolation::linear)
-    throw InputError("hardware filtering is validated for linear lookup only, not " +
+  if (table.filter == Filter::hardware && table.interpolation == Interpolation::catmull_rom)
+    throw InputError("hardware filtering is validated for linear and b-spline lookups only, not " +
                      std::string(to_string(table.interpolation)));
   if (table.format_version == 1 && (table.frame != Frame::cosines || table.interpolation != Interpolation::linear))
     throw InputError("format version 1 has only the cosines frame and linear interpolation");
-  if (table.interpolation == Interpolation::catmull_rom)
-    for (const Axis& a : table.axes)
-      if (a.count < 4)
-        throw InputError("axis " + a.name + " has " + std::to_string(a.count) +
-                         " nodes; catmull-rom interpolation needs at least 4");
+  const int fewest = table.interpolation == Interpolation::bspline       ? kBSplineMinCount
+                     : table.interpolation == Interpolation::catmull_rom ? 4
+                                                                         : 2;
+  for (const Axis& a : table.axes)
+    if (a.count < fewest)
+      throw InputError("axis " + a.name + " has " + std::to_string(a.count) + " nodes; " +
+                       to_string(table.interpolation) + " interpolation needs at least " + std::to_string(fewest));
   for (const Axis& a : table.axes) {
     if (a.has_width() && !(std::isfinite(a.width) && a.width > 0.0))
       throw InputError("axis " + a.name + " has the sinh mapping with width " + format_number(a.width) +

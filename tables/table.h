@@ -21,15 +21,19 @@ void require_tabulated(Law law);
 /// parse_law for a flag that names a tabulated law; refusals name `flag` and the text.
 Law parse_tabulated_law(const std::string& flag, const std::string& text);
 
-/// The version of docs/lut-format.md this code writes: 5 (the warped frame's beta axis may be
-/// whitened; version 3 is the parameter tables of tables/param_table.h). Versions 1 (cosine axes,
-/// linear lookup, no frame or interpolation attributes), 2 (no warped frame, no filter attribute)
-/// and 4 (the warped frame and the lookup filter, beta unwhitened) are still read.
-inline constexpr int kFormatVersion = 5;
+/// The version of docs/lut-format.md this code writes: 6 (the b-spline interpolation; version 3 is
+/// the parameter tables of tables/param_table.h). Versions 1 (cosine axes, linear lookup, no frame
+/// or interpolation attributes), 2 (no warped frame, no filter attribute), 4 (the warped frame and
+/// the lookup filter, beta unwhitened) and 5 (beta may be whitened) are still read.
+inline constexpr int kFormatVersion = 6;
 inline constexpr int kOldestFormatVersion = 1;
 /// The first version with the warped frame and the lookup filter attributes.
 inline constexpr int kWarpedFormatVersion = 4;
-/// Whether read_table reads law tables of this version: 1, 2, 4 and 5.
+/// The first version whose warped beta axis may be whitened (Warp::beta_whitening).
+inline constexpr int kWhitenedFormatVersion = 5;
+/// The first version with the b-spline interpolation.
+inline constexpr int kBSplineFormatVersion = 6;
+/// Whether read_table reads law tables of this version: 1, 2, 4, 5 and 6.
 bool is_law_table_version(int version) noexcept;
 
 /// How an axis spends its nodes. u in [0, 1] is the index coordinate (node k at u = k/(count-1)),
@@ -50,11 +54,16 @@ const char* to_string(Mapping mapping);
 Mapping parse_mapping(const std::string& text);
 
 /// How a lookup blends nodes (docs/lut-format.md, "Sampling"): multilinear (2 nodes per axis,
-/// what a GPU's linear filter does) or Catmull–Rom (4 nodes per axis, cubic, C1; at an axis end
-/// the missing node is the even reflection for an azimuth, else quadratic extrapolation).
-enum class Interpolation { linear, catmull_rom };
-const char* to_string(Interpolation interpolation);  ///< "linear" or "catmull-rom"
-/// Accepts "linear" and "catmull-rom"; throws InputError otherwise.
+/// what a GPU's linear filter does), Catmull–Rom (4 nodes per axis, cubic, C1; at an axis end
+/// the missing node is the even reflection for an azimuth, else quadratic extrapolation) or the
+/// interpolating cubic B-spline (version 6: 4 coefficients per axis, C2, error ~ h^4 inside; the
+/// table stores the spline's coefficients, not the law at the nodes; beyond an axis end the
+/// coefficient is the even reflection for an azimuth, else the linear extrapolation 2 c0 - c1,
+/// the natural spline; tables/bspline.h). Its four weights are >= 0, so a hardware filter
+/// blends them as two linear fetches per axis (Sigg & Hadwiger, GPU Gems 2, ch. 20): 8 in 3-D.
+enum class Interpolation { linear, catmull_rom, bspline };
+const char* to_string(Interpolation interpolation);  ///< "linear", "catmull-rom" or "b-spline"
+/// Accepts "linear", "catmull-rom" and "b-spline"; throws InputError otherwise.
 Interpolation parse_interpolation(const std::string& text);
 
 /// What the axes of a g table are (docs/lut-format.md, "Axes"):
@@ -258,7 +267,8 @@ struct Table {
   /// written before the attribute existed.
   std::string model_content;
   std::vector<Axis> axes;     ///< slowest first: entry index = ((k0 * n1) + k1) * n2 + k2
-  std::vector<float> value;   ///< exactly the stored numbers (half-encoded values are exact floats)
+  std::vector<float> value;   ///< exactly the stored numbers (half-encoded values are exact floats;
+                              ///< a b-spline's coefficients, tables/bspline.h)
   std::vector<float> error;   ///< per-entry bound: cubature estimate + storage rounding, rounded up
   double tolerance = 0.0;     ///< absolute tolerance the cubature was asked for
   double node_error = 0.0;    ///< max of `error`: the nodes' error (cubature + storage rounding)
@@ -298,8 +308,9 @@ struct Table {
 };
 
 /// Texture fetches one lookup of the table costs a shader (per law), as export/glsl.cpp performs
-/// it: texel_fetch reads 2 (linear) or 4 (Catmull–Rom) nodes per axis, i.e. 2^D or 4^D; hardware
-/// filtering does a linear blend in one fetch, and Catmull–Rom in 3 per axis (3^D).
+/// it: texel_fetch reads 2 (linear) or 4 (Catmull–Rom, b-spline) nodes per axis, i.e. 2^D or 4^D;
+/// hardware filtering does a linear blend in one fetch, Catmull–Rom in 3 per axis (3^D) and the
+/// b-spline in 2 per axis (2^D).
 int fetches(const Table& table) noexcept;
 /// A --max-error table whose stated lookup error is above its target: only a best-effort bake
 /// (BakeOptions::best_effort) keeps one.

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "models/registry.h"
+#include "tables/bspline.h"
 #include "tables/frame.h"
 #include "tables/sample.h"
 #include "util/error.h"
@@ -26,21 +27,36 @@ std::vector<int> initial_counts(Law law) { return law == Law::g ? std::vector<in
 constexpr double kLinearAim = 0.9;
 constexpr double kLinearMaxGrowth = 2.0;
 
-/// Catmull–Rom interpolation's order (error ~ h^3) and linear's (h^2).
-double order(Interpolation interpolation) { return interpolation == Interpolation::catmull_rom ? 3.0 : 2.0; }
+/// The order of an interpolation's error: linear ~ h^2, Catmull–Rom ~ h^3, the b-spline ~ h^4.
+double order(Interpolation interpolation) {
+  switch (interpolation) {
+    case Interpolation::catmull_rom: return 3.0;
+    case Interpolation::bspline: return 4.0;
+    case Interpolation::linear: break;
+  }
+  return 2.0;
+}
 
 /// Step 3 of the search: per axis d, the largest |value at an odd node - interpolation from the
 /// even nodes along d| (a grid twice as coarse along d), times 2^-p: that axis' share of the
-/// interpolation error at the current spacing. Catmull–Rom at the midpoint of a coarse cell is
-/// (-1, 9, 9, -1)/16 of the even nodes k-3, k-1, k+1, k+3; linear (1, 1)/2 of k-1, k+1.
+/// interpolation error at the current spacing. The cubics (Catmull–Rom, the b-spline) at the
+/// midpoint of a coarse cell are (-1, 9, 9, -1)/16 of the even nodes k-3, k-1, k+1, k+3; linear
+/// (1, 1)/2 of k-1, k+1. A b-spline table's values are coefficients: the law at its nodes is
+/// taken from the spline there (tables/bspline.h).
 std::vector<double> axis_error_estimates(const Table& table, Interpolation interpolation) {
   const std::size_t dims = table.axes.size();
   std::vector<double> out(dims, 0.0);
-  const std::vector<std::size_t> stride = axis_strides(table.axes);
-  const std::size_t n = table.entries();
-  const bool cubic = interpolation == Interpolation::catmull_rom;
+  const bool spline = table.interpolation == Interpolation::bspline;
+  std::vector<Axis> grid = table.axes;  // the nodes' grid: a b-spline's has count - 2 per axis
+  if (spline)
+    for (Axis& a : grid) a.count -= 2;
+  const std::vector<std::size_t> stride = axis_strides(grid);
+  const std::vector<double> value =
+      spline ? bspline_node_values(table) : std::vector<double>(table.value.begin(), table.value.end());
+  const std::size_t n = value.size();
+  const bool cubic = interpolation != Interpolation::linear;
   for (std::size_t d = 0; d < dims; ++d) {
-    const int count = table.axes[d].count;
+    const int count = grid[d].count;
     const std::size_t s = stride[d];
     double worst = 0.0;
     for (std::size_t m = 0; m < n; ++m) {
@@ -49,14 +65,12 @@ std::vector<double> axis_error_estimates(const Table& table, Interpolation inter
       double predicted;
       if (cubic) {
         if (k < 3 || k + 3 > count - 1) continue;
-        predicted =
-            (-table.value[m - 3 * s] + 9.0 * table.value[m - s] + 9.0 * table.value[m + s] - table.value[m + 3 * s]) /
-            16.0;
+        predicted = (-value[m - 3 * s] + 9.0 * value[m - s] + 9.0 * value[m + s] - value[m + 3 * s]) / 16.0;
       } else {
         if (k + 1 > count - 1) continue;
-        predicted = 0.5 * (table.value[m - s] + table.value[m + s]);
+        predicted = 0.5 * (value[m - s] + value[m + s]);
       }
-      worst = std::max(worst, std::abs(table.value[m] - predicted));
+      worst = std::max(worst, std::abs(value[m] - predicted));
     }
     out[d] = worst * std::pow(2.0, -order(interpolation));
   }
@@ -91,26 +105,28 @@ std::uint64_t bytes_of(const std::vector<int>& counts, Encoding encoding) {
 /// Counts that bring each axis' share (calibrated estimate x (h_new/h)^p) to `share`.
 std::vector<int> counts_for(const std::vector<int>& counts, const std::vector<double>& estimates, double calibration,
                             double share, Interpolation interpolation) {
+  const double fewest = interpolation == Interpolation::bspline ? kBSplineMinCount : 4.0;
   std::vector<int> out(counts.size());
   for (std::size_t d = 0; d < counts.size(); ++d) {
     const double e = calibration * estimates[d];
     const double factor = e > 0.0 ? std::pow(e / share, 1.0 / order(interpolation)) : 0.5;
     const double cells = std::ceil((counts[d] - 1) * std::max(factor, 0.5));  // shrink at most by half per step
-    out[d] = static_cast<int>(std::clamp(cells + 1.0, 4.0, 1e9));
+    out[d] = static_cast<int>(std::clamp(cells + 1.0, fewest, 1e9));
   }
   return out;
 }
 
-/// `counts` shrunk by one common factor per axis (the shape the estimates chose, at least 4 nodes
+/// `counts` shrunk by one common factor per axis (the shape the estimates chose, at least `fewest` nodes
 /// per axis) until the table fits `cap` value bytes: where the predicted counts overshoot the
 /// cap, the largest table of that shape within it is the best the search can still bake.
-std::vector<int> fit_to_cap(std::vector<int> counts, Encoding encoding, std::uint64_t cap) {
+std::vector<int> fit_to_cap(std::vector<int> counts, Encoding encoding, std::uint64_t cap, int fewest) {
   while (bytes_of(counts, encoding) > cap) {
     const double ratio = std::pow(static_cast<double>(cap) / static_cast<double>(bytes_of(counts, encoding)),
                                   1.0 / static_cast<double>(counts.size()));
     bool shrunk = false;
     for (int& c : counts) {
-      const int n = std::max(4, static_cast<int>(std::floor((c - 1) * ratio)) + 1);  // ratio < 1: n < c unless 4
+      const int n =
+          std::max(fewest, static_cast<int>(std::floor((c - 1) * ratio)) + 1);  // ratio < 1: n < c unless fewest
       shrunk = shrunk || n < c;
       c = n;
     }
@@ -192,7 +208,8 @@ SearchResult search_counts(const Model& model, Law law, BakeOptions options, dou
     // the default cap, 64 MiB of hvd-empirical's g): refuse with what was measured instead.
     if (static_cast<double>(bytes_of(options.resolution, options.encoding)) > kCapFitReach * static_cast<double>(cap))
       break;
-    options.resolution = fit_to_cap(options.resolution, options.encoding, cap);
+    options.resolution = fit_to_cap(options.resolution, options.encoding, cap,
+                                    options.interpolation == Interpolation::bspline ? kBSplineMinCount : 4);
     const std::pair<std::vector<int>, Interpolation> key{options.resolution, options.interpolation};
     if (std::find(baked.begin(), baked.end(), key) != baked.end()) break;  // capped to a table already measured
     baked.push_back(key);
@@ -211,14 +228,29 @@ SearchResult search_counts(const Model& model, Law law, BakeOptions options, dou
     }
     // Calibrate the per-axis estimates of each interpolation with the validated error (the
     // estimates see node differences only; the validation sees the whole domain).
-    const std::vector<double> cubic = axis_error_estimates(table, Interpolation::catmull_rom);
+    const bool spline = options.interpolation == Interpolation::bspline;
+    const Interpolation cubic_kind = spline ? Interpolation::bspline : Interpolation::catmull_rom;
+    const std::vector<double> cubic = axis_error_estimates(table, cubic_kind);
     double sum = 0.0;
     for (double e : cubic) sum += e;
     const double measured = table.interpolation_error;
     const double calibration = sum > 0.0 ? std::max(1.0, measured / sum) : 1.0;
-    std::vector<int> next = counts_for(options.resolution, cubic, calibration, share, Interpolation::catmull_rom);
-    Interpolation next_interpolation = may_switch ? Interpolation::catmull_rom : Interpolation::linear;
-    if (!may_switch) {
+    std::vector<int> next = counts_for(options.resolution, cubic, calibration, share, cubic_kind);
+    Interpolation next_interpolation = may_switch || spline ? cubic_kind : Interpolation::linear;
+    if (spline) {
+      if (options.filter == Filter::hardware) {
+        // The 8-bit weights fall only as h (a b-spline's two linear fetches per axis move by at most
+        // the coefficients' step / 256): every axis grows by up to what they need. The reach is the
+        // worst case of every axis at once, which the b-spline's validated errors stay well below
+        // (on specular alpha = 100: 2.5e-4 measured where it predicts 8e-4), so unlike linear's it
+        // does not end the search.
+        const double needed = weight_rounding_reach(table) * kLookupMargin / (kLinearAim * E);
+        for (std::size_t d = 0; d < next.size(); ++d)
+          next[d] = std::max(
+              next[d],
+              static_cast<int>(std::ceil((options.resolution[d] - 1) * std::min(needed, kLinearMaxGrowth))) + 1);
+      }
+    } else if (!may_switch) {
       // A linear-only scheme keeps its starting shape (chosen for it) and grows every axis by the
       // factor that brings the validated error to kLinearAim x E (error ~ h^2): the per-axis
       // estimates, maxima of second differences, overshot the warped frame's tables by ~10x in bytes.
@@ -308,22 +340,31 @@ Table bake_to_error(const Model& model, Law law, const TargetBake& requested) {
   const std::size_t D = law == Law::g ? 3 : 1;
   // In the order of their fetches (g): 1 hardware-filtered, 8 texel fetches of the same linear blend in
   // full precision (no 8-bit weights to absorb: the warped frame reaches 1e-4 in fewer bytes than
-  // Catmull–Rom's lobe frame), 64 of Catmull–Rom.
-  std::vector<Scheme> schemes{{options.lobe.has_value(), Interpolation::linear, Filter::hardware},
-                              {options.lobe.has_value(), Interpolation::linear, Filter::texel_fetch},
-                              {false, Interpolation::catmull_rom, Filter::texel_fetch}};
+  // Catmull–Rom's lobe frame), 8 hardware-filtered of the b-spline (2 per axis), 64 of Catmull–Rom.
+  const std::vector<Scheme> all{{options.lobe.has_value(), Interpolation::linear, Filter::hardware},
+                                {options.lobe.has_value(), Interpolation::linear, Filter::texel_fetch},
+                                {options.lobe.has_value(), Interpolation::bspline, Filter::hardware},
+                                {false, Interpolation::catmull_rom, Filter::texel_fetch}};
+  std::vector<Scheme> schemes;
+  for (const Scheme& scheme : all)
+    if (fetches(scheme.interpolation, scheme.filter, D) <= target.max_fetches) schemes.push_back(scheme);
+  // The first scheme (fewest fetches) that meets E within the cap wins; when several fit the budget,
+  // a first pass holds each to kCompactValueBytes, so that a few more fetches of a small table win
+  // over one fetch of a table many times its size (a cache-unfriendly texture and a long bake).
+  std::vector<std::uint64_t> caps{cap};
+  if (schemes.size() > 1 && cap > kCompactValueBytes) caps.insert(caps.begin(), kCompactValueBytes);
   SearchResult best;
-  for (const Scheme& scheme : schemes) {
-    if (fetches(scheme.interpolation, scheme.filter, D) > target.max_fetches) continue;
-    BakeOptions o = options;
-    o.warped = scheme.warped;
-    o.interpolation = scheme.interpolation;
-    o.filter = scheme.filter;
-    if (scheme.warped) o.resolution = {13, 25, 9};  // the offset axis needs the most nodes (docs/tradeoff.md)
-    SearchResult found = search_counts(model, law, o, E, cap, target.best_effort);
-    if (found.table) return finish(std::move(*found.table));
-    if (found.best_error < best.best_error) best = std::move(found);
-  }
+  for (std::uint64_t pass_cap : caps)
+    for (const Scheme& scheme : schemes) {
+      BakeOptions o = options;
+      o.warped = scheme.warped;
+      o.interpolation = scheme.interpolation;
+      o.filter = scheme.filter;
+      if (scheme.warped) o.resolution = {13, 25, 9};  // the offset axis needs the most nodes (docs/tradeoff.md)
+      SearchResult found = search_counts(model, law, o, E, pass_cap, target.best_effort);
+      if (found.table) return finish(std::move(*found.table));
+      if (found.best_error < best.best_error) best = std::move(found);
+    }
   if (best.best_table) return finish(std::move(*best.best_table));
   throw InputError({std::string("cannot reach "), Named{"max_error", format_number(E)},
                     " for law " + std::string(to_string(law)) + " of '" + model.spec() + "' within " +

@@ -10,7 +10,7 @@
 //     against direct cubature at E/kCheckToleranceRatio).
 //  3. Per axis, estimate how much error that axis contributes from the table itself: at every
 //     odd node, the difference between its value and the interpolation from the even nodes (a
-//     grid twice as coarse along that axis), scaled by 2^-p (p = 3 Catmull–Rom, 2 linear). The
+//     grid twice as coarse along that axis), scaled by 2^-p (p = 4 b-spline, 3 Catmull–Rom, 2 linear). The
 //     validated error calibrates these estimates; each axis then gets the count that brings its
 //     share to E/(margin x axes) (the product of the counts is smallest when the shares are
 //     equal), and the interpolation (linear or Catmull–Rom) whose predicted bytes are fewer.
@@ -23,8 +23,11 @@
 // per lookup are searched in the order of their fetches, and the first that meets E is kept:
 // one hardware-filtered linear fetch (the warped frame for g of a model with a lobe frame, else
 // the cosines frame; the bound covers 8-bit filter weights, tables::Filter), then the same frame
-// read with texelFetch and blended in full precision (2^D fetches), then Catmull–Rom read with
-// texelFetch (4^D fetches; its search may settle on linear texel-fetch, 2^D).
+// read with texelFetch and blended in full precision (2^D fetches), then the cubic b-spline of the
+// same frame in 2 hardware-filtered fetches per axis (2^D; its bound covers the 8-bit weights too),
+// then Catmull–Rom read with texelFetch (4^D fetches; its search may settle on linear
+// texel-fetch, 2^D). When more than one scheme fits N, a first pass holds every scheme to
+// kCompactValueBytes and a second to B.
 #pragma once
 
 #include <cstdint>
@@ -45,6 +48,9 @@ inline constexpr double kCheckToleranceRatio = 1000.0;
 /// Random validation points of a --max-error bake (besides the cell centres).
 inline constexpr std::uint64_t kSearchChecks = 2000;
 inline constexpr int kMaxSearchBakes = 6;
+/// A fetch-budgeted search with several schemes within its budget first holds each to this many
+/// value bytes (the size the project's tables aim at: docs/tradeoff.md), then to the cap.
+inline constexpr std::uint64_t kCompactValueBytes = 256000;
 /// A predicted table at most this many times the byte cap is shrunk to fit it and baked (the
 /// best the search can still do); one further over it ends the search.
 inline constexpr double kCapFitReach = 8.0;

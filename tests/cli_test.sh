@@ -136,7 +136,7 @@ expect_bad "no such file" bake --scene "$tmp/none.json" --out "$tmp/cache"
 [ "$(json_field "$tmp/to_error.json" "d['tables'][0]['lookup_error'] <= 1e-3 and d['tables'][0]['node_error'] <= d['tables'][0]['lookup_error'] and d['tables'][0]['value_bytes'] > 0")" = "True" ] \
   && ok || fail "bake --max-error JSON: $(cat "$tmp/to_error.json")"
 "$G" info "$tmp/to_error.exr" --json >"$tmp/to_error_info.json" && ok || fail "info of a --max-error table"
-[ "$(json_field "$tmp/to_error_info.json" "d['error'] <= 1e-3 and d['error'] >= d['node_error'] and d['frame']=='lobe' and d['interpolation']=='catmull-rom' and d['format_version']==5 and d['target_error']==1e-3 and d['value_bytes']==4*d['entries'] and d['validation_points'] >= 2000")" = "True" ] \
+[ "$(json_field "$tmp/to_error_info.json" "d['error'] <= 1e-3 and d['error'] >= d['node_error'] and d['frame']=='lobe' and d['interpolation']=='catmull-rom' and d['format_version']==6 and d['target_error']==1e-3 and d['value_bytes']==4*d['entries'] and d['validation_points'] >= 2000")" = "True" ] \
   && ok || fail "info --json of a --max-error table: $(cat "$tmp/to_error_info.json")"
 "$G" info "$tmp/to_error.exr" | grep -q "^  error  .*lookup error" && ok || fail "info headline is not the lookup error"
 [ "$(json_field <("$G" sample "$tmp/to_error.exr" --theta-i 60 --theta-j 45 --phi 30 --json) "d['error']==$(json_field "$tmp/to_error_info.json" "d['error']")")" = "True" ] \

@@ -503,6 +503,30 @@ TEST(GlShaderLookup, WarpedFrameHardwareFilterMatchesThe8BitEmulation) {
                               tables::Encoding::unorm16, true, tables::Filter::hardware),
                   false);
 }
+// The b-spline (version 6): its hardware lookup (2 filtered fetches per axis; llvmpipe filters in
+// full precision, a GPU as the 8-bit emulation), float and unorm16, the warped frame's g and h; and
+// a texel-fetch table read with texelFetch and under GANZFELD_HARDWARE_FILTER.
+TEST(GlShaderLookup, BSplineHardwareFilterMatchesThe8BitEmulation) {
+  for (const bool es : {false, true})
+    compare_lookups(small_table("specular:alpha=100", Law::g, {10, 24, 8}, tables::Interpolation::bspline, true,
+                                tables::Encoding::single, true, tables::Filter::hardware),
+                    es);
+  compare_lookups(small_table("specular:alpha=100", Law::g, {10, 24, 8}, tables::Interpolation::bspline, true,
+                              tables::Encoding::unorm16, true, tables::Filter::hardware),
+                  false);
+  compare_lookups(small_table("specular:alpha=100", Law::h, {12}, tables::Interpolation::bspline, false,
+                              tables::Encoding::single, false, tables::Filter::hardware),
+                  true);
+}
+TEST(GlShaderLookup, BSplineTexelFetch) {
+  const tables::Table g =
+      small_table("backscatter:alpha=100", Law::g, {10, 24, 8}, tables::Interpolation::bspline, true);
+  compare_lookups(g, false);
+  compare_lookups(g, true, true);
+  compare_lookups(small_table("asperity:alpha=4", Law::g, {8, 8, 6}, tables::Interpolation::bspline, false), false);
+  compare_lookups(small_table("minnaert:xi=1", Law::h, {9}, tables::Interpolation::bspline, false), true);
+}
+
 TEST(GlShaderLookup, HardwareFilteredCosinesFrameAndH) {
   compare_lookups(small_table("asperity:alpha=4", Law::g, {8, 8, 6}, tables::Interpolation::linear, false,
                               tables::Encoding::single, false, tables::Filter::hardware),
@@ -558,7 +582,13 @@ TEST(GlShaderLookup, FetchesPerLookupAreCounted) {
        8, 1},
       {small_table("specular:alpha=100", Law::g, {6, 9, 5}, tables::Interpolation::linear, true,
                    tables::Encoding::single, true, tables::Filter::hardware),
-       1, 1}};
+       1, 1},
+      // the b-spline: 4 coefficients per axis with texelFetch, 2 filtered fetches per axis
+      {small_table("specular:alpha=8", Law::g, {6, 7, 6}, tables::Interpolation::bspline, false), 64, 8},
+      {small_table("minnaert:xi=1", Law::h, {9}, tables::Interpolation::bspline, false), 4, 2},
+      {small_table("specular:alpha=100", Law::g, {6, 9, 6}, tables::Interpolation::bspline, true,
+                   tables::Encoding::single, true, tables::Filter::hardware),
+       8, 8}};
   for (const Case& c : cases) {
     EXPECT_EQ(tables::fetches(c.table),
               c.table.filter == tables::Filter::hardware ? c.filtered_fetches : c.texel_fetches)

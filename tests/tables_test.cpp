@@ -35,6 +35,7 @@
 #include "integrate/laws.h"
 #include "models/spec.h"
 #include "tables/bake.h"
+#include "tables/bspline.h"
 #include "tables/cache.h"
 #include "tables/exr_io.h"
 #include "tables/frame.h"
@@ -839,6 +840,155 @@ TEST(Table, CatmullRomReproducesPolynomials) {
   }
 }
 
+// The 8-bit lookups at y (weights rounded to nearest, truncated) within `reach` / 512 and / 256 of
+// the exact one (`reach`: the summed largest steps between the blended entries along each axis;
+// `slack`: float rounding). Returns whether the nearest-rounded lookup moved at all.
+using LookupFunction = Sample (*)(const Table&, std::span<const double>, WeightRounding) noexcept;
+bool expect_8bit_lookups_within(const Table& t, std::span<const double> y, double reach, double slack,
+                                LookupFunction lookup) {
+  const double exact = lookup(t, y, WeightRounding::exact).value;
+  const double nearest = lookup(t, y, WeightRounding::nearest).value;
+  const double truncated = lookup(t, y, WeightRounding::truncate).value;
+  EXPECT_LE(std::abs(nearest - exact), reach / 512 + slack);
+  EXPECT_LE(std::abs(truncated - exact), reach / 256 + slack);
+  return nearest != exact;
+}
+
+// The b-spline lookup (tables/bspline.h) checked against an independent evaluation: the spline
+// S(s) = sum_k c_k B(s - k), s = 1 + u (count - 3), summed in double over every stored coefficient
+// with the cubic B-spline B written out piecewise. The solve makes S pass through the law at the
+// count - 2 nodes; both end conditions reproduce cubics (an even one: cubics even about the ends)
+// everywhere, ends included; the error falls as h^4 up to the ends (16x per halving: >= 12x asserted);
+// the stored error bounds how far the spline moves when the node values move within their errors.
+double cubic_bspline(double x) {
+  const double a = std::abs(x);
+  if (a >= 2.0) return 0.0;
+  if (a >= 1.0) return (2.0 - a) * (2.0 - a) * (2.0 - a) / 6.0;
+  return (4.0 - 6.0 * a * a + 3.0 * a * a * a) / 6.0;
+}
+double spline_by_definition(const Table& t, double u) {
+  const int n = t.axes[0].count;
+  const double s = 1.0 + u * (n - 3);
+  double sum = 0.0;
+  for (int k = 0; k < n; ++k) sum += t.value[k] * cubic_bspline(s - k);
+  return sum;
+}
+Table bspline_line(const char* axis_name, double max, int count, const std::function<double(double)>& f,
+                   double node_error = 0.0) {
+  Table t;
+  t.law = Law::h;
+  t.model = "lambert";
+  t.interpolation = Interpolation::bspline;
+  t.axes = {{axis_name, 0.0, max, count, Mapping::linear}};
+  std::vector<double> value;
+  for (double x : bspline_nodes(t.axes[0])) value.push_back(f(x));
+  const Coefficients c = bspline_coefficients(t.axes, value, std::vector<double>(value.size(), node_error));
+  t.value.assign(c.value.begin(), c.value.end());
+  t.error.assign(c.error.begin(), c.error.end());
+  return t;
+}
+double largest_error(const Table& t, const std::function<double(double)>& f) {
+  double worst = 0.0;
+  for (int p = 0; p <= 2000; ++p) {
+    const double x = t.axes[0].max * p / 2000.0;
+    worst = std::max(worst, std::abs(sample_axes(t, std::span<const double>(&x, 1)).value - f(x)));
+  }
+  return worst;
+}
+TEST(Table, BSplineIsTheSplineThroughTheNodes) {
+  const auto smooth = [](double x) { return std::exp(-x) * std::sin(3.0 * x) + 0.3; };
+  const Table t = bspline_line(kAxisCosThetaJ, 1.0, 11, smooth);
+  ASSERT_EQ(bspline_nodes(t.axes[0]).size(), 9u);
+  for (int p = 0; p <= 1000; ++p) {
+    const double x = p / 1000.0;
+    EXPECT_NEAR(sample_axes(t, std::span<const double>(&x, 1)).value, spline_by_definition(t, x), 1e-12) << x;
+  }
+  for (double x : bspline_nodes(t.axes[0]))
+    EXPECT_NEAR(sample_axes(t, std::span<const double>(&x, 1)).value, smooth(x), 1e-6) << "node " << x;
+  const auto cubic = [](double x) { return 0.25 + 0.5 * x - 0.75 * x * x + 0.4 * x * x * x; };
+  EXPECT_LT(largest_error(bspline_line(kAxisCosThetaJ, 1.0, 7, cubic), cubic), 1e-6);
+  const auto even_cubic = [](double x) { return 1.0 - 3.0 * x * x + 2.0 * x * x * x / pi; };  // S' = 0 at 0, pi
+  EXPECT_LT(largest_error(bspline_line(kAxisPhi, pi, 7, even_cubic), even_cubic), 1e-6);
+  const double coarse = largest_error(bspline_line(kAxisCosThetaJ, 1.0, 11, smooth), smooth);
+  const double fine = largest_error(bspline_line(kAxisCosThetaJ, 1.0, 19, smooth), smooth);
+  std::printf("b-spline: %.3g (9 nodes), %.3g (17 nodes), ratio %.1f\n", coarse, fine, coarse / fine);
+  EXPECT_GT(coarse / fine, 12.0);
+  const auto cosine = [](double x) { return std::cos(2.0 * x); };  // even about 0 and pi
+  const double even_coarse = largest_error(bspline_line(kAxisPhi, pi, 11, cosine), cosine);
+  const double even_fine = largest_error(bspline_line(kAxisPhi, pi, 19, cosine), cosine);
+  std::printf("b-spline even axis: %.3g, %.3g, ratio %.1f\n", even_coarse, even_fine, even_coarse / even_fine);
+  EXPECT_GT(even_coarse / even_fine, 12.0);
+  // Node values moved by up to 1e-3 each (seeded signs and sizes): the spline moves by no more
+  // than the stored bound, which is the Lebesgue constant (between 1 and 2 here) times 1e-3.
+  std::mt19937_64 rng(kSeed);
+  std::uniform_real_distribution<double> shift(-1e-3, 1e-3);
+  for (const char* name : {kAxisCosThetaJ, kAxisPhi}) {
+    const Table exact = bspline_line(name, 1.0, 12, smooth, 1e-3);
+    EXPECT_GT(exact.error[0], 1e-3);
+    EXPECT_LT(exact.error[0], 2e-3);
+    for (int trial = 0; trial < 200; ++trial) {
+      std::vector<double> moved;
+      for (double x : bspline_nodes(exact.axes[0])) {  // trial 0: all up; 1: alternating (the worst case inside)
+        const double by = trial == 0 ? 1e-3 : trial == 1 ? (moved.size() % 2 ? -1e-3 : 1e-3) : shift(rng);
+        moved.push_back(smooth(x) + by);
+      }
+      const Coefficients c = bspline_coefficients(exact.axes, moved, std::vector<double>(moved.size(), 0.0));
+      for (int p = 0; p <= 200; ++p) {
+        double spline = 0.0;
+        const double s = 1.0 + p / 200.0 * 9.0;
+        for (int k = 0; k < 12; ++k) spline += c.value[k] * cubic_bspline(s - k);
+        ASSERT_LE(std::abs(spline - spline_by_definition(exact, p / 200.0)), exact.error[0] + 1e-12) << name;
+      }
+    }
+  }
+}
+
+// The b-spline's hardware lookup: two linear fetches per axis whose fractions a GPU rounds to 8
+// bits. A 3-D table of random coefficients: exact weights agree with the spline by definition (the
+// tensor product of the 1-D sums), and the 8-bit lookups differ from it by at most the
+// coefficients' largest step along each axis / 256 (truncated) or / 512 (nearest), summed.
+TEST(Table, BSplineHardwareLookupRoundsOnlyTheFetchFractions) {
+  Table t;
+  t.law = Law::g;
+  t.model = "lambert";
+  t.interpolation = Interpolation::bspline;
+  t.filter = Filter::hardware;
+  t.axes = {{kAxisCosThetaI, -1.0, 1.0, 7, Mapping::linear},
+            {kAxisCosThetaJ, 0.0, 1.0, 8, Mapping::linear},
+            {kAxisPhi, 0.0, pi, 6, Mapping::linear}};
+  std::mt19937_64 rng(kSeed);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  t.value.resize(7 * 8 * 6);
+  for (float& v : t.value) v = static_cast<float>(unit(rng));
+  t.error.assign(t.value.size(), 0.0f);
+  const std::vector<std::size_t> stride = axis_strides(t.axes);
+  double reach = 0.0;
+  for (std::size_t d = 0; d < 3; ++d) {
+    double step = 0.0;
+    for (std::size_t m = 0; m < t.value.size(); ++m)
+      if ((m / stride[d]) % t.axes[d].count != 0)
+        step = std::max(step, static_cast<double>(std::abs(t.value[m] - t.value[m - stride[d]])));
+    reach += step;
+  }
+  bool moved = false;
+  for (int p = 0; p < 3000; ++p) {
+    const double y[3] = {-1.0 + 2.0 * unit(rng), unit(rng), pi * unit(rng)};
+    const double s[3] = {1.0 + (y[0] + 1.0) / 2.0 * 4.0, 1.0 + y[1] * 5.0, 1.0 + y[2] / pi * 3.0};
+    double want = 0.0;
+    for (int a = 0; a < 7; ++a)
+      for (int b = 0; b < 8; ++b)
+        for (int e = 0; e < 6; ++e)
+          want += t.value[(static_cast<std::size_t>(a) * 8 + b) * 6 + e] * cubic_bspline(s[0] - a) *
+                  cubic_bspline(s[1] - b) * cubic_bspline(s[2] - e);
+    EXPECT_NEAR(sample_axes(t, y).value, want, 1e-12);
+    moved = expect_8bit_lookups_within(t, y, reach, 1e-12, &sample_axes) || moved;
+  }
+  EXPECT_TRUE(moved);
+  EXPECT_EQ(fetches(t), 8);
+  t.filter = Filter::texel_fetch;
+  EXPECT_EQ(fetches(t), 64);
+}
+
 // Two tables share a lookup (the rasterizer sums their entries and looks them up once) exactly
 // when every lookup blends the same entries with the same weights: the same law, frame, peak,
 // interpolation and axes; the values, the model and the encoding do not matter.
@@ -1124,12 +1274,7 @@ TEST(Table, HardwareFilterEmulationRoundsTheWeights) {
   bool moved = false;
   for (int k = 0; k <= 1000; ++k) {
     const double x[1] = {k / 1000.0};
-    const double exact = sample(table, x).value;
-    const double nearest = sample(table, x, WeightRounding::nearest).value;
-    const double truncated = sample(table, x, WeightRounding::truncate).value;
-    EXPECT_LE(std::abs(nearest - exact), largest_step / 512 + 1e-15);
-    EXPECT_LE(std::abs(truncated - exact), largest_step / 256 + 1e-15);
-    moved = moved || nearest != exact;
+    moved = expect_8bit_lookups_within(table, x, largest_step, 1e-15, &sample) || moved;
   }
   EXPECT_TRUE(moved);
 }
@@ -1186,6 +1331,37 @@ TEST(Table, FetchBudgetFallsBackToTexelFetchWhereFilterWeightsCannotReach) {
   // One fetch cannot: the refusal names the best it found at one fetch.
   options.target.max_fetches = 1;
   EXPECT_THROW(bake_to_error(*model, Law::h, options), InputError);
+}
+
+// bake --max-error 3e-4 --fetches 8 of specular alpha = 100's g: the first pass holds every scheme to
+// kCompactValueBytes; one filtered fetch of the warped frame cannot reach 3e-4 there, the b-spline's
+// 8 filtered fetches can. Its bound <= E covers the exact and both 8-bit lookups at >= 99.9% of
+// fresh points against cubature at 1e-10.
+TEST(Table, FetchBudgetOfEightBakesACompactBSpline) {
+  const ModelPtr model = parse_model("specular:alpha=100");
+  TargetBake options;
+  options.target = {3e-4, 0, 8};
+  const Table table = round_trip(bake(*model, Law::g, options), "bspline8.exr");
+  EXPECT_EQ(table.interpolation, Interpolation::bspline);
+  EXPECT_EQ(table.filter, Filter::hardware);
+  EXPECT_EQ(fetches(table), 8);
+  EXPECT_LE(table.lookup_error, 3e-4);
+  EXPECT_LE(value_bytes(table), kCompactValueBytes);
+  EXPECT_EQ(table.format_version, kFormatVersion);
+  const auto [misses, worst] = fresh_misses(*model, Law::g, table, /*seed=*/4245,
+                                            {WeightRounding::exact, WeightRounding::nearest, WeightRounding::truncate});
+  std::printf(
+      "specular:alpha=100 g --max-error 3e-4 --fetches 8: %s frame, %s, lookup error %.3g, largest fresh error "
+      "%.3g, %zu value bytes, %g misses of %d\n",
+      to_string(table.frame),
+      resolution_text([&] {
+        std::vector<int> r;
+        for (const Axis& a : table.axes) r.push_back(a.count);
+        return r;
+      }())
+          .c_str(),
+      table.lookup_error, worst, static_cast<std::size_t>(value_bytes(table)), misses, kFreshPoints);
+  EXPECT_LE(misses, kAllowedFreshMisses * kFreshPoints);
 }
 
 TEST(Table, FetchBudgetRefusals) {

@@ -12,7 +12,7 @@
 //                   (Schlick's F is linear in them; ./material.js)
 import {readKtx2} from './ktx2.js';
 
-export const kFormatVersions = ['1', '2', '4', '5'];
+export const kFormatVersions = ['1', '2', '4', '5', '6'];
 export const kLaws = ['g', 'h'];
 /// A material's roughness R matches a table of alpha when |sqrt(alpha) - R| is below this: the
 /// canonical spec stores alpha = R^2 to double precision (ggx:roughness=0.7 is alpha=0.48999999999999994).

@@ -63,7 +63,7 @@ before(async () => {
     table(`h${f0}`, `ggx:roughness=0.5,f0=${f0}`, 'h', '9');
   }
   table('specular', 'specular:alpha=8', 'g', '5x5x5');
-  // format version 5's one-fetch table: warped frame, its bound for the GPU's filter (docs/lut-format.md)
+  // format version 6's one-fetch table: warped frame, its bound for the GPU's filter (docs/lut-format.md)
   table('warped', 'ggx:roughness=0.5,f0=1', 'g', '5x9x5', ['--frame', 'warped', '--filter', 'hardware']);
   table('separable', 'ggx:roughness=0.5,g2=separable', 'g', '5x5x5');
   table('albedo', 'ggx:roughness=0.5', 'a', '9');
@@ -114,7 +114,7 @@ describe('the reader', () => {
   test('a one-fetch table is read with the GPU\'s linear filter, a texelFetch table with nearest', async () => {
     const [warped, g1] = await Promise.all([load('warped'), load('g1')]);
     const w = warped.find(0.5, 'g', 1), t = g1.find(0.5, 'g', 1);
-    assert.equal(w.formatVersion, '5');
+    assert.equal(w.formatVersion, '6');
     assert.equal(w.filter, 'hardware');
     assert.equal(t.filter, 'texel-fetch');
     const wt = tableTexture(w), tt = tableTexture(t);
