@@ -135,9 +135,7 @@ std::vector<Axis> checked_axes(const Model& model, Law law, const BakeOptions& o
   if (!std::isfinite(options.tolerance) || !(options.tolerance > 0.0))
     throw InputError("tolerance " + format_number(options.tolerance) + " is not allowed; expected a positive number");
   std::vector<Axis> axes = bake_axes(law, options);  // refuses other laws and counts < 2
-  const int fewest = options.interpolation == Interpolation::bspline       ? kBSplineMinCount
-                     : options.interpolation == Interpolation::catmull_rom ? 4
-                                                                           : 2;
+  const int fewest = min_count(options.interpolation);
   for (const Axis& a : axes)
     if (a.count < fewest)
       throw InputError("resolution " + resolution_text(options.resolution) + " has " + std::to_string(a.count) +

@@ -56,6 +56,15 @@ Interpolation parse_interpolation(const std::string& text) {
   return util::parse_name(kInterpolations, "interpolation", text);
 }
 
+int min_count(Interpolation interpolation) noexcept {
+  switch (interpolation) {
+    case Interpolation::catmull_rom: return 4;
+    case Interpolation::bspline: return kBSplineMinCount;
+    case Interpolation::linear: break;
+  }
+  return 2;
+}
+
 bool is_law_table_version(int version) noexcept {
   return version == 1 || version == 2 || (version >= kWarpedFormatVersion && version <= kFormatVersion);
 }
@@ -365,9 +374,7 @@ void check_table(const Table& table) {
                      std::string(to_string(table.interpolation)));
   if (table.format_version == 1 && (table.frame != Frame::cosines || table.interpolation != Interpolation::linear))
     throw InputError("format version 1 has only the cosines frame and linear interpolation");
-  const int fewest = table.interpolation == Interpolation::bspline       ? kBSplineMinCount
-                     : table.interpolation == Interpolation::catmull_rom ? 4
-                                                                         : 2;
+  const int fewest = min_count(table.interpolation);
   for (const Axis& a : table.axes)
     if (a.count < fewest)
       throw InputError("axis " + a.name + " has " + std::to_string(a.count) + " nodes; " +

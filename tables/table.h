@@ -65,6 +65,9 @@ enum class Interpolation { linear, catmull_rom, bspline };
 const char* to_string(Interpolation interpolation);  ///< "linear", "catmull-rom" or "b-spline"
 /// Accepts "linear", "catmull-rom" and "b-spline"; throws InputError otherwise.
 Interpolation parse_interpolation(const std::string& text);
+/// The fewest entries per axis a lookup needs: 2 (linear), 4 (Catmull–Rom) or kBSplineMinCount
+/// (the b-spline: 4 nodes and the 2 coefficients beyond the ends, tables/bspline.h).
+int min_count(Interpolation interpolation) noexcept;
 
 /// What the axes of a g table are (docs/lut-format.md, "Axes"):
 ///   cosines: (i·n, j·n, phi), format version 1's axes;

@@ -105,7 +105,7 @@ std::uint64_t bytes_of(const std::vector<int>& counts, Encoding encoding) {
 /// Counts that bring each axis' share (calibrated estimate x (h_new/h)^p) to `share`.
 std::vector<int> counts_for(const std::vector<int>& counts, const std::vector<double>& estimates, double calibration,
                             double share, Interpolation interpolation) {
-  const double fewest = interpolation == Interpolation::bspline ? kBSplineMinCount : 4.0;
+  const double fewest = std::max(4, min_count(interpolation));  // the search starts every axis at >= 4
   std::vector<int> out(counts.size());
   for (std::size_t d = 0; d < counts.size(); ++d) {
     const double e = calibration * estimates[d];
@@ -208,8 +208,8 @@ SearchResult search_counts(const Model& model, Law law, BakeOptions options, dou
     // the default cap, 64 MiB of hvd-empirical's g): refuse with what was measured instead.
     if (static_cast<double>(bytes_of(options.resolution, options.encoding)) > kCapFitReach * static_cast<double>(cap))
       break;
-    options.resolution = fit_to_cap(options.resolution, options.encoding, cap,
-                                    options.interpolation == Interpolation::bspline ? kBSplineMinCount : 4);
+    options.resolution =
+        fit_to_cap(options.resolution, options.encoding, cap, std::max(4, min_count(options.interpolation)));
     const std::pair<std::vector<int>, Interpolation> key{options.resolution, options.interpolation};
     if (std::find(baked.begin(), baked.end(), key) != baked.end()) break;  // capped to a table already measured
     baked.push_back(key);
@@ -240,10 +240,9 @@ SearchResult search_counts(const Model& model, Law law, BakeOptions options, dou
     if (spline) {
       if (options.filter == Filter::hardware) {
         // The 8-bit weights fall only as h (a b-spline's two linear fetches per axis move by at most
-        // the coefficients' step / 256): every axis grows by up to what they need. The reach is the
-        // worst case of every axis at once, which the b-spline's validated errors stay well below
-        // (on specular alpha = 100: 2.5e-4 measured where it predicts 8e-4), so unlike linear's it
-        // does not end the search.
+        // the coefficients' step / 256): every axis grows by up to what they need. The reach adds
+        // every axis' largest step, a worst case the b-spline's validated errors stay well below,
+        // so unlike linear's it does not end the search.
         const double needed = weight_rounding_reach(table) * kLookupMargin / (kLinearAim * E);
         for (std::size_t d = 0; d < next.size(); ++d)
           next[d] = std::max(
