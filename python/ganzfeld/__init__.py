@@ -344,7 +344,7 @@ class Table:
     info = property(lambda self: self._core.info, doc="The document of `ganzfeld info --json`.")
     axes = property(lambda self: self.info["axes"], doc="[{name, min, max, count, mapping, [width]}], slowest first.")
     frame = property(lambda self: self.info["frame"], doc="'cosines' or 'lobe' (docs/lut-format.md, \"Axes\").")
-    interpolation = property(lambda self: self.info["interpolation"], doc="'linear' or 'catmull-rom'.")
+    interpolation = property(lambda self: self.info["interpolation"], doc="'linear', 'catmull-rom' or 'b-spline'.")
     encoding = property(lambda self: self.info["encoding"], doc="'float', 'half' or 'unorm16'.")
 
     def __repr__(self) -> str:
@@ -399,7 +399,7 @@ def bake(model: Union[Model, str], law: str, *, res: Any = None, max_error: Opti
     res: node counts (int, tuple or '32x32x16'), or max_error: the lookup error to reach (the baker
     then chooses resolution, frame, interpolation and tolerance; max_bytes caps the value bytes).
     tol: the cubature's tolerance per node; encoding: 'float', 'half' or 'unorm16';
-    interpolation: 'linear' or 'catmull-rom'; frame: 'cosines' or 'lobe' (g); mapping: per-axis
+    interpolation: 'linear', 'catmull-rom' or 'b-spline'; frame: 'cosines' or 'lobe' (g); mapping: per-axis
     mappings ('cos', 'linearxsqrtxcos', ...); checks: extra random validation points;
     progress: None, True (tqdm) or a callable(done, total). Parallel on every core, GIL released,
     Ctrl-C cancels."""
