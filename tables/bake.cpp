@@ -238,9 +238,13 @@ void bake_nodes(Table& table, const LawAt& law_at, const BakeOptions& options, c
   const bool spline = table.interpolation == Interpolation::bspline;
   std::vector<std::vector<double>> nodes;
   for (const Axis& axis : table.axes) {
+    if (spline) {
+      nodes.push_back(bspline_nodes(axis));
+      continue;
+    }
     std::vector<double> x(axis.count);
     for (int k = 0; k < axis.count; ++k) x[k] = axis.node(k);
-    nodes.push_back(spline ? bspline_nodes(axis) : std::move(x));
+    nodes.push_back(std::move(x));
   }
   // Entry m = (k_0 * n_1 + k_1) * n_2 + k_2 (g) or k (h, a).
   auto entry = [&](std::uint64_t m) -> Estimate {

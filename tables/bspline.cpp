@@ -62,7 +62,7 @@ double cubic_bspline(double x) {
 /// spline through the node values f. The solve is linear, so dS/df_m is the spline of the m-th unit
 /// vector; the maximum is taken at kLebesgueSamples points per cell (the Lebesgue function is
 /// piecewise cubic and smooth inside a cell, so the sampled maximum is within a fraction of a
-/// percent of the true one; bspline_error_gain adds kLebesgueSlack for it).
+/// percent of the true one; kLebesgueSlack covers the rest).
 constexpr int kLebesgueSamples = 64;
 constexpr double kLebesgueSlack = 1.01;
 double lebesgue_constant(std::size_t n, bool even) {
@@ -88,6 +88,26 @@ double lebesgue_constant(std::size_t n, bool even) {
   return largest * kLebesgueSlack;
 }
 
+/// Replaces every line along axis d of the grid `values` (entry index slowest axis first, `shape`
+/// entries per axis) by `map` of it, a line of `length` entries; shape[d] becomes `length`.
+template <class Map>
+std::vector<double> map_lines(const std::vector<double>& values, std::vector<std::size_t>& shape, std::size_t d,
+                              std::size_t length, Map&& map) {
+  const std::size_t n = shape[d];
+  std::size_t outer = 1, inner = 1;
+  for (std::size_t e = 0; e < d; ++e) outer *= shape[e];
+  for (std::size_t e = d + 1; e < shape.size(); ++e) inner *= shape[e];
+  std::vector<double> next(outer * length * inner), line(n);
+  for (std::size_t o = 0; o < outer; ++o)
+    for (std::size_t i = 0; i < inner; ++i) {
+      for (std::size_t m = 0; m < n; ++m) line[m] = values[(o * n + m) * inner + i];
+      const std::vector<double> mapped = map(line);
+      for (std::size_t k = 0; k < length; ++k) next[(o * length + k) * inner + i] = mapped[k];
+    }
+  shape[d] = length;
+  return next;
+}
+
 }  // namespace
 
 std::vector<double> bspline_nodes(const Axis& axis) {
@@ -107,20 +127,8 @@ Coefficients bspline_coefficients(std::span<const Axis> axes, const std::vector<
   double gain = 1.0;
   for (std::size_t d = 0; d < axes.size(); ++d) {
     const bool even = is_even_axis(axes[d]);
-    const std::size_t n = shape[d];
-    gain *= lebesgue_constant(n, even);
-    std::size_t outer = 1, inner = 1;
-    for (std::size_t e = 0; e < d; ++e) outer *= shape[e];
-    for (std::size_t e = d + 1; e < shape.size(); ++e) inner *= shape[e];
-    std::vector<double> next(outer * (n + 2) * inner), line(n);
-    for (std::size_t o = 0; o < outer; ++o)
-      for (std::size_t i = 0; i < inner; ++i) {
-        for (std::size_t m = 0; m < n; ++m) line[m] = c[(o * n + m) * inner + i];
-        const std::vector<double> solved = solve_line(line, even);
-        for (std::size_t k = 0; k < n + 2; ++k) next[(o * (n + 2) + k) * inner + i] = solved[k];
-      }
-    c = std::move(next);
-    shape[d] = n + 2;
+    gain *= lebesgue_constant(shape[d], even);
+    c = map_lines(c, shape, d, shape[d] + 2, [&](const std::vector<double>& line) { return solve_line(line, even); });
   }
   double worst = 0.0;
   for (double e : errors) worst = std::max(worst, e);
@@ -132,21 +140,12 @@ std::vector<double> bspline_node_values(const Table& table) {
   std::vector<std::size_t> shape;
   for (const Axis& a : table.axes) shape.push_back(static_cast<std::size_t>(a.count));
   std::vector<double> v(table.value.begin(), table.value.end());
-  for (std::size_t d = 0; d < shape.size(); ++d) {
-    const std::size_t n = shape[d];
-    std::size_t outer = 1, inner = 1;
-    for (std::size_t e = 0; e < d; ++e) outer *= shape[e];
-    for (std::size_t e = d + 1; e < shape.size(); ++e) inner *= shape[e];
-    std::vector<double> next(outer * (n - 2) * inner);
-    for (std::size_t o = 0; o < outer; ++o)
-      for (std::size_t i = 0; i < inner; ++i)
-        for (std::size_t m = 0; m + 2 < n; ++m) {
-          const auto c = [&](std::size_t k) { return v[(o * n + k) * inner + i]; };
-          next[(o * (n - 2) + m) * inner + i] = (c(m) + 4.0 * c(m + 1) + c(m + 2)) / 6.0;
-        }
-    v = std::move(next);
-    shape[d] = n - 2;
-  }
+  for (std::size_t d = 0; d < shape.size(); ++d)
+    v = map_lines(v, shape, d, shape[d] - 2, [](const std::vector<double>& c) {
+      std::vector<double> at_nodes(c.size() - 2);
+      for (std::size_t m = 0; m < at_nodes.size(); ++m) at_nodes[m] = (c[m] + 4.0 * c[m + 1] + c[m + 2]) / 6.0;
+      return at_nodes;
+    });
   return v;
 }
 
