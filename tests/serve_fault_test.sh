@@ -9,9 +9,10 @@ G="$1"
 . "$(dirname "$0")/harness.sh"
 command -v curl >/dev/null || { echo "serve_fault_test: curl is missing (scripts/install-deps installs it)"; exit 1; }
 
-# A bake of a few seconds on 2 cores (the kill lands while it runs), and a quick one.
-SLOW="model=specular:alpha=8&law=g&res=40x40x20&tol=1e-10"
-SLOW_BAKE=(--model specular:alpha=8 --law g --res 40x40x20 --tol 1e-10)
+# A bake of about 5 s on 2 cores, so the kill lands while it runs even when the rest of the suite
+# loads the machine, and a quick one.
+SLOW="model=specular:alpha=8&law=g&res=64x64x32&tol=1e-10"
+SLOW_BAKE=(--model specular:alpha=8 --law g --res 64x64x32 --tol 1e-10)
 FAST="model=minnaert:xi=1&law=h&res=32"
 FAST_BAKE=(--model minnaert:xi=1 --law h --res 32 --tol 1e-8)  # serve's default tol: scene::TableOptions
 cache="$tmp/cache"
@@ -20,7 +21,8 @@ trap '[ -n "$pid" ] && kill -9 $pid 2>/dev/null; rm -rf "$tmp"' EXIT
 
 get() { curl -s -o "$tmp/body" -D "$tmp/headers" -w '%{http_code}' "$URL$1"; }  # status; body, headers
 table_status() { sed -nE 's/^X-Ganzfeld-Table: (.*)\r$/\1/Ip' "$tmp/headers"; }
-running() { curl -s "$URL/healthz" | python3 -c "import json,sys; print(json.load(sys.stdin)['bakes_running'])"; }
+# bakes_running from /healthz without starting an interpreter per poll (the poll must be quick).
+running() { curl -s "$URL/healthz" | sed -nE 's/.*"bakes_running": *([0-9]+).*/\1/p'; }
 entries() { ls -A "$cache"; }
 
 start_serve "$tmp/log1" --cache "$cache" && ok || { fail "serve did not start: $(cat "$tmp/log1")"; exit 1; }
