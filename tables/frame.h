@@ -114,11 +114,11 @@ std::array<double, 3> warped_coordinates(PeakKind peak, const Warp& warp, const 
 std::pair<Vec3, Vec3> warped_directions(PeakKind peak, const Warp& warp, const Axis& theta_axis, double theta_j,
                                         double offset, double beta) noexcept;
 /// The warp of `model`'s g: at each theta_j node of `theta_axis`, the quartiles of g along cot psi at
-/// beta = 0, pi/2, pi (by bisection, cubature at `tolerance`), relative to g's range between
-/// psi = pi and 0: shift = half the distance of the medians at beta = pi and 0, along and across
-/// from the quartile spreads (S(z) = 3/4 at z = 1/sqrt(3)) times kWarpWidthFactor, kept within
-/// [width/8, 8 width + 1] of the hinted width; the envelope (the lobe's width or none) that makes
-/// g(psi = 0) / A smoother over kEnvelopeSamples theta_j.
+/// beta = 0, pi/2, pi (TOMS 748 root finding to 1e-10 in asinh cot psi, cubature at `tolerance`), relative to g's range
+/// between psi = pi and 0: shift = half the distance of the medians at beta = pi and 0, along and across from the
+/// quartile spreads (S(z) = 3/4 at z = 1/sqrt(3)) times kWarpWidthFactor, kept within [width/8, 8 width + 1] of the
+/// hinted width; the envelope (the lobe's width or none) that makes g(psi = 0) / A smoother over kEnvelopeSamples
+/// theta_j.
 Warp fit_warp(const Model& model, const LobeFrame& frame, const Axis& theta_axis, double tolerance);
 
 /// The lobe frame of a model's g from its mass hints for the law of vignetting (varying the
