@@ -4,6 +4,7 @@
 #include <atomic>
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <limits>
 #include <mutex>
 #include <numbers>
@@ -288,9 +289,12 @@ void bake_nodes(Table& table, const LawAt& law_at, const BakeOptions& options, c
   });
   throw_if_cancelled(options);
   // A b-spline table stores the spline's coefficients (tables/bspline.h), their error bounds from
-  // the nodes'.
+  // the nodes'; a warped table's lookup multiplies by A(theta_j), so the bound scales with it.
   if (spline) {
-    Coefficients c = bspline_coefficients(table.axes, value, error);
+    std::function<double(double)> envelope;
+    if (table.frame == Frame::warped)
+      envelope = [&table](double theta_j) { return warp_envelope(table.warp, theta_j); };
+    Coefficients c = bspline_coefficients(table.axes, value, error, envelope);
     value = std::move(c.value);
     error = std::move(c.error);
   }

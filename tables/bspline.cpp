@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <functional>
 
 #include "tables/sample.h"
 
@@ -62,28 +63,31 @@ double cubic_bspline(double x) {
 /// spline through the node values f. The solve is linear, so dS/df_m is the spline of the m-th unit
 /// vector; the maximum is taken at kLebesgueSamples points per cell (the Lebesgue function is
 /// piecewise cubic and smooth inside a cell, so the sampled maximum is within a fraction of a
-/// percent of the true one; kLebesgueSlack covers the rest).
+/// percent of the true one; kLebesgueSlack covers the rest). With a scale (the factor the lookup
+/// multiplies by, a function of s > 0; node m sits at s = m + 1), the constant of the scaled lookup
+/// against scaled node errors: max over s of scale(s) sum_m |dS(s)/df_m| / scale(m + 1).
 constexpr int kLebesgueSamples = 64;
 constexpr double kLebesgueSlack = 1.01;
-double lebesgue_constant(std::size_t n, bool even) {
+double lebesgue_constant(std::size_t n, bool even, const std::function<double(double)>& scale) {
   std::vector<std::vector<double>> columns;
-  std::vector<double> unit(n, 0.0);
+  std::vector<double> unit(n, 0.0), node_scale(n, 1.0);
   for (std::size_t m = 0; m < n; ++m) {
     unit.assign(n, 0.0);
     unit[m] = 1.0;
     columns.push_back(solve_line(unit, even));
+    if (scale) node_scale[m] = scale(static_cast<double>(m + 1));
   }
   double largest = 0.0;
   for (std::size_t cell = 1; cell < n; ++cell)
     for (int p = 0; p <= kLebesgueSamples; ++p) {
       const double s = static_cast<double>(cell) + static_cast<double>(p) / kLebesgueSamples;
       double sum = 0.0;
-      for (const std::vector<double>& c : columns) {
+      for (std::size_t m = 0; m < n; ++m) {
         double at = 0.0;
-        for (std::size_t k = cell - 1; k <= cell + 2 && k < n + 2; ++k) at += c[k] * cubic_bspline(s - k);
-        sum += std::abs(at);
+        for (std::size_t k = cell - 1; k <= cell + 2 && k < n + 2; ++k) at += columns[m][k] * cubic_bspline(s - k);
+        sum += std::abs(at) / node_scale[m];
       }
-      largest = std::max(largest, sum);
+      largest = std::max(largest, (scale ? scale(s) : 1.0) * sum);
     }
   return largest * kLebesgueSlack;
 }
@@ -119,20 +123,34 @@ std::vector<double> bspline_nodes(const Axis& axis) {
 }
 
 Coefficients bspline_coefficients(std::span<const Axis> axes, const std::vector<double>& values,
-                                  const std::vector<double>& errors) {
+                                  const std::vector<double>& errors,
+                                  const std::function<double(double)>& first_axis_scale) {
   // Axis by axis, the grid grows from count - 2 to count entries along it.
   std::vector<std::size_t> shape;
   for (const Axis& a : axes) shape.push_back(static_cast<std::size_t>(a.count - 2));
+  const std::size_t first = shape[0];
+  std::function<double(double)> scale_at;  // of the position s on the first axis (node m at s = m + 1)
+  if (first_axis_scale)
+    scale_at = [&](double s) { return first_axis_scale(axes[0].coordinate((s - 1.0) / (first - 1.0))); };
   std::vector<double> c = values;
   double gain = 1.0;
   for (std::size_t d = 0; d < axes.size(); ++d) {
     const bool even = is_even_axis(axes[d]);
-    gain *= lebesgue_constant(shape[d], even);
+    gain *= lebesgue_constant(shape[d], even, d == 0 ? scale_at : nullptr);
     c = map_lines(c, shape, d, shape[d] + 2, [&](const std::vector<double>& line) { return solve_line(line, even); });
   }
+  // The nodes' largest error in the scaled units; a coefficient's bound in the stored units is
+  // that times the gain over the scale at its node (the first axis' coefficient k at node k - 1).
+  const std::size_t plane = errors.size() / first;
+  auto node_scale = [&](std::size_t k) { return scale_at ? scale_at(static_cast<double>(k + 1)) : 1.0; };
   double worst = 0.0;
-  for (double e : errors) worst = std::max(worst, e);
-  std::vector<double> error(c.size(), gain * worst);
+  for (std::size_t m = 0; m < errors.size(); ++m) worst = std::max(worst, errors[m] * node_scale(m / plane));
+  std::vector<double> error(c.size());
+  const std::size_t coefficient_plane = c.size() / (first + 2);
+  for (std::size_t m = 0; m < c.size(); ++m) {
+    const std::size_t k = m / coefficient_plane;
+    error[m] = gain * worst / node_scale(std::clamp<std::size_t>(k, 1, first) - 1);
+  }
   return {std::move(c), std::move(error)};
 }
 

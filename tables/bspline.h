@@ -15,6 +15,7 @@
 // Both reproduce cubics exactly (the spline then is the cubic); the error falls as h^4 up to the ends.
 #pragma once
 
+#include <functional>
 #include <span>
 #include <vector>
 
@@ -36,12 +37,18 @@ std::vector<double> bspline_nodes(const Axis& axis);
 /// spline moves by at most L times the largest change of a node value (L the product over the axes
 /// of the interpolation's Lebesgue constant, ~1.5 to 2 per axis, computed for each axis' length and
 /// end condition), so every coefficient's error is L times the largest of `errors` (the node
-/// values' errors, same layout as `values`). Axes need >= kBSplineMinCount entries.
+/// values' errors, same layout as `values`). With `first_axis_scale` (a function > 0 of the first
+/// axis' coordinate that the lookup multiplies the spline by: a warped table's envelope A(theta_j),
+/// docs/lut-format.md), the bound is for the scaled lookup: E = the largest error times the scale
+/// at its node, the first axis' constant is max over x of scale(x) sum_m |dS(x)/df_m| / scale(x_m),
+/// and a coefficient's error is L E over the scale at its node (coefficient k at node k - 1), so
+/// that times the scale there is the bound of the lookup. Axes need >= kBSplineMinCount entries.
 struct Coefficients {
   std::vector<double> value, error;
 };
 Coefficients bspline_coefficients(std::span<const Axis> axes, const std::vector<double>& values,
-                                  const std::vector<double>& errors);
+                                  const std::vector<double>& errors,
+                                  const std::function<double(double)>& first_axis_scale = nullptr);
 
 /// The spline of a b-spline table at its nodes (the law there, up to the nodes' errors), laid out
 /// as the input of bspline_coefficients (count - 2 per axis).
