@@ -319,21 +319,31 @@ void bake_nodes(Table& table, const LawAt& law_at, const BakeOptions& options, c
   for (float e : table.error) table.node_error = std::max(table.node_error, static_cast<double>(e));
 }
 
-/// The largest node error in the law's units: a warped table stores g / A(theta_j), and so its
-/// error channel; the lookup multiplies by A again.
+/// The largest node error a lookup can report, in the law's units: a warped table stores g / A(theta_j),
+/// and so its error channel; a lookup blends the errors of the entries whose weight is nonzero at
+/// the point and multiplies by A there, so each entry's error counts times the largest A over its
+/// support along theta_j (A is smooth, tables/frame.h: taken at kSupportSamples points of it).
+constexpr int kSupportSamples = 9;
 double node_bound(const Table& table) {
   if (table.frame != Frame::warped) return table.node_error;
-  double worst = 0.0;
-  const int count = table.axes[0].count;
-  const std::size_t plane = table.entries() / count;
-  // A b-spline's coefficient k along theta_j weighs in around its node k - 1 (tables/bspline.h).
+  const Axis& theta = table.axes[0];
+  const int count = theta.count;
   const bool spline = table.interpolation == Interpolation::bspline;
-  for (std::size_t m = 0; m < table.error.size(); ++m) {
-    const int k = static_cast<int>(m / plane);
-    const double theta_j =
-        spline ? table.axes[0].coordinate(std::clamp((k - 1.0) / (count - 3), 0.0, 1.0)) : table.axes[0].node(k);
-    worst = std::max(worst, table.error[m] * warp_envelope(table.warp, theta_j));
+  // Entry k's support in the index coordinate u: a linear node's two cells; a b-spline
+  // coefficient's four (tables/bspline.h: s = 1 + u (count - 3), weight B(s - k), |s - k| < 2).
+  std::vector<double> largest_scale(static_cast<std::size_t>(count), 0.0);
+  for (int k = 0; k < count; ++k) {
+    const double lo = spline ? (k - 3.0) / (count - 3) : (k - 1.0) / (count - 1);
+    const double hi = spline ? (k + 1.0) / (count - 3) : (k + 1.0) / (count - 1);
+    for (int p = 0; p < kSupportSamples; ++p) {
+      const double u = std::clamp(lo + (hi - lo) * p / (kSupportSamples - 1), 0.0, 1.0);
+      largest_scale[k] = std::max(largest_scale[k], warp_envelope(table.warp, theta.coordinate(u)));
+    }
   }
+  const std::size_t plane = table.entries() / count;
+  double worst = 0.0;
+  for (std::size_t m = 0; m < table.error.size(); ++m)
+    worst = std::max(worst, table.error[m] * largest_scale[m / plane]);
   return worst;
 }
 

@@ -62,10 +62,12 @@ double cubic_bspline(double x) {
 /// The Lebesgue constant of a line of n nodes: max over s in [1, n] of sum_m |dS(s)/df_m|, S the
 /// spline through the node values f. The solve is linear, so dS/df_m is the spline of the m-th unit
 /// vector; the maximum is taken at kLebesgueSamples points per cell (the Lebesgue function is
-/// piecewise cubic and smooth inside a cell, so the sampled maximum is within a fraction of a
-/// percent of the true one; kLebesgueSlack covers the rest). With a scale (the factor the lookup
-/// multiplies by, a function of s > 0; node m sits at s = m + 1), the constant of the scaled lookup
-/// against scaled node errors: max over s of scale(s) sum_m |dS(s)/df_m| / scale(m + 1).
+/// smooth inside a cell, so the sampled maximum is within a fraction of a percent of the true one;
+/// kLebesgueSlack covers the rest). With a scale (the factor the lookup multiplies by, a function
+/// of s > 0; node m sits at s = m + 1, and coefficient k is charged to node clamp(k, 1, n) - 1):
+/// max over s of [sum_m |dS(s)/df_m| / scale(m + 1)] / [sum_k B(s - k) / scale(node of k)], so that
+/// coefficient errors G E / scale(node of k), blended by the lookup's weights B(s - k) and
+/// multiplied by scale(s), bound scale(s) |dS| at every s for node errors E / scale(m + 1).
 constexpr int kLebesgueSamples = 64;
 constexpr double kLebesgueSlack = 1.01;
 double lebesgue_constant(std::size_t n, bool even, const std::function<double(double)>& scale) {
@@ -81,13 +83,15 @@ double lebesgue_constant(std::size_t n, bool even, const std::function<double(do
   for (std::size_t cell = 1; cell < n; ++cell)
     for (int p = 0; p <= kLebesgueSamples; ++p) {
       const double s = static_cast<double>(cell) + static_cast<double>(p) / kLebesgueSamples;
-      double sum = 0.0;
+      double sum = 0.0, charged = 0.0;
+      for (std::size_t k = cell - 1; k <= cell + 2 && k < n + 2; ++k)
+        charged += cubic_bspline(s - k) / node_scale[std::clamp<std::size_t>(k, 1, n) - 1];
       for (std::size_t m = 0; m < n; ++m) {
         double at = 0.0;
         for (std::size_t k = cell - 1; k <= cell + 2 && k < n + 2; ++k) at += columns[m][k] * cubic_bspline(s - k);
         sum += std::abs(at) / node_scale[m];
       }
-      largest = std::max(largest, (scale ? scale(s) : 1.0) * sum);
+      largest = std::max(largest, sum / charged);
     }
   return largest * kLebesgueSlack;
 }

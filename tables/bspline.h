@@ -23,10 +23,6 @@
 
 namespace ganzfeld::tables {
 
-/// The fewest entries of a b-spline axis: 4 nodes (the end conditions' one-sided difference) and
-/// the 2 coefficients beyond the ends.
-inline constexpr int kBSplineMinCount = 6;
-
 /// The nodes of a b-spline axis where the law is computed: count - 2, at index coordinates
 /// u = m / (count - 3) (axis.coordinate of those).
 std::vector<double> bspline_nodes(const Axis& axis);
@@ -40,9 +36,10 @@ std::vector<double> bspline_nodes(const Axis& axis);
 /// values' errors, same layout as `values`). With `first_axis_scale` (a function > 0 of the first
 /// axis' coordinate that the lookup multiplies the spline by: a warped table's envelope A(theta_j),
 /// docs/lut-format.md), the bound is for the scaled lookup: E = the largest error times the scale
-/// at its node, the first axis' constant is max over x of scale(x) sum_m |dS(x)/df_m| / scale(x_m),
-/// and a coefficient's error is L E over the scale at its node (coefficient k at node k - 1), so
-/// that times the scale there is the bound of the lookup. Axes need >= kBSplineMinCount entries.
+/// at its node, coefficient k along the first axis is charged to its node (k - 1, clamped to the
+/// ends) with error L E / scale there, and the first axis' constant is the least for which the
+/// lookup's blend of those errors times the scale at the point bounds the scaled spline's move
+/// everywhere. Axes need >= kBSplineMinCount entries.
 struct Coefficients {
   std::vector<double> value, error;
 };

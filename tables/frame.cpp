@@ -132,11 +132,13 @@ namespace {
 /// S(z) = 3/4 at z = 1/sqrt(3): the quartile spread of S is 2/sqrt(3) widths.
 constexpr double kQuartileSpread = 2.0 / 1.7320508075688772;
 /// A quartile is sought in m = asinh(cot psi) over [-asinh(kQuantileReach), asinh(kQuantileReach)]
-/// to kQuantileTolerance in m. The warp interpolates its samples between theta_j nodes, so noise in
-/// them is noise in g along theta_j that no interpolation follows: a narrow lobe (width ~0.03 in
-/// cot psi at alpha = 1000) needs its quartiles far finer than its width (2e-4 left 2-4e-4 in g).
+/// to kQuantileTolerance in m (TOMS 748: the bracket's midpoint, also when kQuantileIterations run
+/// out first). The warp interpolates its samples between theta_j nodes, so noise in them is noise
+/// in g along theta_j that no interpolation follows: a narrow lobe (~0.08 wide in cot psi at
+/// alpha = 1000) needs quartiles far finer than its width (2e-4 in m left 2-4e-4 in g); 1e-9 is
+/// near what g at a tolerance of 1e-6 resolves (1e-6 over g's slope, ~1/width).
 constexpr double kQuantileReach = 1e3;
-constexpr double kQuantileTolerance = 1e-10;
+constexpr double kQuantileTolerance = 1e-9;
 constexpr std::uintmax_t kQuantileIterations = 100;
 }  // namespace
 
@@ -157,24 +159,27 @@ Warp fit_warp(const Model& model, const LobeFrame& frame, const Axis& theta_axis
       return vignetting(model, i, j, options).value;
     };
     const double bottom = g(-HUGE_VAL, 0.0), top = g(HUGE_VAL, 0.0);
-    auto quantile = [&](double beta, double q) {  // g rises with cot psi; TOMS 748 within the bracket
+    const double reach = std::asinh(kQuantileReach);
+    struct Bracket {
+      double beta, lo, hi;  // g at m = -reach and +reach
+    };
+    auto bracket = [&](double beta) { return Bracket{beta, g(std::sinh(-reach), beta), g(std::sinh(reach), beta)}; };
+    auto quantile = [&](const Bracket& at, double q) {  // g rises with cot psi
       const double level = bottom + q * (top - bottom);
-      auto below = [&](double m) { return g(std::sinh(m), beta) - level; };
-      const double lo = -std::asinh(kQuantileReach), hi = std::asinh(kQuantileReach);
-      const double at_lo = below(lo), at_hi = below(hi);
-      if (!(at_lo < 0.0)) return std::sinh(lo);  // the level lies beyond the reach: its end
-      if (!(at_hi > 0.0)) return std::sinh(hi);
+      if (!(at.lo < level)) return std::sinh(-reach);  // the level lies beyond the reach: its end
+      if (!(at.hi > level)) return std::sinh(reach);
       std::uintmax_t iterations = kQuantileIterations;
       const auto [a, b] = boost::math::tools::toms748_solve(
-          below, lo, hi, at_lo, at_hi, [](double x, double y) { return std::abs(y - x) <= kQuantileTolerance; },
-          iterations);
+          [&](double m) { return g(std::sinh(m), at.beta) - level; }, -reach, reach, at.lo - level, at.hi - level,
+          [](double x, double y) { return std::abs(y - x) <= kQuantileTolerance; }, iterations);
       return std::sinh(0.5 * (a + b));
     };
     WarpSample s{0.0, w, w};
     if (top - bottom > 1e-6) {
-      const double a25 = quantile(0.0, 0.25), a50 = quantile(0.0, 0.5), a75 = quantile(0.0, 0.75);
-      const double b25 = quantile(pi, 0.25), b50 = quantile(pi, 0.5), b75 = quantile(pi, 0.75);
-      const double c25 = quantile(pi / 2, 0.25), c75 = quantile(pi / 2, 0.75);
+      const Bracket a = bracket(0.0), b = bracket(pi), c = bracket(pi / 2);
+      const double a25 = quantile(a, 0.25), a50 = quantile(a, 0.5), a75 = quantile(a, 0.75);
+      const double b25 = quantile(b, 0.25), b50 = quantile(b, 0.5), b75 = quantile(b, 0.75);
+      const double c25 = quantile(c, 0.25), c75 = quantile(c, 0.75);
       auto bounded = [&](double x) { return std::clamp(x, w / 8.0, 8.0 * w + 1.0); };
       s.shift = std::clamp(0.5 * (b50 - a50), -(8.0 * w + 1.0), 8.0 * w + 1.0);
       s.along = bounded(kWarpWidthFactor * 0.5 * ((a75 - a25) + (b75 - b25)) / kQuartileSpread);

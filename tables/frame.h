@@ -98,7 +98,8 @@ inline constexpr double kWarpBetaWhitening = 0.8;
 WarpSample warp_at(const Warp& warp, const Axis& theta_axis, double theta_j) noexcept;
 /// warp_at at the index coordinate u of theta_j on the theta_j axis.
 WarpSample warp_at_index(const Warp& warp, double u) noexcept;
-/// A(theta_j) (1 without an envelope).
+/// A(theta_j) (1 without an envelope): (cos + sqrt(cos^2 + eps^2 sin^2)) / 2, from 1 at theta_j = 0
+/// to eps / 2 at pi / 2, falling all the way when eps <= 1.
 double warp_envelope(const Warp& warp, double theta_j) noexcept;
 /// A(theta_j) from cos theta_j and sin theta_j.
 double warp_envelope(const Warp& warp, double cos_theta_j, double sin_theta_j) noexcept;
@@ -114,7 +115,7 @@ std::array<double, 3> warped_coordinates(PeakKind peak, const Warp& warp, const 
 std::pair<Vec3, Vec3> warped_directions(PeakKind peak, const Warp& warp, const Axis& theta_axis, double theta_j,
                                         double offset, double beta) noexcept;
 /// The warp of `model`'s g: at each theta_j node of `theta_axis`, the quartiles of g along cot psi at
-/// beta = 0, pi/2, pi (TOMS 748 root finding to 1e-10 in asinh cot psi, cubature at `tolerance`), relative to g's range
+/// beta = 0, pi/2, pi (TOMS 748 root finding to 1e-9 in asinh cot psi, cubature at `tolerance`), relative to g's range
 /// between psi = pi and 0: shift = half the distance of the medians at beta = pi and 0, along and across from the
 /// quartile spreads (S(z) = 3/4 at z = 1/sqrt(3)) times kWarpWidthFactor, kept within [width/8, 8 width + 1] of the
 /// hinted width; the envelope (the lobe's width or none) that makes g(psi = 0) / A smoother over kEnvelopeSamples

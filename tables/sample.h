@@ -107,11 +107,11 @@ inline Cell cell(const Axis& axis, double u) noexcept { return cell(axis.count, 
 /// On an axis of `count` nodes, even (is_even_axis) or not.
 inline AxisTaps axis_taps(int count, bool even, double u, Interpolation interpolation,
                           WeightRounding rounding = WeightRounding::exact) noexcept {
-  if (interpolation == Interpolation::bspline && count >= 6) return bspline_taps(count, u, rounding);
+  if (interpolation == Interpolation::bspline && count >= min_count(Interpolation::bspline))
+    return bspline_taps(count, u, rounding);
   const Cell c = cell(count, u);
-  if (interpolation == Interpolation::catmull_rom && count >= 4)
+  if (interpolation == Interpolation::catmull_rom && count >= min_count(Interpolation::catmull_rom))
     return catmull_rom_taps(count, even, c.k, c.t, rounding);
-
   const double t = filter_weight(c.t, rounding);
   return {2, {c.k, c.k + 1, c.k + 1, c.k + 1}, {1.0 - t, t, 0.0, 0.0}};
 }

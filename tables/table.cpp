@@ -8,7 +8,6 @@
 #include <numbers>
 
 #include "models/registry.h"
-#include "tables/bspline.h"
 #include "util/error.h"
 #include "util/hash.h"
 #include "util/names.h"
@@ -54,15 +53,6 @@ Mapping parse_mapping(const std::string& text) { return util::parse_name(kMappin
 const char* to_string(Interpolation interpolation) { return util::name_of(kInterpolations, interpolation); }
 Interpolation parse_interpolation(const std::string& text) {
   return util::parse_name(kInterpolations, "interpolation", text);
-}
-
-int min_count(Interpolation interpolation) noexcept {
-  switch (interpolation) {
-    case Interpolation::catmull_rom: return 4;
-    case Interpolation::bspline: return kBSplineMinCount;
-    case Interpolation::linear: break;
-  }
-  return 2;
 }
 
 bool is_law_table_version(int version) noexcept {

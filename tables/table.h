@@ -65,9 +65,18 @@ enum class Interpolation { linear, catmull_rom, bspline };
 const char* to_string(Interpolation interpolation);  ///< "linear", "catmull-rom" or "b-spline"
 /// Accepts "linear", "catmull-rom" and "b-spline"; throws InputError otherwise.
 Interpolation parse_interpolation(const std::string& text);
-/// The fewest entries per axis a lookup needs: 2 (linear), 4 (Catmull–Rom) or kBSplineMinCount
-/// (the b-spline: 4 nodes and the 2 coefficients beyond the ends, tables/bspline.h).
-int min_count(Interpolation interpolation) noexcept;
+/// The fewest entries of a b-spline axis: 4 nodes (the end conditions' one-sided difference) and
+/// the 2 coefficients beyond the ends (tables/bspline.h).
+inline constexpr int kBSplineMinCount = 6;
+/// The fewest entries per axis a lookup needs: 2 (linear), 4 (Catmull–Rom) or kBSplineMinCount.
+constexpr int min_count(Interpolation interpolation) noexcept {
+  switch (interpolation) {
+    case Interpolation::catmull_rom: return 4;
+    case Interpolation::bspline: return kBSplineMinCount;
+    case Interpolation::linear: break;
+  }
+  return 2;
+}
 
 /// What the axes of a g table are (docs/lut-format.md, "Axes"):
 ///   cosines: (i·n, j·n, phi), format version 1's axes;
