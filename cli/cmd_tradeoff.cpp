@@ -236,7 +236,8 @@ void add_tradeoff_command(CLI::App& app, Action& action) {
                   "with --schemes: bake runs per row, for the median and spread (default 3)");
   cmd->add_flag(
       "--one-fetch", args->one_fetch,
-      "with --schemes: only the one-fetch rows (warped frame, hardware filter, and --max-error 1e-3 --fetches 1)");
+      "with --schemes: only the fetch-budget rows (warped frame, hardware filter; the b-spline; --max-error 1e-3 "
+      "--fetches 1 and --max-error 1e-4 --max-bytes 256000 --fetches 8)");
   cmd->add_option("--mapping", args->mappings,
                   "only these mapping sets, comma-separated, each default or M[xMxM] with M = linear, sqrt, cos");
   cmd->callback([&action, args] {

@@ -41,8 +41,15 @@ struct SchemePlan {
   std::vector<double> unorm16_targets;  ///< bake --max-error E --encoding unorm16 (the 16-bit target)
   double stretch = 0.0;
   std::uint64_t stretch_bytes = 0;
-  /// With one_fetch: the --max-error E --fetches N picks (1e-3 in one fetch, 1e-4 within 8).
-  std::vector<std::pair<double, int>> fetch_targets;
+  /// With one_fetch: the --max-error E [--max-bytes B] --fetches N picks (1e-3 in one fetch; 1e-4
+  /// within 8 fetches and the target's 256 kB, so that a model that cannot meet it is refused
+  /// there instead of searching up to the default cap).
+  struct FetchTarget {
+    double error;
+    std::uint64_t bytes;
+    int fetches;
+  };
+  std::vector<FetchTarget> fetch_targets;
 };
 
 SchemePlan scheme_plan(Law law, bool quick) {
@@ -59,8 +66,9 @@ SchemePlan scheme_plan(Law law, bool quick) {
     plan.targets = quick ? std::vector<double>{1e-2} : std::vector<double>{1e-3, 1e-4};
     plan.unorm16_targets = quick ? std::vector<double>{1e-2} : std::vector<double>{1e-4};  // <= 128 kB in 16 bits
     if (!quick) plan.stretch = 1e-5, plan.stretch_bytes = 2'000'000;  // the stretch target: 1e-5 in 2 MB
-    plan.fetch_targets = quick ? std::vector<std::pair<double, int>>{{kTrilinearTarget, 1}}
-                               : std::vector<std::pair<double, int>>{{kTrilinearTarget, 1}, {1e-4, 8}};
+    plan.fetch_targets = quick ? std::vector<SchemePlan::FetchTarget>{{kTrilinearTarget, 0, 1}}
+                               : std::vector<SchemePlan::FetchTarget>{{kTrilinearTarget, 0, 1},
+                                                                      {kEightFetchTarget, kEightFetchBytes, 8}};
   } else {
     plan.today = quick ? std::vector<std::vector<int>>{{9}} : std::vector<std::vector<int>>{{33}, {129}};
     plan.targets = quick ? std::vector<double>{1e-3} : std::vector<double>{1e-4, 1e-6};
@@ -154,9 +162,7 @@ SchemeReport measure_schemes(const Model& model, Law law, const SchemeOptions& o
   SchemePlan plan = scheme_plan(law, options.quick);
   if (options.one_fetch_only) {
     if (law != Law::g) throw InputError({Named{"one_fetch"}, " measures g tables only"});
-    // The 1e-3 pick only: the 1e-4 search within 8 fetches bakes tables of ~1e5 nodes at 1e-5
-    // several times (many minutes per model on 2 cores); the texelFetch row stands for it.
-    plan = SchemePlan{{}, {}, plan.one_fetch, plan.eight_fetch, {}, {}, 0.0, 0, {{kTrilinearTarget, 1}}};
+    plan = SchemePlan{{}, {}, plan.one_fetch, plan.eight_fetch, {}, {}, 0.0, 0, plan.fetch_targets};
   }
   const std::optional<LobeFrame> lobe = law == Law::g ? lobe_frame_of(model) : std::nullopt;
   const std::size_t total = plan.today.size() + plan.targets.size() + plan.unorm16_targets.size() +
@@ -258,12 +264,13 @@ SchemeReport measure_schemes(const Model& model, Law law, const SchemeOptions& o
       measure_row(model, law, bake_options, options.repeats, report.reference, row);
       add(row);
     }
-    for (const auto& [target, budget] : plan.fetch_targets) {
+    for (const auto& [target, bytes, budget] : plan.fetch_targets) {
       SchemeRow pick = row_of(SchemeKind::max_error, {});
       pick.target = target;
+      pick.target_bytes = bytes;
       pick.target_fetches = budget;
       TargetBake pick_options;
-      pick_options.target = {target, 0, budget};
+      pick_options.target = {target, bytes, budget};
       measure_row(model, law, pick_options, options.repeats, report.reference, pick);
       add(pick);
     }
