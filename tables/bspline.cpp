@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstddef>
 #include <functional>
+#include <span>
 
 #include "tables/sample.h"
 
@@ -63,21 +64,22 @@ double cubic_bspline(double x) {
 /// spline through the node values f. The solve is linear, so dS/df_m is the spline of the m-th unit
 /// vector; the maximum is taken at kLebesgueSamples points per cell (the Lebesgue function is
 /// smooth inside a cell, so the sampled maximum is within a fraction of a percent of the true one;
-/// kLebesgueSlack covers the rest). With a scale (the factor the lookup multiplies by, a function
-/// of s > 0; node m sits at s = m + 1, and coefficient k is charged to node clamp(k, 1, n) - 1):
-/// max over s of [sum_m |dS(s)/df_m| / scale(m + 1)] / [sum_k B(s - k) / scale(node of k)], so that
-/// coefficient errors G E / scale(node of k), blended by the lookup's weights B(s - k) and
-/// multiplied by scale(s), bound scale(s) |dS| at every s for node errors E / scale(m + 1).
+/// kLebesgueSlack covers the rest). With the scale at the nodes (the factor the lookup multiplies
+/// by; node m sits at s = m + 1, and coefficient k is charged to node clamp(k, 1, n) - 1): max over
+/// s of [sum_m |dS(s)/df_m| / scale_m] / [sum_k B(s - k) / scale at the node of k], so that
+/// coefficient errors G E / scale at the node of k, blended by the lookup's weights B(s - k) and
+/// multiplied by the scale at s, bound the scaled |dS| at every s for node errors E / scale_m (the
+/// scale at s cancels). An empty node_scale is 1 everywhere.
 constexpr int kLebesgueSamples = 64;
 constexpr double kLebesgueSlack = 1.01;
-double lebesgue_constant(std::size_t n, bool even, const std::function<double(double)>& scale) {
+double lebesgue_constant(std::size_t n, bool even, std::span<const double> node_scale) {
+  auto scale = [&](std::size_t m) { return node_scale.empty() ? 1.0 : node_scale[m]; };
   std::vector<std::vector<double>> columns;
-  std::vector<double> unit(n, 0.0), node_scale(n, 1.0);
+  std::vector<double> unit(n, 0.0);
   for (std::size_t m = 0; m < n; ++m) {
     unit.assign(n, 0.0);
     unit[m] = 1.0;
     columns.push_back(solve_line(unit, even));
-    if (scale) node_scale[m] = scale(static_cast<double>(m + 1));
   }
   double largest = 0.0;
   for (std::size_t cell = 1; cell < n; ++cell)
@@ -85,11 +87,11 @@ double lebesgue_constant(std::size_t n, bool even, const std::function<double(do
       const double s = static_cast<double>(cell) + static_cast<double>(p) / kLebesgueSamples;
       double sum = 0.0, charged = 0.0;
       for (std::size_t k = cell - 1; k <= cell + 2 && k < n + 2; ++k)
-        charged += cubic_bspline(s - k) / node_scale[std::clamp<std::size_t>(k, 1, n) - 1];
+        charged += cubic_bspline(s - k) / scale(std::clamp<std::size_t>(k, 1, n) - 1);
       for (std::size_t m = 0; m < n; ++m) {
         double at = 0.0;
         for (std::size_t k = cell - 1; k <= cell + 2 && k < n + 2; ++k) at += columns[m][k] * cubic_bspline(s - k);
-        sum += std::abs(at) / node_scale[m];
+        sum += std::abs(at) / scale(m);
       }
       largest = std::max(largest, sum / charged);
     }
@@ -132,29 +134,28 @@ Coefficients bspline_coefficients(std::span<const Axis> axes, const std::vector<
   // Axis by axis, the grid grows from count - 2 to count entries along it.
   std::vector<std::size_t> shape;
   for (const Axis& a : axes) shape.push_back(static_cast<std::size_t>(a.count - 2));
+  // The scale at the first axis' nodes (bspline_nodes: node m at index coordinate m / (first - 1)).
   const std::size_t first = shape[0];
-  std::function<double(double)> scale_at;  // of the position s on the first axis (node m at s = m + 1)
-  if (first_axis_scale)
-    scale_at = [&](double s) { return first_axis_scale(axes[0].coordinate((s - 1.0) / (first - 1.0))); };
+  std::vector<double> node_scale(first_axis_scale ? first : 0);
+  for (std::size_t m = 0; m < node_scale.size(); ++m)
+    node_scale[m] = first_axis_scale(axes[0].coordinate(static_cast<double>(m) / (first - 1.0)));
+  auto scale = [&](std::size_t m) { return node_scale.empty() ? 1.0 : node_scale[m]; };
   std::vector<double> c = values;
   double gain = 1.0;
   for (std::size_t d = 0; d < axes.size(); ++d) {
     const bool even = is_even_axis(axes[d]);
-    gain *= lebesgue_constant(shape[d], even, d == 0 ? scale_at : nullptr);
+    gain *= lebesgue_constant(shape[d], even, d == 0 ? std::span<const double>(node_scale) : std::span<const double>());
     c = map_lines(c, shape, d, shape[d] + 2, [&](const std::vector<double>& line) { return solve_line(line, even); });
   }
   // The nodes' largest error in the scaled units; a coefficient's bound in the stored units is
   // that times the gain over the scale at its node (the first axis' coefficient k at node k - 1).
   const std::size_t plane = errors.size() / first;
-  auto node_scale = [&](std::size_t k) { return scale_at ? scale_at(static_cast<double>(k + 1)) : 1.0; };
   double worst = 0.0;
-  for (std::size_t m = 0; m < errors.size(); ++m) worst = std::max(worst, errors[m] * node_scale(m / plane));
+  for (std::size_t m = 0; m < errors.size(); ++m) worst = std::max(worst, errors[m] * scale(m / plane));
   std::vector<double> error(c.size());
   const std::size_t coefficient_plane = c.size() / (first + 2);
-  for (std::size_t m = 0; m < c.size(); ++m) {
-    const std::size_t k = m / coefficient_plane;
-    error[m] = gain * worst / node_scale(std::clamp<std::size_t>(k, 1, first) - 1);
-  }
+  for (std::size_t m = 0; m < c.size(); ++m)
+    error[m] = gain * worst / scale(std::clamp<std::size_t>(m / coefficient_plane, 1, first) - 1);
   return {std::move(c), std::move(error)};
 }
 
