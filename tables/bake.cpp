@@ -352,7 +352,8 @@ double node_bound(const Table& table) {
 /// about 1/16 of the cells of large ones (~6% of the bake), plus options.random_checks seeded
 /// random points uniform in the law's coordinates (a b-spline: as many again as centres). Sets the measured and the
 /// headline error.
-void validate(Table& table, const LawAt& law_at, const BakeOptions& options, const CubatureOptions& check) {
+void validate(Table& table, const LawAt& law_at, const BakeOptions& options, const CubatureOptions& check,
+              Table* texel_fetch_twin) {
   std::vector<std::uint64_t> cell_counts;
   std::uint64_t cells = 1;
   const int beyond = table.interpolation == Interpolation::bspline ? 2 : 0;  // a b-spline's outer coefficients
@@ -375,6 +376,7 @@ void validate(Table& table, const LawAt& law_at, const BakeOptions& options, con
   const std::size_t dims = table.axes.size();
   const std::uint64_t checks = centres + random_count;
   std::vector<double> check_error(checks, 0.0);
+  std::vector<double> exact_weights_error(checks, 0.0);  // the full-precision lookup alone
   // A hardware-filtered table's bound holds for full-precision, nearest-rounded and truncated
   // 8-bit weights alike: the worst of the three lookups is what is measured.
   const std::vector<WeightRounding> roundings =
@@ -393,25 +395,39 @@ void validate(Table& table, const LawAt& law_at, const BakeOptions& options, con
       }
       if (table.min_cos_j > 0.0 && std::cos(y[0]) < table.min_cos_j) return;  // outside the validated domain
       const Estimate exact = law_at.axis_coordinates(y, check);
-      for (WeightRounding r : roundings)
-        check_error[c] = std::max(check_error[c], std::abs(sample_axes(table, y, r).value - exact.value) + exact.error);
+      for (WeightRounding r : roundings) {
+        const double e = std::abs(sample_axes(table, y, r).value - exact.value) + exact.error;
+        check_error[c] = std::max(check_error[c], e);
+        if (r == WeightRounding::exact) exact_weights_error[c] = e;
+      }
     } else {
       const std::span<const double> x(random.data() + (c - centres) * dims, dims);
       const Estimate exact = law_at.law_coordinates(x, check);
-      for (WeightRounding r : roundings)
-        check_error[c] = std::max(check_error[c], std::abs(sample(table, x, r).value - exact.value) + exact.error);
+      for (WeightRounding r : roundings) {
+        const double e = std::abs(sample(table, x, r).value - exact.value) + exact.error;
+        check_error[c] = std::max(check_error[c], e);
+        if (r == WeightRounding::exact) exact_weights_error[c] = e;
+      }
     }
   });
   throw_if_cancelled(options);
-  table.interpolation_checks = static_cast<long long>(checks);
-  table.interpolation_error = 0.0;
-  for (double e : check_error) table.interpolation_error = std::max(table.interpolation_error, e);
-  table.lookup_error = std::max(kLookupMargin * table.interpolation_error, node_bound(table));
+  auto finish = [&](Table& t, const std::vector<double>& errors) {
+    t.interpolation_checks = static_cast<long long>(checks);
+    t.interpolation_error = 0.0;
+    for (double e : errors) t.interpolation_error = std::max(t.interpolation_error, e);
+    t.lookup_error = std::max(kLookupMargin * t.interpolation_error, node_bound(t));
+  };
+  if (texel_fetch_twin) {
+    *texel_fetch_twin = table;
+    texel_fetch_twin->filter = Filter::texel_fetch;
+    finish(*texel_fetch_twin, exact_weights_error);
+  }
+  finish(table, check_error);
 }
 
 }  // namespace
 
-Table bake_resolution(const Model& model, Law law, const BakeOptions& options) {
+Table bake_resolution(const Model& model, Law law, const BakeOptions& options, Table* texel_fetch_twin) {
   Table table = empty_table(model, law, options, checked_axes(model, law, options));
   const LawAt law_at{model, law, table};
   CubatureOptions cubature;
@@ -421,7 +437,7 @@ Table bake_resolution(const Model& model, Law law, const BakeOptions& options) {
   bake_nodes(table, law_at, options, cubature);
   CubatureOptions check = cubature;
   if (options.check_tolerance > 0.0) check.abs_tol = options.check_tolerance;
-  validate(table, law_at, options, check);
+  validate(table, law_at, options, check, options.filter == Filter::hardware ? texel_fetch_twin : nullptr);
   return table;
 }
 

@@ -123,7 +123,10 @@ std::vector<Axis> bake_axes(Law law, const BakeOptions& options);
 /// values outside the half range when encoding = half. Entries that miss the tolerance are
 /// kept with their (larger) error estimate and counted in Table::unconverged.
 /// Table::command is left empty for the caller; Table::version is this build's.
-Table bake_resolution(const Model& model, Law law, const BakeOptions& options);
+/// `texel_fetch_twin`, when given for a hardware-filtered bake: the same table read with texelFetch
+/// (the full-precision lookup alone validated at the same points), identical to bake_resolution
+/// with filter texel_fetch, for the price of one bake.
+Table bake_resolution(const Model& model, Law law, const BakeOptions& options, Table* texel_fetch_twin = nullptr);
 
 /// The table `request` asks for: bake_resolution of a fixed grid, bake_to_error
 /// (tables/to_error.h) of an error target. Throws Cancelled once BakeCommon::cancel holds true.

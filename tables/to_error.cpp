@@ -190,11 +190,42 @@ struct SearchResult {
   int best_fetches = 0;
 };
 
+/// The tables one bake_to_error has baked, by what decides their contents (the other options are
+/// the same for all of its searches): a later search asking for one of them, or for the texelFetch
+/// twin of a hardware-filtered one (bake_resolution), takes it instead of baking it again. Bakes
+/// are deterministic, so the search's outcome is the same; kept up to kMaxBytes of values.
+class BakedTables {
+ public:
+  const Table* find(const BakeOptions& options) const {
+    for (const Table& t : tables_)
+      if (t.filter == options.filter && t.interpolation == options.interpolation &&
+          (t.frame == Frame::warped) == options.warped && resolution(t) == options.resolution)
+        return &t;
+    return nullptr;
+  }
+  void add(Table table) {
+    const std::uint64_t bytes = value_bytes(table);
+    if (bytes_ + bytes > kMaxBytes) return;
+    bytes_ += bytes;
+    tables_.push_back(std::move(table));
+  }
+
+ private:
+  static constexpr std::uint64_t kMaxBytes = std::uint64_t{16} << 20;
+  static std::vector<int> resolution(const Table& t) {
+    std::vector<int> counts;
+    for (const Axis& a : t.axes) counts.push_back(a.count);
+    return counts;
+  }
+  std::vector<Table> tables_;
+  std::uint64_t bytes_ = 0;
+};
+
 /// The count search of the file comment for one scheme (frame, filter, starting interpolation set
 /// in `options`); Catmull–Rom searches may switch to linear when it predicts fewer bytes. With
 /// `best_effort`, the most accurate table baked is kept for when none meets E.
 SearchResult search_counts(const Model& model, Law law, BakeOptions options, double E, std::uint64_t cap,
-                           bool best_effort) {
+                           bool best_effort, BakedTables& baked_tables) {
   const double dims = static_cast<double>(options.resolution.size());
   // Each axis' share of E: the validated error is kLookupMargin x the measured one, and the
   // axes' errors may add at one point.
@@ -202,7 +233,7 @@ SearchResult search_counts(const Model& model, Law law, BakeOptions options, dou
   const bool may_switch = options.interpolation == Interpolation::catmull_rom;
   SearchResult result;
   std::vector<std::pair<std::vector<int>, Interpolation>> baked;
-  double previous_error = 0.0, previous_growth = 0.0;  // the last linear-only step: its error and growth
+  double previous_error = 0.0, previous_growth = 0.0;  // the last linear-only or b-spline step: its error (and growth)
   for (int attempt = 0; attempt < kMaxSearchBakes; ++attempt) {
     // Far over the cap, the capped table would miss E by far and could take hours to bake (at
     // the default cap, 64 MiB of hvd-empirical's g): refuse with what was measured instead.
@@ -213,7 +244,15 @@ SearchResult search_counts(const Model& model, Law law, BakeOptions options, dou
     const std::pair<std::vector<int>, Interpolation> key{options.resolution, options.interpolation};
     if (std::find(baked.begin(), baked.end(), key) != baked.end()) break;  // capped to a table already measured
     baked.push_back(key);
-    Table table = bake_resolution(model, law, options);
+    Table table;
+    if (const Table* earlier = baked_tables.find(options)) {
+      table = *earlier;
+    } else {
+      Table twin;
+      table = bake_resolution(model, law, options, &twin);
+      baked_tables.add(table);
+      if (options.filter == Filter::hardware) baked_tables.add(std::move(twin));
+    }
     // The warp has one sample per theta_j node (tables/frame.h): refitted when that count changes.
     if (table.frame == Frame::warped) options.warp = table.warp;
     if (table.lookup_error <= E) {
@@ -238,6 +277,10 @@ SearchResult search_counts(const Model& model, Law law, BakeOptions options, dou
     std::vector<int> next = counts_for(options.resolution, cubic, calibration, share, cubic_kind);
     Interpolation next_interpolation = may_switch || spline ? cubic_kind : Interpolation::linear;
     if (spline) {
+      // A larger b-spline table that did not lower the error is not converging towards E (a
+      // feature no node count resolves, as for linear below): a still larger one is not worth its bake.
+      if (previous_error > 0.0 && table.lookup_error >= previous_error) break;
+      previous_error = table.lookup_error;
       if (options.filter == Filter::hardware) {
         // The 8-bit weights fall only as h (a b-spline's two linear fetches per axis move by at most
         // the coefficients' step / 256): every axis grows by up to what they need. The reach adds
@@ -323,7 +366,8 @@ Table bake_to_error(const Model& model, Law law, const TargetBake& requested) {
   };
   if (target.max_fetches == 0) {  // no budget: the fewest bytes, read with texelFetch
     options.interpolation = Interpolation::catmull_rom;
-    SearchResult found = search_counts(model, law, options, E, cap, target.best_effort);
+    BakedTables baked_tables;
+    SearchResult found = search_counts(model, law, options, E, cap, target.best_effort, baked_tables);
     if (found.table) return finish(std::move(*found.table));
     if (found.best_table) return finish(std::move(*found.best_table));
     // Only what was measured: the refusal names the best table a bake made, never an extrapolation
@@ -353,6 +397,7 @@ Table bake_to_error(const Model& model, Law law, const TargetBake& requested) {
   std::vector<std::uint64_t> caps{cap};
   if (schemes.size() > 1 && cap > kCompactValueBytes) caps.insert(caps.begin(), kCompactValueBytes);
   SearchResult best;
+  BakedTables baked_tables;
   for (std::uint64_t pass_cap : caps)
     for (const Scheme& scheme : schemes) {
       BakeOptions o = options;
@@ -360,7 +405,7 @@ Table bake_to_error(const Model& model, Law law, const TargetBake& requested) {
       o.interpolation = scheme.interpolation;
       o.filter = scheme.filter;
       if (scheme.warped) o.resolution = {13, 25, 9};  // the offset axis needs the most nodes (docs/tradeoff.md)
-      SearchResult found = search_counts(model, law, o, E, pass_cap, target.best_effort);
+      SearchResult found = search_counts(model, law, o, E, pass_cap, target.best_effort, baked_tables);
       if (found.table) return finish(std::move(*found.table));
       if (found.best_error < best.best_error) best = std::move(found);
     }

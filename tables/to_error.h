@@ -16,8 +16,9 @@
 //     equal), and the interpolation (linear or Catmull–Rom) whose predicted bytes are fewer.
 //     Counts whose table would exceed B shrink by one common factor to the largest table of
 //     that shape within B (a search that gave up there refused with its coarse first bake).
-//     Bake again; stop when lookup_error <= E, when the capped counts repeat a bake, or after
-//     kMaxSearchBakes bakes.
+//     Bake again; stop when lookup_error <= E, when the capped counts repeat a bake, when a larger
+//     linear-only or b-spline table did not cut the error as its growth promised (a feature no
+//     node count resolves), or after kMaxSearchBakes bakes.
 //
 // With a fetch budget N (`--fetches N`), the schemes a shader can read within N texture fetches
 // per lookup are searched in the order of their fetches, and the first that meets E is kept:
@@ -27,7 +28,9 @@
 // same frame in 2 hardware-filtered fetches per axis (2^D; its bound covers the 8-bit weights too),
 // then Catmull–Rom read with texelFetch (4^D fetches; its search may settle on linear
 // texel-fetch, 2^D). When more than one scheme fits N, a first pass holds every scheme to
-// kCompactValueBytes and a second to B.
+// kCompactValueBytes and a second to B. The searches share their bakes: a grid baked once is not
+// baked again, and a hardware-filtered bake's texelFetch twin (the full-precision lookup alone
+// validated, tables/bake.h) is the texelFetch scheme's table of that grid.
 #pragma once
 
 #include <cstdint>

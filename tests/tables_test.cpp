@@ -1303,18 +1303,58 @@ TEST(Table, FittedWarpIsSmoothOverThetaJ) {
   EXPECT_LT(bend, 1e-3 * width);
 }
 
+/// A warped, hardware-filtered g table of `model` at `counts`: nodes to `tolerance`, validated
+/// against cubature at a tenth of it.
+BakeOptions warped_hardware_options(const Model& model, std::vector<int> counts, double tolerance) {
+  BakeOptions options;
+  options.resolution = std::move(counts);
+  options.tolerance = tolerance;
+  options.check_tolerance = tolerance / 10;
+  options.lobe = lobe_frame_of(model);
+  options.warped = true;
+  options.filter = Filter::hardware;
+  return options;
+}
+
+// A search that tries one hardware-filtered fetch and then texelFetch of the same grid takes the
+// second from the first bake (tables/to_error.cpp): that twin must be exactly the table a
+// texelFetch bake makes, its bound the full-precision lookup's alone (not the 8-bit emulations').
+TEST(Table, TexelFetchTwinOfAHardwareBakeIsTheTexelFetchBake) {
+  const ModelPtr model = parse_model("specular:alpha=8");
+  BakeOptions options = warped_hardware_options(*model, {9, 17, 5}, 1e-6);
+  options.random_checks = 200;
+  Table twin;
+  const Table hardware = bake_resolution(*model, Law::g, options, &twin);
+  options.filter = Filter::texel_fetch;
+  const Table texel_fetch = bake_resolution(*model, Law::g, options);
+  EXPECT_EQ(twin.filter, Filter::texel_fetch);
+  EXPECT_TRUE(twin.value == texel_fetch.value && twin.error == texel_fetch.error);
+  EXPECT_EQ(std::tuple(twin.interpolation_checks, twin.interpolation_error, twin.lookup_error),
+            std::tuple(texel_fetch.interpolation_checks, texel_fetch.interpolation_error, texel_fetch.lookup_error));
+  EXPECT_LE(twin.interpolation_error, hardware.interpolation_error);
+  // Where the 8-bit weights dominate (a fine 1-D table: interpolation falls as h^2, their rounding as h),
+  // the twin's bound is the full-precision lookup's, below the hardware filter's.
+  BakeOptions fine;
+  fine.resolution = {1025};
+  fine.tolerance = 1e-10;
+  fine.check_tolerance = 1e-11;
+  fine.random_checks = 200;
+  fine.filter = Filter::hardware;
+  Table fine_twin;
+  const Table fine_hardware = bake_resolution(*model, Law::h, fine, &fine_twin);
+  fine.filter = Filter::texel_fetch;
+  EXPECT_EQ(fine_twin.lookup_error, bake_resolution(*model, Law::h, fine).lookup_error);
+  std::printf("h at 1025 nodes, interpolation error: texelFetch %.3g, hardware filter %.3g\n",
+              fine_twin.interpolation_error, fine_hardware.interpolation_error);
+  EXPECT_LT(fine_twin.interpolation_error, 0.5 * fine_hardware.interpolation_error);
+}
+
 // GGX towards grazing is a thin arc (across ~ 2 alpha cos theta_j, along ~ 2 alpha): at a fixed
 // offset g turns within a few across/along radians of beta = pi/2. The whitened beta axis
 // (tables/frame.h, warped_beta) puts the nodes there; with plain beta the same table errs far more.
 TEST(Table, WarpedGgxTableErrsLessWithTheWhitenedBeta) {
   const ModelPtr model = parse_model("ggx:roughness=0.3");
-  BakeOptions options;
-  options.resolution = {17, 33, 13};
-  options.tolerance = 1e-5;
-  options.check_tolerance = 1e-6;
-  options.lobe = lobe_frame_of(*model);
-  options.warped = true;
-  options.filter = Filter::hardware;
+  BakeOptions options = warped_hardware_options(*model, {17, 33, 13}, 1e-5);
   const Table whitened = bake(*model, Law::g, options);
   ASSERT_EQ(whitened.warp.beta_whitening, kWarpBetaWhitening);
   options.warp = whitened.warp;
