@@ -41,6 +41,8 @@ float round_up_to_encoding(double x, Encoding encoding) noexcept {
 
 namespace {
 
+bool cancelled(const BakeCommon& options) { return options.cancel && options.cancel->load(std::memory_order_relaxed); }
+
 std::string gib(std::uint64_t bytes) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%.1f", static_cast<double>(bytes) / (1 << 30));
@@ -111,6 +113,10 @@ std::vector<Axis> bake_axes(Law law, const BakeOptions& options) {
         "the warped frame needs a lobe frame (a model whose lobe peaks at the mirror "
         "direction or at j)");
   return make_axes(law, options.resolution, options.mappings);
+}
+
+void throw_if_cancelled(const BakeCommon& options) {
+  if (cancelled(options)) throw Cancelled("the bake was cancelled");
 }
 
 BakeCommon& common(BakeRequest& request) noexcept {
@@ -221,13 +227,6 @@ void quantize_unorm16(Table& table) {
     table.value[m] = v;
     table.error[m] = round_up_to_encoding(bound, Encoding::unorm16);
   }
-}
-
-bool cancelled(const BakeOptions& options) { return options.cancel && options.cancel->load(std::memory_order_relaxed); }
-
-/// A bake whose flag was set while it ran is thrown away: some entries were skipped or cut short.
-void throw_if_cancelled(const BakeOptions& options) {
-  if (cancelled(options)) throw Cancelled("the bake was cancelled");
 }
 
 /// Bakes every node (in parallel, deterministic): value rounded to the encoding, error = the

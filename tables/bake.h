@@ -128,6 +128,10 @@ std::vector<Axis> bake_axes(Law law, const BakeOptions& options);
 /// with filter texel_fetch, for the price of one bake.
 Table bake_resolution(const Model& model, Law law, const BakeOptions& options, Table* texel_fetch_twin = nullptr);
 
+/// Throws Cancelled once options.cancel holds true: a bake whose flag was set while it ran is thrown
+/// away (some entries were skipped or cut short), and a search returns no table.
+void throw_if_cancelled(const BakeCommon& options);
+
 /// The table `request` asks for: bake_resolution of a fixed grid, bake_to_error
 /// (tables/to_error.h) of an error target. Throws Cancelled once BakeCommon::cancel holds true.
 Table bake(const Model& model, Law law, const BakeRequest& request);

@@ -190,10 +190,10 @@ struct SearchResult {
   int best_fetches = 0;
 };
 
-/// The tables one bake_to_error has baked, by what decides their contents (the other options are
-/// the same for all of its searches): a later search asking for one of them, or for the texelFetch
-/// twin of a hardware-filtered one (bake_resolution), takes it instead of baking it again. Bakes
-/// are deterministic, so the search's outcome is the same; kept up to kMaxBytes of values.
+/// The tables one fetch-budgeted bake_to_error has baked, by what decides their contents (the other
+/// options are the same for all of its searches): a later search asking for one of them, or for the
+/// texelFetch twin of a hardware-filtered linear one (bake_resolution), takes it instead of baking it
+/// again. Bakes are deterministic, so the search's outcome is the same; kept up to kMaxBytes in memory.
 class BakedTables {
  public:
   const Table* find(const BakeOptions& options) const {
@@ -204,14 +204,14 @@ class BakedTables {
     return nullptr;
   }
   void add(Table table) {
-    const std::uint64_t bytes = value_bytes(table);
+    const std::uint64_t bytes = table.entries() * (sizeof(float) * 2);  // values and errors
     if (bytes_ + bytes > kMaxBytes) return;
     bytes_ += bytes;
     tables_.push_back(std::move(table));
   }
 
  private:
-  static constexpr std::uint64_t kMaxBytes = std::uint64_t{16} << 20;
+  static constexpr std::uint64_t kMaxBytes = std::uint64_t{64} << 20;
   static std::vector<int> resolution(const Table& t) {
     std::vector<int> counts;
     for (const Axis& a : t.axes) counts.push_back(a.count);
@@ -223,9 +223,10 @@ class BakedTables {
 
 /// The count search of the file comment for one scheme (frame, filter, starting interpolation set
 /// in `options`); Catmull–Rom searches may switch to linear when it predicts fewer bytes. With
-/// `best_effort`, the most accurate table baked is kept for when none meets E.
+/// `best_effort`, the most accurate table baked is kept for when none meets E. `baked_tables`, when
+/// given, is shared by the searches of one bake_to_error.
 SearchResult search_counts(const Model& model, Law law, BakeOptions options, double E, std::uint64_t cap,
-                           bool best_effort, BakedTables& baked_tables) {
+                           bool best_effort, BakedTables* baked_tables) {
   const double dims = static_cast<double>(options.resolution.size());
   // Each axis' share of E: the validated error is kLookupMargin x the measured one, and the
   // axes' errors may add at one point.
@@ -233,7 +234,9 @@ SearchResult search_counts(const Model& model, Law law, BakeOptions options, dou
   const bool may_switch = options.interpolation == Interpolation::catmull_rom;
   SearchResult result;
   std::vector<std::pair<std::vector<int>, Interpolation>> baked;
-  double previous_error = 0.0, previous_growth = 0.0;  // the last linear-only or b-spline step: its error (and growth)
+  double previous_error = 0.0, previous_growth = 0.0;  // the last linear-only step: its error and growth
+  double previous_spline_error = 0.0;                  // and the last b-spline table's error and bytes
+  std::uint64_t previous_spline_bytes = 0;
   for (int attempt = 0; attempt < kMaxSearchBakes; ++attempt) {
     // Far over the cap, the capped table would miss E by far and could take hours to bake (at
     // the default cap, 64 MiB of hvd-empirical's g): refuse with what was measured instead.
@@ -245,13 +248,16 @@ SearchResult search_counts(const Model& model, Law law, BakeOptions options, dou
     if (std::find(baked.begin(), baked.end(), key) != baked.end()) break;  // capped to a table already measured
     baked.push_back(key);
     Table table;
-    if (const Table* earlier = baked_tables.find(options)) {
+    if (const Table* earlier = baked_tables ? baked_tables->find(options) : nullptr) {
+      throw_if_cancelled(options);
       table = *earlier;
     } else {
+      const bool twinned = baked_tables && options.filter == Filter::hardware &&
+                           options.interpolation == Interpolation::linear;  // the texelFetch scheme's grid
       Table twin;
-      table = bake_resolution(model, law, options, &twin);
-      baked_tables.add(table);
-      if (options.filter == Filter::hardware) baked_tables.add(std::move(twin));
+      table = bake_resolution(model, law, options, twinned ? &twin : nullptr);
+      if (baked_tables) baked_tables->add(table);
+      if (twinned) baked_tables->add(std::move(twin));
     }
     // The warp has one sample per theta_j node (tables/frame.h): refitted when that count changes.
     if (table.frame == Frame::warped) options.warp = table.warp;
@@ -278,9 +284,13 @@ SearchResult search_counts(const Model& model, Law law, BakeOptions options, dou
     Interpolation next_interpolation = may_switch || spline ? cubic_kind : Interpolation::linear;
     if (spline) {
       // A larger b-spline table that did not lower the error is not converging towards E (a
-      // feature no node count resolves, as for linear below): a still larger one is not worth its bake.
-      if (previous_error > 0.0 && table.lookup_error >= previous_error) break;
-      previous_error = table.lookup_error;
+      // feature no node count resolves, as for linear below): a still larger one is not worth its
+      // bake. (A smaller one, reshaped by the estimates or the cap, may err more and go on.)
+      const std::uint64_t bytes = value_bytes(table);
+      if (previous_spline_bytes > 0 && bytes > previous_spline_bytes && table.lookup_error >= previous_spline_error)
+        break;
+      previous_spline_error = table.lookup_error;
+      previous_spline_bytes = bytes;
       if (options.filter == Filter::hardware) {
         // The 8-bit weights fall only as h (a b-spline's two linear fetches per axis move by at most
         // the coefficients' step / 256): every axis grows by up to what they need. The reach adds
@@ -366,8 +376,7 @@ Table bake_to_error(const Model& model, Law law, const TargetBake& requested) {
   };
   if (target.max_fetches == 0) {  // no budget: the fewest bytes, read with texelFetch
     options.interpolation = Interpolation::catmull_rom;
-    BakedTables baked_tables;
-    SearchResult found = search_counts(model, law, options, E, cap, target.best_effort, baked_tables);
+    SearchResult found = search_counts(model, law, options, E, cap, target.best_effort, nullptr);
     if (found.table) return finish(std::move(*found.table));
     if (found.best_table) return finish(std::move(*found.best_table));
     // Only what was measured: the refusal names the best table a bake made, never an extrapolation
@@ -405,7 +414,7 @@ Table bake_to_error(const Model& model, Law law, const TargetBake& requested) {
       o.interpolation = scheme.interpolation;
       o.filter = scheme.filter;
       if (scheme.warped) o.resolution = {13, 25, 9};  // the offset axis needs the most nodes (docs/tradeoff.md)
-      SearchResult found = search_counts(model, law, o, E, pass_cap, target.best_effort, baked_tables);
+      SearchResult found = search_counts(model, law, o, E, pass_cap, target.best_effort, &baked_tables);
       if (found.table) return finish(std::move(*found.table));
       if (found.best_error < best.best_error) best = std::move(found);
     }

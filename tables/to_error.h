@@ -17,8 +17,8 @@
 //     Counts whose table would exceed B shrink by one common factor to the largest table of
 //     that shape within B (a search that gave up there refused with its coarse first bake).
 //     Bake again; stop when lookup_error <= E, when the capped counts repeat a bake, when a larger
-//     linear-only or b-spline table did not cut the error as its growth promised (a feature no
-//     node count resolves), or after kMaxSearchBakes bakes.
+//     table did not cut the error as a linear-only search's growth promised, or did not lower it
+//     at all in a b-spline search (a feature no node count resolves), or after kMaxSearchBakes bakes.
 //
 // With a fetch budget N (`--fetches N`), the schemes a shader can read within N texture fetches
 // per lookup are searched in the order of their fetches, and the first that meets E is kept:
