@@ -96,12 +96,6 @@ SchemeRow row_of(SchemeKind kind, std::vector<int> resolution, Frame frame = Fra
   return row;
 }
 
-std::vector<int> counts_of(const Table& table) {
-  std::vector<int> counts;
-  for (const Axis& axis : table.axes) counts.push_back(axis.count);
-  return counts;
-}
-
 /// Bakes `options` `repeats` times, fills the row from the table and the reference. A bake the
 /// baker refuses (an error target it cannot reach, values outside the half range) leaves its
 /// message in row.refused, worded as the rows' `bake` flags are, and nothing.
@@ -117,7 +111,7 @@ std::optional<Table> measure_row(const Model& model, Law law, const BakeRequest&
   row.frame = table.frame;
   row.interpolation = table.interpolation;
   row.encoding = table.encoding;
-  row.resolution = counts_of(table);
+  row.resolution = axis_counts(table.axes);
   row.value_bytes = value_bytes(table);
   row.fetches = fetches(table);
   row.filter = table.filter;
@@ -202,12 +196,12 @@ SchemeReport measure_schemes(const Model& model, Law law, const SchemeOptions& o
     add(row);
   }
   if (pick) {  // the pick with the other interpolation, and in half floats
-    SchemeRow swapped = row_of(SchemeKind::swapped, counts_of(*pick), pick->frame);
+    SchemeRow swapped = row_of(SchemeKind::swapped, axis_counts(pick->axes), pick->frame);
     swapped.interpolation =
         pick->interpolation == Interpolation::linear ? Interpolation::catmull_rom : Interpolation::linear;
     measure_row(model, law, fixed_options(swapped, &*pick), options.repeats, report.reference, swapped);
     add(swapped);
-    SchemeRow half = row_of(SchemeKind::half, counts_of(*pick), pick->frame);
+    SchemeRow half = row_of(SchemeKind::half, axis_counts(pick->axes), pick->frame);
     half.interpolation = pick->interpolation;
     half.encoding = Encoding::half;
     measure_row(model, law, fixed_options(half, &*pick), options.repeats, report.reference, half);

@@ -262,6 +262,12 @@ std::uint64_t entry_count(std::span<const Axis> axes) noexcept {
   return n;
 }
 
+std::vector<int> axis_counts(std::span<const Axis> axes) {
+  std::vector<int> counts;
+  for (const Axis& axis : axes) counts.push_back(axis.count);
+  return counts;
+}
+
 std::vector<std::size_t> axis_strides(std::span<const Axis> axes) {
   std::vector<std::size_t> stride(axes.size(), 1);
   for (std::size_t d = axes.size(); d-- > 1;) stride[d - 1] = stride[d] * axes[d].count;

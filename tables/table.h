@@ -339,6 +339,8 @@ std::uint64_t entry_count(std::span<const Axis> axes) noexcept;
 /// Per axis, the step of the entry index between neighbouring nodes along it (Table::axes: the
 /// last axis varies fastest, stride 1; each earlier one the product of the later counts).
 std::vector<std::size_t> axis_strides(std::span<const Axis> axes);
+/// The node count of each axis (a table's resolution, as `--res` and BakeOptions::resolution give it).
+std::vector<int> axis_counts(std::span<const Axis> axes);
 
 /// Checks the metadata of a table against its format version (the model spec one printable
 /// line, the content digest empty or well-formed, axes of the law and frame, counts, finite

@@ -199,7 +199,7 @@ class BakedTables {
   const Table* find(const BakeOptions& options) const {
     for (const Table& t : tables_)
       if (t.filter == options.filter && t.interpolation == options.interpolation &&
-          (t.frame == Frame::warped) == options.warped && resolution(t) == options.resolution)
+          (t.frame == Frame::warped) == options.warped && axis_counts(t.axes) == options.resolution)
         return &t;
     return nullptr;
   }
@@ -212,11 +212,6 @@ class BakedTables {
 
  private:
   static constexpr std::uint64_t kMaxBytes = std::uint64_t{64} << 20;
-  static std::vector<int> resolution(const Table& t) {
-    std::vector<int> counts;
-    for (const Axis& a : t.axes) counts.push_back(a.count);
-    return counts;
-  }
   std::vector<Table> tables_;
   std::uint64_t bytes_ = 0;
 };
