@@ -67,8 +67,8 @@ struct ExtremesCase {
   double second_reference = 0.0,
          second_reference_error = 0.0;  ///< another reference, where the engine disagrees with the first
   bool finite = true, converged = true, dishonest = false, references_disagree = false;
-  /// The reference ran out of its budget or its error exceeds the engine's tolerance: this case
-  /// is not judged (counted and listed, not dropped).
+  /// The reference ran out of its budget or its error exceeds the engine's tolerance (times |value|
+  /// where that exceeds 1): this case is not judged (counted and listed, not dropped).
   bool reference_unresolved = false;
   double seconds = 0.0;  ///< wall time of the case (engine and references)
 };

@@ -273,6 +273,21 @@ TEST(Extremes, GgxGrazingVisibilityLayerIsHonest) {
   }
 }
 
+/// Schlick's g at a view 1e-9 above the horizon is 2.6e5: no reference states 1e-8 absolute on it
+/// (tanh_sinh: ±3e-5, 1.2e-10 of the value; both Gauss–Kronrod ones run out of their budget), so the
+/// grid left such cases unjudged. Judged at the value's scale (1e-8 × |value|) it is honest.
+TEST(Extremes, ALargeValueIsJudgedAtItsScale) {
+  const ModelPtr model = parse_model("schlick:c=0.5,r=0.1,p=1");
+  const ExtremesCase c =
+      judge_case(*model, Law::g, direction_from_cos(1.0, 0.0), direction_from_cos(1e-9, 0.0), kEngineTol);
+  EXPECT_TRUE(c.converged && c.finite);
+  EXPECT_GT(c.reference, 1e5);
+  EXPECT_GT(c.reference_error, kEngineTol);
+  EXPECT_FALSE(c.reference_unresolved) << "reference " << c.reference << " ± " << c.reference_error;
+  EXPECT_FALSE(c.dishonest) << "engine " << c.engine.value << " ± " << c.engine.error << ", reference " << c.reference
+                            << " ± " << c.reference_error << " (" << c.reference_rule << ")";
+}
+
 /// Oren–Nayar floors tan beta and tan((alpha + beta)/2) at kGrazingCosFloor where both directions
 /// graze: with sky pole and view on the horizon, (k·n) f ramps across a layer 1e-6 thick that no
 /// node saw without the model's hint (9.4e-8 off with 7.5e-9 estimated). The first reference was
