@@ -124,17 +124,21 @@ double tanh_sinh_panels(F&& f, const std::vector<double>& cut, const Options& op
   return sum;
 }
 
-/// The absolute error each inner integral of a nested one may have (0: none, without
-/// Options::global_tolerance): tolerance × (the whole integral's L1 norm) / (the outer span),
-/// which summed by the outer rule is the tolerance relative to the whole. The L1 norm comes from a
+/// The absolute error each inner integral of a nested one may have: tolerance × (the whole
+/// integral's L1 norm) / (the outer span), which summed by the outer rule is the tolerance relative
+/// to the whole (without Options::global_tolerance: none), or the inner integrals' half of
+/// Options::absolute_tolerance spread over the span where that is larger. The L1 norm comes from a
 /// cheap gauss_kronrod<15> pass, unrefined at both levels (it only scales the inner stopping rule;
 /// the errors reported are Boost's own estimates either way).
 template <class F>
 double inner_tolerance(F& point, const std::vector<double>& outer_cut, const std::vector<double>& inner_cut,
                        const Options& options) {
+  const double span = outer_cut.back() - outer_cut.front();
+  const double absolute = 0.5 * options.absolute_tolerance / span;
+  if (!options.global_tolerance) return absolute;
   const double l1 =
       rough_l1<15>([&](double x) { return rough_l1<15>([&](double y) { return point(x, y); }, inner_cut); }, outer_cut);
-  return options.global_tolerance ? options.tolerance * l1 / (outer_cut.back() - outer_cut.front()) : 0.0;
+  return std::max(options.tolerance * l1 / span, absolute);
 }
 
 /// Nested: outer over `outer_cut`, inner over `inner_cut`; point(outer, inner) is the integrand,
@@ -153,7 +157,7 @@ Value nested(F&& point, const std::vector<double>& outer_cut, const std::vector<
     worst_inner = std::max(worst_inner, error);
     return value;
   };
-  out.value = panels<Points>(inner, outer_cut, options, 0.0, &out.error);
+  out.value = panels<Points>(inner, outer_cut, options, 0.5 * options.absolute_tolerance, &out.error);
   out.inner_error = worst_inner * span;
   return out;
 }
@@ -175,7 +179,7 @@ Value nested_tanh_sinh(F&& point, const std::vector<double>& outer_cut, const st
     inner_errors.push_back({x, error});
     return value;
   };
-  out.value = tanh_sinh_panels(inner, outer_cut, options, 0.0, &out.error);
+  out.value = tanh_sinh_panels(inner, outer_cut, options, 0.5 * options.absolute_tolerance, &out.error);
   std::sort(inner_errors.begin(), inner_errors.end());
   for (std::size_t k = 0; k < inner_errors.size(); ++k) {
     const double left = k == 0 ? outer_cut.front() : 0.5 * (inner_errors[k - 1].first + inner_errors[k].first);
@@ -236,7 +240,7 @@ std::pair<std::vector<double>, std::vector<double>> break_points(const Model& mo
     if (x > lo && x < hi) cut.push_back(x);
   };
   // Creases on half great circles through ±crease_axis (MassHints): when the lune's edge axis is
-  // crease_axis (the hemisphere's, kHemisphereEdge) they are the lines psi = longitude, cut exactly.
+  // crease_axis (the hemisphere_edge below chooses it) they are the lines psi = longitude, cut exactly.
   if (glm::dot(lune.e, hints.crease_axis) > 1.0 - 1e-12)
     for (double longitude : hints.crease_longitudes) add(psi_cut, longitude);
   for (const Peak& peak : hints.peaks) {
@@ -259,8 +263,22 @@ std::pair<std::vector<double>, std::vector<double>> break_points(const Model& mo
 
 }  // namespace
 
+/// The hemisphere's edge axis for an integrand whose lobes lie about `fixed` and its mirror:
+/// kHemisphereEdge, unless a lobe lies within kPoleClearance of that axis (a grazing direction in
+/// the xz-plane), where the psi lines converge and no nested rule resolves it: then the axis across
+/// the plane of `fixed` and n, which puts both lobes at t = 0. A model with creases keeps its crease
+/// axis (they are coordinate lines about it).
+constexpr double kPoleClearance = 0.1;
+Vec3 hemisphere_edge(const Model& model, const Vec3& fixed, Varying varying) {
+  const Vec3 crease_axis = model.mass_hints(fixed, varying).crease_axis;
+  if (glm::length(crease_axis) > 0.0) return glm::normalize(crease_axis);
+  // fixed and its mirror (-x, -y, z) are equally far from the axis ±x
+  if (std::abs(glm::dot(fixed, kHemisphereEdge)) < std::cos(kPoleClearance)) return kHemisphereEdge;
+  return glm::normalize(glm::cross(kNormal, fixed));
+}
+
 Value vignetting(const Model& model, const Vec3& i, const Vec3& j, const Options& options) {
-  const LuneCoordinates lune(i, kHemisphereEdge);
+  const LuneCoordinates lune(i, hemisphere_edge(model, j, Varying::incident));
   if (lune.empty) return {};
   const auto [t_cut, psi_cut] = break_points(model, lune, j, Varying::incident, options);
   return lune_integral([&](const Vec3& k) { return model.f(k, j); }, lune, t_cut, psi_cut, options);
@@ -271,7 +289,7 @@ Value darkening(const Model& model, const Vec3& j, const Options& options) {
 }
 
 Value albedo(const Model& model, const Vec3& i, const Options& options) {
-  const LuneCoordinates lune(kNormal, kHemisphereEdge);
+  const LuneCoordinates lune(kNormal, hemisphere_edge(model, i, Varying::outgoing));
   const auto [t_cut, psi_cut] = break_points(model, lune, i, Varying::outgoing, options);
   return lune_integral([&](const Vec3& k) { return model.f(i, k); }, lune, t_cut, psi_cut, options);
 }

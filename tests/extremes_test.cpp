@@ -288,6 +288,34 @@ TEST(Extremes, ALargeValueIsJudgedAtItsScale) {
                             << " ± " << c.reference_error << " (" << c.reference_rule << ")";
 }
 
+/// A view 1e-9 above the horizon in the xz-plane put hvd-empirical's albedo lobe (the mirror of i)
+/// on the pole of the reference's hemisphere coordinates, where every reference ran out of its
+/// budget; the reference turns the hemisphere's edge axis away from such a lobe (reference/).
+TEST(Extremes, GrazingAlbedoLobeOffTheCoordinatesPoleIsJudged) {
+  const ModelPtr model = parse_model("hvd-empirical:cd=0.5,f0=0.04,k=0,ns=1000,nr=10,rs=1,rr=1");
+  const ExtremesCase c =
+      judge_case(*model, Law::a, direction_from_cos(1e-9, 0.0), direction_from_cos(1.0, 0.0), kEngineTol);
+  EXPECT_TRUE(c.converged && c.finite);
+  EXPECT_FALSE(c.reference_unresolved) << "reference " << c.reference << " ± " << c.reference_error;
+  EXPECT_FALSE(c.dishonest) << "engine " << c.engine.value << " ± " << c.engine.error << ", reference " << c.reference
+                            << " ± " << c.reference_error << " (" << c.reference_rule << ")";
+}
+
+/// Poulin–Fournier's g under a sky whose pole is 2.6° above the nadir: a sliver lune at the
+/// horizon, g = 3.4e-4. Asked 1e-10 of that value, every reference ran out of its budget across the
+/// cylinders' shadowing kinks; asked a tenth of the engine's tolerance (absolute), the first
+/// resolves it in about a second.
+TEST(Extremes, SmallValueIsJudgedToTheEnginesTolerance) {
+  const ModelPtr model = parse_model("poulin-fournier:kd=0.5,ks=0.3,n=1,d=2.5,h=0.2");
+  const ExtremesCase c =
+      judge_case(*model, Law::g, direction_from_cos(-0.999, 0.0), direction_from_cos(1.0, 0.0), kEngineTol);
+  EXPECT_TRUE(c.converged && c.finite);
+  EXPECT_LT(c.reference, 1e-3);
+  EXPECT_FALSE(c.reference_unresolved) << "reference " << c.reference << " ± " << c.reference_error;
+  EXPECT_FALSE(c.dishonest) << "engine " << c.engine.value << " ± " << c.engine.error << ", reference " << c.reference
+                            << " ± " << c.reference_error << " (" << c.reference_rule << ")";
+}
+
 /// Oren–Nayar floors tan beta and tan((alpha + beta)/2) at kGrazingCosFloor where both directions
 /// graze: with sky pole and view on the horizon, (k·n) f ramps across a layer 1e-6 thick that no
 /// node saw without the model's hint (9.4e-8 off with 7.5e-9 estimated). The first reference was
