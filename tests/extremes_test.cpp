@@ -20,6 +20,14 @@ namespace {
 /// The engine's tolerance in the grid (docs/reliability-extremes.md).
 constexpr double kEngineTol = 1e-8;
 
+/// A converged, finite case that a reference resolved and that is honest against it.
+void expect_judged_and_honest(const ExtremesCase& c) {
+  EXPECT_TRUE(c.converged && c.finite);
+  EXPECT_FALSE(c.reference_unresolved) << "reference " << c.reference << " ± " << c.reference_error;
+  EXPECT_FALSE(c.dishonest) << "engine " << c.engine.value << " ± " << c.engine.error << ", reference " << c.reference
+                            << " ± " << c.reference_error << " (" << c.reference_rule << ")";
+}
+
 /// Every flagged case, one per line, for the failure message.
 std::string describe(const ExtremesRow& row) {
   std::string out;
@@ -280,12 +288,9 @@ TEST(Extremes, ALargeValueIsJudgedAtItsScale) {
   const ModelPtr model = parse_model("schlick:c=0.5,r=0.1,p=1");
   const ExtremesCase c =
       judge_case(*model, Law::g, direction_from_cos(1.0, 0.0), direction_from_cos(1e-9, 0.0), kEngineTol);
-  EXPECT_TRUE(c.converged && c.finite);
   EXPECT_GT(c.reference, 1e5);
   EXPECT_GT(c.reference_error, kEngineTol);
-  EXPECT_FALSE(c.reference_unresolved) << "reference " << c.reference << " ± " << c.reference_error;
-  EXPECT_FALSE(c.dishonest) << "engine " << c.engine.value << " ± " << c.engine.error << ", reference " << c.reference
-                            << " ± " << c.reference_error << " (" << c.reference_rule << ")";
+  expect_judged_and_honest(c);
 }
 
 /// A view 1e-9 above the horizon in the xz-plane put hvd-empirical's albedo lobe (the mirror of i)
@@ -295,10 +300,7 @@ TEST(Extremes, GrazingAlbedoLobeOffTheCoordinatesPoleIsJudged) {
   const ModelPtr model = parse_model("hvd-empirical:cd=0.5,f0=0.04,k=0,ns=1000,nr=10,rs=1,rr=1");
   const ExtremesCase c =
       judge_case(*model, Law::a, direction_from_cos(1e-9, 0.0), direction_from_cos(1.0, 0.0), kEngineTol);
-  EXPECT_TRUE(c.converged && c.finite);
-  EXPECT_FALSE(c.reference_unresolved) << "reference " << c.reference << " ± " << c.reference_error;
-  EXPECT_FALSE(c.dishonest) << "engine " << c.engine.value << " ± " << c.engine.error << ", reference " << c.reference
-                            << " ± " << c.reference_error << " (" << c.reference_rule << ")";
+  expect_judged_and_honest(c);
 }
 
 /// Poulin–Fournier's g under a sky whose pole is 2.6° above the nadir: a sliver lune at the
@@ -309,11 +311,8 @@ TEST(Extremes, SmallValueIsJudgedToTheEnginesTolerance) {
   const ModelPtr model = parse_model("poulin-fournier:kd=0.5,ks=0.3,n=1,d=2.5,h=0.2");
   const ExtremesCase c =
       judge_case(*model, Law::g, direction_from_cos(-0.999, 0.0), direction_from_cos(1.0, 0.0), kEngineTol);
-  EXPECT_TRUE(c.converged && c.finite);
   EXPECT_LT(c.reference, 1e-3);
-  EXPECT_FALSE(c.reference_unresolved) << "reference " << c.reference << " ± " << c.reference_error;
-  EXPECT_FALSE(c.dishonest) << "engine " << c.engine.value << " ± " << c.engine.error << ", reference " << c.reference
-                            << " ± " << c.reference_error << " (" << c.reference_rule << ")";
+  expect_judged_and_honest(c);
 }
 
 /// Oren–Nayar floors tan beta and tan((alpha + beta)/2) at kGrazingCosFloor where both directions
@@ -324,10 +323,7 @@ TEST(Extremes, OrenNayarGrazingFloorIsHonestAndJudged) {
   const ModelPtr model = parse_model("oren-nayar:sigma=0.3,rho=0.8");
   const ExtremesCase c =
       judge_case(*model, Law::g, direction_from_cos(0.0, 0.0), direction_from_cos(0.0, 0.0), kEngineTol);
-  EXPECT_TRUE(c.converged && c.finite);
-  EXPECT_FALSE(c.reference_unresolved) << "reference " << c.reference << " ± " << c.reference_error;
-  EXPECT_FALSE(c.dishonest) << "engine " << c.engine.value << " ± " << c.engine.error << ", reference " << c.reference
-                            << " ± " << c.reference_error << " (" << c.reference_rule << ")";
+  expect_judged_and_honest(c);
 }
 
 /// A grazing GGX view (j·n = 1e-6, alpha = 0.001): the lobe is an arc about w (j·n) thin across
