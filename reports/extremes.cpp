@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <exception>
+#include <limits>
 #include <map>
 #include <mutex>
 #include <numbers>
@@ -390,6 +391,11 @@ KeptExtremesRow extremes_row_from_json(const std::string& text, const ExtremesOp
     kept.row.specs = doc.at("specs").get<int>();
     kept.row.refused = doc.at("refused").get<std::vector<std::string>>();
     kept.wall_seconds = doc.at("wall_seconds").get<double>();
+    // JSON has no infinity or NaN: the writer's null is an infinite error (errors are >= 0) or a
+    // value that is not a number.
+    auto number = [](const nlohmann::json& x, double if_null) { return x.is_null() ? if_null : x.get<double>(); };
+    constexpr double kInfinity = std::numeric_limits<double>::infinity();
+    constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
     for (const auto& j : doc.at("cases")) {
       ExtremesCase c;
       c.spec = j.at("spec").get<std::string>();
@@ -397,13 +403,13 @@ KeptExtremesRow extremes_row_from_json(const std::string& text, const ExtremesOp
       c.i = vector_of(j.at("i"));
       c.j = vector_of(j.at("j"));
       c.where = j.at("where").get<std::string>();
-      c.engine = {j.at("value").get<double>(), j.at("error").get<double>(), j.at("evaluations").get<long long>(),
+      c.engine = {number(j.at("value"), kNaN), number(j.at("error"), kInfinity), j.at("evaluations").get<long long>(),
                   j.at("engine_converged").get<bool>()};
-      c.reference = j.at("reference").get<double>();
-      c.reference_error = j.at("reference_error").get<double>();
+      c.reference = number(j.at("reference"), kNaN);
+      c.reference_error = number(j.at("reference_error"), kInfinity);
       c.reference_rule = j.at("reference_rule").get<std::string>();
-      c.second_reference = j.at("second_reference").get<double>();
-      c.second_reference_error = j.at("second_reference_error").get<double>();
+      c.second_reference = number(j.at("second_reference"), kNaN);
+      c.second_reference_error = number(j.at("second_reference_error"), kInfinity);
       c.finite = j.at("finite").get<bool>();
       c.converged = j.at("converged").get<bool>();
       c.dishonest = j.at("dishonest").get<bool>();

@@ -3,6 +3,7 @@
 // independent reference (reference/). The whole grid is docs/reliability-extremes.md (scripts/docs
 // --reliability, tens of minutes).
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <string>
 
@@ -84,6 +85,11 @@ TEST(Extremes, AKeptRowReadsBackAsMeasured) {
   row.all[0].dishonest = true;
   row.all[1].converged = false;
   row.all[2].reference_unresolved = true;
+  // A reference out of its budget states an infinite error (JSON writes it as null); a
+  // non-finite engine value is NaN.
+  row.all[2].reference_error = std::numeric_limits<double>::infinity();
+  row.all[2].engine.value = std::numeric_limits<double>::quiet_NaN();
+  row.all[2].finite = false;
   ExtremesRow edited;
   edited.model = row.model;
   edited.specs = row.specs;
@@ -100,6 +106,9 @@ TEST(Extremes, AKeptRowReadsBackAsMeasured) {
   EXPECT_EQ(kept.row.not_converged, 1);
   EXPECT_EQ(kept.row.unresolved, 1);
   EXPECT_EQ(kept.row.flagged.size(), 3u);
+  EXPECT_EQ(kept.row.non_finite, 1);
+  EXPECT_EQ(kept.row.all[2].reference_error, std::numeric_limits<double>::infinity());
+  EXPECT_TRUE(std::isnan(kept.row.all[2].engine.value));
   EXPECT_EQ(extremes_csv({kept.row}, "x"), extremes_csv({edited}, "x"));
   EXPECT_EQ(extremes_row_json(kept.row, options, 12.5), text);
 
