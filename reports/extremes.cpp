@@ -99,6 +99,9 @@ std::vector<ExtremesSpec> extremes_specs(const ExtremesOptions& options) {
 
 namespace {
 
+/// A case a reference judged: g, h or a, finite, converged and resolved.
+bool judged(const ExtremesCase& c) { return c.law != Law::f && c.finite && c.converged && !c.reference_unresolved; }
+
 double judging_resolution(double engine_tolerance, double reference) {
   return engine_tolerance * std::max(1.0, std::abs(reference));
 }
@@ -281,8 +284,7 @@ void add_case(ExtremesRow& row, ExtremesCase c) {
   row.dishonest += c.dishonest;
   row.references_disagree += c.references_disagree;
   row.unresolved += c.reference_unresolved;
-  row.judged_by_fallback +=
-      !c.reference_unresolved && c.finite && c.converged && c.law != Law::f && c.reference_rule != "gauss_kronrod<61>";
+  row.judged_by_fallback += judged(c) && c.reference_rule != "gauss_kronrod<61>";
   if (!c.finite || !c.converged || c.dishonest || c.references_disagree || c.reference_unresolved)
     row.flagged.push_back(c);
   row.all.push_back(std::move(c));
@@ -601,8 +603,7 @@ std::string extremes_markdown(const std::vector<ExtremesRow>& rows, const Extrem
     total.seconds += r.seconds;
     for (const ExtremesCase& c : r.all) {
       judged_laws += c.law != Law::f;
-      judged_at_scale += c.law != Law::f && c.finite && c.converged && !c.reference_unresolved &&
-                         c.reference_error > options.engine_tolerance;
+      judged_at_scale += judged(c) && c.reference_error > options.engine_tolerance;
     }
   }
   const double unjudged = judged_laws ? double(total.unresolved) / judged_laws : 0.0;
