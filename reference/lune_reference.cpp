@@ -34,6 +34,40 @@ std::pair<double, double> LuneCoordinates::coordinates(const Vec3& k) const {
   return {std::asin(std::clamp(glm::dot(k, e), -1.0, 1.0)), std::atan2(glm::dot(k, b), glm::dot(k, n))};
 }
 
+AntipodeCoordinates::AntipodeCoordinates(const Vec3& pole_, const Vec3& fixed) : pole(pole_), p(-fixed) {
+  empty = glm::length(glm::cross(n, pole)) <= 1e-12 && pole.z < 0.0;
+  // u: towards the zenith from p (so the horizon's rays are beta = ±pi/2), any horizontal axis at p = ±n.
+  const Vec3 up = n - glm::dot(n, p) * p;
+  u = glm::length(up) > 1e-12 ? glm::normalize(up) : kHemisphereEdge;
+  v = glm::cross(p, u);
+}
+
+Vec3 AntipodeCoordinates::direction(double r, double beta) const {
+  return std::cos(r) * p + std::sin(r) * (std::cos(beta) * u + std::sin(beta) * v);
+}
+
+namespace {
+/// {r ∈ [0, pi] : a cos r + b sin r > 0} = {cos(r - atan2(b, a)) > 0}: one interval, or none.
+std::pair<double, double> positive_arc(double a, double b) {
+  if (a == 0.0 && b == 0.0) return {0.0, 0.0};
+  const double phi = std::atan2(b, a);
+  for (double shift : {0.0, 2 * pi, -2 * pi}) {
+    const double lo = std::max(0.0, phi - pi / 2 + shift), hi = std::min(pi, phi + pi / 2 + shift);
+    if (lo < hi) return {lo, hi};
+  }
+  return {0.0, 0.0};
+}
+}  // namespace
+
+std::pair<double, double> AntipodeCoordinates::radii(double beta) const {
+  const Vec3 d = std::cos(beta) * u + std::sin(beta) * v;
+  const auto [lo, hi] = positive_arc(glm::dot(p, n), glm::dot(d, n));
+  const auto [pole_lo, pole_hi] = positive_arc(glm::dot(p, pole), glm::dot(d, pole));
+  return {std::max(lo, pole_lo), std::min(hi, pole_hi)};
+}
+
+double AntipodeCoordinates::beta(const Vec3& k) const { return std::atan2(glm::dot(k, v), glm::dot(k, u)); }
+
 std::vector<double> cuts(double lo, double hi, const std::vector<double>& centres) {
   std::vector<double> out{lo, hi};
   for (double c : centres)
@@ -263,6 +297,62 @@ std::pair<std::vector<double>, std::vector<double>> break_points(const Model& mo
 
 }  // namespace
 
+/// ∫ (k·n) f(k) dk over the domain of `coords`, nested tanh_sinh: beta outer over `beta_cut`, the
+/// ray's radii inner, mapped onto w ∈ [0, 1] (r = lo + w (hi - lo)), where its nodes crowd towards
+/// the horizon's crossing and the singular point p sits at the inner panels' end.
+Value antipode_integral(const std::function<double(const Vec3&)>& f, const AntipodeCoordinates& coords,
+                        const std::vector<double>& beta_cut, const Options& options) {
+  if (coords.empty) return {};
+  struct OutOfBudget {};
+  long long evaluations = 0;
+  auto point = [&](double beta, double w) {
+    if (++evaluations > options.max_evaluations) throw OutOfBudget{};
+    const auto [lo, hi] = coords.radii(beta);
+    if (lo >= hi) return 0.0;
+    const double r = lo + w * (hi - lo);
+    const Vec3 k = coords.direction(r, beta);
+    return (hi - lo) * std::sin(r) * std::max(k.z, 0.0) * f(k);
+  };
+  try {
+    // Panels of w graded towards the domain's entry (w = 4^-20 ... 1/4): a microfacet model's
+    // shadowing turns at |k + fixed| ~ 4 (fixed·n) and k·n = fixed·n, scales down to 1e-9 there.
+    std::vector<double> w_cut{0.0};
+    for (int m = 20; m >= 0; --m) w_cut.push_back(std::ldexp(1.0, -2 * m));
+    Value out = nested_tanh_sinh(point, beta_cut, w_cut, options);
+    out.evaluations = evaluations;
+    return out;
+  } catch (const OutOfBudget&) {
+    return {0.0, std::numeric_limits<double>::infinity(), 0.0, evaluations, false};
+  } catch (const boost::math::evaluation_error&) {
+    return {0.0, std::numeric_limits<double>::infinity(), 0.0, evaluations, false};
+  }
+}
+
+/// Cuts of beta: the rays along the horizon and along the pole's great circle (where the ray's
+/// entry into the domain swings from r ≈ 0 to r ≈ pi when p is near them), the rays through the
+/// lune's tips (where the bounding circle changes), and the rays through the mirror of `fixed`
+/// and, with options.use_mass_hints, through every peak of the hints at ±1 and ±2 of its width.
+std::vector<double> antipode_cuts(const Model& model, const AntipodeCoordinates& coords, const Vec3& fixed,
+                                  Varying varying, const Options& options) {
+  std::vector<double> centres{pi / 2, -pi / 2, coords.beta(mirror(fixed))};
+  const double pole_beta = std::atan2(-glm::dot(coords.u, coords.pole), glm::dot(coords.v, coords.pole));
+  centres.insert(centres.end(), {pole_beta, pole_beta > 0 ? pole_beta - pi : pole_beta + pi});
+  const Vec3 edge = glm::cross(coords.n, coords.pole);
+  if (glm::length(edge) > 1e-12) centres.insert(centres.end(), {coords.beta(edge), coords.beta(-edge)});
+  std::vector<double> cut{-pi, pi};
+  for (double c : centres)
+    if (c > -pi && c < pi) cut.push_back(c);
+  if (options.use_mass_hints)
+    for (const Peak& peak : model.mass_hints(fixed, varying).peaks)
+      for (double m : {-2.0, -1.0, 0.0, 1.0, 2.0}) {
+        const double c = coords.beta(peak.direction) + m * peak.width;
+        if (c > -pi && c < pi) cut.push_back(c);
+      }
+  std::sort(cut.begin(), cut.end());
+  cut.erase(std::unique(cut.begin(), cut.end(), [](double a, double b) { return b - a < 1e-12; }), cut.end());
+  return cut;
+}
+
 /// The hemisphere's edge axis for an integrand whose lobes lie about `fixed` and its mirror:
 /// kHemisphereEdge, unless a lobe lies within kPoleClearance of that axis (a grazing direction in
 /// the xz-plane), where the psi lines converge and no nested rule resolves it: then the axis across
@@ -278,6 +368,11 @@ Vec3 hemisphere_edge(const Model& model, const Vec3& fixed, Varying varying) {
 }
 
 Value vignetting(const Model& model, const Vec3& i, const Vec3& j, const Options& options) {
+  if (options.about_antipode) {
+    const AntipodeCoordinates coords(i, j);
+    return antipode_integral([&](const Vec3& k) { return model.f(k, j); }, coords,
+                             antipode_cuts(model, coords, j, Varying::incident, options), options);
+  }
   const LuneCoordinates lune(i, hemisphere_edge(model, j, Varying::incident));
   if (lune.empty) return {};
   const auto [t_cut, psi_cut] = break_points(model, lune, j, Varying::incident, options);
@@ -289,6 +384,11 @@ Value darkening(const Model& model, const Vec3& j, const Options& options) {
 }
 
 Value albedo(const Model& model, const Vec3& i, const Options& options) {
+  if (options.about_antipode) {
+    const AntipodeCoordinates coords(kNormal, i);
+    return antipode_integral([&](const Vec3& k) { return model.f(i, k); }, coords,
+                             antipode_cuts(model, coords, i, Varying::outgoing, options), options);
+  }
   const LuneCoordinates lune(kNormal, hemisphere_edge(model, i, Varying::outgoing));
   const auto [t_cut, psi_cut] = break_points(model, lune, i, Varying::outgoing, options);
   return lune_integral([&](const Vec3& k) { return model.f(i, k); }, lune, t_cut, psi_cut, options);

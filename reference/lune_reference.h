@@ -6,7 +6,9 @@
 // A second, differently built quadrature (gauss_kronrod<31>, the nesting swapped: psi outer)
 // serves to tell a doubtful reference from a wrong engine (reports/extremes.h); a third, Boost's
 // tanh_sinh nested at both levels, resolves layers at the horizon and the lune's tips (views and
-// skies within 1e-6 of grazing) that bisection does not reach within its depth.
+// skies within 1e-6 of grazing) that bisection does not reach within its depth; and tanh_sinh in
+// polar coordinates about the antipode of the fixed direction (AntipodeCoordinates) resolves the
+// point where a microfacet model's integrand grows as 1/|k + fixed|, which the lune's lines cross.
 #pragma once
 
 #include <functional>
@@ -48,6 +50,9 @@ struct Options {
   /// nodes crowd towards every panel's ends, where a layer 1e-9 thick at the horizon (a view
   /// 1e-9 above it) or the lune's tip takes a bisecting rule ~30 levels. Ignores max_depth.
   bool tanh_sinh = false;
+  /// Polar coordinates about the antipode of the fixed direction (AntipodeCoordinates) instead of
+  /// the lune's, tanh_sinh at both levels: the fourth reference (ignores swapped and tanh_sinh).
+  bool about_antipode = false;
   /// The tolerance relative to each integral's L1 norm over all its panels (false: relative to
   /// each panel's own integral, as Boost does and as tests/independent_reference_test.cpp pins it).
   bool global_tolerance = true;
@@ -65,6 +70,23 @@ struct LuneCoordinates {
   Vec3 direction(double t, double psi) const;
   /// (t, psi) of a direction, for break points.
   std::pair<double, double> coordinates(const Vec3& k) const;
+};
+
+/// The domain {k·n > 0, k·pole > 0} in polar coordinates about p = -fixed, the antipode of the
+/// direction the law holds fixed: k = cos r p + sin r (cos beta u + sin beta v), r ∈ [0, pi],
+/// dk = sin r dr dbeta. A microfacet model's half vector (k + fixed)/|k + fixed| turns once about
+/// its lobe while k circles p, so near p its integrand (k·n) f(k, fixed) grows as D/|k + fixed|
+/// (dk = 4 (fixed·h) dh, Walter et al. 2007): a point singularity 1e-9 below the horizon when fixed is
+/// 1e-9 above it, which the lune's coordinates meet across a panel and these take in r's Jacobian.
+struct AntipodeCoordinates {
+  Vec3 n{0, 0, 1}, pole, p, u, v;
+  bool empty = false;  ///< pole at the nadir
+  AntipodeCoordinates(const Vec3& pole, const Vec3& fixed);
+  Vec3 direction(double r, double beta) const;
+  /// The interval of r on the ray at beta inside the domain (lo >= hi: none).
+  std::pair<double, double> radii(double beta) const;
+  /// beta of a direction (0 for ±p).
+  double beta(const Vec3& k) const;
 };
 
 /// Panels of [lo, hi] cut at each centre strictly inside and at ±0.05, ±0.2 around it; cuts

@@ -195,5 +195,31 @@ TEST(IndependentReference, GrazingViewResolvesWithinTheGridsBudget) {
   }
 }
 
+/// The antipode reference's coordinates (polar about -j, each ray cut where it enters and leaves
+/// the lune) on Lambert's law, whose g is rho (1 + i·n)/2 whatever j (K&P): the whole lune, a sliver
+/// with its pole 2.6° above the nadir, a sky on the horizon, with views at the zenith, at 45° and
+/// 1e-9 above the horizon (the antipode 1e-9 below it), and the albedo 1.
+TEST(IndependentReference, AntipodeCoordinatesGiveLambertsClosedForm) {
+  const ModelPtr model = parse_model("lambert");
+  reference::Options options;
+  options.about_antipode = true;
+  options.absolute_tolerance = 1e-11;
+  options.max_evaluations = kGridBudget;
+  for (const double cos_i : {1.0, 0.3, 0.0, -0.999})
+    for (const double cos_j : {1.0, 0.7071, 1e-9})
+      for (const double phi : {0.0, 2.0, pi}) {
+        const reference::Value g =
+            reference::vignetting(*model, direction_from_cos(cos_i), direction_from_cos(cos_j, phi), options);
+        ASSERT_TRUE(g.resolved) << cos_i << " " << cos_j << " " << phi;
+        EXPECT_NEAR(g.value, (1.0 + cos_i) / 2, g.total_error() + kRounding)
+            << "i·n " << cos_i << ", j·n " << cos_j << ", phi " << phi;
+      }
+  for (const double cos_i : {1.0, 1e-9}) {
+    const reference::Value a = reference::albedo(*model, direction_from_cos(cos_i, 1.0), options);
+    ASSERT_TRUE(a.resolved) << cos_i;
+    EXPECT_NEAR(a.value, 1.0, a.total_error() + kRounding) << cos_i;
+  }
+}
+
 }  // namespace
 }  // namespace ganzfeld
