@@ -110,11 +110,12 @@ bool honest(double value, double error, double reference, double reference_error
   return std::abs(value - reference) <= error + reference_error + kRoundingSlack * std::max(1.0, std::abs(reference));
 }
 
-enum class ReferenceRule { gauss_kronrod_61, gauss_kronrod_31_swapped, tanh_sinh };
+enum class ReferenceRule { gauss_kronrod_61, gauss_kronrod_31_swapped, tanh_sinh_about_antipode, tanh_sinh };
 
-constexpr std::array<util::EnumName<ReferenceRule>, 3> kRuleNames{
+constexpr std::array<util::EnumName<ReferenceRule>, 4> kRuleNames{
     {{ReferenceRule::gauss_kronrod_61, "gauss_kronrod<61>"},
      {ReferenceRule::gauss_kronrod_31_swapped, "gauss_kronrod<31>, swapped"},
+     {ReferenceRule::tanh_sinh_about_antipode, "tanh_sinh, about the antipode"},
      {ReferenceRule::tanh_sinh, "tanh_sinh"}}};
 
 reference::Value reference_law(const Model& model, Law law, const Vec3& i, const Vec3& j, ReferenceRule rule,
@@ -125,7 +126,10 @@ reference::Value reference_law(const Model& model, Law law, const Vec3& i, const
   options.absolute_tolerance = 0.1 * engine_tolerance;
   options.swapped = rule == ReferenceRule::gauss_kronrod_31_swapped;
   options.tanh_sinh = rule == ReferenceRule::tanh_sinh;
-  options.max_evaluations = options.tanh_sinh ? kExtremesTanhSinhBudget : kExtremesReferenceBudget;
+  options.about_antipode = rule == ReferenceRule::tanh_sinh_about_antipode;
+  options.max_evaluations = options.tanh_sinh        ? kExtremesTanhSinhBudget
+                            : options.about_antipode ? kExtremesAntipodeBudget
+                                                     : kExtremesReferenceBudget;
   switch (law) {
     case Law::g: return reference::vignetting(model, i, j, options);
     case Law::h: return reference::darkening(model, j, options);
@@ -163,9 +167,10 @@ ExtremesCase judge_case(const Model& model, Law law, const Vec3& i, const Vec3& 
   };
   // The references in the order they are tried; the first resolved one judges, the others are
   // computed only when needed (they are far costlier than the engine).
-  constexpr std::array<ReferenceRule, 3> kOrder{ReferenceRule::gauss_kronrod_61,
-                                                ReferenceRule::gauss_kronrod_31_swapped, ReferenceRule::tanh_sinh};
-  std::array<std::optional<reference::Value>, 3> computed;
+  constexpr std::array<ReferenceRule, 4> kOrder{ReferenceRule::gauss_kronrod_61,
+                                                ReferenceRule::gauss_kronrod_31_swapped,
+                                                ReferenceRule::tanh_sinh_about_antipode, ReferenceRule::tanh_sinh};
+  std::array<std::optional<reference::Value>, kOrder.size()> computed;
   auto get = [&](std::size_t k) -> const reference::Value& {
     if (!computed[k]) computed[k] = reference_law(model, law, i, j, kOrder[k], engine_tolerance);
     return *computed[k];
@@ -179,20 +184,30 @@ ExtremesCase judge_case(const Model& model, Law law, const Vec3& i, const Vec3& 
     // inside its panel (schlick-phong's a at i·n = 0.3: 4.7e-7 off with 1.7e-8 stated, where both
     // Gauss–Kronrod references agree with the engine) or at a lune's tip where a grazing lobe sits
     // (hvd-empirical's g at i·n = 0, θ_o = 89.99°, φ = 90°: 0.16 off with 0.08 stated, where g = h/2
-    // by the mirror symmetry of an isotropic model agrees with the engine). So an unresolved
-    // reference refutes the engine only with a second one that excludes the engine's value too
-    // (the closer bound judges). A lone refuter makes the case "references disagree" where another
-    // agrees with the engine and excludes it, and leaves it unresolved otherwise
-    // (tests/extremes_test.cpp).
-    std::optional<std::size_t> refuting;
-    int refuters = 0;
+    // by the mirror symmetry of an isotropic model agrees with the engine). So unresolved references
+    // refute the engine only as two that exclude its value and agree with each other (the closer
+    // bound of the pair judges); two that exclude each other too are no more than one. A lone
+    // refuter makes the case "references disagree" where another agrees with the engine and excludes
+    // it, and leaves it unresolved otherwise (tests/extremes_test.cpp).
+    std::vector<std::size_t> refuters;
     for (std::size_t k = 0; k < kOrder.size(); ++k)
       if (get(k).resolved && std::isfinite(get(k).value) &&
-          !honest(c.engine.value, c.engine.error, get(k).value, get(k).total_error())) {
-        ++refuters;
-        if (!refuting || get(k).total_error() < get(*refuting).total_error()) refuting = k;
+          !honest(c.engine.value, c.engine.error, get(k).value, get(k).total_error()))
+        refuters.push_back(k);
+    auto closer = [&](std::optional<std::size_t> best, std::size_t k) {
+      return !best || get(k).total_error() < get(*best).total_error() ? std::optional(k) : best;
+    };
+    std::optional<std::size_t> refuting, closest;
+    for (std::size_t a = 0; a < refuters.size(); ++a) {
+      closest = closer(closest, refuters[a]);
+      for (std::size_t b = a + 1; b < refuters.size(); ++b) {
+        const reference::Value &first = get(refuters[a]), &second = get(refuters[b]);
+        if (honest(first.value, first.total_error(), second.value, second.total_error()))
+          refuting = closer(closer(refuting, refuters[a]), refuters[b]);
       }
-    lone_refuter = refuters == 1;
+    }
+    lone_refuter = !refuting && closest;
+    if (!refuting) refuting = closest;
     c.reference_unresolved = !refuting;
     judging = refuting.value_or(0);
   }
@@ -579,8 +594,9 @@ std::string extremes_markdown(const std::vector<ExtremesRow>& rows, const Extrem
         "1e-3 absolute, not 1e-8 (the cases judged so are counted below). *Dishonest*: "
         "|engine − reference| exceeds the engine's estimate plus the reference's error, and no other resolved "
         "reference agrees with the engine; where one does, the case counts as *references disagree* instead, and "
-        "is listed. Where no reference is resolved, two whose own bounds still exclude the engine's value prove "
-        "it dishonest all the same (an unresolved bound alone can be wrong); one alone makes the case *references "
+        "is listed. Where no reference is resolved, two whose own bounds still exclude the engine's value and agree "
+        "with each other prove it dishonest all the same (an unresolved bound alone can be wrong, and two that "
+        "exclude each other are no more than one); a refuter without such a partner makes the case *references "
         "disagree* where another agrees with the engine and excludes it; otherwise the case is *reference "
         "unresolved*: not judged, counted and listed. f is the formula itself (error 0): only its finiteness is "
         "judged. Measured models (merl, "
