@@ -211,9 +211,14 @@ double CookTorrance::D(double c) const noexcept {
 double CookTorrance::f(const Vec3& i, const Vec3& j) const noexcept {
   if (i.z < 0.0 || j.z < 0.0) return 0.0;
   const double diffuse = kd_ / pi;
-  Vec3 h;
-  if (!halfway(i, j, h)) return diffuse;
-  const double mu_i = i.z, mu_j = j.z, nh = h.z, jh = glm::dot(j, h);
+  const Vec3 sum = i + j;
+  const double len = glm::length(sum);
+  if (!(len > 0.0)) return diffuse;
+  // j·h = |i + j|/2 for unit i, j, as in the GLSL below: where i nears -j, dot(j, h) is
+  // (1 + i·j)/|i + j|, and 1 + i·j (5e-17 at |i + j| = 1e-8) drowns in the 1e-16 by which a stored
+  // direction misses unit length (tests/classic_test.cpp).
+  const Vec3 h = sum / len;
+  const double mu_i = i.z, mu_j = j.z, nh = h.z, jh = 0.5 * len;
   const double mu_max = std::max(mu_i, mu_j);
   if (!(mu_max > 0.0) || !(jh > 0.0)) return diffuse;
   // G/(mu_i mu_j) = min(1, 2 nh mu_j/jh, 2 nh mu_i/jh)/(mu_i mu_j)

@@ -4,6 +4,7 @@
 // parameter validation.
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <random>
 #include <string>
@@ -388,6 +389,30 @@ TEST(ClassicModels, LafortunePaintPresetIsTheThreeLobeSum) {
     EXPECT_GT(a_red, 0.0);
   }
   EXPECT_THROW(parse_model("lafortune-paint:channel=3"), InputError);
+}
+
+/// Cook–Torrance's (k·n) f grows as 1/|k + j| about the point -j (its half vector turns once about
+/// the lobe there), which lies 1e-9 below the horizon when the view is 1e-9 above it. A direction
+/// a few ulps off unit length must give the same value there: computed as dot(j, h), j·h at
+/// |k + j| = 1e-8 was all rounding and f ranged over [0, 3.7e8] across 1-ulp changes of k.
+TEST(ClassicModels, CookTorranceIsSmoothWhereTheDirectionsNearlyOppose) {
+  for (const char* spec : {"cook-torrance:kd=0,ks=0.7,m=0.15", "cook-torrance-gaussian:kd=0,ks=0.7,m=0.15"}) {
+    const ModelPtr model = parse_model(spec);
+    const Vec3 j = direction_from_cos(1e-9, pi), up = glm::normalize(Vec3{0.0, 0.05, 1.0});
+    for (const double distance : {1e-7, 1e-8, 3e-9}) {
+      const Vec3 k0 = glm::normalize(-j + distance * up);
+      double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+      for (int ulps = -4; ulps <= 4; ++ulps)
+        for (int axis = 0; axis < 3; ++axis) {
+          Vec3 k = k0;
+          for (int u = 0; u < std::abs(ulps); ++u) k[axis] = std::nextafter(k[axis], ulps > 0 ? 2.0 : -2.0);
+          const double value = k.z * model->f(k, j);
+          lo = std::min(lo, value), hi = std::max(hi, value);
+        }
+      EXPECT_GT(lo, 0.0) << spec << " at " << distance;
+      EXPECT_LT(hi - lo, 1e-6 * hi) << spec << " at " << distance << ": " << lo << " ... " << hi;
+    }
+  }
 }
 
 }  // namespace
