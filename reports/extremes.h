@@ -5,8 +5,8 @@
 // quadrature written apart from integrate/). Each result is finite or not; converged or not; and
 // when converged, honest (|engine − reference| ≤ engine estimate + reference error) or dishonest.
 // The references are tried in order, gauss_kronrod<61>, gauss_kronrod<31> with the nesting
-// swapped, Boost's tanh_sinh about the antipode of the fixed direction, tanh_sinh on the lune
-// (reference/), and the first resolved one judges. Where the engine
+// swapped, Boost's tanh_sinh (reference/), and the first resolved one judges; a fourth, tanh_sinh
+// about the antipode of the fixed direction, only witnesses. Where the engine
 // disagrees with it, another resolved one that agrees with the engine makes the case count as
 // "references disagree", listed, not dropped.
 #pragma once
@@ -55,8 +55,8 @@ inline constexpr long long kExtremesReferenceBudget = 5'000'000;
 /// The tanh_sinh reference's budget where the first is unresolved: its nested levels cost more
 /// per case (a few hundred nodes per panel and level), and it runs on a few percent of the cases.
 inline constexpr long long kExtremesTanhSinhBudget = 20'000'000;
-/// The antipode reference's budget (reference::Options::about_antipode; tried before tanh_sinh on
-/// the lune).
+/// The antipode reference's budget (reference::Options::about_antipode; a witness where the engine
+/// disagrees with the judging reference).
 inline constexpr long long kExtremesAntipodeBudget = 10'000'000;
 
 struct ExtremesCase {
@@ -66,8 +66,9 @@ struct ExtremesCase {
   std::string where;  ///< "i·n=..., j·n=..., phi=..."
   Estimate engine;
   double reference = 0.0, reference_error = 0.0;
-  /// Which reference judged: "gauss_kronrod<61>", "gauss_kronrod<31>, swapped", "tanh_sinh, about
-  /// the antipode" or "tanh_sinh".
+  /// Which reference judged: "gauss_kronrod<61>", "gauss_kronrod<31>, swapped" or "tanh_sinh" (or,
+  /// where none is resolved and its bound is the closest that excludes the engine, "tanh_sinh, about
+  /// the antipode").
   std::string reference_rule;
   double second_reference = 0.0,
          second_reference_error = 0.0;  ///< another reference, where the engine disagrees with the first
