@@ -36,9 +36,11 @@ std::pair<double, double> LuneCoordinates::coordinates(const Vec3& k) const {
 
 AntipodeCoordinates::AntipodeCoordinates(const Vec3& pole_, const Vec3& fixed) : pole(pole_), p(-fixed) {
   empty = glm::length(glm::cross(n, pole)) <= 1e-12 && pole.z < 0.0;
-  // u: towards the zenith from p (so the horizon's rays are beta = ±pi/2), any horizontal axis at p = ±n.
-  const Vec3 up = n - glm::dot(n, p) * p;
-  u = glm::length(up) > 1e-12 ? glm::normalize(up) : kHemisphereEdge;
+  // u: towards the zenith from p (so the horizon's rays are beta = ±pi/2), any horizontal axis at
+  // p = ±n. As w × p, w = (p_y, -p_x, 0) horizontal across p: n - (n·p) p without the cancellation
+  // of 1 - p_z^2 near the poles.
+  const Vec3 across{p.y, -p.x, 0.0};
+  u = glm::length(across) > 0.0 ? glm::normalize(glm::cross(across, p)) : kHemisphereEdge;
   v = glm::cross(p, u);
 }
 
@@ -297,9 +299,13 @@ std::pair<std::vector<double>, std::vector<double>> break_points(const Model& mo
 
 }  // namespace
 
+namespace {
+
 /// ∫ (k·n) f(k) dk over the domain of `coords`, nested tanh_sinh: beta outer over `beta_cut`, the
-/// ray's radii inner, mapped onto w ∈ [0, 1] (r = lo + w (hi - lo)), where its nodes crowd towards
-/// the horizon's crossing and the singular point p sits at the inner panels' end.
+/// ray's radii inner, mapped onto w ∈ [0, 1] (r = lo + w (hi - lo)), whose nodes crowd towards the
+/// ray's entry into the domain. Along a ray |k + fixed| = 2 sin(r/2), so a microfacet integrand's
+/// 1/|k + fixed| is cancelled by the Jacobian's sin r; p itself lies lo before w = 0 (outside the
+/// domain when fixed is above the horizon).
 Value antipode_integral(const std::function<double(const Vec3&)>& f, const AntipodeCoordinates& coords,
                         const std::vector<double>& beta_cut, const Options& options) {
   if (coords.empty) return {};
@@ -331,7 +337,9 @@ Value antipode_integral(const std::function<double(const Vec3&)>& f, const Antip
 /// Cuts of beta: the rays along the horizon and along the pole's great circle (where the ray's
 /// entry into the domain swings from r ≈ 0 to r ≈ pi when p is near them), the rays through the
 /// lune's tips (where the bounding circle changes), and the rays through the mirror of `fixed`
-/// and, with options.use_mass_hints, through every peak of the hints at ±1 and ±2 of its width.
+/// and, with options.use_mass_hints, through every peak of the hints at ±1 and ±2 of its width
+/// (taken as beta offsets, unscaled by the peak's distance from p; the hints' creases are not cut:
+/// this reference is a witness, reports/extremes.h).
 std::vector<double> antipode_cuts(const Model& model, const AntipodeCoordinates& coords, const Vec3& fixed,
                                   Varying varying, const Options& options) {
   std::vector<double> centres{pi / 2, -pi / 2, coords.beta(mirror(fixed))};
@@ -352,6 +360,8 @@ std::vector<double> antipode_cuts(const Model& model, const AntipodeCoordinates&
   cut.erase(std::unique(cut.begin(), cut.end(), [](double a, double b) { return b - a < 1e-12; }), cut.end());
   return cut;
 }
+
+}  // namespace
 
 /// The hemisphere's edge axis for an integrand whose lobes lie about `fixed` and its mirror:
 /// kHemisphereEdge, unless a lobe lies within kPoleClearance of that axis (a grazing direction in
