@@ -110,13 +110,13 @@ bool honest(double value, double error, double reference, double reference_error
   return std::abs(value - reference) <= error + reference_error + kRoundingSlack * std::max(1.0, std::abs(reference));
 }
 
-enum class ReferenceRule { gauss_kronrod_61, gauss_kronrod_31_swapped, tanh_sinh_about_antipode, tanh_sinh };
+enum class ReferenceRule { gauss_kronrod_61, gauss_kronrod_31_swapped, tanh_sinh, tanh_sinh_about_antipode };
 
 constexpr std::array<util::EnumName<ReferenceRule>, 4> kRuleNames{
     {{ReferenceRule::gauss_kronrod_61, "gauss_kronrod<61>"},
      {ReferenceRule::gauss_kronrod_31_swapped, "gauss_kronrod<31>, swapped"},
-     {ReferenceRule::tanh_sinh_about_antipode, "tanh_sinh, about the antipode"},
-     {ReferenceRule::tanh_sinh, "tanh_sinh"}}};
+     {ReferenceRule::tanh_sinh, "tanh_sinh"},
+     {ReferenceRule::tanh_sinh_about_antipode, "tanh_sinh, about the antipode"}}};
 
 reference::Value reference_law(const Model& model, Law law, const Vec3& i, const Vec3& j, ReferenceRule rule,
                                double engine_tolerance) {
@@ -140,23 +140,21 @@ reference::Value reference_law(const Model& model, Law law, const Vec3& i, const
 
 }  // namespace
 
-ExtremesCase judge_case(const Model& model, Law law, const Vec3& i, const Vec3& j, double engine_tolerance,
-                        long long engine_budget) {
-  ExtremesCase c;
-  c.spec = model.spec();
-  c.law = law;
-  c.i = i;
-  c.j = j;
-  CubatureOptions options;
-  options.abs_tol = engine_tolerance;
-  options.max_evaluations = engine_budget;
-  c.engine = evaluate_law(model, law, i, j, options);
-  c.finite = std::isfinite(c.engine.value);
-  c.converged = c.engine.converged;
-  // f is the formula itself (error 0): only its finiteness is judged. Compared with f at the
-  // unnormalized directions it would measure the formula's conditioning at grazing (1/(i·n)
-  // factors turn the last bit of a direction into 1e-10 relative), not an estimate's honesty.
-  if (law == Law::f || !c.finite || !c.converged) return c;
+namespace {
+
+// The references in the order they are tried; the first resolved one of the first kExtremesJudges
+// judges, the others are computed only when needed (they are far costlier than the engine). The
+// last, tanh_sinh about the antipode, is a witness only: it resolves the 1/|k + fixed| point of a
+// microfacet lobe at a grazing view, where tanh_sinh on the lune is up to 1e-7 off, but is itself
+// confidently 4e-8 off on hvd-empirical's ridge along a lune's edge (tests/extremes_test.cpp).
+constexpr std::array<ReferenceRule, kExtremesReferences> kOrder{
+    ReferenceRule::gauss_kronrod_61, ReferenceRule::gauss_kronrod_31_swapped, ReferenceRule::tanh_sinh,
+    ReferenceRule::tanh_sinh_about_antipode};
+
+}  // namespace
+
+void judge_against_references(ExtremesCase& c, const std::function<const reference::Value&(std::size_t)>& get,
+                              double engine_tolerance) {
   // A reference resolves the case when its stated error is within the engine's tolerance, scaled
   // by |value| where that exceeds 1: a nested rule summing millions of nodes states ~1e-10 of the
   // value at best (reference/lune_reference.h asks 1e-10 relative), so on a value of 1e5 no
@@ -165,23 +163,9 @@ ExtremesCase judge_case(const Model& model, Law law, const Vec3& i, const Vec3& 
   auto resolved = [&](const reference::Value& r) {
     return r.resolved && std::isfinite(r.value) && r.total_error() <= judging_resolution(engine_tolerance, r.value);
   };
-  // The references in the order they are tried; the first resolved one of the first kJudges
-  // judges, the others are computed only when needed (they are far costlier than the engine). The
-  // last, tanh_sinh about the antipode, is a witness only: it resolves the 1/|k + fixed| point of a
-  // microfacet lobe at a grazing view, where tanh_sinh on the lune is up to 1e-7 off, but is itself
-  // confidently 4e-8 off on hvd-empirical's ridge along a lune's edge (tests/extremes_test.cpp).
-  constexpr std::array<ReferenceRule, 4> kOrder{ReferenceRule::gauss_kronrod_61,
-                                                ReferenceRule::gauss_kronrod_31_swapped, ReferenceRule::tanh_sinh,
-                                                ReferenceRule::tanh_sinh_about_antipode};
-  constexpr std::size_t kJudges = 3;
-  std::array<std::optional<reference::Value>, kOrder.size()> computed;
-  auto get = [&](std::size_t k) -> const reference::Value& {
-    if (!computed[k]) computed[k] = reference_law(model, law, i, j, kOrder[k], engine_tolerance);
-    return *computed[k];
-  };
   std::size_t judging = 0;
-  while (judging < kJudges && !resolved(get(judging))) ++judging;
-  const bool none_resolved = judging == kJudges;
+  while (judging < kExtremesJudges && !resolved(get(judging))) ++judging;
+  const bool none_resolved = judging == kExtremesJudges;
   bool lone_refuter = false;
   if (none_resolved) {
     // None resolves the tolerance. An unresolved bound can be wrong: tanh_sinh's across a kink
@@ -194,7 +178,7 @@ ExtremesCase judge_case(const Model& model, Law law, const Vec3& i, const Vec3& 
     // refuter makes the case "references disagree" where another agrees with the engine and excludes
     // it, and leaves it unresolved otherwise (tests/extremes_test.cpp).
     std::vector<std::size_t> refuters;
-    for (std::size_t k = 0; k < kOrder.size(); ++k)
+    for (std::size_t k = 0; k < kExtremesReferences; ++k)
       if (get(k).resolved && std::isfinite(get(k).value) &&
           !honest(c.engine.value, c.engine.error, get(k).value, get(k).total_error()))
         refuters.push_back(k);
@@ -219,12 +203,12 @@ ExtremesCase judge_case(const Model& model, Law law, const Vec3& i, const Vec3& 
   c.reference = ref.value;
   c.reference_error = ref.total_error();
   c.reference_rule = util::name_of(kRuleNames, kOrder[judging]);
-  if (c.reference_unresolved || honest(c.engine.value, c.engine.error, c.reference, c.reference_error)) return c;
+  if (c.reference_unresolved || honest(c.engine.value, c.engine.error, c.reference, c.reference_error)) return;
   // The engine disagrees with the judging reference: another resolved reference (any finite one,
   // when none resolved) that agrees with it makes the case "references disagree"; none makes it
   // dishonest.
   c.dishonest = true;
-  for (std::size_t k = 0; k < kOrder.size(); ++k) {
+  for (std::size_t k = 0; k < kExtremesReferences; ++k) {
     const bool usable = none_resolved ? get(k).resolved && std::isfinite(get(k).value) &&
                                             !honest(get(k).value, get(k).total_error(), ref.value, ref.total_error())
                                       : resolved(get(k));
@@ -241,6 +225,33 @@ ExtremesCase judge_case(const Model& model, Law law, const Vec3& i, const Vec3& 
     c.dishonest = false;
     c.reference_unresolved = true;
   }
+}
+
+ExtremesCase judge_case(const Model& model, Law law, const Vec3& i, const Vec3& j, double engine_tolerance,
+                        long long engine_budget) {
+  ExtremesCase c;
+  c.spec = model.spec();
+  c.law = law;
+  c.i = i;
+  c.j = j;
+  CubatureOptions options;
+  options.abs_tol = engine_tolerance;
+  options.max_evaluations = engine_budget;
+  c.engine = evaluate_law(model, law, i, j, options);
+  c.finite = std::isfinite(c.engine.value);
+  c.converged = c.engine.converged;
+  // f is the formula itself (error 0): only its finiteness is judged. Compared with f at the
+  // unnormalized directions it would measure the formula's conditioning at grazing (1/(i·n)
+  // factors turn the last bit of a direction into 1e-10 relative), not an estimate's honesty.
+  if (law == Law::f || !c.finite || !c.converged) return c;
+  std::array<std::optional<reference::Value>, kExtremesReferences> computed;
+  judge_against_references(
+      c,
+      [&](std::size_t k) -> const reference::Value& {
+        if (!computed[k]) computed[k] = reference_law(model, law, i, j, kOrder[k], engine_tolerance);
+        return *computed[k];
+      },
+      engine_tolerance);
   return c;
 }
 
@@ -555,7 +566,8 @@ std::string extremes_csv(const std::vector<ExtremesRow>& rows, const std::string
       csv << csv_field(c.spec) << "," << to_string(c.law) << "," << csv_field(c.where) << ","
           << number(c.engine.value, 15) << "," << number(c.engine.error, 3) << "," << c.engine.evaluations << ","
           << (c.converged ? 1 : 0) << ","
-          << (judged ? number(c.reference, 15) + "," + number(c.reference_error, 3) + "," + c.reference_rule : ",,")
+          << (judged ? number(c.reference, 15) + "," + number(c.reference_error, 3) + "," + csv_field(c.reference_rule)
+                     : ",,")
           << "," << (second ? number(c.second_reference, 15) + "," + number(c.second_reference_error, 3) : ",") << ","
           << (c.law == Law::f ? (c.finite ? "finite" : "non-finite") : verdict(c)) << "\n";
     }
@@ -597,14 +609,17 @@ std::string extremes_markdown(const std::vector<ExtremesRow>& rows, const Extrem
         "(where a microfacet model's integrand grows as 1/|k + fixed|, a point 1e-9 below the horizon when the view "
         "is 1e-9 above it, and tanh_sinh on the lune is up to 1e-7 off), within "
      << number(double(kExtremesAntipodeBudget))
-     << ", is a witness only, asked where the engine disagrees with the judge: it is itself confidently 4e-8 off "
-        "on hvd-empirical's ridge along the edge of a lune. A reference is resolved when its stated error is within "
+     << ", is a witness, never a judge alone: it is asked where the engine disagrees with the judge, and where "
+        "none of the three is resolved it is one of the unresolved bounds (one of a refuting pair, never alone); it "
+        "is itself confidently 4e-8 off on hvd-empirical's ridge along the edge of a lune. A reference is resolved "
+        "when its stated error is within "
         "the engine's tolerance, times |value| where "
         "that exceeds 1: the references state about 1e-10 of the value at best, so a value of 1e5 is judged to "
         "1e-3 absolute, not 1e-8 (the cases judged so are counted below). *Dishonest*: "
         "|engine − reference| exceeds the engine's estimate plus the reference's error, and no other resolved "
         "reference agrees with the engine; where one does, the case counts as *references disagree* instead, and "
-        "is listed. Where no reference is resolved, two whose own bounds still exclude the engine's value and agree "
+        "is listed. Where none of the three is resolved, two whose own bounds still exclude the engine's value and "
+        "agree "
         "with each other prove it dishonest all the same (an unresolved bound alone can be wrong, and two that "
         "exclude each other are no more than one); a refuter without such a partner makes the case *references "
         "disagree* where another agrees with the engine and excludes it; otherwise the case is *reference "

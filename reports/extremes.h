@@ -6,7 +6,8 @@
 // when converged, honest (|engine − reference| ≤ engine estimate + reference error) or dishonest.
 // The references are tried in order, gauss_kronrod<61>, gauss_kronrod<31> with the nesting
 // swapped, Boost's tanh_sinh (reference/), and the first resolved one judges; a fourth, tanh_sinh
-// about the antipode of the fixed direction, only witnesses. Where the engine
+// about the antipode of the fixed direction, is a witness: asked where the engine disagrees with
+// the judge, and one of the unresolved bounds where none of the three is resolved, never alone. Where the engine
 // disagrees with it, another resolved one that agrees with the engine makes the case count as
 // "references disagree", listed, not dropped.
 #pragma once
@@ -19,6 +20,7 @@
 #include <nlohmann/json_fwd.hpp>
 
 #include "integrate/laws.h"
+#include "reference/lune_reference.h"
 
 namespace ganzfeld {
 
@@ -111,6 +113,16 @@ struct KeptExtremesRow {
 /// (tolerance, quick, defaults only).
 KeptExtremesRow extremes_row_from_json(const std::string& text, const ExtremesOptions& options,
                                        const std::string& path);
+
+/// The references judge_case asks, in order: gauss_kronrod<61>, gauss_kronrod<31> swapped and
+/// tanh_sinh, the judges (the first resolved one judges), and tanh_sinh about the antipode, a witness.
+inline constexpr std::size_t kExtremesReferences = 4, kExtremesJudges = 3;
+/// judge_case's verdict on c.engine (finite, converged): sets c's reference, its rule's name and the
+/// flags dishonest, references_disagree and reference_unresolved from `reference(k)`, the k-th
+/// reference in that order, asked only when the rule needs it. Exposed for the tests, which give it
+/// made-up values.
+void judge_against_references(ExtremesCase& c, const std::function<const reference::Value&(std::size_t)>& reference,
+                              double engine_tolerance);
 
 /// Judges one case: engine at the tolerance against the reference (and the second reference when
 /// they disagree). Exposed for the tests, which may give the engine a smaller evaluation budget

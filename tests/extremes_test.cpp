@@ -2,10 +2,14 @@
 // corners for the models whose reference is quick — must be finite and honest against the
 // independent reference (reference/). The whole grid is docs/reliability-extremes.md (scripts/docs
 // --reliability, tens of minutes).
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <sstream>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -556,6 +560,96 @@ TEST(Extremes, TheAntipodeWitnessAloneDoesNotRefute) {
   ASSERT_TRUE(c.converged && c.finite);
   EXPECT_FALSE(c.dishonest) << "engine " << c.engine.value << " ± " << c.engine.error << ", reference " << c.reference
                             << " ± " << c.reference_error << " (" << c.reference_rule << ")";
+}
+
+/// judge_against_references with made-up references (engine 1 ± 1e-8, tolerance 1e-8): each branch
+/// of the rule, and which references it asks.
+struct Verdict {
+  ExtremesCase c;
+  std::vector<std::size_t> asked;
+};
+Verdict verdict(const std::array<reference::Value, kExtremesReferences>& references) {
+  Verdict out;
+  out.c.engine = {1.0, 1e-8, 0, true};
+  judge_against_references(
+      out.c,
+      [&](std::size_t k) -> const reference::Value& {
+        if (std::find(out.asked.begin(), out.asked.end(), k) == out.asked.end()) out.asked.push_back(k);
+        return references[k];
+      },
+      kEngineTol);
+  return out;
+}
+
+TEST(Extremes, TheJudgingRuleOnMadeUpReferences) {
+  const double inf = std::numeric_limits<double>::infinity();
+  const reference::Value agrees{1.0 + 5e-9, 1e-10}, refutes{1.0 + 1e-7, 1e-10}, out_of_budget{0.0, inf, 0.0, 0, false},
+      loose_agrees{1.0, 1e-6}, loose_refutes{1.0 + 1e-5, 2e-6}, loose_refutes_alike{1.0 + 1.2e-5, 3e-6},
+      loose_refutes_otherwise{1.0 - 1e-5, 2e-6};
+  {  // the first judge agrees: honest, nothing else asked
+    const Verdict v = verdict({agrees, refutes, refutes, refutes});
+    EXPECT_FALSE(v.c.dishonest || v.c.references_disagree || v.c.reference_unresolved);
+    EXPECT_EQ(v.c.reference_rule, "gauss_kronrod<61>");
+    EXPECT_EQ(v.asked, std::vector<std::size_t>{0});
+  }
+  {  // the first resolved judge refutes, no other agrees: dishonest
+    const Verdict v = verdict({out_of_budget, refutes, loose_agrees, refutes});
+    EXPECT_TRUE(v.c.dishonest);
+    EXPECT_EQ(v.c.reference_rule, "gauss_kronrod<31>, swapped");
+  }
+  {  // the judge refutes, the resolved witness agrees: the references disagree
+    const Verdict v = verdict({refutes, out_of_budget, out_of_budget, agrees});
+    EXPECT_FALSE(v.c.dishonest);
+    EXPECT_TRUE(v.c.references_disagree);
+  }
+  {  // none resolved: two refuters that agree with each other prove it, the closer judges
+    const Verdict v = verdict({out_of_budget, loose_refutes_alike, loose_refutes, out_of_budget});
+    EXPECT_TRUE(v.c.dishonest);
+    EXPECT_EQ(v.c.reference_rule, "tanh_sinh");
+  }
+  {  // none resolved: two refuters that exclude each other prove no more than one
+    const Verdict v = verdict({out_of_budget, loose_refutes_otherwise, loose_refutes, out_of_budget});
+    EXPECT_FALSE(v.c.dishonest);
+    EXPECT_TRUE(v.c.reference_unresolved);
+  }
+  {  // none resolved: a lone refuter, and another that agrees with the engine and excludes it
+    const Verdict v = verdict({out_of_budget, out_of_budget, loose_refutes, {1.0, 5e-6}});
+    EXPECT_FALSE(v.c.dishonest);
+    EXPECT_TRUE(v.c.references_disagree);
+  }
+  {  // the witness alone refutes, however sharply: not judged
+    const Verdict v = verdict({out_of_budget, out_of_budget, loose_agrees, refutes});
+    EXPECT_FALSE(v.c.dishonest);
+    EXPECT_TRUE(v.c.reference_unresolved);
+  }
+}
+
+/// Every CSV row has the header's columns: a reference's name with a comma in it ("gauss_kronrod<31>,
+/// swapped") is quoted, as the spec and the directions are.
+TEST(Extremes, CsvRowsHaveTheHeadersColumns) {
+  ExtremesCase c;
+  c.spec = "ggx:alpha=0.5,f0=0.04";
+  c.law = Law::g;
+  c.where = "i·n=1, j·n=1, φ=0°";
+  c.engine = {0.5, 1e-9, 100, true};
+  c.reference = 0.5;
+  c.reference_error = 1e-10;
+  c.reference_rule = "gauss_kronrod<31>, swapped";
+  ExtremesRow row;
+  row.model = "ggx";
+  row.all = {c};
+  std::istringstream csv(extremes_csv({row}, "x"));
+  std::vector<std::string> lines;
+  for (std::string line; std::getline(csv, line);)
+    if (!line.empty() && line[0] != '#') lines.push_back(line);
+  auto fields = [](const std::string& line) {
+    int count = 1;
+    bool quoted = false;
+    for (char ch : line) quoted = ch == '"' ? !quoted : quoted, count += !quoted && ch == ',';
+    return count;
+  };
+  ASSERT_EQ(lines.size(), 2u);
+  EXPECT_EQ(fields(lines[1]), fields(lines[0])) << lines[0] << "\n" << lines[1];
 }
 
 }  // namespace
