@@ -226,30 +226,41 @@ Value nested_tanh_sinh(F&& point, const std::vector<double>& outer_cut, const st
   return out;
 }
 
+/// integrate(count), where count() is called once per evaluation of f: the Value it returns with its
+/// evaluations counted, or the unresolved Value (0 ± inf) when they pass `max_evaluations` or when
+/// tanh_sinh refuses a non-finite value at a node.
+template <class Integrate>
+Value within_budget(long long max_evaluations, Integrate&& integrate) {
+  struct OutOfBudget {};
+  long long evaluations = 0;
+  const auto count = [&] {
+    if (++evaluations > max_evaluations) throw OutOfBudget{};
+  };
+  try {
+    Value out = integrate(count);
+    out.evaluations = evaluations;
+    return out;
+  } catch (const OutOfBudget&) {
+  } catch (const boost::math::evaluation_error&) {}
+  return {0.0, std::numeric_limits<double>::infinity(), 0.0, evaluations, false};
+}
+
 }  // namespace
 
 Value lune_integral(const std::function<double(const Vec3&)>& f, const LuneCoordinates& lune,
                     const std::vector<double>& t_cuts, const std::vector<double>& psi_cuts, const Options& options) {
   if (lune.empty) return {};
-  struct OutOfBudget {};
-  long long evaluations = 0;
-  auto point = [&](double t, double psi) {
-    if (++evaluations > options.max_evaluations) throw OutOfBudget{};
-    const Vec3 k = lune.direction(t, psi);
-    return std::cos(t) * std::max(k.z, 0.0) * f(k);
-  };
-  try {
-    Value out = options.tanh_sinh ? nested_tanh_sinh(point, t_cuts, psi_cuts, options)
-                : options.swapped
-                    ? nested<31>([&](double psi, double t) { return point(t, psi); }, psi_cuts, t_cuts, options)
-                    : nested<61>(point, t_cuts, psi_cuts, options);
-    out.evaluations = evaluations;
-    return out;
-  } catch (const OutOfBudget&) {
-    return {0.0, std::numeric_limits<double>::infinity(), 0.0, evaluations, false};
-  } catch (const boost::math::evaluation_error&) {  // tanh_sinh refuses a non-finite value at a node
-    return {0.0, std::numeric_limits<double>::infinity(), 0.0, evaluations, false};
-  }
+  return within_budget(options.max_evaluations, [&](const auto& count) {
+    auto point = [&](double t, double psi) {
+      count();
+      const Vec3 k = lune.direction(t, psi);
+      return std::cos(t) * std::max(k.z, 0.0) * f(k);
+    };
+    return options.tanh_sinh ? nested_tanh_sinh(point, t_cuts, psi_cuts, options)
+           : options.swapped
+               ? nested<31>([&](double psi, double t) { return point(t, psi); }, psi_cuts, t_cuts, options)
+               : nested<61>(point, t_cuts, psi_cuts, options);
+  });
 }
 
 namespace {
@@ -309,29 +320,21 @@ namespace {
 Value antipode_integral(const std::function<double(const Vec3&)>& f, const AntipodeCoordinates& coords,
                         const std::vector<double>& beta_cut, const Options& options) {
   if (coords.empty) return {};
-  struct OutOfBudget {};
-  long long evaluations = 0;
-  auto point = [&](double beta, double w) {
-    if (++evaluations > options.max_evaluations) throw OutOfBudget{};
-    const auto [lo, hi] = coords.radii(beta);
-    if (lo >= hi) return 0.0;
-    const double r = lo + w * (hi - lo);
-    const Vec3 k = coords.direction(r, beta);
-    return (hi - lo) * std::sin(r) * std::max(k.z, 0.0) * f(k);
-  };
-  try {
-    // Panels of w graded towards the domain's entry (w = 4^-20 ... 1/4): a microfacet model's
-    // shadowing turns at |k + fixed| ~ 4 (fixed·n) and k·n = fixed·n, scales down to 1e-9 there.
-    std::vector<double> w_cut{0.0};
-    for (int m = 20; m >= 0; --m) w_cut.push_back(std::ldexp(1.0, -2 * m));
-    Value out = nested_tanh_sinh(point, beta_cut, w_cut, options);
-    out.evaluations = evaluations;
-    return out;
-  } catch (const OutOfBudget&) {
-    return {0.0, std::numeric_limits<double>::infinity(), 0.0, evaluations, false};
-  } catch (const boost::math::evaluation_error&) {
-    return {0.0, std::numeric_limits<double>::infinity(), 0.0, evaluations, false};
-  }
+  // Panels of w graded towards the domain's entry (w = 4^-20 ... 1/4): a microfacet model's
+  // shadowing turns at |k + fixed| ~ 4 (fixed·n) and k·n = fixed·n, scales down to 1e-9 there.
+  std::vector<double> w_cut{0.0};
+  for (int m = 20; m >= 0; --m) w_cut.push_back(std::ldexp(1.0, -2 * m));
+  return within_budget(options.max_evaluations, [&](const auto& count) {
+    auto point = [&](double beta, double w) {
+      count();
+      const auto [lo, hi] = coords.radii(beta);
+      if (lo >= hi) return 0.0;
+      const double r = lo + w * (hi - lo);
+      const Vec3 k = coords.direction(r, beta);
+      return (hi - lo) * std::sin(r) * std::max(k.z, 0.0) * f(k);
+    };
+    return nested_tanh_sinh(point, beta_cut, w_cut, options);
+  });
 }
 
 /// Cuts of beta: the rays along the horizon and along the pole's great circle (where the ray's
